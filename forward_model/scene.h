@@ -1,0 +1,61 @@
+#pragma once
+// Scene files: INI read with Boost.Program_options' config-file parser. Sections
+// [slider] [friction] [patch] [initial] [push] [sim]; keys and defaults in the issue and
+// the README. Unknown keys, missing required keys and bad values throw SceneError naming
+// the file and the key.
+
+#include <Eigen/Core>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "forward_model/contact_patch.h"
+#include "forward_model/planar_state.h"
+#include "forward_model/slider.h"
+
+namespace slideid {
+
+/// A push at a body-fixed point along a body-fixed direction, magnitude
+/// force + amplitude cos(2 pi t / period) [N], clamped at 0 (a pusher cannot pull),
+/// applied during [start, stop).
+struct PushSpec {
+  Eigen::Vector2d point_body = Eigen::Vector2d::Zero();      ///< [m]
+  double height_m = 0.0;                                     ///< z of the push point [m]
+  Eigen::Vector2d direction_body = Eigen::Vector2d::UnitX();  ///< unit vector
+  double force_N = 0.0;
+  double amplitude_N = 0.0;
+  double period_s = 0.0;  ///< 0: no periodic part
+  double start_s = 0.0;
+  double stop_s = 1e300;
+
+  /// Magnitude at time t [N] (0 outside [start, stop)).
+  double MagnitudeAt(double t_s) const;
+  /// World-frame force and its moment about the CM for the slider at `pose`; writes the
+  /// world push point when `point_world` is not null.
+  AppliedWrench WrenchAt(double t_s, const PlanarState& pose, double com_height_m,
+                         Eigen::Vector3d* point_world = nullptr) const;
+};
+
+/// Everything a simulation needs.
+struct Scene {
+  std::string source;  ///< file it came from, for messages
+  SliderProperties slider;
+  FrictionParameters friction;
+  ContactPatch patch = ContactPatch::Rectangle(0.05, 0.05);
+  PlanarState initial;
+  std::vector<PushSpec> pushes;  ///< empty: free sliding
+  double dt_s = 0.01;
+  double duration_s = 1.0;
+};
+
+/// Bad scene file: message names the file and the key.
+class SceneError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+Scene LoadScene(const std::string& path);
+/// Same, from text (source names it in messages).
+Scene ParseScene(const std::string& ini_text, const std::string& source);
+
+}  // namespace slideid

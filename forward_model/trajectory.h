@@ -1,0 +1,58 @@
+#pragma once
+// The one data type that flows end to end: simulate makes it, the push-log CSV writer and
+// reader round-trip it (docs: shared log-format.md), identify reads it.
+
+#include <Eigen/Core>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "forward_model/planar_state.h"
+#include "forward_model/slider.h"
+
+namespace slideid {
+
+/// Mode column of a log row: the first row is `start`.
+enum class SampleMode { kStart, kSlide, kStick };
+
+/// One log row at time t.
+struct TrajectorySample {
+  double t_s = 0.0;
+  PlanarState state;  ///< pose and twist at t (fields absent from a log stay 0)
+  /// Total wrench applied over [t, t_next), moments about the CM (world axes), including
+  /// r x f of a force applied at push_point_world.
+  AppliedWrench applied;
+  /// Where (fx, fy, fz) acts, world frame [m], when the log has px, py, pz.
+  std::optional<Eigen::Vector3d> push_point_world;
+
+  // The step that ended at t (simulated logs; zero on the first row).
+  Eigen::Vector2d ecp_world = Eigen::Vector2d::Zero();  ///< ax, ay [m]
+  double pt = 0.0, po = 0.0, pr = 0.0;                  ///< friction impulses
+  double sigma = 0.0;                                   ///< [m/s]
+  SampleMode mode = SampleMode::kStart;
+};
+
+/// Which column groups a log has (read) or should have (write).
+struct LogColumns {
+  bool pose = true;        ///< x, y, theta
+  bool velocity = true;    ///< vx, vy, wz
+  bool force = true;       ///< fx, fy (written when any is non-zero, or always if set)
+  bool fz = false;         ///< fz
+  bool moments = false;    ///< tx, ty, tz (residual moments when push points are written)
+  bool push_point = false; ///< px, py, pz
+  bool step_info = true;   ///< ax, ay, pt, po, pr, sigma, mode
+};
+
+/// A push log: known slider properties (metadata), optional truth, and samples.
+struct Trajectory {
+  SliderProperties slider;
+  std::string patch_spec;  ///< "rectangle W L" etc. (log-format.md), empty when unknown
+  std::optional<FrictionParameters> true_friction;  ///< simulated logs only
+  /// Further `# key = value` metadata, in order (noise description, scene name, ...).
+  std::vector<std::pair<std::string, std::string>> extra_metadata;
+  LogColumns columns;
+  std::vector<TrajectorySample> samples;
+};
+
+}  // namespace slideid

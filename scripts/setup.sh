@@ -1,0 +1,31 @@
+#!/usr/bin/env bash
+# Installs, from Debian, whichever build and test dependencies of slideid are missing.
+# Idempotent: a machine that already has everything is left alone (no apt-get update).
+set -euo pipefail
+
+packages=(
+  build-essential cmake
+  libeigen3-dev          # linear algebra
+  libceres-dev           # robust least squares and covariance
+  libboost-program-options-dev  # command lines and INI scene files
+  libfccp-dev            # fast-cpp-csv-parser: push logs
+  libgtest-dev           # unit and recovery tests
+  libbenchmark-dev       # step and estimator benchmarks
+  gnuplot-nox            # plot-log
+)
+
+missing=()
+for p in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+
+if ((${#missing[@]})); then
+  echo "setup: installing ${missing[*]}"
+  sudo_cmd=()
+  [ "$(id -u)" -eq 0 ] || sudo_cmd=(sudo)
+  export DEBIAN_FRONTEND=noninteractive
+  "${sudo_cmd[@]}" apt-get update -qq
+  "${sudo_cmd[@]}" apt-get install -y -qq --no-install-recommends "${missing[@]}"
+else
+  echo "setup: all dependencies present"
+fi
