@@ -163,6 +163,19 @@ Eigen::Vector4d StepEquations::DecoupledGuess() const {
   return z;
 }
 
+Eigen::Vector4d StepEquations::StoppingGuess() const {
+  const Eigen::Vector3d p = StoppingImpulse();
+  Eigen::Vector4d z;
+  z.head<3>() << p(0) / P_, p(1) / (P_ * b_), p(2) / (P_ * c_);
+  const double excess = z.head<3>().norm();  // > 1 whenever the step slides
+  // Per axis, |tau_i(s)| = 1 at s = P (|tau_i(0)| - 1) / M_i with M = (m, m/b^2, I/c^2).
+  const Eigen::Vector3d mass(m_, m_ / (b_ * b_), I_ / (c_ * c_));
+  const Eigen::Vector3d share = z.head<3>().cwiseAbs2() / (excess * excess);
+  z(3) = P_ * std::max(excess - 1.0, kGuessSlipFraction) / share.dot(mass);
+  z.head<3>() /= excess;
+  return z;
+}
+
 Eigen::Vector4d StepEquations::PureTranslationClosedForm() const {
   const double k = std::hypot(k_(0), k_(1));
   return {-k_(0) / k, -k_(1) / k, 0.0, (k - P_) / m_};

@@ -52,6 +52,9 @@ class StepEquations {
   /// The decoupled solution as a first guess for the general solve (valid even where the
   /// decoupled problem itself would stick).
   Eigen::Vector4d DecoupledGuess() const;
+  /// A first guess near the stick boundary: the direction of the stopping impulse, and the
+  /// slip speed each axis alone would have (decoupled closed form), averaged by weight.
+  Eigen::Vector4d StoppingGuess() const;
   /// Closed form for pure translation with b = 1 (model.md, erratum 4).
   Eigen::Vector4d PureTranslationClosedForm() const;
   /// The same step with q_z and the tilting impulses scaled by `scale` (continuation).

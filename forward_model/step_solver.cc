@@ -80,28 +80,27 @@ bool Newton(const StepEquations& eq, const StepOptions& options, Eigen::Vector4d
   return *relative_residual <= options.relative_tolerance && (*z)(3) > 0;
 }
 
-// Newton from the decoupled guess; on failure, continuation in the coupling strength.
+// Newton from the decoupled guess; where that fails (typically near the stick boundary,
+// where the decoupled problem sticks but the coupled one slides), from the stopping
+// impulse's direction; last, continuation in the coupling strength.
 bool SolveGeneral(const StepEquations& eq, const StepOptions& options, Eigen::Vector4d* z,
                   int* iterations, double* relative_residual) {
-  *z = eq.DecoupledGuess();
   int its = 0;
-  if (Newton(eq, options, z, &its, relative_residual)) {
-    *iterations = its;
-    return true;
+  *iterations = 0;
+  for (const Eigen::Vector4d& guess : {eq.DecoupledGuess(), eq.StoppingGuess()}) {
+    *z = guess;
+    its = 0;
+    const bool ok = Newton(eq, options, z, &its, relative_residual);
+    *iterations += its;
+    if (ok) return true;
   }
-  int total = its;
   *z = eq.DecoupledGuess();
   for (double scale : kContinuation) {
-    const StepEquations partial = eq.WithCouplingScaled(scale);
     its = 0;
-    const bool ok = Newton(partial, options, z, &its, relative_residual);
-    total += its;
-    if (!ok) {
-      *iterations = total;
-      return false;
-    }
+    const bool ok = Newton(eq.WithCouplingScaled(scale), options, z, &its, relative_residual);
+    *iterations += its;
+    if (!ok) return false;
   }
-  *iterations = total;
   return true;
 }
 

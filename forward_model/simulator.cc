@@ -1,0 +1,151 @@
+#include "forward_model/simulator.h"
+
+#include <cmath>
+#include <cstdio>
+#include <stdexcept>
+
+namespace slideid {
+namespace {
+
+// Wrench of every push active at t, and the point of the push when exactly one is active
+// (a log row has one push point; several simultaneous pushes go in as moments).
+AppliedWrench PushWrench(const Scene& scene, double t, const PlanarState& pose,
+                         std::optional<Eigen::Vector3d>* point) {
+  AppliedWrench total;
+  int active = 0;
+  point->reset();
+  for (const PushSpec& push : scene.pushes) {
+    if (push.MagnitudeAt(t) <= 0.0) continue;
+    Eigen::Vector3d where;
+    const AppliedWrench w = push.WrenchAt(t, pose, scene.slider.com_height_m, &where);
+    total.fx += w.fx; total.fy += w.fy; total.fz += w.fz;
+    total.tx += w.tx; total.ty += w.ty; total.tz += w.tz;
+    if (++active == 1) *point = where;
+  }
+  if (active > 1) point->reset();
+  return total;
+}
+
+std::string Format(const char* fmt, double a, double b, double c, double d) {
+  char buf[256];
+  std::snprintf(buf, sizeof buf, fmt, a, b, c, d);
+  return buf;
+}
+
+Trajectory EmptyTrajectory(const Scene& scene) {
+  Trajectory traj;
+  traj.slider = scene.slider;
+  traj.patch_spec = scene.patch.Spec();
+  traj.true_friction = scene.friction;
+  const ReducedFriction reduced = ReducedFriction::From(scene.friction);
+  char buf[64];
+  auto add = [&](const char* key, double v) {
+    std::snprintf(buf, sizeof buf, "%.17g", v);
+    traj.extra_metadata.emplace_back(key, buf);
+  };
+  add("e_t_mu", reduced.a);
+  add("e_o_over_e_t", reduced.b);
+  add("e_r_over_e_t", reduced.c);
+  add("dt", scene.dt_s);
+  if (!scene.source.empty()) traj.extra_metadata.emplace_back("scene", scene.source);
+  traj.columns.push_point = !scene.pushes.empty();
+  traj.columns.force = !scene.pushes.empty();
+  return traj;
+}
+
+void Fail(SimulationSummary* summary, SimulationStatus status, double t,
+          const std::string& message) {
+  summary->status = status;
+  summary->failure_time_s = t;
+  summary->message = Format("t = %.6g s: ", t, 0, 0, 0) + message;
+}
+
+}  // namespace
+
+bool SimulationOptions::IsValid(std::string* why) const {
+  if (!(hull_tolerance_m >= 0)) {
+    if (why) *why = "hull_tolerance_m must be >= 0";
+    return false;
+  }
+  return step.IsValid(why);
+}
+
+SimulationResult Simulate(const Scene& scene, const SimulationOptions& options) {
+  std::string why;
+  if (!options.IsValid(&why)) throw std::invalid_argument("Simulate: " + why);
+  if (!(scene.dt_s > 0) || !(scene.duration_s > 0)) {
+    throw std::invalid_argument("Simulate: dt and duration must be > 0");
+  }
+  SimulationResult result;
+  Trajectory& traj = result.trajectory;
+  SimulationSummary& summary = result.summary;
+  traj = EmptyTrajectory(scene);
+
+  const long steps = std::lround(scene.duration_s / scene.dt_s);
+  TrajectorySample sample;
+  sample.t_s = 0.0;
+  sample.state = scene.initial;
+  sample.mode = SampleMode::kStart;
+  sample.applied = PushWrench(scene, 0.0, sample.state, &sample.push_point_world);
+  traj.samples.reserve(steps + 1);
+  traj.samples.push_back(sample);
+
+  for (long u = 0; u < steps; ++u) {
+    const TrajectorySample& prev = traj.samples.back();
+    const double t_next = (u + 1) * scene.dt_s;
+    const StepResult step = SolveStep(scene.slider, scene.friction, prev.state, prev.applied,
+                                      scene.dt_s, options.step);
+    if (!step.ok()) {
+      Fail(&summary,
+           step.status == StepStatus::kLiftOff ? SimulationStatus::kLiftOff
+                                               : SimulationStatus::kNoConvergence,
+           prev.t_s, step.message);
+      return result;
+    }
+    TrajectorySample next;
+    next.t_s = t_next;
+    next.state = step.state;
+    next.ecp_world = step.ecp_world;
+    next.pt = step.pt;
+    next.po = step.po;
+    next.pr = step.pr;
+    next.sigma = step.sigma;
+    next.mode = step.mode == StepMode::kStick ? SampleMode::kStick : SampleMode::kSlide;
+    next.applied = PushWrench(scene, t_next, next.state, &next.push_point_world);
+    traj.samples.push_back(next);
+
+    ++summary.steps;
+    (step.mode == StepMode::kStick ? summary.stick_steps : summary.slide_steps)++;
+    if (step.mode == StepMode::kStick) {
+      if (summary.rest_time_s < 0) summary.rest_time_s = t_next;
+    } else {
+      summary.rest_time_s = -1;
+    }
+    summary.max_step_residual = std::max(summary.max_step_residual, step.residual);
+    summary.max_step_iterations = std::max(summary.max_step_iterations, step.iterations);
+    const double distance = scene.patch.SignedDistanceToHull(step.ecp_body);
+    summary.max_hull_signed_distance_m = std::max(summary.max_hull_signed_distance_m, distance);
+    if (distance > options.hull_tolerance_m) {
+      summary.failure_ecp_world = step.ecp_world;
+      Fail(&summary, SimulationStatus::kToppling, t_next,
+           Format("ECP (%.6g, %.6g) m world, (%.6g, %.6g) m body, left the patch hull: the "
+                  "slider would tip",
+                  step.ecp_world.x(), step.ecp_world.y(), step.ecp_body.x(),
+                  step.ecp_body.y()));
+      return result;
+    }
+  }
+  return result;
+}
+
+const char* ToString(SimulationStatus status) {
+  switch (status) {
+    case SimulationStatus::kOk: return "ok";
+    case SimulationStatus::kToppling: return "toppling";
+    case SimulationStatus::kNoConvergence: return "no convergence";
+    case SimulationStatus::kLiftOff: return "lift-off";
+  }
+  return "?";
+}
+
+}  // namespace slideid

@@ -1,0 +1,58 @@
+#pragma once
+// Runs a scene through the step solver and records the trajectory in the log data type,
+// checking every step's ECP against the patch's convex hull (model.md, "No-toppling check").
+
+#include <Eigen/Core>
+#include <string>
+
+#include "forward_model/scene.h"
+#include "forward_model/step_solver.h"
+#include "forward_model/trajectory.h"
+
+namespace slideid {
+
+struct SimulationOptions {
+  StepOptions step;
+  /// How far the ECP may sit outside the hull before it counts as toppling [m]. Covers the
+  /// rounding of the ECP (~1e-16 m relative); any real excursion is much larger.
+  double hull_tolerance_m = 1e-9;
+
+  bool IsValid(std::string* why) const;
+};
+
+enum class SimulationStatus {
+  kOk,
+  kToppling,       ///< the ECP left the hull: the slider would tip
+  kNoConvergence,  ///< a step did not converge
+  kLiftOff,        ///< the applied vertical force lifted the slider
+};
+
+struct SimulationSummary {
+  SimulationStatus status = SimulationStatus::kOk;
+  std::string message;             ///< names the time and the ECP on failure
+  double failure_time_s = 0;
+  Eigen::Vector2d failure_ecp_world = Eigen::Vector2d::Zero();
+  int steps = 0, slide_steps = 0, stick_steps = 0;
+  /// Largest signed distance of the ECP to the hull boundary over all steps [m]
+  /// (negative: always inside, by at least its magnitude).
+  double max_hull_signed_distance_m = -1e300;
+  double max_step_residual = 0;
+  int max_step_iterations = 0;
+  /// Time from which the slider stayed at rest to the end, or < 0 if it never did [s].
+  double rest_time_s = -1;
+
+  bool ok() const { return status == SimulationStatus::kOk; }
+};
+
+struct SimulationResult {
+  Trajectory trajectory;  ///< up to and including the failing step, if any
+  SimulationSummary summary;
+};
+
+/// Simulates `scene` for its duration at its dt. Throws std::invalid_argument for invalid
+/// scenes; numerical and physical failures are reported in the summary.
+SimulationResult Simulate(const Scene& scene, const SimulationOptions& options = {});
+
+const char* ToString(SimulationStatus status);
+
+}  // namespace slideid

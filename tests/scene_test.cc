@@ -1,0 +1,308 @@
+#include "forward_model/scene.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <string>
+
+namespace slideid {
+namespace {
+
+/// Wrench components are a few products of short decimals and cos/sin: exact to ulps.
+constexpr double kTol = 1e-12;
+constexpr double kPi = 3.14159265358979323846;
+
+std::string ScenePath(const std::string& name) {
+  return std::string(SLIDEID_SOURCE_DIR) + "/datasets/scenes/" + name;
+}
+
+/// A complete, valid scene without a push; tests append or replace lines.
+const char* const kMinimal = R"(# minimal scene
+[slider]
+mass = 0.5   # kg
+inertia = 2e-4
+com_height = 0.08
+[friction]
+mu = 0.31
+e_t = 1
+e_o = 1
+e_r = 0.01
+[sim]
+dt = 0.01
+duration = 0.45
+)";
+const char* const kSquare = "[patch]\nshape = rectangle\nwidth = 0.05\nlength = 0.05\n";
+
+/// Minimal scene with `patch` and `extra` sections appended.
+std::string SceneText(const std::string& extra, const std::string& patch = kSquare) {
+  return std::string(kMinimal) + patch + extra;
+}
+
+/// ParseScene's SceneError message, or "" when it parses.
+std::string ErrorOf(const std::string& text) {
+  try {
+    ParseScene(text, "scene.ini");
+  } catch (const SceneError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+/// Expects a SceneError whose message contains the file name and every fragment.
+void ExpectError(const std::string& text, const std::string& key, const std::string& detail) {
+  const std::string message = ErrorOf(text);
+  EXPECT_NE(message.find("scene.ini: "), std::string::npos) << message;
+  EXPECT_NE(message.find(key), std::string::npos) << "wanted '" << key << "' in: " << message;
+  EXPECT_NE(message.find(detail), std::string::npos) << "wanted '" << detail << "' in: " << message;
+}
+
+TEST(Scene, MinimalSceneTakesDefaultsForOptionalKeys) {
+  const Scene s = ParseScene(SceneText(""), "scene.ini");
+  EXPECT_EQ(s.source, "scene.ini");
+  EXPECT_EQ(s.slider.mass_kg, 0.5);
+  EXPECT_EQ(s.slider.gravity_mps2, 9.81);
+  EXPECT_EQ(s.initial.x, 0.0);
+  EXPECT_EQ(s.initial.wz, 0.0);
+  EXPECT_TRUE(s.pushes.empty());
+  EXPECT_EQ(s.patch.shape(), ContactPatch::Shape::kRectangle);
+}
+
+TEST(Scene, UnknownKeyOrSectionIsAnErrorNamingIt) {
+  ExpectError(SceneText("[foo]\nbar = 1\n"), "unknown key 'foo.bar'", "line 19");
+  ExpectError(SceneText("[sim]\nsteps = 3\n"), "'sim.steps'", "unknown key");
+  ExpectError(SceneText("[empty]\n"), "unknown section [empty]", "line 18");
+}
+
+TEST(Scene, MissingRequiredKeyIsAnErrorNamingIt) {
+  std::string text = SceneText("");
+  text.erase(text.find("mu = 0.31\n"), 10);
+  ExpectError(text, "[friction] mu", "missing required key");
+  ExpectError(SceneText("", "[patch]\nshape = rectangle\nwidth = 0.05\n"), "[patch] length",
+              "missing");
+  ExpectError(SceneText("[push]\nforce = 1\n"), "[push] point", "missing");
+  ExpectError(SceneText("[push]\npoint = 0 0\n"), "[push] force", "missing");
+}
+
+TEST(Scene, NonNumericValueNamesKeyAndText) {
+  std::string text = SceneText("");
+  text.replace(text.find("e_r = 0.01"), 10, "e_r = 1cm");
+  ExpectError(text, "[friction] e_r", "'1cm' is not a number");
+  ExpectError(SceneText("[initial]\nvx = nan\n"), "[initial] vx", "not finite");
+  ExpectError(SceneText("[push]\npoint = 0 x\nforce = 1\n"), "[push] point", "'x'");
+}
+
+TEST(Scene, OutOfRangeValueNamesKeyValueAndLine) {
+  std::string text = SceneText("");
+  text.replace(text.find("mass = 0.5"), 10, "mass = -1");
+  ExpectError(text, "[slider] mass = -1", "must be > 0 (line 3)");
+  text = SceneText("");
+  text.replace(text.find("dt = 0.01"), 9, "dt = 0");
+  ExpectError(text, "[sim] dt = 0", "must be > 0");
+  text = SceneText("");
+  text.replace(text.find("com_height = 0.08"), 17, "com_height = -0.01");
+  ExpectError(text, "[slider] com_height", ">= 0");
+}
+
+TEST(Scene, DuplicateKeyAndBadSyntaxAreErrors) {
+  ExpectError(SceneText("[sim]\ndt = 0.02\n"), "[sim] dt", "more than once");
+  ExpectError(SceneText("[initial]\nvx 3\n"), "invalid line 'vx 3'", "(line 19)");
+}
+
+TEST(Scene, PatchKeyIrrelevantToShapeIsAnError) {
+  ExpectError(SceneText("", "[patch]\nshape = disk\nradius = 0.1\nwidth = 0.05\n"),
+              "[patch] width", "not used by shape 'disk'");
+  ExpectError(SceneText("", std::string(kSquare) + "inner_radius = 0.01\n"),
+              "[patch] inner_radius", "not used by shape 'rectangle'");
+  ExpectError(SceneText("", "[patch]\nshape = hexagon\n"), "[patch] shape = hexagon",
+              "unknown shape");
+}
+
+TEST(Scene, DegeneratePatchIsAnErrorNamingTheKey) {
+  ExpectError(SceneText("", "[patch]\nshape = ring\nradius = 0.1\ninner_radius = 0.1\n"),
+              "[patch] inner_radius = 0.1", "must be >= 0 and < the outer radius");
+  ExpectError(SceneText("", "[patch]\nshape = polygon\nvertices = 0 0 0 1 1 1 1 0\n"),
+              "[patch] vertices", "counter-clockwise");
+  ExpectError(SceneText("", "[patch]\nshape = polygon\nvertices = 0 0 1 0 2 0\n"),
+              "[patch] vertices", "zero area");
+}
+
+TEST(Scene, PolygonAndDiskPatchesLoad) {
+  const Scene poly = ParseScene(
+      SceneText("", "[patch]\nshape = polygon\nvertices = 0 0 0.1 0 0 0.1\n"), "scene.ini");
+  EXPECT_EQ(poly.patch.Spec(), ContactPatch::Parse("polygon 0 0 0.1 0 0 0.1").Spec());
+  const Scene disk = ParseScene(SceneText("", "[patch]\nshape = disk\nradius = 0.1\n"), "s");
+  EXPECT_EQ(disk.patch.Spec(), ContactPatch::Disk(0.1).Spec());
+}
+
+TEST(Scene, PushDefaultsAndNormalisedDirection) {
+  const Scene s = ParseScene(SceneText("[push]\npoint = 0.01 -0.02\ndirection = 3 4\nforce = 1\n"),
+                             "scene.ini");
+  ASSERT_EQ(s.pushes.size(), 1u);
+  const PushSpec& p = s.pushes[0];
+  EXPECT_EQ(p.point_body, Eigen::Vector2d(0.01, -0.02));
+  EXPECT_NEAR(p.direction_body.x(), 0.6, kTol);
+  EXPECT_NEAR(p.direction_body.y(), 0.8, kTol);
+  EXPECT_EQ(p.height_m, 0.08);  // com_height
+  EXPECT_EQ(p.amplitude_N, 0.0);
+  EXPECT_EQ(p.period_s, 0.0);
+  EXPECT_EQ(p.start_s, 0.0);
+  EXPECT_EQ(p.stop_s, 1e300);
+}
+
+TEST(Scene, PushValuesAreChecked) {
+  const std::string point = "[push]\npoint = 0 0\nforce = 1\n";
+  ExpectError(SceneText(point + "direction = 0 0\n"), "[push] direction", "non-zero");
+  ExpectError(SceneText(point + "amplitude = 1\n"), "[push] period", "must be > 0");
+  ExpectError(SceneText(point + "start = 2\nstop = 1\n"), "[push] stop = 1", "must be > start");
+  ExpectError(SceneText("[push]\npoint = 0 0 0\nforce = 1\n"), "[push] point", "two numbers");
+}
+
+TEST(Scene, UnreadableFileIsAnErrorNamingThePath) {
+  for (const std::string& path :
+       {std::string("/nonexistent/dir/scene.ini"), std::string(SLIDEID_SOURCE_DIR)}) {
+    try {
+      LoadScene(path);
+      ADD_FAILURE() << "no SceneError for " << path;
+    } catch (const SceneError& e) {
+      EXPECT_EQ(std::string(e.what()).rfind(path + ": ", 0), 0u) << e.what();
+    }
+  }
+}
+
+TEST(PushSpec, MagnitudeIsPeriodicClampedAndWindowed) {
+  PushSpec p;
+  p.force_N = 2.2;
+  p.amplitude_N = 2.0;
+  p.period_s = 0.1;
+  EXPECT_NEAR(p.MagnitudeAt(0.0), 4.2, kTol);
+  EXPECT_NEAR(p.MagnitudeAt(0.05), 0.2, kTol);
+  EXPECT_NEAR(p.MagnitudeAt(0.025), 2.2, kTol);
+  p.force_N = 1.0;  // 1 + 2 cos: negative half the time, and a pusher cannot pull
+  EXPECT_EQ(p.MagnitudeAt(0.05), 0.0);
+  p.start_s = 1.0;
+  p.stop_s = 2.0;
+  EXPECT_EQ(p.MagnitudeAt(0.999), 0.0);
+  EXPECT_NEAR(p.MagnitudeAt(1.0), 3.0, kTol);
+  EXPECT_EQ(p.MagnitudeAt(2.0), 0.0);
+}
+
+TEST(PushSpec, PeriodZeroMeansConstantForce) {
+  PushSpec p;
+  p.force_N = 1.5;
+  EXPECT_EQ(p.MagnitudeAt(0.0), 1.5);
+  EXPECT_EQ(p.MagnitudeAt(123.4), 1.5);
+}
+
+TEST(PushSpec, WrenchIsRCrossFWithRotatedPointAndDirection) {
+  PushSpec p;
+  p.point_body = {-0.025, -0.0025};
+  p.direction_body = {1.0, 0.0};
+  p.height_m = 0.08;
+  p.force_N = 2.0;
+  PlanarState pose;
+  pose.x = 1.0;
+  pose.y = 2.0;
+  pose.theta = kPi / 2;  // body x -> world y, body y -> world -x
+  Eigen::Vector3d point;
+  const AppliedWrench w = p.WrenchAt(0.0, pose, 0.08, &point);
+  // World: r = (0.0025, -0.025, 0), f = (0, 2, 0); r x f = (0, 0, 0.0025 * 2).
+  EXPECT_NEAR(w.fx, 0.0, kTol);
+  EXPECT_NEAR(w.fy, 2.0, kTol);
+  EXPECT_EQ(w.fz, 0.0);
+  EXPECT_NEAR(w.tx, 0.0, kTol);
+  EXPECT_NEAR(w.ty, 0.0, kTol);
+  EXPECT_NEAR(w.tz, 0.005, kTol);
+  EXPECT_NEAR(point.x(), 1.0025, kTol);
+  EXPECT_NEAR(point.y(), 1.975, kTol);
+  EXPECT_EQ(point.z(), 0.08);
+}
+
+TEST(PushSpec, PushBelowTheCmGivesTiltingMoments) {
+  PushSpec p;
+  p.point_body = {-0.025, 0.0};
+  p.direction_body = {1.0, 0.0};
+  p.height_m = 0.02;
+  p.force_N = 3.0;
+  const AppliedWrench w = p.WrenchAt(0.0, PlanarState{}, 0.08, nullptr);
+  // r = (-0.025, 0, -0.06), f = (3, 0, 0): r x f = (0, rz fx, -ry fx) = (0, -0.18, 0).
+  EXPECT_NEAR(w.tx, 0.0, kTol);
+  EXPECT_NEAR(w.ty, -0.18, kTol);
+  EXPECT_NEAR(w.tz, 0.0, kTol);
+  p.direction_body = {0.0, 1.0};  // f = (0, 3, 0): r x f = (-rz fy, 0, rx fy)
+  const AppliedWrench v = p.WrenchAt(0.0, PlanarState{}, 0.08);
+  EXPECT_NEAR(v.tx, 0.18, kTol);
+  EXPECT_NEAR(v.tz, -0.075, kTol);
+}
+
+TEST(PushSpec, ClampedForceGivesZeroWrench) {
+  PushSpec p;
+  p.point_body = {0.01, 0.02};
+  p.force_N = -1.0;
+  EXPECT_TRUE(p.WrenchAt(0.3, PlanarState{}, 0.05).IsZero());
+}
+
+TEST(Scene, BundledExample1LoadsWithThePapersNumbers) {
+  const Scene s = LoadScene(ScenePath("example1_square.ini"));
+  EXPECT_EQ(s.slider.mass_kg, 0.5);
+  EXPECT_EQ(s.slider.inertia_kgm2, 2.0833333333333333e-4);
+  EXPECT_NEAR(s.slider.inertia_kgm2, 0.5 * (0.05 * 0.05 + 0.05 * 0.05) / 12, 1e-18);
+  EXPECT_EQ(s.slider.com_height_m, 0.08);
+  EXPECT_EQ(s.slider.gravity_mps2, 9.8);
+  EXPECT_EQ(s.friction.mu, 0.31);
+  EXPECT_EQ(s.friction.e_t, 1.0);
+  EXPECT_EQ(s.friction.e_o, 1.0);
+  EXPECT_EQ(s.friction.e_r, 0.01);
+  EXPECT_EQ(s.patch.Spec(), ContactPatch::Rectangle(0.05, 0.05).Spec());
+  EXPECT_EQ(s.initial.vx, 0.7);
+  EXPECT_EQ(s.initial.vy, 0.9);
+  EXPECT_EQ(s.initial.wz, 10.0);
+  EXPECT_TRUE(s.pushes.empty());
+  EXPECT_EQ(s.dt_s, 0.01);
+  EXPECT_EQ(s.duration_s, 0.45);
+}
+
+TEST(Scene, BundledExample2LoadsWithThePapersNumbers) {
+  const Scene s = LoadScene(ScenePath("example2_ring.ini"));
+  EXPECT_EQ(s.slider.mass_kg, 1.0);
+  EXPECT_EQ(s.slider.inertia_kgm2, 0.00625);
+  EXPECT_EQ(s.slider.com_height_m, 0.08);
+  EXPECT_EQ(s.slider.gravity_mps2, 9.8);
+  EXPECT_EQ(s.friction.mu, 0.31);
+  EXPECT_EQ(s.friction.e_r, 0.01);
+  EXPECT_EQ(s.patch.Spec(), ContactPatch::Ring(0.1, 0.05).Spec());
+  EXPECT_EQ(s.initial.vx, 1.3);
+  EXPECT_EQ(s.initial.vy, 0.8);
+  EXPECT_EQ(s.initial.wz, 11.0);
+  EXPECT_TRUE(s.pushes.empty());
+  EXPECT_EQ(s.dt_s, 0.01);
+  EXPECT_EQ(s.duration_s, 0.65);
+}
+
+TEST(Scene, BundledExample3LoadsWithThePapersPush) {
+  const Scene s = LoadScene(ScenePath("example3_pushed_square.ini"));
+  EXPECT_EQ(s.slider.mass_kg, 0.5);
+  EXPECT_EQ(s.slider.inertia_kgm2, 2.0833333333333333e-4);
+  EXPECT_EQ(s.patch.Spec(), ContactPatch::Rectangle(0.05, 0.05).Spec());
+  EXPECT_EQ(s.initial.vx, 0.2);
+  EXPECT_EQ(s.initial.vy, 0.3);
+  EXPECT_EQ(s.initial.wz, 0.0);
+  EXPECT_EQ(s.dt_s, 0.01);
+  EXPECT_EQ(s.duration_s, 3.0);
+  ASSERT_EQ(s.pushes.size(), 1u);
+  const PushSpec& p = s.pushes[0];
+  EXPECT_EQ(p.point_body, Eigen::Vector2d(-0.025, -0.0025));
+  EXPECT_EQ(p.direction_body, Eigen::Vector2d(1.0, 0.0));
+  EXPECT_EQ(p.height_m, s.slider.com_height_m);
+  EXPECT_EQ(p.force_N, 2.2);
+  EXPECT_EQ(p.amplitude_N, 2.0);
+  EXPECT_EQ(p.period_s, 0.1);
+  // Pushing at CM height: no tilting moment; the offset below the middle turns it.
+  const AppliedWrench w = p.WrenchAt(0.0, s.initial, s.slider.com_height_m);
+  EXPECT_EQ(w.tx, 0.0);
+  EXPECT_EQ(w.ty, 0.0);
+  EXPECT_NEAR(w.fx, 4.2, kTol);
+  EXPECT_NEAR(w.tz, 0.0025 * 4.2, kTol);
+}
+
+}  // namespace
+}  // namespace slideid

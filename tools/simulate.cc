@@ -1,0 +1,100 @@
+// simulate: run a scene file through the forward model and write the trajectory as a
+// push log (docs: shared log-format.md).
+
+#include <cstdio>
+#include <iostream>
+
+#include "forward_model/push_log.h"
+#include "forward_model/scene.h"
+#include "forward_model/simulator.h"
+#include "tools/tool_support.h"
+
+namespace po = boost::program_options;
+using namespace slideid;
+
+namespace {
+
+void PrintSummary(const SimulationResult& result, const Scene& scene) {
+  const SimulationSummary& s = result.summary;
+  const PlanarState& last = result.trajectory.samples.back().state;
+  std::printf("scene       %s\n", scene.source.c_str());
+  std::printf("steps       %d (%d slide, %d stick), dt = %g s\n", s.steps, s.slide_steps,
+              s.stick_steps, scene.dt_s);
+  std::printf("final       t = %.4f s  x = %.6f m  y = %.6f m  theta = %.6f rad\n",
+              result.trajectory.samples.back().t_s, last.x, last.y, last.theta);
+  std::printf("            vx = %.6f m/s  vy = %.6f m/s  wz = %.6f rad/s\n", last.vx, last.vy,
+              last.wz);
+  if (s.rest_time_s >= 0) {
+    std::printf("at rest     from t = %.4f s at (%.6f, %.6f) m, theta = %.6f rad\n",
+                s.rest_time_s, last.x, last.y, last.theta);
+  } else {
+    std::printf("at rest     no: still moving at the end (run longer with --duration)\n");
+  }
+  std::printf("ECP margin  %.3f mm inside the patch hull at its closest\n",
+              -1e3 * s.max_hull_signed_distance_m);
+  std::printf("solver      max %d iterations, max relative residual %.2e\n",
+              s.max_step_iterations, s.max_step_residual);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  return tools::RunTool("simulate", [&]() -> int {
+    po::options_description opts(
+        "simulate: simulate a slider on a plane (Xie & Chakraborty's planar sliding model)\n"
+        "and write its trajectory as a push log.\n\n"
+        "Usage: simulate --scene FILE.ini [--out traj.csv] [--dt S] [--duration S]\n\n"
+        "Options");
+    opts.add_options()
+        ("help,h", "print this help and exit")
+        ("version", "print the version and exit")
+        ("scene", po::value<std::string>()->value_name("FILE.ini"),
+         "scene file (INI: [slider] [friction] [patch] [initial] [push] [sim]; see README)")
+        ("out", po::value<std::string>()->value_name("FILE.csv"),
+         "write the trajectory here (log format with every column); omit to only print "
+         "the summary")
+        ("dt", po::value<double>()->value_name("S"), "override the scene's time step [s]")
+        ("duration", po::value<double>()->value_name("S"),
+         "override the scene's duration [s]");
+    po::variables_map vm;
+    po::store(po::parse_command_line(argc, argv, opts), vm);
+    po::notify(vm);
+    if (vm.count("help")) {
+      std::cout << opts << "\nExit codes: 0 ok, 1 bad input, 2 usage, 3 numerical failure or "
+                           "toppling, 4 file not writable.\n";
+      return tools::kExitOk;
+    }
+    if (vm.count("version")) {
+      std::cout << "simulate (slideid) " << SLIDEID_VERSION << "\n";
+      return tools::kExitOk;
+    }
+    if (!vm.count("scene")) throw po::error("the option '--scene' is required");
+
+    Scene scene = LoadScene(vm["scene"].as<std::string>());
+    if (vm.count("dt")) {
+      scene.dt_s = vm["dt"].as<double>();
+      if (!(scene.dt_s > 0)) throw po::error("--dt must be > 0");
+    }
+    if (vm.count("duration")) {
+      scene.duration_s = vm["duration"].as<double>();
+      if (!(scene.duration_s > 0)) throw po::error("--duration must be > 0");
+    }
+    const SimulationResult result = Simulate(scene);
+    if (!result.summary.ok()) {
+      std::cerr << "simulate: " << ToString(result.summary.status) << ": "
+                << result.summary.message << "\n";
+      return tools::kExitNumerical;
+    }
+    PrintSummary(result, scene);
+    if (vm.count("out")) {
+      try {
+        WritePushLog(result.trajectory, vm["out"].as<std::string>());
+      } catch (const std::exception& e) {
+        std::cerr << "simulate: " << e.what() << "\n";
+        return tools::kExitIo;
+      }
+      std::printf("wrote       %s\n", vm["out"].as<std::string>().c_str());
+    }
+    return tools::kExitOk;
+  });
+}
