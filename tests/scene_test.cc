@@ -280,8 +280,8 @@ TEST(Scene, BundledExample2LoadsWithThePapersNumbers) {
 
 TEST(Scene, BundledExample3LoadsWithThePapersPush) {
   const Scene s = LoadScene(ScenePath("example3_pushed_square.ini"));
-  EXPECT_EQ(s.slider.mass_kg, 0.5);
-  EXPECT_EQ(s.slider.inertia_kgm2, 2.0833333333333333e-4);
+  EXPECT_EQ(s.slider.mass_kg, 1.0);  // the previous example's mass (scene comment)
+  EXPECT_NEAR(s.slider.inertia_kgm2, 1.0 * (0.05 * 0.05 + 0.05 * 0.05) / 12, 1e-18);
   EXPECT_EQ(s.patch.Spec(), ContactPatch::Rectangle(0.05, 0.05).Spec());
   EXPECT_EQ(s.initial.vx, 0.2);
   EXPECT_EQ(s.initial.vy, 0.3);

@@ -1,0 +1,453 @@
+#include "forward_model/push_log.h"
+
+#include <Eigen/Geometry>
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace slideid {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+// Tolerance for values the test recomputes by a different arithmetic route than the reader.
+constexpr double kRecomputeTol = 1e-12;
+
+/// A fresh directory for this test process's files.
+const std::string& TempDirectory() {
+  static const std::string dir = [] {
+    std::string pattern = ::testing::TempDir() + "push_log_test_XXXXXX";
+    if (mkdtemp(pattern.data()) == nullptr) std::abort();
+    return pattern;
+  }();
+  return dir;
+}
+
+std::string WriteFile(const std::string& name, const std::string& content) {
+  const std::string path = TempDirectory() + "/" + name;
+  std::ofstream(path, std::ios::binary) << content;
+  return path;
+}
+
+bool FileExists(const std::string& path) { return std::ifstream(path).good(); }
+
+std::string ReadText(const std::string& path) {
+  std::ostringstream text;
+  text << std::ifstream(path, std::ios::binary).rdbuf();
+  return text.str();
+}
+
+constexpr const char* kSliderMeta = "# mass = 0.5\n# inertia = 2e-4\n# com_height = 0.08\n";
+
+/// Reads `content` as a log named `name` and checks the LogError names the file, the line
+/// and (when given) the column.
+void ExpectLogError(const std::string& name, const std::string& content, int line,
+                    const std::string& column = "", const LogReadOptions& options = {}) {
+  const std::string path = WriteFile(name, content);
+  try {
+    ReadPushLog(path, options);
+    ADD_FAILURE() << name << ": no LogError";
+  } catch (const LogError& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find(path + ":" + std::to_string(line) + ":"), std::string::npos) << what;
+    EXPECT_EQ(e.line(), line) << what;
+    if (!column.empty()) {
+      EXPECT_NE(what.find("column '" + column + "'"), std::string::npos) << what;
+      EXPECT_EQ(e.column(), column) << what;
+    }
+  }
+}
+
+/// A trajectory with every column group and awkward values (no short decimal forms).
+Trajectory FullTrajectory() {
+  Trajectory tr;
+  tr.slider = {0.5 + 1.0 / 3.0, 2.0833333333333332e-4, 0.08 + 1e-17, 9.8 + 1.0 / 7.0};
+  tr.patch_spec = "rectangle 0.05 0.05";
+  tr.true_friction = FrictionParameters{0.31, 1.0 / 3.0, 1.1, 0.0123456789};
+  tr.extra_metadata = {{"noise", "pose 1e-4"}, {"scene", "example1"}};
+  tr.columns = {true, true, true, true, true, true, true};
+  for (int u = 0; u < 6; ++u) {
+    TrajectorySample s;
+    s.t_s = 0.01 * u + 1e-19 * u;
+    s.state = {std::sqrt(2.0) * u, -std::sqrt(3.0) * u, 1.7 * u, 0.1 / 3 * u, -0.7 * u, 9.1};
+    s.push_point_world = Eigen::Vector3d(s.state.x - 0.025, s.state.y + 1.0 / 300, 0.05);
+    // As a scene or the reader forms it: r x f plus a residual moment. (An arbitrary total
+    // is reproduced only to an ulp of |r x f|: see TotalMomentsRoundTripToAnUlpOfRCrossF.)
+    const Eigen::Vector3d r = *s.push_point_world - Eigen::Vector3d(s.state.x, s.state.y,
+                                                                      tr.slider.com_height_m);
+    s.applied = WrenchFromForceAt(0.3 * u, -0.2 / 3.0, -0.5 * u, r.x(), r.y(), r.z());
+    s.applied.tx += 1e-3 / 7.0;
+    s.applied.ty += -2e-3 / 3.0;
+    s.applied.tz += 5e-4 * u;
+    s.ecp_world = {0.017482644676537 * u, -1.0 / 11.0};
+    s.pt = -0.006500247901168545 * u;
+    s.po = 1.0 / 13.0;
+    s.pr = -1.3871455217168605e-05;
+    s.sigma = 1.087763339137281 * u;
+    s.mode = u == 0 ? SampleMode::kStart : (u % 2 ? SampleMode::kSlide : SampleMode::kStick);
+    tr.samples.push_back(s);
+  }
+  return tr;
+}
+
+TEST(PushLog, RoundTripReproducesEveryColumnBitExactly) {
+  const Trajectory in = FullTrajectory();
+  const std::string path = TempDirectory() + "/round_trip.csv";
+  WritePushLog(in, path);
+  EXPECT_FALSE(FileExists(path + ".tmp"));
+  const Trajectory out = ReadPushLog(path);
+
+  EXPECT_EQ(out.slider.mass_kg, in.slider.mass_kg);
+  EXPECT_EQ(out.slider.inertia_kgm2, in.slider.inertia_kgm2);
+  EXPECT_EQ(out.slider.com_height_m, in.slider.com_height_m);
+  EXPECT_EQ(out.slider.gravity_mps2, in.slider.gravity_mps2);
+  EXPECT_EQ(out.patch_spec, in.patch_spec);
+  ASSERT_TRUE(out.true_friction.has_value());
+  EXPECT_EQ(out.true_friction->mu, in.true_friction->mu);
+  EXPECT_EQ(out.true_friction->e_t, in.true_friction->e_t);
+  EXPECT_EQ(out.true_friction->e_o, in.true_friction->e_o);
+  EXPECT_EQ(out.true_friction->e_r, in.true_friction->e_r);
+  EXPECT_EQ(out.extra_metadata, in.extra_metadata);
+  ASSERT_EQ(out.samples.size(), in.samples.size());
+  for (std::size_t u = 0; u < in.samples.size(); ++u) {
+    const TrajectorySample& a = in.samples[u];
+    const TrajectorySample& b = out.samples[u];
+    SCOPED_TRACE(u);
+    EXPECT_EQ(b.t_s, a.t_s);
+    EXPECT_EQ(b.state.x, a.state.x);
+    EXPECT_EQ(b.state.y, a.state.y);
+    EXPECT_EQ(b.state.theta, a.state.theta);
+    EXPECT_EQ(b.state.vx, a.state.vx);
+    EXPECT_EQ(b.state.vy, a.state.vy);
+    EXPECT_EQ(b.state.wz, a.state.wz);
+    EXPECT_EQ(b.applied.fx, a.applied.fx);
+    EXPECT_EQ(b.applied.fy, a.applied.fy);
+    EXPECT_EQ(b.applied.fz, a.applied.fz);
+    EXPECT_EQ(b.applied.tx, a.applied.tx);
+    EXPECT_EQ(b.applied.ty, a.applied.ty);
+    EXPECT_EQ(b.applied.tz, a.applied.tz);
+    ASSERT_TRUE(b.push_point_world.has_value());
+    EXPECT_EQ(*b.push_point_world, *a.push_point_world);
+    EXPECT_EQ(b.ecp_world, a.ecp_world);
+    EXPECT_EQ(b.pt, a.pt);
+    EXPECT_EQ(b.po, a.po);
+    EXPECT_EQ(b.pr, a.pr);
+    EXPECT_EQ(b.sigma, a.sigma);
+    EXPECT_EQ(b.mode, a.mode);
+  }
+  // Writing what was read gives the same file again.
+  std::ostringstream first, second;
+  WritePushLog(in, first);
+  WritePushLog(out, second);
+  EXPECT_EQ(first.str(), second.str());
+  EXPECT_EQ(first.str(), ReadText(path));
+}
+
+TEST(PushLog, TotalMomentsRoundTripToAnUlpOfRCrossF) {
+  // A total moment not formed as (r x f) + residual need not be representable that way:
+  // the reader's sum is rounded at the scale of |r x f|.
+  Trajectory tr = FullTrajectory();
+  for (TrajectorySample& s : tr.samples) {
+    s.applied.tx = 1e-3 / 7.0;
+    s.applied.ty = -2e-3 / 3.0;
+    s.applied.tz = 5e-4 * s.t_s;
+  }
+  std::ostringstream out;
+  WritePushLog(tr, out);
+  const Trajectory back = ReadPushLog(WriteFile("total_moments.csv", out.str()));
+  constexpr double kUlpOfRCrossF = 1e-17;  // |r x f| < 0.05 N m here; its ulp < 1e-17
+  for (std::size_t u = 0; u < tr.samples.size(); ++u) {
+    EXPECT_NEAR(back.samples[u].applied.tx, tr.samples[u].applied.tx, kUlpOfRCrossF);
+    EXPECT_NEAR(back.samples[u].applied.ty, tr.samples[u].applied.ty, kUlpOfRCrossF);
+    EXPECT_NEAR(back.samples[u].applied.tz, tr.samples[u].applied.tz, kUlpOfRCrossF);
+  }
+}
+
+TEST(PushLog, GoldenExampleReadsRowsMetadataAndTruth) {
+  const std::string golden = "/work/shared/data/golden/example1_square.csv";
+  if (!FileExists(golden)) GTEST_SKIP() << golden << " absent";
+  LogReadReport report;
+  const Trajectory tr = ReadPushLog(golden, {}, &report);
+  EXPECT_EQ(tr.samples.size(), 46u);
+  EXPECT_EQ(tr.slider.mass_kg, 0.5);
+  EXPECT_EQ(tr.slider.gravity_mps2, 9.8);
+  EXPECT_EQ(tr.slider.com_height_m, 0.08);
+  ASSERT_TRUE(tr.true_friction.has_value());
+  EXPECT_EQ(tr.true_friction->mu, 0.31);
+  EXPECT_EQ(tr.true_friction->e_r, 0.01);
+  EXPECT_FALSE(report.velocities_from_poses);
+  EXPECT_TRUE(report.unknown_columns.empty());
+  EXPECT_EQ(tr.samples[0].mode, SampleMode::kStart);
+  EXPECT_EQ(tr.samples[0].state.wz, 10.0);
+  EXPECT_EQ(tr.samples[1].state.x, 0.006869995041976629);
+  EXPECT_EQ(tr.samples[1].mode, SampleMode::kSlide);
+  EXPECT_TRUE(tr.columns.pose && tr.columns.velocity && tr.columns.force &&
+              tr.columns.step_info);
+  EXPECT_FALSE(tr.columns.push_point || tr.columns.moments || tr.columns.fz);
+}
+
+TEST(PushLog, ColumnsInShuffledOrderAreFoundByName) {
+  const std::string path = WriteFile(
+      "shuffled.csv", std::string(kSliderMeta) +
+                          "wz,fy,theta,extra,t,y,vy,x,vx,fx\n"
+                          "3,0.2,0.1,99,0,2,5,1,4,0.1\n"
+                          "6,0.4,0.2,99,0.5,2.5,5.5,1.5,4.5,0.3\n");
+  LogReadReport report;
+  const Trajectory tr = ReadPushLog(path, {}, &report);
+  ASSERT_EQ(tr.samples.size(), 2u);
+  const TrajectorySample& s = tr.samples[1];
+  EXPECT_EQ(s.t_s, 0.5);
+  EXPECT_EQ(s.state.x, 1.5);
+  EXPECT_EQ(s.state.y, 2.5);
+  EXPECT_EQ(s.state.theta, 0.2);
+  EXPECT_EQ(s.state.vx, 4.5);
+  EXPECT_EQ(s.state.vy, 5.5);
+  EXPECT_EQ(s.state.wz, 6.0);
+  EXPECT_EQ(s.applied.fx, 0.3);
+  EXPECT_EQ(s.applied.fy, 0.4);
+  EXPECT_EQ(report.unknown_columns, std::vector<std::string>{"extra"});
+}
+
+TEST(PushLog, AbsentOptionalColumnsReadAsZeroAndModesDefault) {
+  const std::string path =
+      WriteFile("minimal.csv", std::string(kSliderMeta) + "t,vx,vy,wz\n0,1,2,3\n0.1,1,2,3\n");
+  const Trajectory tr = ReadPushLog(path);
+  ASSERT_EQ(tr.samples.size(), 2u);
+  for (const TrajectorySample& s : tr.samples) {
+    EXPECT_TRUE(s.applied.IsZero());
+    EXPECT_FALSE(s.push_point_world.has_value());
+    EXPECT_EQ(s.state.x, 0.0);
+    EXPECT_EQ(s.state.theta, 0.0);
+    EXPECT_EQ(s.sigma, 0.0);
+    EXPECT_EQ(s.ecp_world, Eigen::Vector2d::Zero());
+  }
+  EXPECT_EQ(tr.samples[0].mode, SampleMode::kStart);
+  EXPECT_EQ(tr.samples[1].mode, SampleMode::kSlide);
+  EXPECT_FALSE(tr.columns.pose);
+  EXPECT_FALSE(tr.columns.force);
+  EXPECT_FALSE(tr.columns.step_info);
+  EXPECT_EQ(tr.slider.gravity_mps2, 9.81);
+  EXPECT_FALSE(tr.true_friction.has_value());
+}
+
+TEST(PushLog, PosesOnlyGiveBackwardEulerVelocities) {
+  const std::string path = WriteFile(
+      "poses.csv", std::string(kSliderMeta) + "t,x,y,theta\n0,0,0,0\n0.1,0.01,-0.02,0.05\n"
+                                              "0.3,0.03,-0.02,0.01\n");
+  LogReadReport report;
+  const Trajectory tr = ReadPushLog(path, {}, &report);
+  EXPECT_TRUE(report.velocities_from_poses);
+  EXPECT_FALSE(tr.columns.velocity);
+  ASSERT_EQ(tr.samples.size(), 3u);
+  EXPECT_EQ(tr.samples[0].state.vx, 0.0);
+  EXPECT_EQ(tr.samples[0].state.wz, 0.0);
+  EXPECT_NEAR(tr.samples[1].state.vx, 0.1, kRecomputeTol);
+  EXPECT_NEAR(tr.samples[1].state.vy, -0.2, kRecomputeTol);
+  EXPECT_NEAR(tr.samples[1].state.wz, 0.5, kRecomputeTol);
+  EXPECT_NEAR(tr.samples[2].state.vx, 0.1, kRecomputeTol);
+  EXPECT_NEAR(tr.samples[2].state.vy, 0.0, kRecomputeTol);
+  EXPECT_NEAR(tr.samples[2].state.wz, -0.2, kRecomputeTol);
+}
+
+TEST(PushLog, PushPointAddsRCrossFIncludingTiltingMoments) {
+  // CM at (1, 2, 0.08); force (3, -1, 0.5) at (0.9, 2.2, 0.15): r = (-0.1, 0.2, 0.07).
+  const std::string path = WriteFile(
+      "push_point.csv", std::string(kSliderMeta) +
+                            "t,x,y,theta,fx,fy,fz,px,py,pz,tx,ty,tz\n"
+                            "0,1,2,0,3,-1,0.5,0.9,2.2,0.15,0.01,0.02,0.03\n");
+  const Trajectory tr = ReadPushLog(path);
+  const AppliedWrench& w = tr.samples[0].applied;
+  const Eigen::Vector3d r(-0.1, 0.2, 0.07), f(3, -1, 0.5);
+  const Eigen::Vector3d expected = r.cross(f) + Eigen::Vector3d(0.01, 0.02, 0.03);
+  EXPECT_NEAR(w.tx, expected.x(), kRecomputeTol);  // ry fz - rz fy = 0.1 + 0.07
+  EXPECT_NEAR(w.ty, expected.y(), kRecomputeTol);  // rz fx - rx fz = 0.21 + 0.05
+  EXPECT_NEAR(w.tz, expected.z(), kRecomputeTol);
+  EXPECT_NEAR(w.tx, 0.18, kRecomputeTol);
+  EXPECT_NEAR(w.ty, 0.28, kRecomputeTol);
+  EXPECT_NEAR(w.tz, 0.1 - 0.6 + 0.03, kRecomputeTol);
+  EXPECT_EQ(w.fz, 0.5);
+  ASSERT_TRUE(tr.samples[0].push_point_world.has_value());
+  EXPECT_EQ(*tr.samples[0].push_point_world, Eigen::Vector3d(0.9, 2.2, 0.15));
+}
+
+TEST(PushLog, RowWithoutPushPointIsWrittenAtTheCentreOfMass) {
+  Trajectory tr = FullTrajectory();
+  tr.samples[2].push_point_world.reset();
+  std::ostringstream out;
+  WritePushLog(tr, out);
+  const std::string path = WriteFile("no_push_point.csv", out.str());
+  const Trajectory back = ReadPushLog(path);
+  ASSERT_TRUE(back.samples[2].push_point_world.has_value());
+  const TrajectorySample& s = tr.samples[2];
+  EXPECT_EQ(*back.samples[2].push_point_world,
+            Eigen::Vector3d(s.state.x, s.state.y, tr.slider.com_height_m));
+  EXPECT_EQ(back.samples[2].applied.tx, s.applied.tx);
+  EXPECT_EQ(back.samples[2].applied.tz, s.applied.tz);
+}
+
+TEST(PushLog, ThetaWrappedAcrossPiIsUnwrapped) {
+  const std::string path = WriteFile(
+      "wrapped.csv", std::string(kSliderMeta) + "t,x,y,theta\n0,0,0,3.0\n0.1,0,0,3.1\n"
+                                                "0.2,0,0,-3.1\n0.3,0,0,-3.0\n0.4,0,0,3.1\n");
+  LogReadReport report;
+  const Trajectory tr = ReadPushLog(path, {}, &report);
+  EXPECT_EQ(tr.samples[0].state.theta, 3.0);
+  EXPECT_EQ(tr.samples[1].state.theta, 3.1);
+  EXPECT_NEAR(tr.samples[2].state.theta, 2 * kPi - 3.1, kRecomputeTol);
+  EXPECT_NEAR(tr.samples[3].state.theta, 2 * kPi - 3.0, kRecomputeTol);
+  EXPECT_NEAR(tr.samples[4].state.theta, 3.1, kRecomputeTol);
+  EXPECT_NEAR(tr.samples[2].state.wz, (2 * kPi - 6.2) / 0.1, kRecomputeTol / 0.1);
+  bool noted = false;
+  for (const auto& note : report.notes) {
+    noted = noted || note.find("unwrapped") != std::string::npos;
+  }
+  EXPECT_TRUE(noted);
+}
+
+TEST(PushLog, CrlfLineEndingsAndUtf8BomAreAccepted) {
+  const std::string path = WriteFile(
+      "crlf_bom.csv", "\xEF\xBB\xBF# mass = 0.5\r\n# inertia = 2e-4\r\n# com_height = 0.08\r\n"
+                      "\r\nt,x,y,theta,mode\r\n0,0,0,0,start\r\n\r\n0.1,1,2,3,stick\r\n");
+  const Trajectory tr = ReadPushLog(path);
+  EXPECT_EQ(tr.slider.mass_kg, 0.5);
+  ASSERT_EQ(tr.samples.size(), 2u);
+  EXPECT_EQ(tr.samples[1].state.theta, 3.0);
+  EXPECT_EQ(tr.samples[1].mode, SampleMode::kStick);
+}
+
+TEST(PushLog, OverridesBeatMetadata) {
+  const std::string path = WriteFile(
+      "overrides.csv", std::string(kSliderMeta) + "# gravity = 9.8\nt,x,y,theta\n0,0,0,0\n");
+  LogReadOptions options;
+  options.overrides.mass_kg = 2.0;
+  options.overrides.gravity_mps2 = 1.62;
+  const Trajectory tr = ReadPushLog(path, options);
+  EXPECT_EQ(tr.slider.mass_kg, 2.0);
+  EXPECT_EQ(tr.slider.gravity_mps2, 1.62);
+  EXPECT_EQ(tr.slider.inertia_kgm2, 2e-4);
+}
+
+TEST(PushLog, OverridesSupplyMissingMetadata) {
+  const std::string path = WriteFile("no_meta.csv", "t,x,y,theta\n0,0,0,0\n");
+  LogReadOptions options;
+  options.overrides = {1.0, 0.01, 0.0, std::nullopt};
+  EXPECT_EQ(ReadPushLog(path, options).slider.mass_kg, 1.0);
+  options = {};
+  options.require_slider_properties = false;
+  EXPECT_EQ(ReadPushLog(path, options).samples.size(), 1u);
+}
+
+TEST(PushLog, CommentsAndExtraMetadataArePreservedInOrder) {
+  const std::string path = WriteFile(
+      "extra.csv", std::string("# A prose comment, with x = y inside it.\n") + kSliderMeta +
+                       "# scene = push_1\n# noise = 1e-4\n# patch = disk 0.03\nt,x,y,theta\n"
+                       "0,0,0,0\n# a comment between rows\n0.1,0,0,0\n");
+  const Trajectory tr = ReadPushLog(path);
+  const std::vector<std::pair<std::string, std::string>> expected = {{"scene", "push_1"},
+                                                                     {"noise", "1e-4"}};
+  EXPECT_EQ(tr.extra_metadata, expected);
+  EXPECT_EQ(tr.patch_spec, "disk 0.03");
+  EXPECT_EQ(tr.samples.size(), 2u);
+}
+
+TEST(PushLog, EveryMalformedLogRaisesLogErrorNamingFileLineAndColumn) {
+  const std::string meta = kSliderMeta;  // three lines
+  ExpectLogError("empty.csv", "", 0);
+  ExpectLogError("comments_only.csv", meta, 0);
+  ExpectLogError("header_only.csv", meta + "t,x,y,theta\n", 4);
+  ExpectLogError("no_header.csv", meta + "0,0,0,0\n", 4);
+  ExpectLogError("no_group.csv", meta + "t,fx,fy\n0,0,0\n", 4);
+  ExpectLogError("partial_pose.csv", meta + "t,x,y\n0,0,0\n", 4, "theta");
+  ExpectLogError("no_t.csv", meta + "x,y,theta\n0,0,0\n", 4, "t");
+  ExpectLogError("duplicate.csv", meta + "t,x,y,theta,x\n0,0,0,0,0\n", 4, "x");
+  ExpectLogError("non_numeric.csv", meta + "t,x,y,theta\n0,0,0,0\n0.1,abc,0,0\n", 6, "x");
+  ExpectLogError("trailing.csv", meta + "t,x,y,theta\n0,0,1.2abc,0\n", 5, "y");
+  ExpectLogError("empty_cell.csv", meta + "t,x,y,theta\n0,0,,0\n", 5, "y");
+  ExpectLogError("nan.csv", meta + "t,x,y,theta\n0,0,0,nan\n", 5, "theta");
+  ExpectLogError("inf.csv", meta + "t,x,y,theta\n\n0,0,0,0\n0.1,inf,0,0\n", 7, "x");
+  ExpectLogError("too_few.csv", meta + "t,x,y,theta\n0,0,0\n", 5);
+  ExpectLogError("too_many.csv", meta + "t,x,y,theta\n0,0,0,0\n0.1,0,0,0,0\n", 6);
+  ExpectLogError("t_equal.csv", meta + "t,x,y,theta\n0,0,0,0\n0.1,0,0,0\n0.1,0,0,0\n", 7, "t");
+  ExpectLogError("t_back.csv", meta + "t,x,y,theta\n0.2,0,0,0\n0.1,0,0,0\n", 6, "t");
+  ExpectLogError("bad_mode.csv", meta + "t,x,y,theta,mode\n0,0,0,0,slid\n", 5, "mode");
+  ExpectLogError("px_no_pose.csv", meta + "t,vx,vy,wz,px,py,pz\n0,0,0,0,0,0,0\n", 4, "px");
+  ExpectLogError("crlf_bom_error.csv",
+                 "\xEF\xBB\xBF# mass = 0.5\r\n# inertia = 2e-4\r\n# com_height = 0\r\n"
+                 "t,x,y,theta\r\n0,0,0,0\r\n0.1,0,0,x\r\n",
+                 6, "theta");
+  // m g = 0.5 * 9.81 = 4.905 N.
+  ExpectLogError("lift.csv", meta + "t,x,y,theta,fz\n0,0,0,0,1\n0.1,0,0,0,4.905\n", 6, "fz");
+}
+
+TEST(PushLog, MissingOrInvalidSliderPropertiesRaiseLogError) {
+  const std::string rows = "t,x,y,theta\n0,0,0,0\n";
+  ExpectLogError("no_mass.csv", "# inertia = 2e-4\n# com_height = 0.08\n" + rows, 0);
+  try {
+    ReadPushLog(WriteFile("no_mass2.csv", "# inertia = 2e-4\n# com_height = 0\n" + rows));
+    ADD_FAILURE() << "no LogError";
+  } catch (const LogError& e) {
+    EXPECT_NE(std::string(e.what()).find("mass"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("--mass"), std::string::npos) << e.what();
+  }
+  ExpectLogError("negative_height.csv", "# mass = 1\n# inertia = 1\n# com_height = -0.01\n" + rows,
+                 3);
+  ExpectLogError("zero_mass.csv", "# mass = 0\n# inertia = 1\n# com_height = 0\n" + rows, 1);
+  ExpectLogError("bad_gravity.csv", std::string(kSliderMeta) + "# gravity = nan\n" + rows, 4);
+  LogReadOptions options;
+  options.overrides.com_height_m = -1.0;
+  ExpectLogError("bad_override.csv", std::string(kSliderMeta) + rows, 0, "", options);
+}
+
+TEST(PushLog, UnreadableFileRaisesLogErrorNamingIt) {
+  const std::string path = TempDirectory() + "/missing.csv";
+  try {
+    ReadPushLog(path);
+    ADD_FAILURE() << "no LogError";
+  } catch (const LogError& e) {
+    EXPECT_NE(std::string(e.what()).find(path + ":0:"), std::string::npos) << e.what();
+  }
+}
+
+TEST(PushLog, FailedWriteThrowsNamingThePathAndLeavesNoFile) {
+  const std::string path = TempDirectory() + "/no_such_dir/log.csv";
+  try {
+    WritePushLog(FullTrajectory(), path);
+    ADD_FAILURE() << "no exception";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find(path), std::string::npos) << e.what();
+  }
+  EXPECT_FALSE(FileExists(path));
+  EXPECT_FALSE(FileExists(path + ".tmp"));
+}
+
+TEST(PushLog, WriterKeepsNonZeroForcesEvenWhenTheirGroupIsOff) {
+  Trajectory tr = FullTrajectory();
+  tr.columns = {true, false, false, false, false, false, false};
+  std::ostringstream out;
+  WritePushLog(tr, out);
+  const Trajectory back = ReadPushLog(WriteFile("forced_groups.csv", out.str()));
+  EXPECT_TRUE(back.columns.force && back.columns.fz && back.columns.moments);
+  EXPECT_FALSE(back.columns.push_point || back.columns.velocity || back.columns.step_info);
+  for (std::size_t u = 0; u < tr.samples.size(); ++u) {
+    EXPECT_EQ(back.samples[u].applied.fz, tr.samples[u].applied.fz);
+    EXPECT_EQ(back.samples[u].applied.ty, tr.samples[u].applied.ty);
+  }
+}
+
+TEST(PushLog, WriterRejectsMetadataThatWouldNotReadBack) {
+  Trajectory tr = FullTrajectory();
+  tr.extra_metadata.emplace_back("mass", "2");
+  std::ostringstream out;
+  EXPECT_THROW(WritePushLog(tr, out), std::invalid_argument);
+  tr.extra_metadata.back() = {"two words", "x"};
+  EXPECT_THROW(WritePushLog(tr, out), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace slideid
