@@ -1,0 +1,9 @@
+#!/usr/bin/env bash
+# Installs what is missing (scripts/setup.sh), then configures and builds slideid in build/
+# (Release, all cores). Executables land in build/bin/.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+bash scripts/setup.sh
+cmake -S . -B build -DCMAKE_BUILD_TYPE=Release > build.log 2>&1 || { cat build.log; exit 1; }
+cmake --build build -j"$(nproc)" >> build.log 2>&1 || { tail -60 build.log; exit 1; }
+echo "build: ok (build/bin: $(ls build/bin | tr '\n' ' '))"
