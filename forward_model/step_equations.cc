@@ -17,43 +17,42 @@ constexpr double kGuessSlipFraction = 1e-2;
 
 StepEquations::StepEquations(const SliderProperties& slider, const ReducedFriction& friction,
                              const PlanarState& state, const AppliedWrench& applied,
-                             double dt_s)
-    : m_(slider.mass_kg),
-      I_(slider.inertia_kgm2),
-      qz_(slider.com_height_m),
-      pn_(dt_s * (slider.mass_kg * slider.gravity_mps2 - applied.fz)),
-      a_(friction.a),
-      b_(friction.b),
-      c_(friction.c),
-      ptx_(dt_s * applied.tx),
-      pty_(dt_s * applied.ty) {
-  k_ << m_ * state.vx + dt_s * applied.fx, m_ * state.vy + dt_s * applied.fy,
-      I_ * state.wz + dt_s * applied.tz;
-  P_ = a_ * pn_;
-  velocity_scale_ = std::sqrt(std::pow(k_(0) / m_, 2) + std::pow(b_ * k_(1) / m_, 2) +
-                              std::pow(c_ * k_(2) / I_, 2));
+                             double dt_s) {
+  t_.m = slider.mass_kg;
+  t_.I = slider.inertia_kgm2;
+  t_.qz = slider.com_height_m;
+  t_.pn = dt_s * (slider.mass_kg * slider.gravity_mps2 - applied.fz);
+  t_.a = friction.a;
+  t_.b = friction.b;
+  t_.c = friction.c;
+  t_.ptx = dt_s * applied.tx;
+  t_.pty = dt_s * applied.ty;
+  t_.k << t_.m * state.vx + dt_s * applied.fx, t_.m * state.vy + dt_s * applied.fy,
+      t_.I * state.wz + dt_s * applied.tz;
+  P_ = t_.a * t_.pn;
+  velocity_scale_ = std::sqrt(std::pow(t_.k(0) / t_.m, 2) + std::pow(t_.b * t_.k(1) / t_.m, 2) +
+                              std::pow(t_.c * t_.k(2) / t_.I, 2));
 }
 
 Eigen::Vector3d StepEquations::StoppingImpulse() const {
   Eigen::Vector3d p;
-  p(0) = -k_(0);
-  p(1) = -k_(1);
-  p(2) = -k_(2) - (p(0) * ptx_ + p(1) * pty_) / pn_;
+  p(0) = -t_.k(0);
+  p(1) = -t_.k(1);
+  p(2) = -t_.k(2) - (p(0) * t_.ptx + p(1) * t_.pty) / t_.pn;
   return p;
 }
 
 bool StepEquations::InsideEllipsoid(const Eigen::Vector3d& p) const {
-  const double qo = p(1) / b_, qr = p(2) / c_;
+  const double qo = p(1) / t_.b, qr = p(2) / t_.c;
   return p(0) * p(0) + qo * qo + qr * qr <= P_ * P_;
 }
 
 Eigen::Vector3d StepEquations::EndVelocity(const Eigen::Vector3d& p) const {
-  return {(k_(0) + p(0)) / m_, (k_(1) + p(1)) / m_,
-          (k_(2) + p(2) + (p(0) * ptx_ + p(1) * pty_) / pn_) / I_};
+  return StepEndVelocity(t_, p);
 }
 
 Eigen::Vector2d StepEquations::EcpOffset(const Eigen::Vector3d& p) const {
-  return {(pty_ - qz_ * p(0)) / pn_, (-ptx_ - qz_ * p(1)) / pn_};
+  return StepEcpOffset(t_, p);
 }
 
 Eigen::Vector3d StepEquations::EcpVelocity(const Eigen::Vector3d& p,
@@ -62,13 +61,13 @@ Eigen::Vector3d StepEquations::EcpVelocity(const Eigen::Vector3d& p,
   const Eigen::Vector2d r = EcpOffset(p);
   const double w = nu(2);
   if (dv_dp) {
-    const Eigen::RowVector3d dw(ptx_ / (pn_ * I_), pty_ / (pn_ * I_), 1.0 / I_);
-    const double dr = -qz_ / pn_;  // d r_x / d p_t = d r_y / d p_o
+    const Eigen::RowVector3d dw(t_.ptx / (t_.pn * t_.I), t_.pty / (t_.pn * t_.I), 1.0 / t_.I);
+    const double dr = -t_.qz / t_.pn;  // d r_x / d p_t = d r_y / d p_o
     dv_dp->row(0) = -r(1) * dw;
-    (*dv_dp)(0, 0) += 1.0 / m_;
+    (*dv_dp)(0, 0) += 1.0 / t_.m;
     (*dv_dp)(0, 1) -= w * dr;
     dv_dp->row(1) = r(0) * dw;
-    (*dv_dp)(1, 1) += 1.0 / m_;
+    (*dv_dp)(1, 1) += 1.0 / t_.m;
     (*dv_dp)(1, 0) += w * dr;
     dv_dp->row(2) = dw;
   }
@@ -76,23 +75,20 @@ Eigen::Vector3d StepEquations::EcpVelocity(const Eigen::Vector3d& p,
 }
 
 Eigen::Vector3d StepEquations::Impulses(const Eigen::Vector4d& z) const {
-  return {P_ * z(0), P_ * b_ * z(1), P_ * c_ * z(2)};
+  return StepImpulses(t_, z);
 }
 
 void StepEquations::Evaluate(const Eigen::Vector4d& z, Eigen::Vector4d* f,
                              Eigen::Matrix4d* jac) const {
-  const Eigen::Vector3d weight(1.0, b_, c_);
-  const Eigen::Vector3d tau = z.head<3>();
-  const double s = z(3);
-  Eigen::Matrix3d dv_dp;
-  const Eigen::Vector3d v = EcpVelocity(Impulses(z), jac ? &dv_dp : nullptr);
-  f->head<3>() = weight.cwiseProduct(v) + s * tau;
-  (*f)(3) = 0.5 * velocity_scale_ * (tau.squaredNorm() - 1.0);
+  *f = ScaledStepResidual(t_, z, velocity_scale_);
   if (jac) {
-    // dp/dtau = P diag(weight), du/dv = diag(weight).
-    jac->topLeftCorner<3, 3>() =
-        P_ * weight.asDiagonal() * dv_dp * weight.asDiagonal();
-    jac->topLeftCorner<3, 3>().diagonal().array() += s;
+    // Analytic: dp/dtau = P diag(weight), du/dv = diag(weight), dv/dp from EcpVelocity.
+    const Eigen::Vector3d weight(1.0, t_.b, t_.c);
+    const Eigen::Vector3d tau = z.head<3>();
+    Eigen::Matrix3d dv_dp;
+    EcpVelocity(Impulses(z), &dv_dp);
+    jac->topLeftCorner<3, 3>() = P_ * weight.asDiagonal() * dv_dp * weight.asDiagonal();
+    jac->topLeftCorner<3, 3>().diagonal().array() += z(3);
     jac->topRightCorner<3, 1>() = tau;
     jac->bottomLeftCorner<1, 3>() = velocity_scale_ * tau.transpose();
     (*jac)(3, 3) = 0.0;
@@ -109,19 +105,19 @@ double StepEquations::RelativeResidual(const Eigen::Vector4d& z,
 
 Eigen::Vector4d StepEquations::DecoupledAt(double s) const {
   // p_i = -P D_i k_i / (M_i s + P D_i), D = (1, b^2, c^2): tau = p / (P weight).
-  return {-k_(0) / (m_ * s + P_), -b_ * k_(1) / (m_ * s + P_ * b_ * b_),
-          -c_ * k_(2) / (I_ * s + P_ * c_ * c_), s};
+  return {-t_.k(0) / (t_.m * s + P_), -t_.b * t_.k(1) / (t_.m * s + P_ * t_.b * t_.b),
+          -t_.c * t_.k(2) / (t_.I * s + P_ * t_.c * t_.c), s};
 }
 
 bool StepEquations::SolveDecoupled(Eigen::Vector4d* z, int* iterations) const {
-  const Eigen::Vector3d mass(m_, m_, I_);
-  const Eigen::Vector3d weight(1.0, b_, c_);
+  const Eigen::Vector3d mass(t_.m, t_.m, t_.I);
+  const Eigen::Vector3d weight(1.0, t_.b, t_.c);
   // Bracket: each term of |tau|^2 alone reaching 1 gives a lower bound; the free slip speed
   // (no friction at all) an upper bound.
   double lo = 0.0;
   for (int i = 0; i < 3; ++i) {
     const double d = weight(i) * weight(i);
-    lo = std::max(lo, (weight(i) * std::abs(k_(i)) - P_ * d) / mass(i));
+    lo = std::max(lo, (weight(i) * std::abs(t_.k(i)) - P_ * d) / mass(i));
   }
   double hi = std::max(velocity_scale_, lo);
   double s = lo;
@@ -131,8 +127,8 @@ bool StepEquations::SolveDecoupled(Eigen::Vector4d* z, int* iterations) const {
     for (int i = 0; i < 3; ++i) {
       const double d = weight(i) * weight(i);
       const double den = mass(i) * s + P_ * d;
-      if (k_(i) == 0.0) continue;
-      const double term = d * k_(i) * k_(i) / (den * den);
+      if (t_.k(i) == 0.0) continue;
+      const double term = d * t_.k(i) * t_.k(i) / (den * den);
       phi += term;
       dphi -= 2.0 * term * mass(i) / den;
     }
@@ -154,9 +150,9 @@ bool StepEquations::SolveDecoupled(Eigen::Vector4d* z, int* iterations) const {
 Eigen::Vector4d StepEquations::DecoupledGuess() const {
   Eigen::Vector4d z;
   int its = 0;
-  const Eigen::Vector3d weight(1.0, b_, c_);
+  const Eigen::Vector3d weight(1.0, t_.b, t_.c);
   double phi0 = 0;  // |tau(0)|^2: the decoupled stick test
-  for (int i = 0; i < 3; ++i) phi0 += std::pow(k_(i) / (P_ * weight(i)), 2);
+  for (int i = 0; i < 3; ++i) phi0 += std::pow(t_.k(i) / (P_ * weight(i)), 2);
   if (phi0 > 1.0 && SolveDecoupled(&z, &its)) return z;
   z = DecoupledAt(kGuessSlipFraction * velocity_scale_);
   z.head<3>().normalize();
@@ -166,10 +162,10 @@ Eigen::Vector4d StepEquations::DecoupledGuess() const {
 Eigen::Vector4d StepEquations::StoppingGuess() const {
   const Eigen::Vector3d p = StoppingImpulse();
   Eigen::Vector4d z;
-  z.head<3>() << p(0) / P_, p(1) / (P_ * b_), p(2) / (P_ * c_);
+  z.head<3>() << p(0) / P_, p(1) / (P_ * t_.b), p(2) / (P_ * t_.c);
   const double excess = z.head<3>().norm();  // > 1 whenever the step slides
   // Per axis, |tau_i(s)| = 1 at s = P (|tau_i(0)| - 1) / M_i with M = (m, m/b^2, I/c^2).
-  const Eigen::Vector3d mass(m_, m_ / (b_ * b_), I_ / (c_ * c_));
+  const Eigen::Vector3d mass(t_.m, t_.m / (t_.b * t_.b), t_.I / (t_.c * t_.c));
   const Eigen::Vector3d share = z.head<3>().cwiseAbs2() / (excess * excess);
   z(3) = P_ * std::max(excess - 1.0, kGuessSlipFraction) / share.dot(mass);
   z.head<3>() /= excess;
@@ -177,15 +173,15 @@ Eigen::Vector4d StepEquations::StoppingGuess() const {
 }
 
 Eigen::Vector4d StepEquations::PureTranslationClosedForm() const {
-  const double k = std::hypot(k_(0), k_(1));
-  return {-k_(0) / k, -k_(1) / k, 0.0, (k - P_) / m_};
+  const double k = std::hypot(t_.k(0), t_.k(1));
+  return {-t_.k(0) / k, -t_.k(1) / k, 0.0, (k - P_) / t_.m};
 }
 
 StepEquations StepEquations::WithCouplingScaled(double scale) const {
   StepEquations scaled = *this;
-  scaled.qz_ *= scale;
-  scaled.ptx_ *= scale;
-  scaled.pty_ *= scale;
+  scaled.t_.qz *= scale;
+  scaled.t_.ptx *= scale;
+  scaled.t_.pty *= scale;
   return scaled;
 }
 

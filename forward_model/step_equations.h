@@ -16,12 +16,62 @@
 
 namespace slideid {
 
+/// Everything that defines one step, in any scalar type (double, or ceres::Jet for the
+/// estimator's derivatives): masses, CM height, normal impulse, (a, b, c), tilting
+/// impulses h tx, h ty [N m s] and k = M nu + applied impulse [N s, N s, N m s].
+template <typename T>
+struct StepTerms {
+  T m, I, qz, pn, a, b, c, ptx, pty;
+  Eigen::Matrix<T, 3, 1> k;
+};
+
+/// (v_x', v_y', w_z') from Newton-Euler with the coupling term (*), for friction p.
+template <typename T>
+Eigen::Matrix<T, 3, 1> StepEndVelocity(const StepTerms<T>& s, const Eigen::Matrix<T, 3, 1>& p) {
+  Eigen::Matrix<T, 3, 1> nu;
+  nu << (s.k(0) + p(0)) / s.m, (s.k(1) + p(1)) / s.m,
+      (s.k(2) + p(2) + (p(0) * s.ptx + p(1) * s.pty) / s.pn) / s.I;
+  return nu;
+}
+
+/// ECP minus CM (world), from the x and y moment balances [m].
+template <typename T>
+Eigen::Matrix<T, 2, 1> StepEcpOffset(const StepTerms<T>& s, const Eigen::Matrix<T, 3, 1>& p) {
+  Eigen::Matrix<T, 2, 1> r;
+  r << (s.pty - s.qz * p(0)) / s.pn, (-s.ptx - s.qz * p(1)) / s.pn;
+  return r;
+}
+
+/// Friction impulse from the scaled unknowns: p = a p_n (tau_t, b tau_o, c tau_r).
+template <typename T>
+Eigen::Matrix<T, 3, 1> StepImpulses(const StepTerms<T>& s, const Eigen::Matrix<T, 4, 1>& z) {
+  const T P = s.a * s.pn;
+  Eigen::Matrix<T, 3, 1> p;
+  p << P * z(0), P * s.b * z(1), P * s.c * z(2);
+  return p;
+}
+
+/// The four scaled equations (u + s tau, V (|tau|^2 - 1) / 2), u = (v_t, b v_o, c v_r).
+template <typename T>
+Eigen::Matrix<T, 4, 1> ScaledStepResidual(const StepTerms<T>& s, const Eigen::Matrix<T, 4, 1>& z,
+                                          double velocity_scale) {
+  const Eigen::Matrix<T, 3, 1> p = StepImpulses(s, z);
+  const Eigen::Matrix<T, 3, 1> nu = StepEndVelocity(s, p);
+  const Eigen::Matrix<T, 2, 1> r = StepEcpOffset(s, p);
+  Eigen::Matrix<T, 4, 1> f;
+  f(0) = nu(0) - nu(2) * r(1) + z(3) * z(0);
+  f(1) = s.b * (nu(1) + nu(2) * r(0)) + z(3) * z(1);
+  f(2) = s.c * nu(2) + z(3) * z(2);
+  f(3) = T(0.5 * velocity_scale) * (z(0) * z(0) + z(1) * z(1) + z(2) * z(2) - T(1.0));
+  return f;
+}
+
 class StepEquations {
  public:
   StepEquations(const SliderProperties& slider, const ReducedFriction& friction,
                 const PlanarState& state, const AppliedWrench& applied, double dt_s);
 
-  double pn() const { return pn_; }
+  double pn() const { return t_.pn; }
   /// Friction impulse (p_t, p_o, p_r) that brings the slider to rest in this step.
   Eigen::Vector3d StoppingImpulse() const;
   /// (p_t)^2 + (p_o/b)^2 + (p_r/c)^2 <= (a p_n)^2.
@@ -41,10 +91,10 @@ class StepEquations {
   double RelativeResidual(const Eigen::Vector4d& z, const Eigen::Vector4d& f) const;
 
   /// No CM height and no tilting moments: the ECP stays under the CM.
-  bool IsDecoupled() const { return qz_ == 0.0 && ptx_ == 0.0 && pty_ == 0.0; }
+  bool IsDecoupled() const { return t_.qz == 0.0 && t_.ptx == 0.0 && t_.pty == 0.0; }
   /// No spin, no spin impulse, no tilting moments: w_z' = 0 solves the step exactly.
-  bool IsPureTranslation() const { return k_(2) == 0.0 && ptx_ == 0.0 && pty_ == 0.0; }
-  bool IsotropicTranslation() const { return b_ == 1.0; }
+  bool IsPureTranslation() const { return t_.k(2) == 0.0 && t_.ptx == 0.0 && t_.pty == 0.0; }
+  bool IsotropicTranslation() const { return t_.b == 1.0; }
 
   /// Exact solution of the decoupled problem (coupling ignored) by a safeguarded Newton
   /// root of |tau(s)| = 1, monotone in s. Returns false if it did not converge.
@@ -61,13 +111,11 @@ class StepEquations {
   StepEquations WithCouplingScaled(double scale) const;
 
   double velocity_scale() const { return velocity_scale_; }
+  const StepTerms<double>& terms() const { return t_; }
 
  private:
   Eigen::Vector4d DecoupledAt(double s) const;
-  double m_, I_, qz_, pn_;
-  double a_, b_, c_;
-  double ptx_, pty_;          // tilting angular impulses h tx, h ty [N m s]
-  Eigen::Vector3d k_;         // M nu + applied impulse: momentum before friction
+  StepTerms<double> t_;
   double P_;                  // a p_n
   double velocity_scale_;     // |k / M| weighted by (1, b, c): free slip speed [m/s]
 };
