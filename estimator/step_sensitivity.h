@@ -1,0 +1,25 @@
+#pragma once
+// Exact derivatives of one step's end velocity with respect to its start velocity and the
+// log-parameters (log a, log b, log c), by the implicit function theorem on the step's
+// scaled equations (forward_model/step_equations.h): dz/dx = -F_z^-1 F_x.
+
+#include <Eigen/Core>
+
+#include "forward_model/step_solver.h"
+
+namespace slideid {
+
+/// A solved step and its sensitivities. While sticking, nu' = 0 locally: both are zero.
+struct StepSensitivity {
+  StepResult step;
+  Eigen::Matrix3d dnu_dnu = Eigen::Matrix3d::Zero();       ///< d nu' / d nu
+  Eigen::Matrix3d dnu_dlogabc = Eigen::Matrix3d::Zero();   ///< d nu' / d(log a, log b, log c)
+};
+
+/// Solves the step with (a, b, c) and fills the derivatives. Returns false when the step
+/// failed (non-convergence, lift-off) or the Jacobian of the equations is singular.
+bool SolveStepWithSensitivity(const SliderProperties& slider, const ReducedFriction& abc,
+                              const PlanarState& state, const AppliedWrench& applied,
+                              double dt_s, StepSensitivity* out);
+
+}  // namespace slideid
