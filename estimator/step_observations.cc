@@ -4,7 +4,14 @@
 
 namespace slideid {
 
-std::vector<StepObservation> ExtractStepObservations(const Trajectory& log) {
+std::vector<StepObservation> ExtractStepObservations(const Trajectory& logged) {
+  // A poses-only log means kinematic-map velocities, whatever the samples carry.
+  Trajectory derived;
+  if (!logged.columns.velocity) {
+    derived = logged;
+    SetVelocitiesFromPoses(&derived);
+  }
+  const Trajectory& log = logged.columns.velocity ? logged : derived;
   const SliderProperties& s = log.slider;
   if (!(s.mass_kg > 0 && s.inertia_kgm2 > 0 && s.com_height_m >= 0 && s.gravity_mps2 > 0)) {
     throw std::invalid_argument("ExtractStepObservations: slider properties not set");

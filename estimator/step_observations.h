@@ -30,7 +30,8 @@ struct StepObservation {
   bool start_velocity_known = true;
 };
 
-/// All steps of a log (rows 0..N-2 start a step). The slider must have mass, inertia,
+/// All steps of a log (rows 0..N-2 start a step). Without the velocity columns, velocities
+/// come from the poses by the kinematic map (SetVelocitiesFromPoses). The slider must have mass, inertia,
 /// com_height and gravity set.
 std::vector<StepObservation> ExtractStepObservations(const Trajectory& log);
 

@@ -433,18 +433,6 @@ int UnwrapTheta(std::vector<RawRow>& rows) {
   return shifted;
 }
 
-/// Backward-Euler kinematic map v^{u+1} = (q^{u+1} - q^u) / (t_{u+1} - t_u); first row 0.
-void VelocitiesFromPoses(std::vector<TrajectorySample>& samples) {
-  for (std::size_t u = 1; u < samples.size(); ++u) {
-    const PlanarState& a = samples[u - 1].state;
-    PlanarState& b = samples[u].state;
-    const double dt = samples[u].t_s - samples[u - 1].t_s;
-    b.vx = (b.x - a.x) / dt;
-    b.vy = (b.y - a.y) / dt;
-    b.wz = (b.theta - a.theta) / dt;
-  }
-}
-
 /// Total applied wrench of a row: f, the given moments, plus r x f at the push point.
 AppliedWrench RowWrench(const RawRow& row, bool push_point, double com_height_m) {
   const auto& v = row.v;
@@ -515,7 +503,7 @@ void FillSamples(const ReadContext& ctx, std::vector<RawRow>& rows, const Header
         RowSample(rows[u], h, trajectory.slider.com_height_m, u == 0));
   }
   if (!h.Has(kVx)) {
-    VelocitiesFromPoses(trajectory.samples);
+    SetVelocitiesFromPoses(&trajectory);
     ctx.report.velocities_from_poses = true;
     ctx.report.notes.push_back("velocities computed from poses (backward Euler)");
   }

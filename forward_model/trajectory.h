@@ -55,4 +55,9 @@ struct Trajectory {
   std::vector<TrajectorySample> samples;
 };
 
+/// Overwrites every sample's velocity by the backward-Euler kinematic map of the poses,
+/// v^{u+1} = (q^{u+1} - q^u) / (t_{u+1} - t_u) (log-format.md); the first row's is set to 0
+/// (unknown). What a poses-only log means, wherever it came from.
+void SetVelocitiesFromPoses(Trajectory* log);
+
 }  // namespace slideid
