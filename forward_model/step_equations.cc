@@ -13,6 +13,8 @@ constexpr int kMaxScalarIterations = 200;
 // First-guess slip speed, as a fraction of the free slip speed, when the decoupled problem
 // would stick but the coupled one slides.
 constexpr double kGuessSlipFraction = 1e-2;
+// A first guess needs no more digits than Newton's first quadratic step doubles.
+constexpr double kGuessTolerance = 1e-8;
 }  // namespace
 
 StepEquations::StepEquations(const SliderProperties& slider, const ReducedFriction& friction,
@@ -109,7 +111,9 @@ Eigen::Vector4d StepEquations::DecoupledAt(double s) const {
           -t_.c * t_.k(2) / (t_.I * s + P_ * t_.c * t_.c), s};
 }
 
-bool StepEquations::SolveDecoupled(Eigen::Vector4d* z, int* iterations) const {
+bool StepEquations::SolveDecoupled(Eigen::Vector4d* z, int* iterations,
+                                   double tolerance) const {
+  tolerance = std::max(tolerance, kScalarTolerance);
   const Eigen::Vector3d mass(t_.m, t_.m, t_.I);
   const Eigen::Vector3d weight(1.0, t_.b, t_.c);
   // Bracket: each term of |tau|^2 alone reaching 1 gives a lower bound; the free slip speed
@@ -134,7 +138,7 @@ bool StepEquations::SolveDecoupled(Eigen::Vector4d* z, int* iterations) const {
     }
     const double g = 1.0 / std::sqrt(phi) - 1.0;
     *iterations = it;
-    if (std::abs(g) <= kScalarTolerance) break;
+    if (std::abs(g) <= tolerance) break;
     if (g < 0) lo = s; else hi = s;
     if (hi - lo <= 2 * kEps * hi) break;
     const double dg = -0.5 * dphi / (phi * std::sqrt(phi));
@@ -153,7 +157,7 @@ Eigen::Vector4d StepEquations::DecoupledGuess() const {
   const Eigen::Vector3d weight(1.0, t_.b, t_.c);
   double phi0 = 0;  // |tau(0)|^2: the decoupled stick test
   for (int i = 0; i < 3; ++i) phi0 += std::pow(t_.k(i) / (P_ * weight(i)), 2);
-  if (phi0 > 1.0 && SolveDecoupled(&z, &its)) return z;
+  if (phi0 > 1.0 && SolveDecoupled(&z, &its, kGuessTolerance)) return z;
   z = DecoupledAt(kGuessSlipFraction * velocity_scale_);
   z.head<3>().normalize();
   return z;

@@ -97,8 +97,9 @@ class StepEquations {
   bool IsotropicTranslation() const { return t_.b == 1.0; }
 
   /// Exact solution of the decoupled problem (coupling ignored) by a safeguarded Newton
-  /// root of |tau(s)| = 1, monotone in s. Returns false if it did not converge.
-  bool SolveDecoupled(Eigen::Vector4d* z, int* iterations) const;
+  /// root of |tau(s)| = 1, monotone in s, to |1/|tau| - 1| <= tolerance (default: a few
+  /// ulps). Returns false if it did not converge.
+  bool SolveDecoupled(Eigen::Vector4d* z, int* iterations, double tolerance = 0.0) const;
   /// The decoupled solution as a first guess for the general solve (valid even where the
   /// decoupled problem itself would stick).
   Eigen::Vector4d DecoupledGuess() const;

@@ -12,13 +12,14 @@
 namespace slideid {
 namespace {
 
-constexpr double kEps = std::numeric_limits<double>::epsilon();
 
 // Armijo constant and the bound on halvings of the Newton line search.
 constexpr double kArmijo = 1e-4;
 constexpr int kMaxHalvings = 40;
 // Newton never takes s below this fraction of its current value (s must stay > 0).
 constexpr double kMinSlipFraction = 0.1;
+// Relative size below which the 3x3 block (or the border) counts as singular.
+constexpr double kSingularBlock = 1e-12;
 // Coupling scales of the continuation used only when Newton from the decoupled guess fails.
 constexpr double kContinuation[] = {0.125, 0.25, 0.5, 0.75, 1.0};
 
@@ -44,6 +45,31 @@ void Validate(const SliderProperties& slider, const FrictionParameters& f, doubl
   require(std::isfinite(dt_s) && dt_s > 0, "time step must be > 0", dt_s);
 }
 
+// The Jacobian is bordered, [[A, tau], [V tau^T, 0]]: eliminate through the 3x3 block A
+// (cofactor inverse, cheaper than a 4x4 LU); fall back to pivoted LU where A is singular
+// or the border is degenerate.
+bool SolveNewtonSystem(const Eigen::Matrix4d& jac, const Eigen::Vector4d& f,
+                       Eigen::Vector4d* dz) {
+  const Eigen::Matrix3d A = jac.topLeftCorner<3, 3>();
+  Eigen::Matrix3d A_inv;
+  bool invertible = false;
+  A.computeInverseWithCheck(A_inv, invertible, kSingularBlock * A.cwiseAbs().maxCoeff());
+  if (invertible) {
+    const Eigen::Vector3d x1 = -(A_inv * f.head<3>());
+    const Eigen::Vector3d x2 = A_inv * jac.topRightCorner<3, 1>();
+    const Eigen::RowVector3d g = jac.bottomLeftCorner<1, 3>();
+    const double border = g.dot(x2);
+    if (std::abs(border) > kSingularBlock * g.norm() * x2.norm()) {
+      const double ds = (g.dot(x1) + f(3)) / border;
+      dz->head<3>() = x1 - x2 * ds;
+      (*dz)(3) = ds;
+      if (dz->allFinite()) return true;
+    }
+  }
+  *dz = Eigen::PartialPivLU<Eigen::Matrix4d>(jac).solve(-f);
+  return dz->allFinite();
+}
+
 // Newton on the scaled equations from `z`; returns true when converged.
 bool Newton(const StepEquations& eq, const StepOptions& options, Eigen::Vector4d* z,
             int* iterations, double* relative_residual) {
@@ -53,9 +79,8 @@ bool Newton(const StepEquations& eq, const StepOptions& options, Eigen::Vector4d
   for (int it = 0; it < options.max_iterations; ++it) {
     *relative_residual = eq.RelativeResidual(*z, f);
     if (*relative_residual <= options.relative_tolerance) return (*z)(3) > 0;
-    Eigen::PartialPivLU<Eigen::Matrix4d> lu(jac);
-    Eigen::Vector4d dz = lu.solve(-f);
-    if (!dz.allFinite()) return false;
+    Eigen::Vector4d dz;
+    if (!SolveNewtonSystem(jac, f, &dz)) return false;
     double alpha = 1.0;
     if ((*z)(3) + dz(3) < kMinSlipFraction * (*z)(3)) {
       alpha = (1.0 - kMinSlipFraction) * (*z)(3) / -dz(3);
@@ -86,14 +111,15 @@ bool Newton(const StepEquations& eq, const StepOptions& options, Eigen::Vector4d
 bool SolveGeneral(const StepEquations& eq, const StepOptions& options, Eigen::Vector4d* z,
                   int* iterations, double* relative_residual) {
   int its = 0;
-  *iterations = 0;
-  for (const Eigen::Vector4d& guess : {eq.DecoupledGuess(), eq.StoppingGuess()}) {
-    *z = guess;
-    its = 0;
-    const bool ok = Newton(eq, options, z, &its, relative_residual);
-    *iterations += its;
-    if (ok) return true;
-  }
+  *z = eq.DecoupledGuess();
+  bool ok = Newton(eq, options, z, &its, relative_residual);
+  *iterations = its;
+  if (ok) return true;
+  *z = eq.StoppingGuess();  // built only when needed: it is rarely needed
+  its = 0;
+  ok = Newton(eq, options, z, &its, relative_residual);
+  *iterations += its;
+  if (ok) return true;
   *z = eq.DecoupledGuess();
   for (double scale : kContinuation) {
     its = 0;
