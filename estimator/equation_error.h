@@ -1,0 +1,77 @@
+#pragma once
+// Equation-error estimator: a Ceres fit of theta = (log a, log b, log c) to the measured
+// friction impulses, with the model of model.md, "Only three parameters matter", evaluated
+// at the measured ECP velocities.
+
+#include <ceres/ceres.h>
+
+#include <cmath>
+
+#include "estimator/estimate.h"
+#include "estimator/step_observations.h"
+#include "forward_model/trajectory.h"
+
+namespace slideid {
+
+/// Steps whose ECP speed |v|_w = sqrt(v_t^2 + v_o^2 + (L v_r)^2) is below this fraction of
+/// the median over the candidate steps are left out ("ECP speed near zero"): the model's
+/// direction v / |v|_D is undefined at 0. The functor is exact at any positive speed, so
+/// this only keeps clear of 0 and of denormal speeds; it is not a noise threshold.
+constexpr double kEcpSpeedFloorFraction = 1e-9;
+
+/// Robust-loss scale floor (dimensionless, residuals are impulses over p_n): when the
+/// residuals at the seed are at rounding level (exact logs), a loss scale of that size
+/// would make Huber/Cauchy act on rounding noise. 1e-9 is far below any measurement noise
+/// (a of order 0.1..1) and far above rounding (~1e-16).
+constexpr double kMinLossSigma = 1e-9;
+
+/// Residuals of one step (3, dimensionless) for parameter blocks log a, log b, log c:
+/// ((p_t - m_t) / p_n, (p_o - m_o) / p_n, (p_r - m_r) / (p_n L)) with
+/// m = -a p_n (v_t, b^2 v_o, c^2 v_r) / sqrt(v_t^2 + b^2 v_o^2 + c^2 v_r^2).
+/// Returns false (never throws) where the model's speed is not positive.
+struct EquationErrorResidual {
+  EquationErrorResidual(const StepObservation& o, double radius_m)
+      : vt(o.ecp_velocity(0)), vo(o.ecp_velocity(1)), vr(o.ecp_velocity(2)),
+        qt(o.friction_impulse(0) / o.pn), qo(o.friction_impulse(1) / o.pn),
+        qr(o.friction_impulse(2) / (o.pn * radius_m)), radius(radius_m) {}
+
+  template <typename T>
+  bool operator()(const T* log_a, const T* log_b, const T* log_c, T* residual) const {
+    using std::exp;
+    using std::sqrt;
+    const T a = exp(log_a[0]);
+    const T b2 = exp(T(2) * log_b[0]);
+    const T c2 = exp(T(2) * log_c[0]);
+    const T speed2 = vt * vt + b2 * vo * vo + c2 * vr * vr;
+    if (!(speed2 > T(0))) return false;
+    const T k = a / sqrt(speed2);  // a / |v|_D
+    residual[0] = qt + k * vt;
+    residual[1] = qo + k * b2 * vo;
+    residual[2] = qr + k * c2 * vr / radius;
+    return true;
+  }
+
+  static ceres::CostFunction* Create(const StepObservation& o, double radius_m) {
+    return new ceres::AutoDiffCostFunction<EquationErrorResidual, 3, 1, 1, 1>(
+        new EquationErrorResidual(o, radius_m));
+  }
+
+  double vt, vo, vr;  ///< measured ECP velocity [m/s, m/s, rad/s]
+  double qt, qo, qr;  ///< measured friction impulses over p_n (p_r also over L)
+  double radius;      ///< L = sqrt(I_z / m) [m]
+};
+
+/// Fits (log a, log b, log c) by Ceres (DENSE_QR, options.loss at
+/// options.loss_scale_sigmas * 1.4826 MAD of the residuals at the seed), seeded by
+/// EstimateClosedForm (b = 1, c = L where it gives none). Parameters that
+/// AssessIdentifiability rejects are held at their seed and the rest refitted; standard
+/// errors from ceres::Covariance scaled by s^2 = sum r^2 / (N - n_free) (raw residuals).
+/// s^2 treats the residuals as independent; with velocity noise, consecutive impulses
+/// m (v' - v) share a sample, their noise partly cancels in the fit, and the reported errors
+/// are conservative (~4x the observed spread on the synthetic scenes). Outliers (e.g. sticking
+/// steps a noisy log cannot flag) also inflate s^2, since it uses the raw residuals.
+/// Residuals: per step, names "t", "o", "r", NaN for unused steps.
+/// Throws std::invalid_argument for invalid options or too little sliding.
+EstimateResult EstimateEquationError(const Trajectory& log, const EstimatorOptions& options);
+
+}  // namespace slideid

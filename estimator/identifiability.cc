@@ -1,0 +1,134 @@
+#include "estimator/identifiability.h"
+
+#include <Eigen/Dense>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <stdexcept>
+#include <vector>
+
+namespace slideid {
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+std::string Format(const char* fmt, double x, double y = 0) {
+  char buf[160];
+  std::snprintf(buf, sizeof buf, fmt, x, y);
+  return buf;
+}
+
+/// H restricted to the indices in `set`.
+Eigen::MatrixXd Sub(const Eigen::Matrix3d& h, const std::vector<int>& set) {
+  const int n = static_cast<int>(set.size());
+  Eigen::MatrixXd s(n, n);
+  for (int i = 0; i < n; ++i) {
+    for (int j = 0; j < n; ++j) s(i, j) = h(set[i], set[j]);
+  }
+  return s;
+}
+
+void Remove(std::vector<int>* set, int position) { set->erase(set->begin() + position); }
+
+}  // namespace
+
+std::array<ParameterIdentifiability, 3> AssessIdentifiability(const Eigen::Matrix3d& fisher_log,
+                                                              double residual_variance,
+                                                              const std::array<bool, 3>& active) {
+  if (!fisher_log.allFinite()) {
+    throw std::invalid_argument("AssessIdentifiability: information matrix is not finite");
+  }
+  if (!(residual_variance >= 0) || !std::isfinite(residual_variance)) {
+    throw std::invalid_argument(
+        Format("AssessIdentifiability: residual variance must be finite and >= 0, got %g",
+               residual_variance));
+  }
+  const Eigen::Matrix3d h = 0.5 * (fisher_log + fisher_log.transpose());
+  std::array<ParameterIdentifiability, 3> out;
+  for (auto& p : out) p.stderr_log = kNaN;
+
+  // (i) no or negligible information.
+  double largest = 0;
+  for (int i = 0; i < 3; ++i) {
+    if (active[i]) largest = std::max(largest, h(i, i));
+  }
+  std::vector<int> set;
+  for (int i = 0; i < 3; ++i) {
+    if (!active[i]) {
+      out[i].note = "held constant by the caller";
+    } else if (!(h(i, i) > 0) || h(i, i) < kNegligibleInformationRatio * largest) {
+      out[i].note = Format(
+          "the residuals do not depend on it (information %.3g of the largest, below %.0e)",
+          largest > 0 ? h(i, i) / largest : 0.0, kNegligibleInformationRatio);
+    } else {
+      set.push_back(i);
+    }
+  }
+
+  // (ii) exact collinearity in the normalised information.
+  while (set.size() > 1) {
+    const Eigen::MatrixXd s = Sub(h, set);
+    const Eigen::VectorXd d = s.diagonal().cwiseSqrt().cwiseInverse();
+    const Eigen::MatrixXd hn = d.asDiagonal() * s * d.asDiagonal();
+    const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(hn);
+    const double lambda_min = eig.eigenvalues()(0);  // ascending
+    if (!(lambda_min < kCollinearEigenvalue)) break;
+    int worst = 0;
+    eig.eigenvectors().col(0).cwiseAbs().maxCoeff(&worst);
+    out[set[worst]].note = Format(
+        "only a combination with other parameters is determined (smallest eigenvalue of the "
+        "normalised information %.3g, below %.0e)",
+        lambda_min, kCollinearEigenvalue);
+    Remove(&set, worst);
+  }
+
+  // (iii) too uncertain to be constrained.
+  while (!set.empty()) {
+    const Eigen::MatrixXd s = Sub(h, set);
+    const Eigen::VectorXd d = s.diagonal().cwiseSqrt().cwiseInverse();
+    // Invert in normalised form (better conditioned), then undo the scaling.
+    const Eigen::MatrixXd hn = d.asDiagonal() * s * d.asDiagonal();
+    const Eigen::MatrixXd inv =
+        d.asDiagonal() * hn.ldlt().solve(Eigen::MatrixXd::Identity(hn.rows(), hn.cols())) *
+        d.asDiagonal();
+    Eigen::VectorXd se(set.size());
+    for (int k = 0; k < static_cast<int>(set.size()); ++k) {
+      se(k) = std::sqrt(residual_variance * std::max(inv(k, k), 0.0));
+    }
+    int worst = 0;
+    const double largest_se = se.maxCoeff(&worst);
+    if (largest_se <= kMaxLogStdErr) {
+      for (int k = 0; k < static_cast<int>(set.size()); ++k) {
+        out[set[k]].identifiable = true;
+        out[set[k]].stderr_log = se(k);
+      }
+      break;
+    }
+    out[set[worst]].note = Format(
+        "the log does not constrain it: standard error of its log %.3g exceeds %.3g",
+        largest_se, kMaxLogStdErr);
+    Remove(&set, worst);
+  }
+  return out;
+}
+
+ParameterEstimate EstimateFromLog(double log_value, double stderr_log) {
+  ParameterEstimate p;
+  p.identifiable = true;
+  p.value = std::exp(log_value);
+  p.stderr_value = p.value * stderr_log;
+  p.ci95_lo = std::exp(log_value - kZ95 * stderr_log);
+  p.ci95_hi = std::exp(log_value + kZ95 * stderr_log);
+  p.note = "95% interval from the log-parameter's standard error (asymmetric)";
+  return p;
+}
+
+ParameterEstimate NotIdentifiable(double held_at, const std::string& note) {
+  ParameterEstimate p;
+  p.identifiable = false;
+  p.held_at = held_at;
+  p.note = note;
+  return p;
+}
+
+}  // namespace slideid

@@ -1,0 +1,73 @@
+#pragma once
+// Which of the friction parameters (a, b, c) a least-squares fit in log-parameters actually
+// determines, and how well. Shared by every Ceres-based estimator.
+//
+// Input: H = J^T J, the 3x3 information of the residuals with respect to
+// theta = (log a, log b, log c), already marginalised over any nuisance parameters (Schur
+// complement), and s^2 = sum r^2 / (N - n_free), the residual variance. The covariance of
+// the identifiable log-parameters is s^2 H_S^-1 over the identifiable subset S.
+//
+// Rule, applied to the parameters marked active (the others were held by the caller):
+//  (i)   a parameter whose diagonal information is not positive, or is below
+//        kNegligibleInformationRatio times the largest diagonal, is not identifiable: the
+//        residuals do not depend on it;
+//  (ii)  normalise H over the remaining set to Hn = D H D, D = diag(H)^-1/2 (unit diagonal,
+//        a correlation-like matrix). While the smallest eigenvalue of Hn is below
+//        kCollinearEigenvalue, the parameter with the largest |component| of its
+//        eigenvector is not identifiable (the data determine only a combination of it with
+//        others); remove it and re-test the rest;
+//  (iii) over what remains, the marginal standard error sqrt(s^2 (H_S^-1)_ii) of each
+//        log-parameter; while the largest exceeds kMaxLogStdErr, that parameter is not
+//        identifiable; remove it and recompute (removing one can shrink the others' errors).
+
+#include <Eigen/Core>
+#include <array>
+#include <string>
+
+#include "estimator/estimate.h"
+
+namespace slideid {
+
+/// (i): diagonal information below this fraction of the largest counts as none. The
+/// diagonal is a sum of squares, so rounding alone leaves a relative floor near 1e-16;
+/// 1e-12 sits a few orders above it and far below any information a real log carries
+/// (a parameter with 1e-12 of the information of another has ~1e6 times its error).
+constexpr double kNegligibleInformationRatio = 1e-12;
+
+/// (ii): an eigenvalue of the unit-diagonal Hn below this is an exact collinearity. Forming
+/// J^T J squares the conditioning, so rounding puts eigenvalues of an exactly rank-deficient
+/// Hn near 1e-16..1e-14; 1e-10 is clear of that and still means a correlation of
+/// 1 - 5e-11 between parameters. Near-collinearities that are real but weak are judged
+/// against the noise by (iii).
+constexpr double kCollinearEigenvalue = 1e-10;
+
+/// (iii): one-sigma error of a log-parameter above which it counts as undetermined: the
+/// parameter is uncertain by more than a factor e, so the log does not constrain it.
+constexpr double kMaxLogStdErr = 1.0;
+
+/// The verdict on one parameter.
+struct ParameterIdentifiability {
+  bool identifiable = false;
+  /// One-sigma error of log(parameter) (dimensionless), NaN when not identifiable.
+  double stderr_log;
+  std::string note;  ///< why not identifiable (empty when it is)
+};
+
+/// Applies rules (i)-(iii) to `fisher_log` (3x3 symmetric, in order log a, log b, log c)
+/// with residual variance `residual_variance` (>= 0). Parameters with active[i] == false
+/// are reported not identifiable with the note "held constant by the caller" and do not
+/// take part. Throws std::invalid_argument for a non-finite H or a negative variance.
+std::array<ParameterIdentifiability, 3> AssessIdentifiability(
+    const Eigen::Matrix3d& fisher_log, double residual_variance,
+    const std::array<bool, 3>& active = {{true, true, true}});
+
+/// An identifiable parameter from its log estimate and that estimate's one-sigma error:
+/// value = exp(log_value), stderr = value * stderr_log (delta method), and the 95% interval
+/// [exp(log_value - kZ95 stderr_log), exp(log_value + kZ95 stderr_log)] (asymmetric, > 0).
+ParameterEstimate EstimateFromLog(double log_value, double stderr_log);
+
+/// A parameter the data do not determine: value, stderr and interval NaN, held_at the value
+/// it was held at (NaN if none), and the note.
+ParameterEstimate NotIdentifiable(double held_at, const std::string& note);
+
+}  // namespace slideid

@@ -1,0 +1,435 @@
+#include "estimator/trajectory_fit.h"
+
+#include <ceres/ceres.h>
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <memory>
+#include <stdexcept>
+
+#include "estimator/closed_form.h"
+#include "estimator/equation_error.h"
+#include "estimator/identifiability.h"
+#include "estimator/step_sensitivity.h"
+#include "forward_model/step_solver.h"
+
+namespace slideid {
+namespace {
+
+// Residuals below this [m or m/s] are rounding, not noise: a log whose seed already fits
+// to this needs no robust loss (and a zero scale would make the loss degenerate).
+constexpr double kNoiseFloor = 1e-10;
+// Fewest rows a segment may have: 3 rows = 9 residuals against 6 state parameters.
+constexpr int kMinSegmentRows = 3;
+// Parameters a fit of noiseless data must reach 1e-6 relative on: tolerances well below.
+constexpr double kFunctionTolerance = 1e-14;
+constexpr double kParameterTolerance = 1e-12;
+constexpr double kGradientTolerance = 1e-16;
+
+using Matrix63 = Eigen::Matrix<double, 6, 3>;
+using Matrix66 = Eigen::Matrix<double, 6, 6>;
+using Vector6 = Eigen::Matrix<double, 6, 1>;
+
+struct Segment {
+  int first_row, last_row;  // residuals at first_row..last_row; steps between them
+  Vector6 state = Vector6::Zero();  // parameter block: x, y, theta, vx, vy, wz at first_row
+};
+
+// Simulates one segment from its initial state and compares with the log.
+class SegmentCost final : public ceres::CostFunction {
+ public:
+  SegmentCost(const Trajectory& log, int first_row, int last_row, int substeps, bool use_pose,
+              double length_m)
+      : log_(log), first_(first_row), last_(last_row), substeps_(substeps),
+        use_pose_(use_pose), length_m_(length_m) {
+    set_num_residuals(3 * (last_row - first_row + 1));
+    mutable_parameter_block_sizes()->assign({6, 1, 1, 1});
+  }
+
+  bool Evaluate(double const* const* params, double* residuals,
+                double** jacobians) const override {
+    PlanarState s{params[0][0], params[0][1], params[0][2],
+                  params[0][3], params[0][4], params[0][5]};
+    const ReducedFriction abc{std::exp(params[1][0]), std::exp(params[2][0]),
+                              std::exp(params[3][0])};
+    Matrix66 d_state = Matrix66::Identity();  // d(state) / d(initial state)
+    Matrix63 d_param = Matrix63::Zero();      // d(state) / d(log a, log b, log c)
+    const bool want = jacobians != nullptr;
+    Residual(0, s, d_state, d_param, residuals, jacobians);
+    for (int row = first_; row < last_; ++row) {
+      const double h = (log_.samples[row + 1].t_s - log_.samples[row].t_s) / substeps_;
+      const AppliedWrench& applied = log_.samples[row].applied;
+      for (int k = 0; k < substeps_; ++k) {
+        StepSensitivity sens;
+        if (want) {
+          if (!SolveStepWithSensitivity(log_.slider, abc, s, applied, h, &sens)) return false;
+        } else {
+          sens.step = SolveStep(log_.slider, abc.ToFrictionParameters(), s, applied, h);
+          if (!sens.step.ok()) return false;
+        }
+        s = sens.step.state;
+        if (want) Propagate(sens, h, &d_state, &d_param);
+      }
+      Residual(row + 1 - first_, s, d_state, d_param, residuals, jacobians);
+    }
+    return true;
+  }
+
+ private:
+  // nu' = f(nu, theta); q' = q + h nu'.
+  static void Propagate(const StepSensitivity& sens, double h, Matrix66* d_state,
+                        Matrix63* d_param) {
+    const Eigen::Matrix<double, 3, 6> dnu_state = sens.dnu_dnu * d_state->bottomRows<3>();
+    const Eigen::Matrix3d dnu_param =
+        sens.dnu_dnu * d_param->bottomRows<3>() + sens.dnu_dlogabc;
+    d_state->bottomRows<3>() = dnu_state;
+    d_param->bottomRows<3>() = dnu_param;
+    d_state->topRows<3>() += h * dnu_state;
+    d_param->topRows<3>() += h * dnu_param;
+  }
+
+  void Residual(int i, const PlanarState& s, const Matrix66& d_state, const Matrix63& d_param,
+                double* residuals, double** jacobians) const {
+    const PlanarState& m = log_.samples[first_ + i].state;
+    const int offset = use_pose_ ? 0 : 3;  // rows of the state the channels read
+    if (use_pose_) {
+      residuals[3 * i + 0] = s.x - m.x;
+      residuals[3 * i + 1] = s.y - m.y;
+      residuals[3 * i + 2] = length_m_ * (s.theta - m.theta);
+    } else {
+      residuals[3 * i + 0] = s.vx - m.vx;
+      residuals[3 * i + 1] = s.vy - m.vy;
+      residuals[3 * i + 2] = length_m_ * (s.wz - m.wz);
+    }
+    if (!jacobians) return;
+    for (int c = 0; c < 3; ++c) {
+      const double scale = c == 2 ? length_m_ : 1.0;
+      const int r = 3 * i + c;
+      if (jacobians[0]) {
+        for (int j = 0; j < 6; ++j) jacobians[0][6 * r + j] = scale * d_state(offset + c, j);
+      }
+      for (int p = 0; p < 3; ++p) {
+        if (jacobians[1 + p]) jacobians[1 + p][r] = scale * d_param(offset + c, p);
+      }
+    }
+  }
+
+  const Trajectory& log_;
+  int first_, last_, substeps_;
+  bool use_pose_;
+  double length_m_;
+};
+
+std::vector<Segment> CutSegments(const Trajectory& log, int segment_steps) {
+  const int rows = static_cast<int>(log.samples.size());
+  std::vector<Segment> segments;
+  for (int first = 0; first < rows; first += segment_steps + 1) {
+    Segment seg;
+    seg.first_row = first;
+    seg.last_row = std::min(first + segment_steps, rows - 1);
+    if (seg.last_row - seg.first_row + 1 < std::max(kMinSegmentRows, segment_steps / 2) &&
+        !segments.empty()) {
+      segments.back().last_row = seg.last_row;  // fold a short tail into the last segment
+      break;
+    }
+    if (seg.last_row - seg.first_row + 1 < kMinSegmentRows) break;
+    segments.push_back(seg);
+  }
+  return segments;
+}
+
+Vector6 SeedState(const Trajectory& log, int row) {
+  const TrajectorySample& a = log.samples[row];
+  Vector6 s;
+  s << a.state.x, a.state.y, a.state.theta, a.state.vx, a.state.vy, a.state.wz;
+  if (!log.columns.velocity && row + 1 < static_cast<int>(log.samples.size())) {
+    const TrajectorySample& b = log.samples[row + 1];
+    const double h = b.t_s - a.t_s;
+    s.tail<3>() << (b.state.x - a.state.x) / h, (b.state.y - a.state.y) / h,
+        (b.state.theta - a.state.theta) / h;
+  }
+  return s;
+}
+
+// Equation-error seed where it is identifiable, else the closed form, else defaults that
+// are typical of table-top sliding (a = 0.3, b = 1, c = the radius of gyration).
+std::array<double, 3> SeedParameters(const Trajectory& log, const EstimatorOptions& options,
+                                     double length_m) {
+  std::array<double, 3> seed{{0.3, 1.0, length_m}};
+  std::array<bool, 3> have{{false, false, false}};
+  auto take = [&](const EstimateResult& r) {
+    for (int i = 0; i < 3; ++i) {
+      const ParameterEstimate& p = r.parameters[i];
+      if (!have[i] && p.identifiable && std::isfinite(p.value) && p.value > 0) {
+        seed[i] = p.value;
+        have[i] = true;
+      }
+    }
+  };
+  try {
+    take(EstimateEquationError(log, options));
+  } catch (const std::exception&) {
+  }
+  try {
+    take(EstimateClosedForm(log, options));
+  } catch (const std::exception&) {
+  }
+  return seed;
+}
+
+ceres::LossFunction* MakeLoss(RobustLoss loss, double scale) {
+  switch (loss) {
+    case RobustLoss::kHuber: return new ceres::HuberLoss(scale);
+    case RobustLoss::kCauchy: return new ceres::CauchyLoss(scale);
+    case RobustLoss::kNone: return nullptr;
+  }
+  return nullptr;
+}
+
+class TrajectoryProblem {
+ public:
+  TrajectoryProblem(const Trajectory& log, const EstimatorOptions& options)
+      : log_(log), options_(options) {
+    length_m_ = std::sqrt(log.slider.inertia_kgm2 / log.slider.mass_kg);
+    use_pose_ = log.columns.pose;
+    segments_ = CutSegments(log, options.segment_steps);
+    if (segments_.empty()) {
+      throw std::invalid_argument("log too short for the trajectory method: " +
+                                  std::to_string(log.samples.size()) + " rows");
+    }
+    const std::array<double, 3> seed = SeedParameters(log, options, length_m_);
+    for (int i = 0; i < 3; ++i) log_params_[i] = std::log(seed[i]);
+    for (Segment& seg : segments_) seg.state = SeedState(log, seg.first_row);
+  }
+
+  int Rows() const {
+    int n = 0;
+    for (const Segment& seg : segments_) n += seg.last_row - seg.first_row + 1;
+    return n;
+  }
+
+  // Raw (un-robustified) residuals of every segment at the current parameters.
+  std::vector<double> Residuals() const {
+    std::vector<double> all;
+    for (const Segment& seg : segments_) {
+      SegmentCost cost(log_, seg.first_row, seg.last_row, options_.substeps, use_pose_,
+                       length_m_);
+      std::vector<double> r(cost.num_residuals());
+      const double* params[] = {seg.state.data(), &log_params_[0], &log_params_[1],
+                                &log_params_[2]};
+      if (!cost.Evaluate(params, r.data(), nullptr)) r.assign(r.size(), 0.0);
+      all.insert(all.end(), r.begin(), r.end());
+    }
+    return all;
+  }
+
+  // Robust spread of the residuals: 1.4826 MAD.
+  double RobustSigma() const {
+    std::vector<double> r = Residuals();
+    for (double& v : r) v = std::abs(v);
+    std::nth_element(r.begin(), r.begin() + r.size() / 2, r.end());
+    return 1.4826 * r[r.size() / 2];
+  }
+
+  ceres::Solver::Summary Solve(const std::array<bool, 3>& free, double loss_scale) {
+    ceres::Problem::Options problem_options;
+    problem_options.loss_function_ownership = ceres::TAKE_OWNERSHIP;
+    ceres::Problem problem(problem_options);
+    auto* ordering = new ceres::ParameterBlockOrdering;
+    for (Segment& seg : segments_) {
+      auto* cost = new SegmentCost(log_, seg.first_row, seg.last_row, options_.substeps,
+                                   use_pose_, length_m_);
+      ceres::LossFunction* loss =
+          loss_scale > kNoiseFloor ? MakeLoss(options_.loss, loss_scale) : nullptr;
+      problem.AddResidualBlock(cost, loss, seg.state.data(), &log_params_[0], &log_params_[1],
+                               &log_params_[2]);
+      ordering->AddElementToGroup(seg.state.data(), 0);
+    }
+    for (int i = 0; i < 3; ++i) {
+      ordering->AddElementToGroup(&log_params_[i], 1);
+      if (!free[i]) problem.SetParameterBlockConstant(&log_params_[i]);
+    }
+    ceres::Solver::Options solver;
+    solver.linear_solver_type = ceres::DENSE_SCHUR;
+    solver.linear_solver_ordering.reset(ordering);
+    solver.max_num_iterations = options_.max_iterations;
+    solver.num_threads = options_.threads;
+    solver.function_tolerance = kFunctionTolerance;
+    solver.parameter_tolerance = kParameterTolerance;
+    solver.gradient_tolerance = kGradientTolerance;
+    solver.logging_type = ceres::SILENT;
+    ceres::Solver::Summary summary;
+    ceres::Solve(solver, &problem, &summary);
+    return summary;
+  }
+
+  // Information of (log a, log b, log c) marginalised over the segment states (Schur).
+  Eigen::Matrix3d MarginalInformation() const {
+    Eigen::Matrix3d info = Eigen::Matrix3d::Zero();
+    for (const Segment& seg : segments_) {
+      SegmentCost cost(log_, seg.first_row, seg.last_row, options_.substeps, use_pose_,
+                       length_m_);
+      const int n = cost.num_residuals();
+      std::vector<double> r(n), js(6 * n), ja(n), jb(n), jc(n);
+      double* jac[] = {js.data(), ja.data(), jb.data(), jc.data()};
+      const double* params[] = {seg.state.data(), &log_params_[0], &log_params_[1],
+                                &log_params_[2]};
+      if (!cost.Evaluate(params, r.data(), jac)) continue;
+      const Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, 6, Eigen::RowMajor>> Js(
+          js.data(), n, 6);
+      Eigen::MatrixXd Jp(n, 3);
+      Jp.col(0) = Eigen::Map<const Eigen::VectorXd>(ja.data(), n);
+      Jp.col(1) = Eigen::Map<const Eigen::VectorXd>(jb.data(), n);
+      Jp.col(2) = Eigen::Map<const Eigen::VectorXd>(jc.data(), n);
+      const Matrix66 Hss = Js.transpose() * Js;
+      const Matrix63 Hsp = Js.transpose() * Jp;
+      info += Jp.transpose() * Jp;
+      // A segment whose own state is not determined (e.g. at rest) gives its parameters
+      // nothing; the pseudo-inverse keeps that from poisoning the sum.
+      info -= Hsp.transpose() * Hss.completeOrthogonalDecomposition().pseudoInverse() * Hsp;
+    }
+    return 0.5 * (info + info.transpose());
+  }
+
+  // Marginal covariance of the free log-parameters from ceres::Covariance (unscaled).
+  bool Covariance(const std::array<bool, 3>& free, Eigen::Matrix3d* cov) {
+    ceres::Problem problem;
+    for (Segment& seg : segments_) {
+      problem.AddResidualBlock(new SegmentCost(log_, seg.first_row, seg.last_row,
+                                               options_.substeps, use_pose_, length_m_),
+                               nullptr, seg.state.data(), &log_params_[0], &log_params_[1],
+                               &log_params_[2]);
+    }
+    std::vector<std::pair<const double*, const double*>> blocks;
+    for (int i = 0; i < 3; ++i) {
+      if (!free[i]) problem.SetParameterBlockConstant(&log_params_[i]);
+      for (int j = 0; j <= i; ++j) {
+        if (free[i] && free[j]) blocks.emplace_back(&log_params_[i], &log_params_[j]);
+      }
+    }
+    ceres::Covariance::Options cov_options;
+    cov_options.num_threads = options_.threads;
+    ceres::Covariance covariance(cov_options);
+    if (!covariance.Compute(blocks, &problem)) return false;
+    cov->setZero();
+    for (int i = 0; i < 3; ++i) {
+      for (int j = 0; j <= i; ++j) {
+        if (!free[i] || !free[j]) continue;
+        covariance.GetCovarianceBlock(&log_params_[i], &log_params_[j], &(*cov)(i, j));
+        (*cov)(j, i) = (*cov)(i, j);
+      }
+    }
+    return true;
+  }
+
+  double log_param(int i) const { return log_params_[i]; }
+  const std::vector<Segment>& segments() const { return segments_; }
+  bool use_pose() const { return use_pose_; }
+
+ private:
+  const Trajectory& log_;
+  EstimatorOptions options_;
+  double length_m_ = 1.0;
+  bool use_pose_ = true;
+  std::vector<Segment> segments_;
+  double log_params_[3] = {0, 0, 0};
+};
+
+void FillResiduals(const TrajectoryProblem& problem, const Trajectory& log,
+                   EstimateResult* result) {
+  const std::vector<double> r = problem.Residuals();
+  size_t k = 0;
+  for (const Segment& seg : problem.segments()) {
+    for (int row = seg.first_row; row <= seg.last_row; ++row, k += 3) {
+      StepResidual sr;
+      sr.row = row;
+      sr.t_s = log.samples[row].t_s;
+      sr.value = {r[k], r[k + 1], r[k + 2]};
+      result->residuals.push_back(sr);
+    }
+  }
+  result->residual_names = problem.use_pose()
+                               ? std::array<std::string, 3>{{"x_m", "y_m", "theta_times_L_m"}}
+                               : std::array<std::string, 3>{{"vx_mps", "vy_mps", "wz_times_L_mps"}};
+}
+
+}  // namespace
+
+ceres::CostFunction* NewSegmentCost(const Trajectory& log, int first_row, int last_row,
+                                    int substeps, bool use_pose) {
+  return new SegmentCost(log, first_row, last_row, substeps, use_pose,
+                         std::sqrt(log.slider.inertia_kgm2 / log.slider.mass_kg));
+}
+
+EstimateResult EstimateTrajectory(const Trajectory& log, const EstimatorOptions& options) {
+  const auto start = std::chrono::steady_clock::now();
+  std::string why;
+  if (!options.IsValid(&why)) throw std::invalid_argument(why);
+  EstimateResult result;
+  result.method = EstimatorMethod::kTrajectory;
+  TrajectoryProblem problem(log, options);
+
+  // Stage 1 with a loss scaled to the seed's residuals; stage 2 rescaled to the fit's own.
+  std::array<bool, 3> free{{true, true, true}};
+  ceres::Solver::Summary summary =
+      problem.Solve(free, options.loss_scale_sigmas * problem.RobustSigma());
+  int iterations = static_cast<int>(summary.iterations.size());
+  if (options.loss != RobustLoss::kNone) {
+    summary = problem.Solve(free, options.loss_scale_sigmas * problem.RobustSigma());
+    iterations += static_cast<int>(summary.iterations.size());
+  }
+
+  // Identifiability from the marginal information; hold what the log does not determine.
+  const int n_res = 3 * problem.Rows();
+  auto variance = [&](int n_free) {
+    double ss = 0;
+    for (double v : problem.Residuals()) ss += v * v;
+    const int dof = n_res - 6 * static_cast<int>(problem.segments().size()) - n_free;
+    return dof > 0 ? ss / dof : 0.0;
+  };
+  std::array<ParameterIdentifiability, 3> verdict =
+      AssessIdentifiability(problem.MarginalInformation(), variance(3));
+  for (int i = 0; i < 3; ++i) free[i] = verdict[i].identifiable;
+  if (!free[0] && !free[1] && !free[2]) {
+    throw std::invalid_argument("too little sliding to identify anything: the log does not "
+                                "determine any friction parameter");
+  }
+  if (!(free[0] && free[1] && free[2])) {
+    summary = problem.Solve(free, options.loss_scale_sigmas * problem.RobustSigma());
+    iterations += static_cast<int>(summary.iterations.size());
+  }
+  const int n_free = static_cast<int>(free[0]) + free[1] + free[2];
+  const double s2 = variance(n_free);
+  Eigen::Matrix3d cov;
+  const bool have_cov = problem.Covariance(free, &cov);
+  for (int i = 0; i < 3; ++i) {
+    const double value = std::exp(problem.log_param(i));
+    if (!free[i]) {
+      result.parameters[i] = NotIdentifiable(value, verdict[i].note);
+    } else if (have_cov) {
+      result.parameters[i] = EstimateFromLog(problem.log_param(i), std::sqrt(s2 * cov(i, i)));
+    } else {
+      result.parameters[i] = EstimateFromLog(problem.log_param(i), verdict[i].stderr_log);
+      result.parameters[i].note = "ceres::Covariance failed; error from the marginal information";
+    }
+  }
+
+  const int rows = static_cast<int>(log.samples.size());
+  int intervals = 0;
+  for (const Segment& seg : problem.segments()) intervals += seg.last_row - seg.first_row;
+  result.steps_total = rows - 1;
+  result.steps_used = intervals;
+  if (rows - 1 > intervals) result.Exclude("between shooting segments", rows - 1 - intervals);
+  result.final_cost = summary.final_cost;
+  result.iterations = iterations;
+  result.converged = summary.IsSolutionUsable();
+  result.message = summary.BriefReport();
+  FillResiduals(problem, log, &result);
+  result.seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return result;
+}
+
+}  // namespace slideid

@@ -1,0 +1,215 @@
+#include "estimator/closed_form.h"
+
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdint>
+#include <cstdlib>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "datasets/noise.h"
+#include "forward_model/push_log.h"
+#include "tests/synthetic_scenes.h"
+
+namespace slideid {
+namespace {
+
+using testing::SimulateOrFail;
+
+// Simulated logs carry exact velocities and impulses, so Appendix A is exact up to the step
+// solver's convergence and rounding; 1e-6 relative leaves room for both.
+constexpr double kExactRelTol = 1e-6;
+
+std::string TempPath(const std::string& name) {
+  static const std::string dir = [] {
+    std::string pattern = ::testing::TempDir() + "closed_form_test_XXXXXX";
+    if (mkdtemp(pattern.data()) == nullptr) std::abort();
+    return pattern;
+  }();
+  return dir + "/" + name;
+}
+
+/// The log with velocities dropped and re-derived from poses by the reader.
+Trajectory PosesOnly(const Trajectory& log, const std::string& name) {
+  Trajectory poses = log;
+  poses.columns.velocity = false;
+  const std::string path = TempPath(name);
+  WritePushLog(poses, path);
+  LogReadReport report;
+  Trajectory read = ReadPushLog(path, {}, &report);
+  EXPECT_TRUE(report.velocities_from_poses);
+  return read;
+}
+
+void ExpectRecovers(const EstimateResult& r, const ReducedFriction& truth,
+                    const std::string& what) {
+  const double expected[3] = {truth.a, truth.b, truth.c};
+  for (int i = 0; i < 3; ++i) {
+    const ParameterEstimate& p = r.parameters[i];
+    ASSERT_TRUE(p.identifiable) << what << " " << ParameterName(i) << ": " << p.note;
+    EXPECT_NEAR(p.value / expected[i], 1.0, kExactRelTol)
+        << what << " " << ParameterName(i) << " = " << p.value << ", truth " << expected[i];
+    EXPECT_LE(p.ci95_lo, p.value);
+    EXPECT_GE(p.ci95_hi, p.value);
+    EXPECT_GT(p.ci95_lo, 0.0);
+  }
+}
+
+struct NamedScene {
+  const char* name;
+  Scene scene;
+};
+
+std::vector<NamedScene> FullyIdentifiableScenes() {
+  return {{"FreeSlideWithSpin", testing::FreeSlideWithSpin()},
+          {"PushedSlider", testing::PushedSlider()},
+          {"TiltingPush", testing::TiltingPush()},
+          {"Anisotropic", testing::Anisotropic()}};
+}
+
+TEST(ClosedForm, RecoversTruthExactlyFromNoiselessLogs) {
+  for (const NamedScene& s : FullyIdentifiableScenes()) {
+    const Trajectory log = SimulateOrFail(s.scene);
+    const EstimateResult r = EstimateClosedForm(log, {});
+    EXPECT_EQ(r.method, EstimatorMethod::kClosedForm);
+    EXPECT_EQ(r.steps_total, static_cast<int>(log.samples.size()) - 1);
+    EXPECT_GE(r.steps_used, 3);
+    ExpectRecovers(r, ReducedFriction::From(s.scene.friction), s.name);
+  }
+}
+
+TEST(ClosedForm, RecoversTruthExactlyFromPosesOnlyLogs) {
+  // Velocities from the backward-Euler kinematic map equal the simulator's (its pose update
+  // is backward Euler), so only the first step (start velocity unknown) is lost.
+  for (const NamedScene& s : FullyIdentifiableScenes()) {
+    const Trajectory log = PosesOnly(SimulateOrFail(s.scene), std::string(s.name) + ".csv");
+    const EstimateResult r = EstimateClosedForm(log, {});
+    ExpectRecovers(r, ReducedFriction::From(s.scene.friction), std::string(s.name) + " poses");
+    bool unknown_start = false;
+    for (const auto& [reason, count] : r.steps_excluded) {
+      if (reason == "start velocity unknown") unknown_start = (count == 1);
+    }
+    EXPECT_TRUE(unknown_start) << s.name;
+  }
+}
+
+TEST(ClosedForm, ExcludesStickingStepsAndSaysSo) {
+  const Trajectory log = SimulateOrFail(testing::TiltingPush());
+  int stuck = 0;
+  for (const TrajectorySample& sample : log.samples) stuck += sample.mode == SampleMode::kStick;
+  ASSERT_GT(stuck, 0) << "the scene is meant to stick-slip";
+  const EstimateResult r = EstimateClosedForm(log, {});
+  int excluded_sticking = 0;
+  for (const auto& [reason, count] : r.steps_excluded) {
+    if (reason == "sticking") excluded_sticking = count;
+  }
+  EXPECT_EQ(excluded_sticking, stuck);
+  ASSERT_EQ(r.residuals.size(), static_cast<size_t>(r.steps_total));
+  int used = 0;
+  for (const StepResidual& res : r.residuals) {
+    used += res.used;
+    if (res.used) {
+      EXPECT_NEAR(res.value[kA], 0.0, kExactRelTol) << "row " << res.row;
+    }
+  }
+  EXPECT_EQ(used, r.steps_used);
+  EXPECT_EQ(r.residual_names[kA], "a_step_rel");
+}
+
+TEST(ClosedForm, PureTranslationCannotIdentifyC) {
+  const Scene scene = testing::PureTranslation();
+  const ReducedFriction truth = ReducedFriction::From(scene.friction);
+  const EstimateResult r = EstimateClosedForm(SimulateOrFail(scene), {});
+  ASSERT_TRUE(r.parameters[kA].identifiable) << r.parameters[kA].note;
+  EXPECT_NEAR(r.parameters[kA].value / truth.a, 1.0, kExactRelTol);
+  // The velocity leaves both axes, so b is determined.
+  ASSERT_TRUE(r.parameters[kB].identifiable) << r.parameters[kB].note;
+  EXPECT_NEAR(r.parameters[kB].value / truth.b, 1.0, kExactRelTol);
+  EXPECT_FALSE(r.parameters[kC].identifiable);
+  EXPECT_TRUE(std::isnan(r.parameters[kC].value));
+  EXPECT_FALSE(r.parameters[kC].note.empty());
+}
+
+TEST(ClosedForm, MotionAlongOneAxisIdentifiesOnlyA) {
+  const Scene scene = testing::AlongOneAxis();
+  const ReducedFriction truth = ReducedFriction::From(scene.friction);
+  const EstimateResult r = EstimateClosedForm(SimulateOrFail(scene), {});
+  ASSERT_TRUE(r.parameters[kA].identifiable) << r.parameters[kA].note;
+  EXPECT_NEAR(r.parameters[kA].value / truth.a, 1.0, kExactRelTol);
+  EXPECT_FALSE(r.parameters[kB].identifiable);
+  EXPECT_FALSE(r.parameters[kC].identifiable);
+  EXPECT_TRUE(std::isnan(r.parameters[kB].value));
+  EXPECT_TRUE(std::isnan(r.parameters[kC].value));
+}
+
+TEST(ClosedForm, SliderAtRestIsTooLittleSliding) {
+  Scene scene = testing::BaseScene();  // starts at rest, no push
+  const Trajectory log = SimulateOrFail(scene);
+  try {
+    EstimateClosedForm(log, {});
+    FAIL() << "no exception";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("too little sliding"), std::string::npos) << e.what();
+  }
+}
+
+// Noise: velocity 0.002 m/s and spin 0.02 rad/s (a good motion-capture rig after
+// differentiation). Per step, p = m (v' - v) carries sqrt(2) m 0.002 = 0.0028 N s of noise
+// against p_n = 0.098 N s, i.e. ~10% of a = 0.3; the median of ~45 steps then has a standard
+// error of ~1.25 * 10% / sqrt(45) ~ 2%. Each estimate must lie within kNoiseSigmas of its own
+// reported standard errors of the truth, and that standard error must be small enough
+// (kMaxNoisyRelStdErr) for the check to mean something.
+constexpr double kNoiseSigmas = 4.0;
+constexpr double kMaxNoisyRelStdErr = 0.05;
+
+NoiseSpec VelocityNoise(std::uint64_t seed) {
+  NoiseSpec noise;
+  noise.velocity_mps = 0.002;
+  noise.spin_radps = 0.02;
+  noise.seed = seed;
+  return noise;
+}
+
+TEST(ClosedForm, NoisyLogsGiveEstimatesWithinTheirStandardErrors) {
+  for (const NamedScene& s : FullyIdentifiableScenes()) {
+    const ReducedFriction truth = ReducedFriction::From(s.scene.friction);
+    const double expected[3] = {truth.a, truth.b, truth.c};
+    const Trajectory clean = SimulateOrFail(s.scene);
+    for (int seed = 1; seed <= 10; ++seed) {
+      const EstimateResult r = EstimateClosedForm(AddNoise(clean, VelocityNoise(seed)), {});
+      for (int i = 0; i < 3; ++i) {
+        const ParameterEstimate& p = r.parameters[i];
+        ASSERT_TRUE(p.identifiable) << s.name << " seed " << seed << " " << ParameterName(i);
+        EXPECT_LE(p.stderr_value / expected[i], kMaxNoisyRelStdErr)
+            << s.name << " seed " << seed << " " << ParameterName(i);
+        EXPECT_LE(std::abs(p.value - expected[i]), kNoiseSigmas * p.stderr_value)
+            << s.name << " seed " << seed << " " << ParameterName(i) << " = " << p.value
+            << " +- " << p.stderr_value << ", truth " << expected[i];
+      }
+    }
+  }
+}
+
+TEST(ClosedForm, NoisyStraightLineStillCannotIdentifyBOrC) {
+  // Velocity noise puts v_o and v_r at noise level, below kDivisorFraction of the speed.
+  const Trajectory clean = SimulateOrFail(testing::AlongOneAxis());
+  for (int seed = 1; seed <= 5; ++seed) {
+    const EstimateResult r = EstimateClosedForm(AddNoise(clean, VelocityNoise(seed)), {});
+    EXPECT_TRUE(r.parameters[kA].identifiable);
+    EXPECT_FALSE(r.parameters[kB].identifiable) << r.parameters[kB].value;
+    EXPECT_FALSE(r.parameters[kC].identifiable) << r.parameters[kC].value;
+  }
+}
+
+TEST(ClosedForm, RejectsInvalidOptions) {
+  EstimatorOptions options;
+  options.max_iterations = 0;
+  EXPECT_THROW(EstimateClosedForm(SimulateOrFail(testing::FreeSlideWithSpin()), options),
+               std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace slideid

@@ -1,0 +1,308 @@
+#include "estimator/equation_error.h"
+
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdint>
+#include <cstdlib>
+#include <memory>
+#include <random>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "datasets/noise.h"
+#include "estimator/identifiability.h"
+#include "forward_model/push_log.h"
+#include "tests/synthetic_scenes.h"
+
+namespace slideid {
+namespace {
+
+using testing::SimulateOrFail;
+
+// Simulated logs carry exact velocities and impulses, so the model fits them exactly up to
+// the step solver's convergence and rounding; 1e-6 relative leaves room for both.
+constexpr double kExactRelTol = 1e-6;
+
+std::string TempPath(const std::string& name) {
+  static const std::string dir = [] {
+    std::string pattern = ::testing::TempDir() + "equation_error_test_XXXXXX";
+    if (mkdtemp(pattern.data()) == nullptr) std::abort();
+    return pattern;
+  }();
+  return dir + "/" + name;
+}
+
+/// The log with velocities dropped and re-derived from poses by the reader.
+Trajectory PosesOnly(const Trajectory& log, const std::string& name) {
+  Trajectory poses = log;
+  poses.columns.velocity = false;
+  const std::string path = TempPath(name);
+  WritePushLog(poses, path);
+  LogReadReport report;
+  Trajectory read = ReadPushLog(path, {}, &report);
+  EXPECT_TRUE(report.velocities_from_poses);
+  return read;
+}
+
+double Radius(const Scene& s) { return std::sqrt(s.slider.inertia_kgm2 / s.slider.mass_kg); }
+
+void ExpectRecovers(const EstimateResult& r, const ReducedFriction& truth,
+                    const std::string& what) {
+  EXPECT_TRUE(r.converged) << what << ": " << r.message;
+  const double expected[3] = {truth.a, truth.b, truth.c};
+  for (int i = 0; i < 3; ++i) {
+    const ParameterEstimate& p = r.parameters[i];
+    ASSERT_TRUE(p.identifiable) << what << " " << ParameterName(i) << ": " << p.note;
+    EXPECT_NEAR(p.value / expected[i], 1.0, kExactRelTol)
+        << what << " " << ParameterName(i) << " = " << p.value << ", truth " << expected[i];
+    EXPECT_GT(p.ci95_lo, 0.0);
+    EXPECT_LE(p.ci95_lo, p.value);
+    EXPECT_GE(p.ci95_hi, p.value);
+  }
+}
+
+struct NamedScene {
+  const char* name;
+  Scene scene;
+};
+
+std::vector<NamedScene> FullyIdentifiableScenes() {
+  return {{"FreeSlideWithSpin", testing::FreeSlideWithSpin()},
+          {"PushedSlider", testing::PushedSlider()},
+          {"TiltingPush", testing::TiltingPush()},
+          {"Anisotropic", testing::Anisotropic()}};
+}
+
+TEST(EquationError, RecoversTruthExactlyFromNoiselessLogs) {
+  for (const NamedScene& s : FullyIdentifiableScenes()) {
+    const Trajectory log = SimulateOrFail(s.scene);
+    const EstimateResult r = EstimateEquationError(log, {});
+    EXPECT_EQ(r.method, EstimatorMethod::kEquationError);
+    EXPECT_EQ(r.steps_total, static_cast<int>(log.samples.size()) - 1);
+    EXPECT_GE(r.steps_used, 3);
+    ExpectRecovers(r, ReducedFriction::From(s.scene.friction), s.name);
+    EXPECT_EQ(r.residual_names[0], "t");
+    EXPECT_EQ(r.residual_names[2], "r");
+    ASSERT_EQ(r.residuals.size(), static_cast<size_t>(r.steps_total));
+    int used = 0;
+    for (const StepResidual& res : r.residuals) {
+      if (!res.used) continue;
+      ++used;
+      for (int c = 0; c < 3; ++c) EXPECT_NEAR(res.value[c], 0.0, kExactRelTol) << res.row;
+    }
+    EXPECT_EQ(used, r.steps_used);
+  }
+}
+
+TEST(EquationError, RecoversTruthExactlyFromPosesOnlyLogs) {
+  // The kinematic map inverts the simulator's backward-Euler pose update exactly.
+  for (const NamedScene& s : FullyIdentifiableScenes()) {
+    const Trajectory log = PosesOnly(SimulateOrFail(s.scene), std::string(s.name) + ".csv");
+    ExpectRecovers(EstimateEquationError(log, {}), ReducedFriction::From(s.scene.friction),
+                   std::string(s.name) + " poses");
+  }
+}
+
+TEST(EquationError, EveryLossRecoversTruthFromNoiselessLogs) {
+  const Scene scene = testing::Anisotropic();
+  const Trajectory log = SimulateOrFail(scene);
+  for (RobustLoss loss : {RobustLoss::kNone, RobustLoss::kHuber, RobustLoss::kCauchy}) {
+    EstimatorOptions options;
+    options.loss = loss;
+    ExpectRecovers(EstimateEquationError(log, options), ReducedFriction::From(scene.friction),
+                   ToString(loss));
+  }
+}
+
+TEST(EquationError, PureTranslationHoldsCAndReportsItNotIdentifiable) {
+  const Scene scene = testing::PureTranslation();
+  const ReducedFriction truth = ReducedFriction::From(scene.friction);
+  const EstimateResult r = EstimateEquationError(SimulateOrFail(scene), {});
+  ASSERT_TRUE(r.parameters[kA].identifiable) << r.parameters[kA].note;
+  EXPECT_NEAR(r.parameters[kA].value / truth.a, 1.0, kExactRelTol);
+  ASSERT_TRUE(r.parameters[kB].identifiable) << r.parameters[kB].note;  // off both axes
+  EXPECT_NEAR(r.parameters[kB].value / truth.b, 1.0, kExactRelTol);
+  const ParameterEstimate& c = r.parameters[kC];
+  EXPECT_FALSE(c.identifiable);
+  EXPECT_TRUE(std::isnan(c.value));
+  EXPECT_TRUE(std::isnan(c.stderr_value));
+  EXPECT_DOUBLE_EQ(c.held_at, Radius(scene));  // the seed when the closed form has none
+  EXPECT_FALSE(c.note.empty());
+}
+
+TEST(EquationError, MotionAlongOneAxisIdentifiesOnlyA) {
+  const Scene scene = testing::AlongOneAxis();
+  const ReducedFriction truth = ReducedFriction::From(scene.friction);
+  const EstimateResult r = EstimateEquationError(SimulateOrFail(scene), {});
+  ASSERT_TRUE(r.parameters[kA].identifiable) << r.parameters[kA].note;
+  EXPECT_NEAR(r.parameters[kA].value / truth.a, 1.0, kExactRelTol);
+  EXPECT_FALSE(r.parameters[kB].identifiable);
+  EXPECT_FALSE(r.parameters[kC].identifiable);
+  EXPECT_TRUE(std::isnan(r.parameters[kB].value));
+  EXPECT_DOUBLE_EQ(r.parameters[kB].held_at, 1.0);
+  EXPECT_DOUBLE_EQ(r.parameters[kC].held_at, Radius(scene));
+}
+
+// Noise as in closed_form_test: velocity 0.002 m/s, spin 0.02 rad/s.
+NoiseSpec VelocityNoise(std::uint64_t seed) {
+  NoiseSpec noise;
+  noise.velocity_mps = 0.002;
+  noise.spin_radps = 0.02;
+  noise.seed = seed;
+  return noise;
+}
+
+// Per step the impulse noise is ~10% of a (closed_form_test); a least-squares fit over ~45
+// steps with independent residuals predicts ~1.5% standard error, which is what the fit
+// reports. Each estimate must lie within kNoiseSigmas of its reported standard errors, which
+// must be below kMaxNoisyRelStdErr. That cap is 15%, not 5%, for TiltingPush's c: its spin is
+// small (c weakly excited), and its 4 sticking steps cannot be recognised in a noisy log (the
+// mode column is dropped), so they enter as outliers that inflate s^2 (raw residuals).
+constexpr double kNoiseSigmas = 4.0;
+constexpr double kMaxNoisyRelStdErr = 0.15;
+// The 95% intervals must cover the truth for at least this fraction of seeds (a nominal
+// 95% interval would miss the mark 80% of 50 seeds with probability < 1e-4).
+constexpr double kMinCoverage = 0.8;
+// Errors-in-variables: the measured v of a step shares its noise with p = m (v' - v). On
+// FreeSlideWithSpin this biases a by ~ -0.1% (50 seeds); bound the mean error well below the
+// reported standard error.
+constexpr double kMaxMeanRelError = 0.005;
+
+TEST(EquationError, NoisyLogsGiveEstimatesWithinTheirStandardErrors) {
+  for (const NamedScene& s : FullyIdentifiableScenes()) {
+    const ReducedFriction truth = ReducedFriction::From(s.scene.friction);
+    const double expected[3] = {truth.a, truth.b, truth.c};
+    const Trajectory clean = SimulateOrFail(s.scene);
+    for (int seed = 1; seed <= 10; ++seed) {
+      const EstimateResult r = EstimateEquationError(AddNoise(clean, VelocityNoise(seed)), {});
+      EXPECT_TRUE(r.converged) << s.name << " seed " << seed << ": " << r.message;
+      for (int i = 0; i < 3; ++i) {
+        const ParameterEstimate& p = r.parameters[i];
+        ASSERT_TRUE(p.identifiable) << s.name << " seed " << seed << " " << ParameterName(i);
+        EXPECT_LE(p.stderr_value / expected[i], kMaxNoisyRelStdErr)
+            << s.name << " seed " << seed << " " << ParameterName(i);
+        EXPECT_LE(std::abs(p.value - expected[i]), kNoiseSigmas * p.stderr_value)
+            << s.name << " seed " << seed << " " << ParameterName(i) << " = " << p.value
+            << " +- " << p.stderr_value << ", truth " << expected[i];
+      }
+    }
+  }
+}
+
+TEST(EquationError, NoisyIntervalsCoverTheTruthForMostSeeds) {
+  // Observed: the intervals cover the truth for all 50 seeds and the actual spread of the
+  // estimates is ~4x smaller than the reported standard error. The residuals are not
+  // independent: consecutive impulses m (v' - v) share a velocity sample, so their noise is
+  // negatively correlated and largely cancels in the fit. The intervals are conservative.
+  const Scene scene = testing::FreeSlideWithSpin();
+  const ReducedFriction truth = ReducedFriction::From(scene.friction);
+  const double expected[3] = {truth.a, truth.b, truth.c};
+  const Trajectory clean = SimulateOrFail(scene);
+  constexpr int kSeeds = 50;
+  int covered[3] = {0, 0, 0};
+  double mean_error[3] = {0, 0, 0};
+  for (int seed = 1; seed <= kSeeds; ++seed) {
+    const EstimateResult r = EstimateEquationError(AddNoise(clean, VelocityNoise(seed)), {});
+    for (int i = 0; i < 3; ++i) {
+      const ParameterEstimate& p = r.parameters[i];
+      ASSERT_TRUE(p.identifiable) << "seed " << seed << " " << ParameterName(i);
+      covered[i] += p.ci95_lo <= expected[i] && expected[i] <= p.ci95_hi;
+      mean_error[i] += (p.value / expected[i] - 1.0) / kSeeds;
+    }
+  }
+  for (int i = 0; i < 3; ++i) {
+    EXPECT_GE(covered[i], kMinCoverage * kSeeds) << ParameterName(i);
+    EXPECT_LE(std::abs(mean_error[i]), kMaxMeanRelError) << ParameterName(i);
+  }
+}
+
+TEST(EquationError, NoisyPureTranslationStillCannotIdentifyC) {
+  const Trajectory clean = SimulateOrFail(testing::PureTranslation());
+  for (int seed = 1; seed <= 5; ++seed) {
+    const EstimateResult r = EstimateEquationError(AddNoise(clean, VelocityNoise(seed)), {});
+    EXPECT_TRUE(r.parameters[kA].identifiable);
+    EXPECT_TRUE(r.parameters[kB].identifiable);
+    EXPECT_FALSE(r.parameters[kC].identifiable) << r.parameters[kC].value;
+  }
+}
+
+// Central differences with step kFdStep have truncation error ~kFdStep^2 and rounding error
+// ~1e-16 / kFdStep relative, both far below kJacobianRelTol.
+constexpr double kFdStep = 1e-6;
+constexpr double kJacobianRelTol = 1e-6;
+
+TEST(EquationError, AutoDiffJacobianMatchesCentralDifferences) {
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  for (int trial = 0; trial < 200; ++trial) {
+    StepObservation o;
+    o.pn = 0.05 + 0.1 * (u(rng) + 1.0);
+    o.ecp_velocity << u(rng), u(rng), 10.0 * u(rng);
+    o.friction_impulse << 0.1 * u(rng), 0.1 * u(rng), 0.003 * u(rng);
+    const double radius = 0.03 + 0.02 * (u(rng) + 1.0);
+    std::unique_ptr<ceres::CostFunction> cost(EquationErrorResidual::Create(o, radius));
+    double theta[3] = {std::log(0.3) + u(rng), u(rng), std::log(0.03) + u(rng)};
+    const double* params[3] = {&theta[0], &theta[1], &theta[2]};
+    double r[3], j[3][3];
+    double* jacobians[3] = {j[0], j[1], j[2]};
+    ASSERT_TRUE(cost->Evaluate(params, r, jacobians));
+    for (int block = 0; block < 3; ++block) {
+      double rp[3], rm[3];
+      const double keep = theta[block];
+      theta[block] = keep + kFdStep;
+      ASSERT_TRUE(cost->Evaluate(params, rp, nullptr));
+      theta[block] = keep - kFdStep;
+      ASSERT_TRUE(cost->Evaluate(params, rm, nullptr));
+      theta[block] = keep;
+      double scale = 0;
+      for (int k = 0; k < 3; ++k) scale = std::max(scale, std::abs(j[block][k]));
+      for (int k = 0; k < 3; ++k) {
+        const double fd = (rp[k] - rm[k]) / (2 * kFdStep);
+        EXPECT_NEAR(j[block][k], fd, kJacobianRelTol * std::max(scale, 1.0))
+            << "trial " << trial << " block " << block << " residual " << k;
+      }
+    }
+  }
+}
+
+TEST(EquationError, ResidualMatchesTheModelAtTheTruth) {
+  // Independent route: p_model = -a p_n (v_t, b^2 v_o, c^2 v_r) / |v|_D (model.md).
+  StepObservation o;
+  o.pn = 0.1;
+  o.ecp_velocity << 0.4, -0.3, 5.0;
+  const double a = 0.3, b = 1.4, c = 0.05, radius = 0.04;
+  const double s = std::sqrt(0.16 + b * b * 0.09 + c * c * 25.0);
+  o.friction_impulse << -a * o.pn * 0.4 / s, a * o.pn * b * b * 0.3 / s,
+      -a * o.pn * c * c * 5.0 / s;
+  const EquationErrorResidual f(o, radius);
+  const double la = std::log(a), lb = std::log(b), lc = std::log(c);
+  double r[3];
+  ASSERT_TRUE(f(&la, &lb, &lc, r));
+  for (int k = 0; k < 3; ++k) EXPECT_NEAR(r[k], 0.0, 1e-15);
+  const double lb2 = std::log(2 * b);
+  ASSERT_TRUE(f(&la, &lb2, &lc, r));
+  EXPECT_GT(std::abs(r[1]), 1e-3);
+}
+
+TEST(EquationError, SliderAtRestIsTooLittleSliding) {
+  const Trajectory log = SimulateOrFail(testing::BaseScene());  // at rest, no push
+  try {
+    EstimateEquationError(log, {});
+    FAIL() << "no exception";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("too little sliding"), std::string::npos) << e.what();
+  }
+}
+
+TEST(EquationError, RejectsInvalidOptions) {
+  EstimatorOptions options;
+  options.loss_scale_sigmas = 0;
+  EXPECT_THROW(EstimateEquationError(SimulateOrFail(testing::FreeSlideWithSpin()), options),
+               std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace slideid
