@@ -20,6 +20,7 @@ struct StepSensitivity {
 /// failed (non-convergence, lift-off) or the Jacobian of the equations is singular.
 bool SolveStepWithSensitivity(const SliderProperties& slider, const ReducedFriction& abc,
                               const PlanarState& state, const AppliedWrench& applied,
-                              double dt_s, StepSensitivity* out);
+                              double dt_s, StepSensitivity* out,
+                              const StepOptions& options = {});
 
 }  // namespace slideid

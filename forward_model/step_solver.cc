@@ -111,9 +111,20 @@ bool Newton(const StepEquations& eq, const StepOptions& options, Eigen::Vector4d
 bool SolveGeneral(const StepEquations& eq, const StepOptions& options, Eigen::Vector4d* z,
                   int* iterations, double* relative_residual) {
   int its = 0;
+  *iterations = 0;
+  if (options.initial_guess && options.initial_guess->allFinite() &&
+      (*options.initial_guess)(3) > 0) {
+    *z = *options.initial_guess;
+    if (Newton(eq, options, z, &its, relative_residual)) {
+      *iterations = its;
+      return true;
+    }
+    *iterations = its;
+    its = 0;
+  }
   *z = eq.DecoupledGuess();
   bool ok = Newton(eq, options, z, &its, relative_residual);
-  *iterations = its;
+  *iterations += its;
   if (ok) return true;
   *z = eq.StoppingGuess();  // built only when needed: it is rarely needed
   its = 0;
@@ -237,6 +248,7 @@ StepResult SolveStep(const SliderProperties& slider, const FrictionParameters& f
   r.path = path;
   r.residual = residual;
   r.iterations = iterations;
+  r.scaled_solution = z;
   return r;
 }
 

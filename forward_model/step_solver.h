@@ -9,6 +9,7 @@
 // pure translation with b = 1 -> the closed form (model.md, erratum 4).
 
 #include <Eigen/Core>
+#include <optional>
 #include <string>
 
 #include "forward_model/planar_state.h"
@@ -25,6 +26,10 @@ struct StepOptions {
   /// Take the decoupled / closed-form shortcuts where they are exact. Off forces the general
   /// Newton solve everywhere (tests compare the two).
   bool use_special_cases = true;
+  /// Optional first guess for the general solve, in the scaled unknowns of a previous
+  /// StepResult::scaled_solution (e.g. the same step at nearby parameters). Tried first;
+  /// the usual guesses follow if Newton fails from it.
+  std::optional<Eigen::Vector4d> initial_guess;
 
   bool IsValid(std::string* why) const;
 };
@@ -55,6 +60,9 @@ struct StepResult {
   Eigen::Vector2d ecp_body = Eigen::Vector2d::Zero();   ///< offset in the body frame [m]
   StepMode mode = StepMode::kSlide;
   StepPath path = StepPath::kGeneral;
+  /// The solution in the solver's scaled unknowns (tau_t, tau_o, tau_r, s) of
+  /// step_equations.h, for StepOptions::initial_guess (zero when sticking).
+  Eigen::Vector4d scaled_solution = Eigen::Vector4d::Zero();
   double residual = 0;       ///< relative residual of the four equations (0 when sticking)
   int iterations = 0;        ///< Newton (or scalar root) iterations
 

@@ -1,0 +1,149 @@
+// The identify tool end to end: simulate -> CSV -> identify, its table, JSON, residuals
+// file and exit codes.
+
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
+
+#include "forward_model/push_log.h"
+#include "tests/synthetic_scenes.h"
+
+namespace slideid {
+namespace {
+
+struct Output {
+  int exit_code;
+  std::string out;
+};
+
+Output RunIdentify(const std::string& args) {
+  const char* bin = std::getenv("SLIDEID_BIN_DIR");
+  // ctest runs tests in parallel processes: one output file per process.
+  const std::string out_file =
+      ::testing::TempDir() + "/identify_stdout_" + std::to_string(getpid()) + ".txt";
+  const std::string cmd = std::string(bin ? bin : "build/bin") + "/identify " + args + " > " +
+                          out_file + " 2>&1";
+  const int status = std::system(cmd.c_str());
+  std::ifstream in(out_file);
+  std::stringstream text;
+  text << in.rdbuf();
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, text.str()};
+}
+
+std::string WriteLog(const Trajectory& log, const std::string& name) {
+  const std::string path = ::testing::TempDir() + "/" + name;
+  WritePushLog(log, path);
+  return path;
+}
+
+// The value of "key": in a flat JSON object (the tool's own output format).
+std::string JsonField(const std::string& json, const std::string& key) {
+  const size_t at = json.find("\"" + key + "\":");
+  if (at == std::string::npos) return "";
+  size_t start = at + key.size() + 3;
+  while (json[start] == ' ') ++start;
+  size_t end = start;
+  int depth = 0;
+  for (; end < json.size(); ++end) {
+    const char c = json[end];
+    if (c == '{' || c == '[') ++depth;
+    if (c == '}' || c == ']') {
+      if (depth == 0) break;
+      --depth;
+    }
+    if (c == ',' && depth == 0) break;
+  }
+  return json.substr(start, end - start);
+}
+
+TEST(IdentifyTool, PrintsEstimatesBesideTheTruthForEveryMethod) {
+  const std::string log = WriteLog(testing::SimulateOrFail(testing::PushedSlider()), "pushed.csv");
+  for (const char* method : {"closed-form", "equation-error", "trajectory"}) {
+    const Output o = RunIdentify("--log " + log + " --method " + method);
+    ASSERT_EQ(o.exit_code, 0) << o.out;
+    EXPECT_NE(o.out.find(std::string("method: ") + method), std::string::npos) << o.out;
+    EXPECT_NE(o.out.find("e_t_mu"), std::string::npos);
+    EXPECT_NE(o.out.find("truth"), std::string::npos);
+    EXPECT_NE(o.out.find("95% CI"), std::string::npos);
+    EXPECT_NE(o.out.find("steps:"), std::string::npos);
+  }
+}
+
+TEST(IdentifyTool, JsonHasTheDocumentedKeysAndNullForUnidentifiable) {
+  const Scene scene = testing::PureTranslation();
+  const std::string log = WriteLog(testing::SimulateOrFail(scene), "translation.csv");
+  const Output o = RunIdentify("--log " + log + " --json");
+  ASSERT_EQ(o.exit_code, 0) << o.out;
+  for (const char* key : {"e_t_mu", "e_o_over_e_t", "e_r_over_e_t", "method", "steps_used",
+                          "steps_excluded", "seconds"}) {
+    EXPECT_FALSE(JsonField(o.out, key).empty()) << key << " missing in " << o.out;
+  }
+  const std::string c = JsonField(o.out, "e_r_over_e_t");
+  EXPECT_EQ(JsonField(c, "value"), "null") << c;
+  EXPECT_EQ(JsonField(c, "stderr"), "null") << c;
+  EXPECT_EQ(JsonField(c, "identifiable"), "false") << c;
+  const std::string a = JsonField(o.out, "e_t_mu");
+  EXPECT_EQ(JsonField(a, "identifiable"), "true");
+  EXPECT_NEAR(std::stod(JsonField(a, "value")), ReducedFriction::From(scene.friction).a, 1e-6);
+  EXPECT_EQ(JsonField(o.out, "method"), "\"trajectory\"");
+}
+
+TEST(IdentifyTool, WritesResidualsFileWithOneRowPerResidualRow) {
+  const std::string log = WriteLog(testing::SimulateOrFail(testing::FreeSlideWithSpin()), "free.csv");
+  const std::string res = ::testing::TempDir() + "/residuals.csv";
+  std::remove(res.c_str());
+  ASSERT_EQ(RunIdentify("--log " + log + " --segment 20 --residuals " + res).exit_code, 0);
+  std::ifstream in(res);
+  ASSERT_TRUE(in.good());
+  std::string line;
+  int rows = 0;
+  bool header = false;
+  while (std::getline(in, line)) {
+    if (line.rfind("row,t,", 0) == 0) header = true;
+    else if (!line.empty() && line[0] != '#') ++rows;
+  }
+  EXPECT_TRUE(header);
+  EXPECT_GT(rows, 40);
+}
+
+// Under a push the friction estimate depends on the mass (a free slide's would not: Coulomb
+// friction decelerates every mass alike).
+TEST(IdentifyTool, OverridesReplaceMetadataAndWrongMassChangesTheEstimate) {
+  const Scene scene = testing::PushedSlider();
+  const std::string log = WriteLog(testing::SimulateOrFail(scene), "pushed_override.csv");
+  const Output right = RunIdentify("--log " + log + " --json --mass 1.0");
+  const Output wrong = RunIdentify("--log " + log + " --json --mass 2.0");
+  ASSERT_EQ(right.exit_code, 0);
+  ASSERT_EQ(wrong.exit_code, 0) << wrong.out;
+  EXPECT_NEAR(std::stod(JsonField(JsonField(right.out, "e_t_mu"), "value")), 0.3, 1e-6);
+  EXPECT_GT(std::abs(std::stod(JsonField(JsonField(wrong.out, "e_t_mu"), "value")) - 0.3), 1e-3);
+}
+
+TEST(IdentifyTool, ExitCodesAndMessagesForBadInput) {
+  EXPECT_EQ(RunIdentify("--help").exit_code, 0);
+  EXPECT_EQ(RunIdentify("--version").exit_code, 0);
+  EXPECT_EQ(RunIdentify("").exit_code, 2);
+  EXPECT_EQ(RunIdentify("--log x.csv --method magic").exit_code, 2);
+  EXPECT_EQ(RunIdentify("--log x.csv --segment 1").exit_code, 2);
+  EXPECT_EQ(RunIdentify("--bogus").exit_code, 2);
+  const Output missing = RunIdentify("--log /nonexistent/pushes.csv");
+  EXPECT_EQ(missing.exit_code, 1);
+  EXPECT_NE(missing.out.find("/nonexistent/pushes.csv"), std::string::npos) << missing.out;
+  // A log whose slider never moves cannot identify anything: say so, exit 1.
+  Scene rest = testing::BaseScene();
+  rest.duration_s = 0.2;
+  const std::string still = WriteLog(testing::SimulateOrFail(rest), "still.csv");
+  for (const char* method : {"closed-form", "equation-error", "trajectory"}) {
+    const Output o = RunIdentify("--log " + still + " --method " + method);
+    EXPECT_EQ(o.exit_code, 1) << method << ": " << o.out;
+    EXPECT_NE(o.out.find("too little sliding"), std::string::npos) << method << ": " << o.out;
+  }
+}
+
+}  // namespace
+}  // namespace slideid
