@@ -63,14 +63,7 @@ EstimateResult EstimateClosedForm(const Trajectory& log, const EstimatorOptions&
   std::array<std::vector<double>, 3> usable;
   for (size_t k = 0; k < steps.size(); ++k) {
     const StepObservation& o = steps[k];
-    if (o.logged_stick) {
-      result.Exclude("sticking");
-      continue;
-    }
-    if (!o.start_velocity_known) {
-      result.Exclude("start velocity unknown");
-      continue;
-    }
+    if (!InformativeStep(o, &result)) continue;
     const double vt = o.ecp_velocity(0), vo = o.ecp_velocity(1), vr = o.ecp_velocity(2);
     const double pt = o.friction_impulse(0), po = o.friction_impulse(1),
                  pr = o.friction_impulse(2);

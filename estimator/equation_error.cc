@@ -81,14 +81,7 @@ EstimateResult EstimateEquationError(const Trajectory& log, const EstimatorOptio
   std::vector<bool> candidate(steps.size(), false);
   for (size_t k = 0; k < steps.size(); ++k) {
     const StepObservation& o = steps[k];
-    if (o.logged_stick) {
-      result.Exclude("sticking");
-      continue;
-    }
-    if (!o.start_velocity_known) {
-      result.Exclude("start velocity unknown");
-      continue;
-    }
+    if (!InformativeStep(o, &result)) continue;
     const Eigen::Vector3d& v = o.ecp_velocity;
     speed[k] = std::sqrt(v(0) * v(0) + v(1) * v(1) + radius * radius * v(2) * v(2));
     candidate[k] = true;

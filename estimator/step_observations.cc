@@ -49,4 +49,16 @@ std::vector<StepObservation> ExtractStepObservations(const Trajectory& logged) {
   return steps;
 }
 
+bool InformativeStep(const StepObservation& step, EstimateResult* result) {
+  if (step.logged_stick) {
+    result->Exclude("sticking");
+    return false;
+  }
+  if (!step.start_velocity_known) {
+    result->Exclude("start velocity unknown");
+    return false;
+  }
+  return true;
+}
+
 }  // namespace slideid

@@ -7,6 +7,7 @@
 
 #include "forward_model/planar_state.h"
 #include "forward_model/slider.h"
+#include "estimator/estimate.h"
 #include "forward_model/trajectory.h"
 
 namespace slideid {
@@ -34,5 +35,9 @@ struct StepObservation {
 /// come from the poses by the kinematic map (SetVelocitiesFromPoses). The slider must have mass, inertia,
 /// com_height and gravity set.
 std::vector<StepObservation> ExtractStepObservations(const Trajectory& log);
+
+/// Whether a step can inform a per-step estimate: it slid and its start velocity is known.
+/// When not, records why in `result` ("sticking", "start velocity unknown").
+bool InformativeStep(const StepObservation& step, EstimateResult* result);
 
 }  // namespace slideid

@@ -12,63 +12,18 @@
 
 #include "datasets/noise.h"
 #include "forward_model/push_log.h"
-#include "tests/synthetic_scenes.h"
+#include "tests/estimator_test_support.h"
 
 namespace slideid {
 namespace {
 
 using testing::SimulateOrFail;
 
-// Simulated logs carry exact velocities and impulses, so Appendix A is exact up to the step
-// solver's convergence and rounding; 1e-6 relative leaves room for both.
-constexpr double kExactRelTol = 1e-6;
-
-std::string TempPath(const std::string& name) {
-  static const std::string dir = [] {
-    std::string pattern = ::testing::TempDir() + "closed_form_test_XXXXXX";
-    if (mkdtemp(pattern.data()) == nullptr) std::abort();
-    return pattern;
-  }();
-  return dir + "/" + name;
-}
-
-/// The log with velocities dropped and re-derived from poses by the reader.
-Trajectory PosesOnly(const Trajectory& log, const std::string& name) {
-  Trajectory poses = log;
-  poses.columns.velocity = false;
-  const std::string path = TempPath(name);
-  WritePushLog(poses, path);
-  LogReadReport report;
-  Trajectory read = ReadPushLog(path, {}, &report);
-  EXPECT_TRUE(report.velocities_from_poses);
-  return read;
-}
-
-void ExpectRecovers(const EstimateResult& r, const ReducedFriction& truth,
-                    const std::string& what) {
-  const double expected[3] = {truth.a, truth.b, truth.c};
-  for (int i = 0; i < 3; ++i) {
-    const ParameterEstimate& p = r.parameters[i];
-    ASSERT_TRUE(p.identifiable) << what << " " << ParameterName(i) << ": " << p.note;
-    EXPECT_NEAR(p.value / expected[i], 1.0, kExactRelTol)
-        << what << " " << ParameterName(i) << " = " << p.value << ", truth " << expected[i];
-    EXPECT_LE(p.ci95_lo, p.value);
-    EXPECT_GE(p.ci95_hi, p.value);
-    EXPECT_GT(p.ci95_lo, 0.0);
-  }
-}
-
-struct NamedScene {
-  const char* name;
-  Scene scene;
-};
-
-std::vector<NamedScene> FullyIdentifiableScenes() {
-  return {{"FreeSlideWithSpin", testing::FreeSlideWithSpin()},
-          {"PushedSlider", testing::PushedSlider()},
-          {"TiltingPush", testing::TiltingPush()},
-          {"Anisotropic", testing::Anisotropic()}};
-}
+using testing::ExpectRecovers;
+using testing::FullyIdentifiableScenes;
+using testing::NamedScene;
+using testing::PosesOnly;
+using testing::kExactRelTol;
 
 TEST(ClosedForm, RecoversTruthExactlyFromNoiselessLogs) {
   for (const NamedScene& s : FullyIdentifiableScenes()) {

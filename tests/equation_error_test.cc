@@ -15,66 +15,20 @@
 #include "datasets/noise.h"
 #include "estimator/identifiability.h"
 #include "forward_model/push_log.h"
-#include "tests/synthetic_scenes.h"
+#include "tests/estimator_test_support.h"
 
 namespace slideid {
 namespace {
 
 using testing::SimulateOrFail;
 
-// Simulated logs carry exact velocities and impulses, so the model fits them exactly up to
-// the step solver's convergence and rounding; 1e-6 relative leaves room for both.
-constexpr double kExactRelTol = 1e-6;
-
-std::string TempPath(const std::string& name) {
-  static const std::string dir = [] {
-    std::string pattern = ::testing::TempDir() + "equation_error_test_XXXXXX";
-    if (mkdtemp(pattern.data()) == nullptr) std::abort();
-    return pattern;
-  }();
-  return dir + "/" + name;
-}
-
-/// The log with velocities dropped and re-derived from poses by the reader.
-Trajectory PosesOnly(const Trajectory& log, const std::string& name) {
-  Trajectory poses = log;
-  poses.columns.velocity = false;
-  const std::string path = TempPath(name);
-  WritePushLog(poses, path);
-  LogReadReport report;
-  Trajectory read = ReadPushLog(path, {}, &report);
-  EXPECT_TRUE(report.velocities_from_poses);
-  return read;
-}
+using testing::ExpectRecovers;
+using testing::FullyIdentifiableScenes;
+using testing::NamedScene;
+using testing::PosesOnly;
+using testing::kExactRelTol;
 
 double Radius(const Scene& s) { return std::sqrt(s.slider.inertia_kgm2 / s.slider.mass_kg); }
-
-void ExpectRecovers(const EstimateResult& r, const ReducedFriction& truth,
-                    const std::string& what) {
-  EXPECT_TRUE(r.converged) << what << ": " << r.message;
-  const double expected[3] = {truth.a, truth.b, truth.c};
-  for (int i = 0; i < 3; ++i) {
-    const ParameterEstimate& p = r.parameters[i];
-    ASSERT_TRUE(p.identifiable) << what << " " << ParameterName(i) << ": " << p.note;
-    EXPECT_NEAR(p.value / expected[i], 1.0, kExactRelTol)
-        << what << " " << ParameterName(i) << " = " << p.value << ", truth " << expected[i];
-    EXPECT_GT(p.ci95_lo, 0.0);
-    EXPECT_LE(p.ci95_lo, p.value);
-    EXPECT_GE(p.ci95_hi, p.value);
-  }
-}
-
-struct NamedScene {
-  const char* name;
-  Scene scene;
-};
-
-std::vector<NamedScene> FullyIdentifiableScenes() {
-  return {{"FreeSlideWithSpin", testing::FreeSlideWithSpin()},
-          {"PushedSlider", testing::PushedSlider()},
-          {"TiltingPush", testing::TiltingPush()},
-          {"Anisotropic", testing::Anisotropic()}};
-}
 
 TEST(EquationError, RecoversTruthExactlyFromNoiselessLogs) {
   for (const NamedScene& s : FullyIdentifiableScenes()) {
