@@ -1,36 +1,32 @@
 #pragma once
 // Sensor-like noise on a simulated log: Gaussian pose, velocity and force noise and
-// motion-capture outliers, reproducible by seed.
+// motion-capture outliers, reproducible by seed. NoiseSpec (plain data) lives in
+// forward_model/noise_spec.h so that scenes can hold it.
 
-#include <cstdint>
-#include <string>
-#include <utility>
-#include <vector>
-
+#include "forward_model/noise_spec.h"
 #include "forward_model/trajectory.h"
 
 namespace slideid {
 
-/// Standard deviations of zero-mean Gaussian noise added to the written signals.
-struct NoiseSpec {
-  double pose_m = 0.0;          ///< on x, y [m]
-  double angle_rad = 0.0;       ///< on theta [rad]
-  double velocity_mps = 0.0;    ///< on vx, vy [m/s]
-  double spin_radps = 0.0;      ///< on wz [rad/s]
-  double force_relative = 0.0;  ///< on fx, fy, fz and moments, as a fraction of the value
-  double force_N = 0.0;         ///< on fx, fy, fz [N] (moments get force_N * |r| if known)
-  double outlier_fraction = 0.0;  ///< fraction of rows whose pose jumps
-  double outlier_m = 0.0;         ///< size of such a jump [m] (and outlier_m / 0.05 rad)
-  std::uint64_t seed = 1;
-
-  bool IsZero() const;
-  /// `# noise_* = value` metadata entries describing this noise.
-  std::vector<std::pair<std::string, std::string>> Metadata() const;
-};
-
 /// A copy of `log` with noise added to what its columns carry; step_info columns
 /// (ECP, impulses, mode) are dropped, since a sensor does not measure them. The noise
-/// description is appended to extra_metadata.
+/// description is appended to extra_metadata. Throws std::invalid_argument for invalid noise.
 Trajectory AddNoise(const Trajectory& log, const NoiseSpec& noise);
+
+/// Adds the noise to `log` in place, nothing else (columns, metadata, step info kept).
+///
+/// Per row, in this order from one seed: pose (x, y += pose_m N(0,1); theta += angle_rad
+/// N(0,1), on the unwrapped angle), velocity (vx, vy, wz), force (fx, fy += force_relative
+/// |f| N + force_N N; fz likewise when non-zero), outlier (with probability
+/// outlier_fraction the pose jumps by outlier_m in a uniform direction and theta by
+/// outlier_m / 0.05 rad). A pusher out of contact reads 0: rows without force get no
+/// force noise. Moments: when the row has a push point, the total moment is recomputed as
+/// r x f_measured plus the row's residual moment (the part not due to f), with r from the
+/// push point to the measured CM when the log carries poses, so that a push-point log stays
+/// consistent with its own columns; without a push point, moments get relative noise.
+/// The pose, velocity, fx, fy and outlier variates come from std::mt19937_64(seed) as in
+/// the first AddNoise (same stream); fz and moment variates from a second engine seeded
+/// from the same seed.
+void ApplyNoise(Trajectory* log, const NoiseSpec& noise);
 
 }  // namespace slideid

@@ -1,6 +1,7 @@
 #include "forward_model/scene.h"
 
 #include <algorithm>
+#include <cerrno>
 #include <boost/program_options.hpp>
 #include <cmath>
 #include <cstdio>
@@ -10,6 +11,8 @@
 #include <map>
 #include <set>
 #include <sstream>
+
+#include "forward_model/push_program.h"
 
 namespace slideid {
 namespace {
@@ -28,9 +31,29 @@ const char* const kKnownKeys[] = {
     "initial.vx",     "initial.vy",     "initial.wz",
     "push.point",     "push.height",    "push.direction",    "push.force",
     "push.amplitude", "push.period",    "push.start",        "push.stop",
-    "sim.dt",         "sim.duration"};
-const std::set<std::string> kKnownSections = {"slider", "friction", "patch",
-                                              "initial", "push",    "sim"};
+    "sim.dt",         "sim.duration",   "sim.log_every",
+    "log.write",      "log.push",       "log.step_info",     "log.wrap_theta",
+    "noise.pose",     "noise.angle",    "noise.velocity",    "noise.spin",
+    "noise.force_relative",             "noise.force",       "noise.outlier_fraction",
+    "noise.outlier",  "noise.seed",
+    "program.random", "program.seed",   "program.force",     "program.amplitude_fraction",
+    "program.period", "program.duration",                    "program.rest",
+    "program.height", "program.spread", "program.through_cm", "program.start",
+    "program.max_lever",  "program.time_grid"};
+const std::set<std::string> kKnownSections = {"slider", "friction", "patch", "initial", "push",
+                                              "program", "sim",    "log",   "noise"};
+/// The keys of a [push] section, also those of each [push.N].
+const char* const kPushKeys[] = {"point",     "height", "direction", "force",
+                                 "amplitude", "period", "start",     "stop"};
+
+/// N of a section named "push.N" (N a positive integer without sign or leading zero), or 0.
+long PushSectionNumber(const std::string& section) {
+  if (section.rfind("push.", 0) != 0 || section.size() == 5 || section[5] == '0') return 0;
+  for (size_t i = 5; i < section.size(); ++i) {
+    if (section[i] < '0' || section[i] > '9' || i > 12) return 0;
+  }
+  return std::stol(section.substr(5));
+}
 /// Patch keys, and which of them each shape uses.
 const char* const kPatchKeys[] = {"width", "length", "radius", "inner_radius", "vertices"};
 const std::map<std::string, std::set<std::string>> kShapeKeys = {
@@ -91,9 +114,9 @@ int LineOf(const std::string& text, const std::string& content) {
   return 0;
 }
 
-/// "slider.mass" -> "[slider] mass".
+/// "slider.mass" -> "[slider] mass"; "push.2.force" -> "[push.2] force".
 std::string Display(const std::string& key) {
-  const auto dot = key.find('.');
+  const auto dot = key.rfind('.');
   if (dot == std::string::npos) return key;
   return "[" + key.substr(0, dot) + "] " + key.substr(dot + 1);
 }
@@ -119,6 +142,13 @@ class Reader {
   Eigen::Vector2d Pair(const std::string& key) const;
   /// Whitespace-separated numbers.
   std::vector<double> Numbers(const std::string& key) const;
+  /// Optional non-negative integer >= `min` with a default.
+  std::uint64_t Integer(const std::string& key, std::uint64_t fallback, std::uint64_t min) const;
+  /// Optional true/false (also yes/no, 1/0) with a default.
+  bool Bool(const std::string& key, bool fallback) const;
+  /// Optional "lo hi" range (or one number for lo = hi) with a default.
+  ValueRange Range(const std::string& key, const ValueRange& fallback, Check check) const;
+  std::optional<ValueRange> Range(const std::string& key, Check check) const;
 
   /// Throws "source: [section] key = value: message (line N)".
   [[noreturn]] void Fail(const std::string& key, const std::string& message) const;
@@ -136,7 +166,10 @@ class Reader {
 bool Reader::HasSection(const std::string& section) const {
   const auto named = [&](const auto& s) { return s.first == section; };
   const std::string prefix = section + ".";
-  const auto in_section = [&](const auto& kv) { return kv.first.rfind(prefix, 0) == 0; };
+  const auto in_section = [&](const auto& kv) {  // "push.force", not "push.1.force"
+    return kv.first.rfind(prefix, 0) == 0 &&
+           kv.first.find('.', prefix.size()) == std::string::npos;
+  };
   return std::any_of(layout_.sections.begin(), layout_.sections.end(), named) ||
          std::any_of(values_.begin(), values_.end(), in_section);
 }
@@ -186,6 +219,46 @@ Eigen::Vector2d Reader::Pair(const std::string& key) const {
   return {v[0], v[1]};
 }
 
+std::uint64_t Reader::Integer(const std::string& key, std::uint64_t fallback,
+                              std::uint64_t min) const {
+  if (!Has(key)) return fallback;
+  const std::string& text = Text(key);
+  char* end = nullptr;
+  errno = 0;
+  const unsigned long long value = std::strtoull(text.c_str(), &end, 10);
+  if (text.empty() || *end != '\0' || text.find_first_not_of("0123456789") != std::string::npos) {
+    Fail(key, "'" + text + "' is not a non-negative integer");
+  }
+  if (errno == ERANGE) Fail(key, "'" + text + "' is too large");
+  if (value < min) Fail(key, "must be >= " + std::to_string(min));
+  return value;
+}
+
+bool Reader::Bool(const std::string& key, bool fallback) const {
+  if (!Has(key)) return fallback;
+  const std::string& text = Text(key);
+  if (text == "true" || text == "yes" || text == "1") return true;
+  if (text == "false" || text == "no" || text == "0") return false;
+  Fail(key, "must be true or false");
+}
+
+std::optional<ValueRange> Reader::Range(const std::string& key, Check check) const {
+  if (!Has(key)) return std::nullopt;
+  const std::vector<double> v = Numbers(key);
+  if (v.empty() || v.size() > 2) {
+    Fail(key, "needs \"lo hi\" (or one number), got " + std::to_string(v.size()) + " numbers");
+  }
+  const ValueRange range{v.front(), v.back()};
+  if (!(range.lo <= range.hi)) Fail(key, "needs lo <= hi");
+  if (check == Check::kPositive && !(range.lo > 0.0)) Fail(key, "must be > 0");
+  if (check == Check::kNonNegative && !(range.lo >= 0.0)) Fail(key, "must be >= 0");
+  return range;
+}
+
+ValueRange Reader::Range(const std::string& key, const ValueRange& fallback, Check check) const {
+  return Range(key, check).value_or(fallback);
+}
+
 void Reader::Fail(const std::string& key, const std::string& message) const {
   std::string where = source_ + ": " + Display(key);
   if (const auto it = values_.find(key); it != values_.end()) where += " = " + it->second;
@@ -222,6 +295,15 @@ std::map<std::string, std::string> ParseKeyValues(const std::string& text,
                                                   const Layout& layout) {
   po::options_description options;
   for (const char* key : kKnownKeys) options.add_options()(key, po::value<std::string>());
+  std::set<std::string> push_sections;  // [push.N]: their keys are those of [push]
+  for (const auto& section : layout.sections) {
+    if (PushSectionNumber(section.first) > 0) push_sections.insert(section.first);
+  }
+  for (const std::string& section : push_sections) {
+    for (const char* key : kPushKeys) {
+      options.add_options()((section + "." + key).c_str(), po::value<std::string>());
+    }
+  }
   std::map<std::string, std::string> values;
   for (const po::option& option : ParseWithBoost(text, options, source, layout).options) {
     const std::string value = option.value.empty() ? "" : option.value.front();
@@ -232,10 +314,22 @@ std::map<std::string, std::string> ParseKeyValues(const std::string& text,
   return values;
 }
 
+/// A misnumbered [push.N] section: its keys would otherwise be reported as unknown keys.
+void CheckPushSections(const std::string& source, const Layout& layout) {
+  for (const auto& [name, line] : layout.sections) {
+    if (name.rfind("push.", 0) == 0 && PushSectionNumber(name) == 0) {
+      ThrowAt(source, "unknown section [" + name + "]: push sections are [push.1], [push.2], ...",
+              line);
+    }
+  }
+}
+
 /// Boost skips empty sections silently; an unknown one is still a mistake.
 void CheckSections(const Reader& reader, const Layout& layout) {
   for (const auto& [name, line] : layout.sections) {
-    if (kKnownSections.count(name) == 0) reader.FailAt("unknown section [" + name + "]", line);
+    if (kKnownSections.count(name) == 0 && PushSectionNumber(name) == 0) {
+      reader.FailAt("unknown section [" + name + "]", line);
+    }
   }
 }
 
@@ -310,31 +404,110 @@ PlanarState ReadInitial(const Reader& r) {
   return s;
 }
 
-/// The cosine and the time window of a push; `p` holds the rest already.
-void ReadPushTiming(const Reader& r, PushSpec& p) {
+/// The cosine and the time window of a push in `section`; `p` holds the rest already.
+void ReadPushTiming(const Reader& r, const std::string& section, PushSpec& p) {
   using C = Reader::Check;
-  p.amplitude_N = r.Number("push.amplitude", 0.0, C::kFinite);
-  p.period_s = r.Number("push.period", 0.0, C::kNonNegative);
+  const std::string k = section + ".";
+  p.amplitude_N = r.Number(k + "amplitude", 0.0, C::kFinite);
+  p.period_s = r.Number(k + "period", 0.0, C::kNonNegative);
   if (p.amplitude_N != 0.0 && !(p.period_s > 0.0)) {
-    r.Fail("push.period", "must be > 0 when amplitude = " + FormatDouble(p.amplitude_N));
+    r.Fail(k + "period", "must be > 0 when amplitude = " + FormatDouble(p.amplitude_N));
   }
-  p.start_s = r.Number("push.start", 0.0, C::kFinite);
-  p.stop_s = r.Number("push.stop", 1e300, C::kFinite);
-  if (!(p.stop_s > p.start_s)) r.Fail("push.stop", "must be > start = " + FormatDouble(p.start_s));
+  p.start_s = r.Number(k + "start", 0.0, C::kFinite);
+  p.stop_s = r.Number(k + "stop", 1e300, C::kFinite);
+  if (!(p.stop_s > p.start_s)) r.Fail(k + "stop", "must be > start = " + FormatDouble(p.start_s));
 }
 
-PushSpec ReadPush(const Reader& r, double com_height_m) {
+/// One push from `section` ("push" or "push.N").
+PushSpec ReadPush(const Reader& r, const std::string& section, double com_height_m) {
+  const std::string k = section + ".";
   PushSpec p;
-  p.point_body = r.Pair("push.point");
-  p.height_m = r.Number("push.height", com_height_m, Reader::Check::kFinite);
-  if (r.Has("push.direction")) {
-    const Eigen::Vector2d d = r.Pair("push.direction");
-    if (d.norm() == 0.0) r.Fail("push.direction", "must be non-zero");
+  p.point_body = r.Pair(k + "point");
+  p.height_m = r.Number(k + "height", com_height_m, Reader::Check::kFinite);
+  if (r.Has(k + "direction")) {
+    const Eigen::Vector2d d = r.Pair(k + "direction");
+    if (d.norm() == 0.0) r.Fail(k + "direction", "must be non-zero");
     p.direction_body = d.normalized();
   }
-  p.force_N = r.Number("push.force", Reader::Check::kFinite);
-  ReadPushTiming(r, p);
+  p.force_N = r.Number(k + "force", Reader::Check::kFinite);
+  ReadPushTiming(r, section, p);
   return p;
+}
+
+/// [push], then [push.N] in increasing N.
+std::vector<PushSpec> ReadPushes(const Reader& r, const Layout& layout, double com_height_m) {
+  std::vector<PushSpec> pushes;
+  if (r.HasSection("push")) pushes.push_back(ReadPush(r, "push", com_height_m));
+  std::map<long, std::string> numbered;
+  for (const auto& section : layout.sections) {
+    if (const long n = PushSectionNumber(section.first); n > 0) numbered[n] = section.first;
+  }
+  for (const auto& [n, section] : numbered) pushes.push_back(ReadPush(r, section, com_height_m));
+  return pushes;
+}
+
+/// [program]: the random program's spec (random = N is required in the section).
+RandomProgramSpec ReadProgramSpec(const Reader& r) {
+  using C = Reader::Check;
+  RandomProgramSpec spec;
+  const std::uint64_t count = r.Integer("program.random", 0, 1);
+  if (!r.Has("program.random")) r.Text("program.random");  // throws "missing required key"
+  if (count > 10000) r.Fail("program.random", "must be <= 10000");
+  spec.count = static_cast<int>(count);
+  spec.seed = r.Integer("program.seed", spec.seed, 0);
+  spec.force_N = r.Range("program.force", C::kPositive);
+  spec.amplitude_fraction = r.Range("program.amplitude_fraction", spec.amplitude_fraction,
+                                    C::kNonNegative);
+  spec.period_s = r.Range("program.period", spec.period_s, C::kPositive);
+  spec.duration_s = r.Range("program.duration", spec.duration_s, C::kPositive);
+  spec.rest_s = r.Range("program.rest", spec.rest_s, C::kNonNegative);
+  spec.height_m = r.Range("program.height", C::kFinite);
+  spec.spread_rad = r.Number("program.spread", spec.spread_rad, C::kNonNegative);
+  if (!(spec.spread_rad <= kPi / 2)) r.Fail("program.spread", "must be <= pi/2 rad");
+  spec.max_lever_fraction =
+      r.Number("program.max_lever", spec.max_lever_fraction, C::kNonNegative);
+  if (!(spec.max_lever_fraction <= 1.0)) r.Fail("program.max_lever", "must be <= 1");
+  spec.through_cm = r.Bool("program.through_cm", spec.through_cm);
+  spec.time_grid_s = r.Number("program.time_grid", 0.0, C::kNonNegative);
+  spec.start_s = r.Number("program.start", spec.start_s, C::kNonNegative);
+  return spec;
+}
+
+NoiseSpec ReadNoise(const Reader& r) {
+  using C = Reader::Check;
+  NoiseSpec n;
+  n.pose_m = r.Number("noise.pose", 0.0, C::kNonNegative);
+  n.angle_rad = r.Number("noise.angle", 0.0, C::kNonNegative);
+  n.velocity_mps = r.Number("noise.velocity", 0.0, C::kNonNegative);
+  n.spin_radps = r.Number("noise.spin", 0.0, C::kNonNegative);
+  n.force_relative = r.Number("noise.force_relative", 0.0, C::kNonNegative);
+  n.force_N = r.Number("noise.force", 0.0, C::kNonNegative);
+  n.outlier_fraction = r.Number("noise.outlier_fraction", 0.0, C::kNonNegative);
+  if (!(n.outlier_fraction <= 1.0)) r.Fail("noise.outlier_fraction", "must be <= 1");
+  n.outlier_m = r.Number("noise.outlier", 0.0, C::kNonNegative);
+  n.seed = r.Integer("noise.seed", n.seed, 0);
+  return n;
+}
+
+/// [sim] log_every, [log] and [noise].
+LogSpec ReadLogSpec(const Reader& r, bool has_pushes) {
+  LogSpec log;
+  const std::uint64_t every = r.Integer("sim.log_every", 1, 1);
+  if (every > 1000000) r.Fail("sim.log_every", "must be <= 1000000");
+  log.log_every = static_cast<int>(every);
+  if (r.Has("log.write") && !ParseLogMotion(r.Text("log.write"), &log.motion)) {
+    r.Fail("log.write", "must be poses, velocities or both");
+  }
+  if (r.Has("log.push") && !ParseLogPush(r.Text("log.push"), &log.push)) {
+    r.Fail("log.push", "must be point or moments");
+  }
+  if (log.motion == LogMotion::kVelocities && log.push == LogPush::kPoint && has_pushes) {
+    r.Fail("log.write", "velocities only needs [log] push = moments (push points need poses)");
+  }
+  if (r.Has("log.step_info")) log.step_info = r.Bool("log.step_info", true);
+  log.wrap_theta = r.Bool("log.wrap_theta", false);
+  log.noise = ReadNoise(r);
+  return log;
 }
 
 }  // namespace
@@ -360,6 +533,7 @@ AppliedWrench PushSpec::WrenchAt(double t_s, const PlanarState& pose, double com
 
 Scene ParseScene(const std::string& ini_text, const std::string& source) {
   const Layout layout = ScanLayout(ini_text);
+  CheckPushSections(source, layout);
   const Reader r(source, ParseKeyValues(ini_text, source, layout), layout);
   CheckSections(r, layout);
   Scene scene;
@@ -368,9 +542,26 @@ Scene ParseScene(const std::string& ini_text, const std::string& source) {
   scene.friction = ReadFriction(r);
   scene.patch = ReadPatch(r);
   scene.initial = ReadInitial(r);
-  if (r.HasSection("push")) scene.pushes.push_back(ReadPush(r, scene.slider.com_height_m));
+  scene.pushes = ReadPushes(r, layout, scene.slider.com_height_m);
   scene.dt_s = r.Number("sim.dt", Reader::Check::kPositive);
-  scene.duration_s = r.Number("sim.duration", Reader::Check::kPositive);
+  if (r.HasSection("program")) {
+    if (!scene.pushes.empty()) {
+      r.FailAt("[program] cannot be combined with [push] sections: use one or the other",
+               LineOf(ini_text, "[program]"));
+    }
+    RandomProgramSpec spec = ReadProgramSpec(r);
+    if (spec.time_grid_s > 0.0) {
+      if (!(spec.time_grid_s > scene.dt_s)) r.Fail("program.time_grid", "must be > [sim] dt");
+      spec.grid_lead_s = scene.dt_s / 2;  // switch half a step early: see RandomProgramSpec
+    }
+    const PushProgram program =
+        RandomPushProgram(spec, scene.patch, scene.slider, scene.friction);
+    scene.pushes = program.pushes;
+    scene.duration_s = r.Number("sim.duration", program.end_s, Reader::Check::kPositive);
+  } else {
+    scene.duration_s = r.Number("sim.duration", Reader::Check::kPositive);
+  }
+  scene.log = ReadLogSpec(r, !scene.pushes.empty());
   return scene;
 }
 

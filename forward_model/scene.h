@@ -1,8 +1,8 @@
 #pragma once
 // Scene files: INI read with Boost.Program_options' config-file parser. Sections
-// [slider] [friction] [patch] [initial] [push] [sim]; keys and defaults in the issue and
-// the README. Unknown keys, missing required keys and bad values throw SceneError naming
-// the file and the key.
+// [slider] [friction] [patch] [initial] [push] [push.1] [push.2] ... [program] [sim] [log]
+// [noise]; keys and defaults in datasets/README.md. Unknown keys, missing required keys and
+// bad values throw SceneError naming the file and the key.
 
 #include <Eigen/Core>
 #include <stdexcept>
@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "forward_model/contact_patch.h"
+#include "forward_model/log_spec.h"
 #include "forward_model/planar_state.h"
 #include "forward_model/slider.h"
 
@@ -43,9 +44,13 @@ struct Scene {
   FrictionParameters friction;
   ContactPatch patch = ContactPatch::Rectangle(0.05, 0.05);
   PlanarState initial;
-  std::vector<PushSpec> pushes;  ///< empty: free sliding
+  /// Empty: free sliding. From [push], then [push.1], [push.2], ... in numeric order, or
+  /// drawn by a [program] random = N section (forward_model/push_program.h).
+  std::vector<PushSpec> pushes;
   double dt_s = 0.01;
-  double duration_s = 1.0;
+  double duration_s = 1.0;  ///< [sim] duration; with a random program, defaults to its end
+  /// How the simulated trajectory is logged: [sim] log_every, [log], [noise].
+  LogSpec log;
 };
 
 /// Bad scene file: message names the file and the key.
@@ -54,6 +59,7 @@ class SceneError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+/// Reads a scene file. Throws SceneError.
 Scene LoadScene(const std::string& path);
 /// Same, from text (source names it in messages).
 Scene ParseScene(const std::string& ini_text, const std::string& source);

@@ -138,6 +138,61 @@ SimulationResult Simulate(const Scene& scene, const SimulationOptions& options) 
   return result;
 }
 
+SimulationResult ReplayLog(const Trajectory& log, const FrictionParameters& friction,
+                           int substeps, const SimulationOptions& options) {
+  std::string why;
+  if (!options.IsValid(&why)) throw std::invalid_argument("ReplayLog: " + why);
+  if (log.samples.size() < 2) throw std::invalid_argument("ReplayLog: the log has < 2 rows");
+  if (substeps < 1) throw std::invalid_argument("ReplayLog: substeps must be >= 1");
+  SimulationResult result;
+  Trajectory& traj = result.trajectory;
+  traj.slider = log.slider;
+  traj.patch_spec = log.patch_spec;
+  traj.true_friction = friction;
+  traj.columns = log.columns;
+  traj.columns.pose = traj.columns.velocity = traj.columns.step_info = true;
+  TrajectorySample first = log.samples.front();
+  if (!log.columns.velocity) {
+    const PlanarState& a = log.samples[0].state;
+    const PlanarState& b = log.samples[1].state;
+    const double dt = log.samples[1].t_s - log.samples[0].t_s;
+    first.state.vx = (b.x - a.x) / dt;
+    first.state.vy = (b.y - a.y) / dt;
+    first.state.wz = (b.theta - a.theta) / dt;
+  }
+  first.mode = SampleMode::kStart;
+  traj.samples.push_back(first);
+  for (size_t u = 0; u + 1 < log.samples.size(); ++u) {
+    const double h = (log.samples[u + 1].t_s - log.samples[u].t_s) / substeps;
+    TrajectorySample next = log.samples[u + 1];
+    PlanarState state = traj.samples.back().state;
+    next.pt = next.po = next.pr = 0.0;
+    for (int k = 0; k < substeps; ++k) {
+      const StepResult step =
+          SolveStep(log.slider, friction, state, log.samples[u].applied, h, options.step);
+      if (!step.ok()) {
+        Fail(&result.summary,
+             step.status == StepStatus::kLiftOff ? SimulationStatus::kLiftOff
+                                                 : SimulationStatus::kNoConvergence,
+             log.samples[u].t_s + k * h, step.message);
+        return result;
+      }
+      state = step.state;
+      next.pt += step.pt;
+      next.po += step.po;
+      next.pr += step.pr;
+      next.sigma = step.sigma;
+      next.ecp_world = step.ecp_world;
+      next.mode = step.mode == StepMode::kStick ? SampleMode::kStick : SampleMode::kSlide;
+      ++result.summary.steps;
+      (step.mode == StepMode::kStick ? result.summary.stick_steps : result.summary.slide_steps)++;
+    }
+    next.state = state;
+    traj.samples.push_back(next);
+  }
+  return result;
+}
+
 const char* ToString(SimulationStatus status) {
   switch (status) {
     case SimulationStatus::kOk: return "ok";

@@ -53,6 +53,17 @@ struct SimulationResult {
 /// scenes; numerical and physical failures are reported in the summary.
 SimulationResult Simulate(const Scene& scene, const SimulationOptions& options = {});
 
+/// Replays a log's pushes with given friction: from the first row's state, steps the forward
+/// model over each log interval (`substeps` equal steps) with that row's applied wrench held,
+/// the wrench as logged (world frame, so it does not turn with the replayed slider). Rows at
+/// the log's times, step columns filled. Initial velocity: the first row's, or, for a log
+/// without velocity columns, the second row's backward-Euler velocity (the first row's is
+/// unknown). No hull check (the fit, not the slider, is on trial). Throws
+/// std::invalid_argument for a log with fewer than 2 rows or substeps < 1; a failing step
+/// ends the replay with its status in the summary.
+SimulationResult ReplayLog(const Trajectory& log, const FrictionParameters& friction,
+                           int substeps = 1, const SimulationOptions& options = {});
+
 const char* ToString(SimulationStatus status);
 
 }  // namespace slideid

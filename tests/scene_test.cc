@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include "forward_model/push_program.h"
+
 #include <cmath>
 #include <string>
 
@@ -239,6 +241,162 @@ TEST(PushSpec, ClampedForceGivesZeroWrench) {
   p.point_body = {0.01, 0.02};
   p.force_N = -1.0;
   EXPECT_TRUE(p.WrenchAt(0.3, PlanarState{}, 0.05).IsZero());
+}
+
+// ---- push programs, logging and noise sections ----
+
+TEST(Scene, NumberedPushSectionsLoadInNumericOrderAfterPush) {
+  const Scene s = ParseScene(SceneText("[push.10]\npoint = 0 0\nforce = 3\nstart = 2\nstop = 3\n"
+                                       "[push]\npoint = 0 0\nforce = 1\nstop = 0.5\n"
+                                       "[push.2]\npoint = -0.025 0.01\ndirection = 0 1\n"
+                                       "force = 2\namplitude = 0.5\nperiod = 0.2\nstart = 1\n"
+                                       "stop = 1.5\nheight = 0.02\n"),
+                             "scene.ini");
+  ASSERT_EQ(s.pushes.size(), 3u);
+  EXPECT_EQ(s.pushes[0].force_N, 1.0);
+  EXPECT_EQ(s.pushes[0].stop_s, 0.5);
+  EXPECT_EQ(s.pushes[1].force_N, 2.0);  // [push.2] before [push.10]
+  EXPECT_EQ(s.pushes[1].point_body, Eigen::Vector2d(-0.025, 0.01));
+  EXPECT_EQ(s.pushes[1].direction_body, Eigen::Vector2d(0, 1));
+  EXPECT_EQ(s.pushes[1].amplitude_N, 0.5);
+  EXPECT_EQ(s.pushes[1].period_s, 0.2);
+  EXPECT_EQ(s.pushes[1].height_m, 0.02);
+  EXPECT_EQ(s.pushes[1].start_s, 1.0);
+  EXPECT_EQ(s.pushes[1].stop_s, 1.5);
+  EXPECT_EQ(s.pushes[2].force_N, 3.0);
+  EXPECT_EQ(s.pushes[2].height_m, 0.08);  // com_height by default, as in [push]
+}
+
+TEST(Scene, BadNumberedPushValuesNameTheirSection) {
+  ExpectError(SceneText("[push.2]\npoint = 0 0\nforce = strong\n"), "[push.2] force",
+              "'strong' is not a number");
+  ExpectError(SceneText("[push.1]\npoint = 0 0\nforce = 1\nstart = 2\nstop = 1\n"),
+              "[push.1] stop = 1", "must be > start");
+  ExpectError(SceneText("[push.1]\nforce = 1\n"), "[push.1] point", "missing required key");
+  ExpectError(SceneText("[push.1]\npoint = 0 0\nforce = 1\nspeed = 2\n"),
+              "unknown key 'push.1.speed'", "(line 21)");
+  ExpectError(SceneText("[push.x]\npoint = 0 0\n"), "unknown section [push.x]", "[push.1]");
+  ExpectError(SceneText("[push.01]\npoint = 0 0\n"), "unknown section [push.01]", "");
+  ExpectError(SceneText("[push.1]\npoint = 0 0\nforce = 1\n[push.1]\nforce = 2\n"),
+              "[push.1] force", "more than once");
+}
+
+TEST(Scene, LogAndNoiseSectionsSetTheLogSpec) {
+  const Scene plain = ParseScene(SceneText(""), "scene.ini");
+  EXPECT_EQ(plain.log.log_every, 1);
+  EXPECT_EQ(plain.log.motion, LogMotion::kBoth);
+  EXPECT_EQ(plain.log.push, LogPush::kPoint);
+  EXPECT_FALSE(plain.log.step_info.has_value());
+  EXPECT_TRUE(plain.log.noise.IsZero());
+
+  std::string text = SceneText(
+      "[log]\nwrite = poses\npush = moments\nstep_info = yes\nwrap_theta = true\n"
+      "[noise]\npose = 3e-4\nangle = 3e-3\nvelocity = 0.01\nspin = 0.1\n"
+      "force_relative = 0.02\nforce = 0.05\noutlier_fraction = 0.01\noutlier = 0.02\n"
+      "seed = 18446744073709551615\n");
+  text.replace(text.find("dt = 0.01"), 9, "dt = 0.001\nlog_every = 10");
+  const Scene s = ParseScene(text, "scene.ini");
+  EXPECT_EQ(s.log.log_every, 10);
+  EXPECT_EQ(s.log.motion, LogMotion::kPoses);
+  EXPECT_EQ(s.log.push, LogPush::kMoments);
+  EXPECT_EQ(s.log.step_info, std::optional<bool>(true));
+  EXPECT_TRUE(s.log.wrap_theta);
+  EXPECT_EQ(s.log.noise.pose_m, 3e-4);
+  EXPECT_EQ(s.log.noise.angle_rad, 3e-3);
+  EXPECT_EQ(s.log.noise.velocity_mps, 0.01);
+  EXPECT_EQ(s.log.noise.spin_radps, 0.1);
+  EXPECT_EQ(s.log.noise.force_relative, 0.02);
+  EXPECT_EQ(s.log.noise.force_N, 0.05);
+  EXPECT_EQ(s.log.noise.outlier_fraction, 0.01);
+  EXPECT_EQ(s.log.noise.outlier_m, 0.02);
+  EXPECT_EQ(s.log.noise.seed, 18446744073709551615ull);  // the whole 64-bit range
+}
+
+TEST(Scene, BadLogAndNoiseValuesNameFileKeyAndValue) {
+  ExpectError(SceneText("[log]\nwrite = everything\n"), "[log] write = everything",
+              "poses, velocities or both");
+  ExpectError(SceneText("[log]\npush = pointy\n"), "[log] push = pointy", "point or moments");
+  ExpectError(SceneText("[log]\nwrite = velocities\n[push]\npoint = 0 0\nforce = 1\n"),
+              "[log] write", "push = moments");
+  EXPECT_EQ(ErrorOf(SceneText("[log]\nwrite = velocities\n")), "");  // no push, no points
+  ExpectError(SceneText("[log]\nstep_info = maybe\n"), "[log] step_info", "true or false");
+  ExpectError(SceneText("[noise]\npose = -1e-3\n"), "[noise] pose = -1e-3", "must be >= 0");
+  ExpectError(SceneText("[noise]\nangle = 3 mrad\n"), "[noise] angle", "not a number");
+  ExpectError(SceneText("[noise]\noutlier_fraction = 1.5\n"), "[noise] outlier_fraction",
+              "<= 1");
+  ExpectError(SceneText("[noise]\nseed = -3\n"), "[noise] seed = -3", "non-negative integer");
+  ExpectError(SceneText("[noise]\nseed = 1.5\n"), "[noise] seed", "non-negative integer");
+  ExpectError(SceneText("[noise]\nseed = 99999999999999999999999\n"), "[noise] seed",
+              "too large");
+  ExpectError(SceneText("[noise]\nsigma = 1\n"), "unknown key 'noise.sigma'", "line 19");
+  std::string text = SceneText("");
+  text.replace(text.find("dt = 0.01"), 9, "dt = 0.01\nlog_every = 0");
+  ExpectError(text, "[sim] log_every = 0", "must be >= 1");
+  text = SceneText("");
+  text.replace(text.find("dt = 0.01"), 9, "dt = 0.01\nlog_every = 2.5");
+  ExpectError(text, "[sim] log_every", "not a non-negative integer");
+}
+
+/// A scene with a random program and no [sim] duration.
+std::string ProgramScene(const std::string& program_keys) {
+  std::string text = SceneText("[program]\n" + program_keys);
+  text.erase(text.find("duration = 0.45\n"), 16);
+  return text;
+}
+
+TEST(Scene, RandomProgramIsDrawnIntoThePushesAndSetsTheDuration) {
+  const Scene s = ParseScene(ProgramScene("random = 4\nseed = 7\nforce = 2 3\n"
+                                          "duration = 0.2 0.3\nrest = 0.1\n"),
+                             "scene.ini");
+  ASSERT_EQ(s.pushes.size(), 4u);
+  RandomProgramSpec spec;
+  spec.count = 4;
+  spec.seed = 7;
+  spec.force_N = ValueRange{2, 3};
+  spec.duration_s = {0.2, 0.3};
+  spec.rest_s = {0.1, 0.1};
+  const PushProgram expected = RandomPushProgram(spec, s.patch, s.slider, s.friction);
+  for (size_t i = 0; i < s.pushes.size(); ++i) {
+    EXPECT_EQ(s.pushes[i].point_body, expected.pushes[i].point_body) << i;
+    EXPECT_EQ(s.pushes[i].force_N, expected.pushes[i].force_N) << i;
+    EXPECT_GE(s.pushes[i].force_N, 2.0);
+    EXPECT_LE(s.pushes[i].force_N, 3.0);
+    EXPECT_EQ(s.pushes[i].start_s, expected.pushes[i].start_s) << i;
+  }
+  EXPECT_EQ(s.duration_s, expected.end_s);
+  EXPECT_NEAR(s.pushes[1].start_s - s.pushes[0].stop_s, 0.1, 1e-12);  // rest = 0.1
+}
+
+TEST(Scene, ProgramSettingsAreChecked) {
+  ExpectError(ProgramScene("seed = 3\n"), "[program] random", "missing required key");
+  ExpectError(ProgramScene("random = 0\n"), "[program] random = 0", "must be >= 1");
+  ExpectError(ProgramScene("random = 3\nforce = 3 1\n"), "[program] force = 3 1",
+              "lo <= hi");
+  ExpectError(ProgramScene("random = 3\nduration = 0 1\n"), "[program] duration", "> 0");
+  ExpectError(ProgramScene("random = 3\nrest = 1 2 3\n"), "[program] rest", "\"lo hi\"");
+  ExpectError(ProgramScene("random = 3\nspread = 2\n"), "[program] spread", "pi/2");
+  ExpectError(ProgramScene("random = 3\nthrough_cm = sometimes\n"), "[program] through_cm",
+              "true or false");
+  ExpectError(ProgramScene("random = 3\n") + "[push.1]\npoint = 0 0\nforce = 1\n",
+              "[program] cannot be combined with [push]", "line");
+  EXPECT_EQ(ErrorOf(ProgramScene("random = 2\n")), "");  // duration from the program
+  EXPECT_EQ(ErrorOf(SceneText("[program]\nrandom = 2\n")), "");  // or given
+}
+
+TEST(Scene, BundledDefaultPushSceneIsARealisticExperiment) {
+  const Scene s = LoadScene(ScenePath("default_push.ini"));
+  EXPECT_GE(s.slider.mass_kg, 0.5);
+  EXPECT_LE(s.slider.mass_kg, 1.0);
+  EXPECT_NE(s.friction.e_o, s.friction.e_t);  // b != 1
+  EXPECT_GE(s.pushes.size(), 4u);
+  EXPECT_EQ(s.dt_s * s.log.log_every, 0.01);  // 100 Hz log of a finer simulation
+  EXPECT_GT(s.log.log_every, 1);
+  EXPECT_EQ(s.log.motion, LogMotion::kPoses);
+  EXPECT_EQ(s.log.push, LogPush::kPoint);
+  EXPECT_EQ(s.log.noise.pose_m, 3e-4);
+  EXPECT_EQ(s.log.noise.angle_rad, 3e-3);
+  EXPECT_EQ(s.log.noise.force_relative, 0.02);
+  EXPECT_EQ(s.log.noise.force_N, 0.05);
 }
 
 TEST(Scene, BundledExample1LoadsWithThePapersNumbers) {

@@ -1,9 +1,12 @@
 // simulate: run a scene file through the forward model and write the trajectory as a
-// push log (docs: shared log-format.md).
+// push log (docs: shared log-format.md), sampled, with the columns and the noise that the
+// scene's [sim] log_every, [log] and [noise] (or the options) ask for.
 
 #include <cstdio>
 #include <iostream>
 
+#include "datasets/cli_options.h"
+#include "datasets/sensor_model.h"
 #include "forward_model/push_log.h"
 #include "forward_model/scene.h"
 #include "forward_model/simulator.h"
@@ -43,19 +46,22 @@ int main(int argc, char** argv) {
     po::options_description opts(
         "simulate: simulate a slider on a plane (Xie & Chakraborty's planar sliding model)\n"
         "and write its trajectory as a push log.\n\n"
-        "Usage: simulate --scene FILE.ini [--out traj.csv] [--dt S] [--duration S]\n\n"
+        "Usage: simulate --scene FILE.ini [--out traj.csv] [--dt S] [--duration S]\n"
+        "                [--log-every K] [--write poses|velocities|both] [--noise-pose M] ...\n\n"
+        "Log options override the scene's [sim] log_every, [log] and [noise] values.\n\n"
         "Options");
     opts.add_options()
         ("help,h", "print this help and exit")
         ("version", "print the version and exit")
         ("scene", po::value<std::string>()->value_name("FILE.ini"),
-         "scene file (INI: [slider] [friction] [patch] [initial] [push] [sim]; see README)")
+         "scene file (INI: [slider] [friction] [patch] [initial] [push] [push.N] [program] "
+         "[sim] [log] [noise]; see datasets/README.md)")
         ("out", po::value<std::string>()->value_name("FILE.csv"),
-         "write the trajectory here (log format with every column); omit to only print "
-         "the summary")
+         "write the log here; omit to only print the summary")
         ("dt", po::value<double>()->value_name("S"), "override the scene's time step [s]")
         ("duration", po::value<double>()->value_name("S"),
          "override the scene's duration [s]");
+    cli::AddLogOptions(&opts, nullptr, /*with_seed=*/true);
     po::variables_map vm;
     po::store(po::parse_command_line(argc, argv, opts), vm);
     po::notify(vm);
@@ -79,6 +85,9 @@ int main(int argc, char** argv) {
       scene.duration_s = vm["duration"].as<double>();
       if (!(scene.duration_s > 0)) throw po::error("--duration must be > 0");
     }
+    cli::ApplyLogOptions(vm, &scene.log);
+    std::string why;
+    if (!scene.log.IsValidFor(!scene.pushes.empty(), &why)) throw po::error(why);
     const SimulationResult result = Simulate(scene);
     if (!result.summary.ok()) {
       std::cerr << "simulate: " << ToString(result.summary.status) << ": "
@@ -87,8 +96,13 @@ int main(int argc, char** argv) {
     }
     PrintSummary(result, scene);
     if (vm.count("out")) {
+      const Trajectory log = MakeLog(result.trajectory, scene.log);
+      std::printf("log         %zu rows every %d steps, %s, push as %s, noise %s\n",
+                  log.samples.size(), scene.log.log_every, ToString(scene.log.motion),
+                  ToString(scene.log.push),
+                  scene.log.noise.IsZero() ? "none" : scene.log.noise.Describe().c_str());
       try {
-        WritePushLog(result.trajectory, vm["out"].as<std::string>());
+        WritePushLog(log, vm["out"].as<std::string>());
       } catch (const std::exception& e) {
         std::cerr << "simulate: " << e.what() << "\n";
         return tools::kExitIo;

@@ -1,0 +1,100 @@
+#pragma once
+// Synthetic datasets: N sliders and friction parameters drawn from ranges, each pushed by a
+// random push program, logged as a sensor would (datasets/sensor_model.h), with a truth
+// manifest. Deterministic by seed. The make-dataset tool is a thin front end to this.
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "forward_model/contact_patch.h"
+#include "forward_model/log_spec.h"
+#include "forward_model/push_program.h"
+#include "forward_model/scene.h"
+#include "forward_model/slider.h"
+#include "forward_model/trajectory.h"
+
+namespace slideid {
+
+/// A patch shape whose sizes are drawn from ranges: "rectangle W L", "disk R", "ring R r"
+/// or "polygon x1 y1 ..." where every number may be a range "LO:HI" [m].
+struct PatchRange {
+  std::string shape = "rectangle";
+  std::vector<ValueRange> sizes{{0.06, 0.15}, {0.06, 0.15}};
+
+  /// Parses the text form; throws std::invalid_argument naming the bad part.
+  static PatchRange Parse(const std::string& text);
+  std::string ToString() const;
+};
+
+/// Parses "LO:HI" (or one number, LO = HI); throws std::invalid_argument naming `what`.
+ValueRange ParseRange(const std::string& text, const std::string& what);
+std::string ToString(const ValueRange& range);  ///< "LO:HI"
+
+/// Moment of inertia about the vertical axis through the CM of a uniform slider of mass
+/// `mass_kg` whose mass lies over `patch` (a box or cylinder standing on its footprint:
+/// height does not change I_z) [kg m^2]. Ring: the annulus.
+double UniformInertia(const ContactPatch& patch, double mass_kg);
+
+/// What a dataset draws from, and how each log is made.
+struct DatasetSpec {
+  int count = 10;          ///< logs to make (>= 1)
+  std::uint64_t seed = 1;  ///< everything below is drawn from it
+  ValueRange mass_kg{0.3, 1.5};
+  /// Unset: UniformInertia of the drawn patch and mass.
+  std::optional<ValueRange> inertia_kgm2;
+  ValueRange com_height_m{0.01, 0.04};
+  PatchRange patch;
+  ValueRange mu{0.2, 0.6};
+  ValueRange e_t{0.8, 1.2};
+  ValueRange e_o{0.6, 1.5};
+  ValueRange e_r_m{0.01, 0.04};
+  /// Push program of every log (its seed is drawn per log; unset force and height ranges
+  /// scale with each drawn slider, see RandomProgramSpec).
+  RandomProgramSpec program;
+  double dt_s = 1e-3;  ///< simulation step [s]
+  /// Sampling, columns and noise of every log (the noise seed is drawn per log).
+  /// Default: log at 100 Hz (every 10th 1 ms step), poses and push points.
+  LogSpec log = DefaultLog();
+  /// Pushes start and stop at log sample times (RandomProgramSpec::time_grid_s = dt *
+  /// log_every), as when a robot commands its pusher at its logging rate; false: anywhere,
+  /// so a log row's force can be off for part of an interval at each switch.
+  bool align_pushes = true;
+  /// A draw that tips the slider (ECP outside the hull), lifts it or fails to converge is
+  /// redrawn, with its reason recorded, up to this many times per log.
+  int max_redraws = 50;
+
+  static LogSpec DefaultLog();
+  /// False (and why) when a range is empty or non-physical (mass <= 0, ...).
+  bool IsValid(std::string* why) const;
+};
+
+/// One log of a dataset and the truth it was made with.
+struct DatasetEntry {
+  std::string file;  ///< "log_0000.csv" (relative to the dataset directory)
+  Scene scene;       ///< slider, friction, patch, pushes, log spec (with its noise seed)
+  int rows = 0;      ///< rows in the log
+  std::vector<std::string> redraw_reasons;  ///< one per rejected draw, in order
+};
+
+/// Draws log `index` of the dataset: the scene (redrawn while it tips), simulated and
+/// logged. Deterministic in (spec, index). Throws std::runtime_error when max_redraws is
+/// exhausted, std::invalid_argument for an invalid spec.
+DatasetEntry DrawDatasetLog(const DatasetSpec& spec, int index, Trajectory* log);
+
+struct DatasetSummary {
+  std::string directory;
+  std::vector<DatasetEntry> entries;
+  int redraws = 0;  ///< total over all logs
+};
+
+/// Makes the whole dataset in `directory` (created if missing): log_0000.csv, ... and
+/// truth.csv. Throws std::runtime_error naming a path that cannot be written.
+DatasetSummary MakeDataset(const DatasetSpec& spec, const std::string& directory);
+
+/// The header of truth.csv, and one of its rows (no line break).
+std::string TruthCsvHeader();
+std::string TruthCsvRow(const DatasetEntry& entry);
+
+}  // namespace slideid

@@ -1,0 +1,334 @@
+#include "datasets/log_plot.h"
+
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+
+#include "forward_model/contact_patch.h"
+
+namespace slideid {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+/// Force arrows are drawn this long, for the largest force of the log, in patch sizes.
+constexpr double kArrowPatchSizes = 1.0;
+/// A snapshot is skipped when the slider moved less than this fraction of the patch size
+/// (and turned less than kSameAngle_rad) since the last one drawn: while it rests, the
+/// outlines would only pile up.
+constexpr double kSamePlaceFraction = 0.05;
+constexpr double kSameAngle_rad = 0.05;
+
+std::string Num(double v) {
+  char buf[40];
+  std::snprintf(buf, sizeof buf, "%.9g", v);
+  return buf;
+}
+
+/// Text in gnuplot's single quotes ('' escapes a quote).
+std::string Quote(const std::string& s) {
+  std::string out = "'";
+  for (char c : s) out += c == '\'' ? std::string("''") : std::string(1, c);
+  return out + "'";
+}
+
+std::optional<ContactPatch> PatchOf(const Trajectory& log) {
+  if (log.patch_spec.empty()) return std::nullopt;
+  try {
+    return ContactPatch::Parse(log.patch_spec);
+  } catch (const std::invalid_argument&) {
+    return std::nullopt;  // the plot goes without outlines
+  }
+}
+
+/// Poses of the log: as logged, or integrated from the velocities (backward Euler, from 0)
+/// for a log without pose columns.
+std::vector<PlanarState> Poses(const Trajectory& log) {
+  std::vector<PlanarState> out;
+  for (const TrajectorySample& s : log.samples) out.push_back(s.state);
+  if (log.columns.pose) return out;
+  for (size_t u = 1; u < out.size(); ++u) {
+    const double dt = log.samples[u].t_s - log.samples[u - 1].t_s;
+    out[u].x = out[u - 1].x + dt * out[u].vx;
+    out[u].y = out[u - 1].y + dt * out[u].vy;
+    out[u].theta = out[u - 1].theta + dt * out[u].wz;
+  }
+  return out;
+}
+
+int SnapshotEvery(const Trajectory& log, const PlotOptions& o) {
+  if (o.snapshot_every > 0) return o.snapshot_every;
+  return std::max<int>(1, static_cast<int>(log.samples.size()) / kDefaultSnapshots);
+}
+
+/// One closed outline at a pose, then a blank line (gnuplot: a separate polyline).
+void WriteOutline(std::ostream& out, const std::vector<Eigen::Vector2d>& body,
+                  const PlanarState& q) {
+  const double c = std::cos(q.theta), s = std::sin(q.theta);
+  for (const Eigen::Vector2d& p : body) {
+    out << Num(q.x + c * p.x() - s * p.y()) << ' ' << Num(q.y + s * p.x() + c * p.y()) << '\n';
+  }
+  out << '\n';
+}
+
+void WriteFile(const std::string& path, const std::string& text) {
+  std::ofstream out(path, std::ios::binary);
+  out << text;
+  if (!out.flush()) throw std::runtime_error(path + ": cannot write plot data");
+}
+
+void WriteMotion(std::ostream& out, const Trajectory& t, const std::vector<PlanarState>& poses) {
+  out << "# t x y theta vx vy wz\n";
+  for (size_t u = 0; u < t.samples.size(); ++u) {
+    const PlanarState& q = poses[u];
+    const PlanarState& v = t.samples[u].state;
+    out << Num(t.samples[u].t_s) << ' ' << Num(q.x) << ' ' << Num(q.y) << ' ' << Num(q.theta)
+        << ' ' << Num(v.vx) << ' ' << Num(v.vy) << ' ' << Num(v.wz) << '\n';
+  }
+}
+
+bool HasEcp(const Trajectory& log) {
+  if (!log.columns.step_info) return false;
+  for (size_t u = 1; u < log.samples.size(); ++u) {
+    if (!log.samples[u].ecp_world.isZero(0.0)) return true;
+  }
+  return false;
+}
+
+/// A string of the form "key=value" of the log's truth, for the title.
+std::string TruthText(const Trajectory& log) {
+  if (!log.true_friction) return "";
+  const ReducedFriction r = ReducedFriction::From(*log.true_friction);
+  char buf[160];
+  std::snprintf(buf, sizeof buf, "truth: a = %.4g, b = %.4g, c = %.4g m", r.a, r.b, r.c);
+  return buf;
+}
+
+}  // namespace
+
+bool PlotOptions::IsValid(std::string* why) const {
+  auto fail = [&](const std::string& m) {
+    if (why) *why = m;
+    return false;
+  };
+  if (out_png.empty()) return fail("plot: no output file");
+  if (width_px < 200 || height_px < 200 || width_px > 20000 || height_px > 20000) {
+    return fail("plot: width and height must be 200 to 20000 pixels");
+  }
+  if (snapshot_every < 0) return fail("plot: snapshot_every must be >= 0");
+  if (gnuplot.empty()) return fail("plot: no gnuplot program");
+  return true;
+}
+
+ReducedFriction ParseIdentifyJson(const std::string& json) {
+  const auto value_of = [&](const char* name) {
+    const std::string key = std::string("\"") + name + "\"";
+    const auto at = json.find(key);
+    if (at == std::string::npos) {
+      throw std::invalid_argument(std::string("identify JSON: no \"") + name + "\"");
+    }
+    const auto end = json.find('}', at);
+    for (const char* field : {"\"value\"", "\"held_at\""}) {
+      const auto f = json.find(field, at);
+      if (f == std::string::npos || f > end) continue;
+      const auto colon = json.find(':', f);
+      const char* begin = json.c_str() + colon + 1;
+      char* stop = nullptr;
+      const double v = std::strtod(begin, &stop);
+      if (stop != begin && std::isfinite(v) && v > 0) return v;  // null parses as nothing
+    }
+    throw std::invalid_argument(std::string("identify JSON: \"") + name +
+                                "\" has neither a value nor a held_at value");
+  };
+  return {value_of("e_t_mu"), value_of("e_o_over_e_t"), value_of("e_r_over_e_t")};
+}
+
+void WritePlotData(const Trajectory& log, const Trajectory* fit, const PlotOptions& options,
+                   const std::string& dir) {
+  const std::vector<PlanarState> poses = Poses(log);
+  std::ostringstream path, patch, ecp, push;
+  WriteMotion(path, log, poses);
+
+  const int every = SnapshotEvery(log, options);
+  const std::optional<ContactPatch> shape = PatchOf(log);
+  double max_force = 0.0;
+  for (const TrajectorySample& s : log.samples) {
+    max_force = std::max(max_force, std::hypot(s.applied.fx, s.applied.fy));
+  }
+  const double size = shape ? 2.0 * std::sqrt(shape->Area() / kPi) : 0.05;
+  const double arrow_scale = max_force > 0 ? kArrowPatchSizes * size / max_force : 0.0;
+  patch << "# x y: patch outlines at every " << every << "th row\n";
+  push << "# x y dx dy: push point and force (scaled)\n";
+  std::optional<PlanarState> last_drawn;
+  for (size_t u = 0; u < log.samples.size(); u += every) {
+    const bool moved = !last_drawn ||
+                       std::hypot(poses[u].x - last_drawn->x, poses[u].y - last_drawn->y) >
+                           kSamePlaceFraction * size ||
+                       std::abs(poses[u].theta - last_drawn->theta) > kSameAngle_rad;
+    if (!moved) continue;
+    last_drawn = poses[u];
+    if (shape) {
+      WriteOutline(patch, shape->Outline(), poses[u]);
+      const auto inner = shape->InnerOutline();
+      if (!inner.empty()) WriteOutline(patch, inner, poses[u]);
+      // The body x axis from the CM, so that the turning of round patches shows.
+      WriteOutline(patch, {Eigen::Vector2d::Zero(), Eigen::Vector2d(size / 2, 0.0)}, poses[u]);
+    }
+    const TrajectorySample& s = log.samples[u];
+    const double fx = s.applied.fx, fy = s.applied.fy;
+    if (fx == 0.0 && fy == 0.0) continue;
+    const Eigen::Vector2d at = s.push_point_world
+                                   ? Eigen::Vector2d(s.push_point_world->x(), s.push_point_world->y())
+                                   : Eigen::Vector2d(poses[u].x, poses[u].y);
+    push << Num(at.x() - arrow_scale * fx) << ' ' << Num(at.y() - arrow_scale * fy) << ' '
+         << Num(arrow_scale * fx) << ' ' << Num(arrow_scale * fy) << '\n';
+  }
+  ecp << "# ax ay\n";
+  for (size_t u = 1; u < log.samples.size(); ++u) {
+    const Eigen::Vector2d& a = log.samples[u].ecp_world;
+    ecp << Num(a.x()) << ' ' << Num(a.y()) << '\n';
+  }
+  WriteFile(dir + "/path.dat", path.str());
+  WriteFile(dir + "/patch.dat", patch.str() + "\n");
+  WriteFile(dir + "/push.dat", push.str() + "\n");
+  WriteFile(dir + "/ecp.dat", ecp.str());
+  if (fit) {
+    std::ostringstream f;
+    std::vector<PlanarState> fit_poses;
+    for (const TrajectorySample& s : fit->samples) fit_poses.push_back(s.state);
+    WriteMotion(f, *fit, fit_poses);
+    WriteFile(dir + "/fit.dat", f.str());
+  }
+}
+
+std::string PlotScript(const Trajectory& log, const Trajectory* fit, const PlotOptions& o,
+                       const std::string& dir, const std::string& fit_label) {
+  const auto file = [&](const char* name) { return Quote(dir + "/" + name); };
+  const bool has_patch = PatchOf(log).has_value();
+  const bool has_push = [&] {
+    for (const TrajectorySample& s : log.samples) {
+      if (s.applied.fx != 0.0 || s.applied.fy != 0.0) return true;
+    }
+    return false;
+  }();
+  const bool has_ecp = HasEcp(log);
+  std::string title = o.title;
+  const std::string truth = TruthText(log);
+  if (!truth.empty()) title += (title.empty() ? "" : "    ") + truth;
+  if (fit) title += (title.empty() ? "" : "    ") + fit_label;
+
+  std::ostringstream s;
+  s << "# Generated by slideid plot-log.\n"
+    << "set terminal pngcairo size " << o.width_px << "," << o.height_px
+    << " font 'sans,10' noenhanced\n"
+    << "set output " << Quote(o.out_png) << "\n"
+    << "set multiplot title " << Quote(title) << "\n"
+    << "set grid lc rgb '#dddddd'\n"
+    << "set key below horizontal\n";
+  // Left: the path, equal axes.
+  s << "set origin 0,0\nset size 0.56,0.95\nset size ratio -1\n"
+    << "set xlabel 'x [m]'\nset ylabel 'y [m]'\n"
+    << "set title 'CM path" << (log.columns.pose ? "" : " (integrated from the velocities)")
+    << (has_patch ? ", patch every " + std::to_string(SnapshotEvery(log, o)) + " rows" : "")
+    << "'\n";
+  std::vector<std::string> plots;
+  if (has_patch) {
+    plots.push_back(file("patch.dat") + " using 1:2 with lines lc rgb '#9a9a9a' lw 1 title 'patch'");
+  }
+  plots.push_back(file("path.dat") + " using 2:3 with lines lc rgb '#1f4e9a' lw 1.5 title 'CM (log)'");
+  if (has_ecp) {
+    plots.push_back(file("ecp.dat") +
+                    " using 1:2 with points pt 7 ps 0.25 lc rgb '#d62728' title 'ECP'");
+  }
+  if (has_push) {
+    plots.push_back(file("push.dat") +
+                    " using 1:2:3:4 with vectors head filled size screen 0.008,20 lc rgb "
+                    "'#2ca02c' lw 1.5 title 'push'");
+  }
+  if (fit) {
+    plots.push_back(file("fit.dat") +
+                    " using 2:3 with lines dt 2 lc rgb '#ff7f0e' lw 2 title 'CM (fit)'");
+  }
+  plots.push_back(file("path.dat") +
+                  " every ::0::0 using 2:3 with points pt 7 ps 1.2 lc rgb 'black' title 'start'");
+  s << "plot ";
+  for (size_t i = 0; i < plots.size(); ++i) s << (i ? ", \\\n     " : "") << plots[i];
+  s << "\n";
+  // Right: velocities and spin against time.
+  s << "set size noratio\nset key inside top right vertical box opaque\nunset title\n";
+  const char* names[3] = {"vx [m/s]", "vy [m/s]", "wz [rad/s]"};
+  for (int k = 0; k < 3; ++k) {
+    s << "set origin 0.56," << Num(0.64 - 0.31 * k) << "\nset size 0.44,0.31\n"
+      << "set xlabel " << (k == 2 ? "'t [s]'" : "''") << "\nset ylabel '" << names[k] << "'\n"
+      << "plot " << file("path.dat") << " using 1:" << 5 + k
+      << " with lines lc rgb '#1f4e9a' lw 1 title '"
+      << (log.columns.velocity ? "log" : "log (from poses)") << "'";
+    if (fit) {
+      s << ", " << file("fit.dat") << " using 1:" << 5 + k
+        << " with lines dt 2 lc rgb '#ff7f0e' lw 2 title 'fit'";
+    }
+    s << "\n";
+  }
+  s << "unset multiplot\nset output\n";
+  return s.str();
+}
+
+void PlotLog(const Trajectory& log, const Trajectory* fit, const PlotOptions& options,
+             const std::string& fit_label) {
+  std::string why;
+  if (!options.IsValid(&why)) throw std::invalid_argument(why);
+  if (log.samples.size() < 2) throw std::invalid_argument("plot: the log has fewer than 2 rows");
+  std::string dir = options.work_dir;
+  if (dir.empty()) {
+    std::string pattern = std::filesystem::temp_directory_path().string() + "/plot-log-XXXXXX";
+    if (mkdtemp(pattern.data()) == nullptr) {
+      throw std::runtime_error("plot: cannot create a temporary directory");
+    }
+    dir = pattern;
+  } else {
+    std::error_code ec;
+    std::filesystem::create_directories(dir, ec);
+  }
+  struct Cleanup {
+    std::string dir;
+    ~Cleanup() {
+      if (!dir.empty()) std::filesystem::remove_all(dir);
+    }
+  } cleanup{options.work_dir.empty() ? dir : ""};
+
+  WritePlotData(log, fit, options, dir);
+  WriteFile(dir + "/plot.gp", PlotScript(log, fit, options, dir, fit_label));
+  // Quote() is also the shell's quoting for text without single quotes; refuse the rest
+  // rather than pass it to the shell.
+  for (const std::string* s : std::initializer_list<const std::string*>{&options.gnuplot, &dir}) {
+    if (s->find('\'') != std::string::npos) {
+      throw std::invalid_argument("plot: quote characters in '" + *s + "' are not supported");
+    }
+  }
+  const std::string errors = dir + "/gnuplot.err";
+  const std::string command =
+      Quote(options.gnuplot) + " " + Quote(dir + "/plot.gp") + " 2> " + Quote(errors);
+  const int status = std::system(command.c_str());
+  std::ifstream err_in(errors);
+  std::string message((std::istreambuf_iterator<char>(err_in)), std::istreambuf_iterator<char>());
+  if (status == -1 || !WIFEXITED(status) || WEXITSTATUS(status) == 127) {
+    throw std::runtime_error("plot: cannot run '" + options.gnuplot +
+                             "': is gnuplot installed? (Debian: apt-get install gnuplot-nox, "
+                             "or scripts/setup.sh)");
+  }
+  if (WEXITSTATUS(status) != 0) {
+    throw std::runtime_error("plot: gnuplot failed (exit " + std::to_string(WEXITSTATUS(status)) +
+                             "): " + message);
+  }
+  if (!std::filesystem::exists(options.out_png)) {
+    throw std::runtime_error("plot: gnuplot wrote no " + options.out_png + ": " + message);
+  }
+}
+
+}  // namespace slideid

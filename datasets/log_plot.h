@@ -1,0 +1,51 @@
+#pragma once
+// Pictures of a push log the way the paper draws its examples: the CM path with snapshots of
+// the contact patch, the ECP of every step and the push, beside the velocities and the spin
+// against time; optionally overlaid with the trajectory replayed from identified parameters.
+// Drawn by gnuplot (Debian: gnuplot-nox), run on a generated script.
+
+#include <optional>
+#include <string>
+
+#include "forward_model/slider.h"
+#include "forward_model/trajectory.h"
+
+namespace slideid {
+
+struct PlotOptions {
+  std::string out_png;       ///< where the picture goes (required)
+  int width_px = 1400;
+  int height_px = 900;
+  /// Rows between patch snapshots; 0: about kDefaultSnapshots over the log.
+  int snapshot_every = 0;
+  std::string title;          ///< above the figure (e.g. the log's file name)
+  std::string gnuplot = "gnuplot";  ///< the program to run
+  /// When not empty, the script and data files are written here and kept (for debugging or
+  /// editing the figure); otherwise a temporary directory is used and removed.
+  std::string work_dir;
+
+  bool IsValid(std::string* why) const;
+};
+
+/// Snapshots of the patch drawn along the path when PlotOptions::snapshot_every is 0.
+constexpr int kDefaultSnapshots = 16;
+
+/// The parameters of an `identify --json` result: each parameter's value, or its held_at
+/// value when it was not identifiable. Throws std::invalid_argument naming what is missing.
+ReducedFriction ParseIdentifyJson(const std::string& json);
+
+/// The gnuplot script for `log` (and `fit`, a replay at the log's times, when not null)
+/// reading its data from files in `data_dir`; WritePlotData writes them.
+std::string PlotScript(const Trajectory& log, const Trajectory* fit, const PlotOptions& options,
+                       const std::string& data_dir, const std::string& fit_label = "");
+/// Writes path.dat, patch.dat, ecp.dat, push.dat (and fit.dat) into `data_dir`.
+void WritePlotData(const Trajectory& log, const Trajectory* fit, const PlotOptions& options,
+                   const std::string& data_dir);
+
+/// Draws `log` (and `fit`) to options.out_png. Throws std::runtime_error when gnuplot cannot
+/// be run (naming the program and how to install it) or fails (with its message), or when a
+/// file cannot be written; std::invalid_argument for invalid options or an empty log.
+void PlotLog(const Trajectory& log, const Trajectory* fit, const PlotOptions& options,
+             const std::string& fit_label = "");
+
+}  // namespace slideid

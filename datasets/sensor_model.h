@@ -1,0 +1,25 @@
+#pragma once
+// From a simulated trajectory to the log a sensor would have recorded: decimation (log every
+// k-th simulated step), the columns written, and noise (datasets/noise.h).
+
+#include "forward_model/log_spec.h"
+#include "forward_model/trajectory.h"
+
+namespace slideid {
+
+/// Applies `spec` to `simulated` (a Simulate() trajectory, one row per simulated step):
+/// - keeps rows 0, k, 2k, ... (k = log_every). Each kept row's applied wrench is the one at
+///   its own time, which the log format holds over the next log interval: exact for a push
+///   constant over the interval, an approximation when it varies within it (as in real logs).
+///   The step columns of a kept row describe the log interval ending there: impulses summed
+///   over its simulated steps, ECP and sigma of its last step, `stick` only if all stuck;
+/// - sets the columns: poses / velocities / both; push point or total moments; step info
+///   (spec.step_info, by default only for a noiseless log);
+/// - adds the noise (ApplyNoise) and its metadata (`noise_*`), and `log_every`, `log_dt`;
+/// - for a poses-only log, sets the velocities from the poses as a reader would, so that the
+///   returned trajectory equals the written-and-read-back one;
+/// - wraps theta to (-pi, pi] when asked (after the noise).
+/// Throws std::invalid_argument for an invalid spec.
+Trajectory MakeLog(const Trajectory& simulated, const LogSpec& spec);
+
+}  // namespace slideid

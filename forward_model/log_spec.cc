@@ -1,0 +1,54 @@
+#include "forward_model/log_spec.h"
+
+namespace slideid {
+
+bool LogSpec::IsValid(std::string* why) const {
+  if (log_every < 1) {
+    if (why) *why = "log_every = " + std::to_string(log_every) + ": must be >= 1";
+    return false;
+  }
+  return noise.IsValid(why);
+}
+
+bool LogSpec::IsValidFor(bool has_pushes, std::string* why) const {
+  if (has_pushes && motion == LogMotion::kVelocities && push == LogPush::kPoint) {
+    if (why) *why = "write = velocities needs push = moments: push points need the poses";
+    return false;
+  }
+  return IsValid(why);
+}
+
+const char* ToString(LogMotion motion) {
+  switch (motion) {
+    case LogMotion::kPoses: return "poses";
+    case LogMotion::kVelocities: return "velocities";
+    case LogMotion::kBoth: return "both";
+  }
+  return "?";
+}
+
+const char* ToString(LogPush push) {
+  return push == LogPush::kPoint ? "point" : "moments";
+}
+
+bool ParseLogMotion(const std::string& text, LogMotion* motion) {
+  for (LogMotion m : {LogMotion::kPoses, LogMotion::kVelocities, LogMotion::kBoth}) {
+    if (text == ToString(m)) {
+      *motion = m;
+      return true;
+    }
+  }
+  return false;
+}
+
+bool ParseLogPush(const std::string& text, LogPush* push) {
+  for (LogPush p : {LogPush::kPoint, LogPush::kMoments}) {
+    if (text == ToString(p)) {
+      *push = p;
+      return true;
+    }
+  }
+  return false;
+}
+
+}  // namespace slideid

@@ -1,0 +1,66 @@
+#include "forward_model/noise_spec.h"
+
+#include <cinttypes>
+#include <cmath>
+#include <cstdio>
+
+namespace slideid {
+namespace {
+
+std::string Format(double v) {
+  char buf[40];
+  std::snprintf(buf, sizeof buf, "%.17g", v);
+  return buf;
+}
+
+/// The numeric fields with their metadata names, in the order they are written.
+std::vector<std::pair<const char*, double>> Fields(const NoiseSpec& n) {
+  return {{"pose_m", n.pose_m},
+          {"angle_rad", n.angle_rad},
+          {"velocity_mps", n.velocity_mps},
+          {"spin_radps", n.spin_radps},
+          {"force_relative", n.force_relative},
+          {"force_N", n.force_N},
+          {"outlier_fraction", n.outlier_fraction},
+          {"outlier_m", n.outlier_m}};
+}
+
+}  // namespace
+
+bool NoiseSpec::IsZero() const {
+  return pose_m == 0 && angle_rad == 0 && velocity_mps == 0 && spin_radps == 0 &&
+         force_relative == 0 && force_N == 0 && outlier_fraction == 0;
+}
+
+bool NoiseSpec::IsValid(std::string* why) const {
+  for (const auto& [name, value] : Fields(*this)) {
+    if (!(std::isfinite(value) && value >= 0.0)) {
+      if (why) *why = std::string("noise ") + name + " = " + Format(value) + ": must be >= 0";
+      return false;
+    }
+  }
+  if (outlier_fraction > 1.0) {
+    if (why) *why = "noise outlier_fraction = " + Format(outlier_fraction) + ": must be <= 1";
+    return false;
+  }
+  return true;
+}
+
+std::vector<std::pair<std::string, std::string>> NoiseSpec::Metadata() const {
+  std::vector<std::pair<std::string, std::string>> out;
+  for (const auto& [name, value] : Fields(*this)) {
+    out.emplace_back(std::string("noise_") + name, Format(value));
+  }
+  out.emplace_back("noise_seed", std::to_string(seed));
+  return out;
+}
+
+std::string NoiseSpec::Describe() const {
+  std::string out;
+  for (const auto& [name, value] : Fields(*this)) {
+    out += std::string(name) + "=" + Format(value) + " ";
+  }
+  return out + "seed=" + std::to_string(seed);
+}
+
+}  // namespace slideid

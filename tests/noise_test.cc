@@ -1,0 +1,307 @@
+// Noise and the sensor model: determinism by seed, noise statistics against the spec,
+// force noise that keeps a push-point log consistent, decimation and columns.
+
+#include "datasets/noise.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+#include <sstream>
+
+#include "datasets/sensor_model.h"
+#include "forward_model/push_log.h"
+#include "synthetic_scenes.h"
+
+namespace slideid {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+// Statistics over kRows samples: the sample mean of N(0, s^2) has standard deviation
+// s / sqrt(N), the sample standard deviation about s / sqrt(2 N). Five of those is a
+// tolerance a correct generator fails with probability ~1e-6 (the seed is fixed anyway).
+constexpr int kRows = 20000;
+constexpr double kSigmas = 5.0;
+
+/// A log of kRows rows at rest at (1, 2, 0.5) with a constant push of (3, -4) N at a point.
+Trajectory StillLog(bool push_point) {
+  Trajectory t;
+  t.slider = {1.0, 1e-3, 0.05, 9.81};
+  t.columns.push_point = push_point;
+  for (int u = 0; u < kRows; ++u) {
+    TrajectorySample s;
+    s.t_s = 0.01 * u;
+    s.state = {1.0, 2.0, 0.5, 0.0, 0.0, 0.0};
+    s.applied = WrenchFromForceAt(3.0, -4.0, 0.0, -0.05, 0.01, -0.02);
+    if (push_point) s.push_point_world = Eigen::Vector3d(0.95, 2.01, 0.03);
+    t.samples.push_back(s);
+  }
+  return t;
+}
+
+struct Moments {
+  double mean = 0, std = 0;
+};
+
+template <typename F>
+Moments Statistics(const Trajectory& t, F value) {
+  double sum = 0, sum2 = 0;
+  for (const TrajectorySample& s : t.samples) sum += value(s);
+  const double mean = sum / t.samples.size();
+  for (const TrajectorySample& s : t.samples) sum2 += std::pow(value(s) - mean, 2);
+  return {mean, std::sqrt(sum2 / (t.samples.size() - 1))};
+}
+
+void ExpectGaussian(const Moments& m, double mean, double sigma, const char* what) {
+  const double n = kRows;
+  EXPECT_NEAR(m.mean, mean, kSigmas * sigma / std::sqrt(n)) << what;
+  EXPECT_NEAR(m.std, sigma, kSigmas * sigma / std::sqrt(2 * n)) << what;
+}
+
+std::string Written(const Trajectory& t) {
+  std::ostringstream out;
+  WritePushLog(t, out);
+  return out.str();
+}
+
+TEST(Noise, PoseVelocityAndAngleNoiseHaveTheSpecifiedMeanAndStd) {
+  NoiseSpec n;
+  n.pose_m = 3e-4;
+  n.angle_rad = 3e-3;
+  n.velocity_mps = 0.01;
+  n.spin_radps = 0.2;
+  n.seed = 11;
+  const Trajectory noisy = AddNoise(StillLog(false), n);
+  ExpectGaussian(Statistics(noisy, [](auto& s) { return s.state.x; }), 1.0, n.pose_m, "x");
+  ExpectGaussian(Statistics(noisy, [](auto& s) { return s.state.y; }), 2.0, n.pose_m, "y");
+  ExpectGaussian(Statistics(noisy, [](auto& s) { return s.state.theta; }), 0.5, n.angle_rad,
+                 "theta");
+  ExpectGaussian(Statistics(noisy, [](auto& s) { return s.state.vx; }), 0, n.velocity_mps, "vx");
+  ExpectGaussian(Statistics(noisy, [](auto& s) { return s.state.wz; }), 0, n.spin_radps, "wz");
+}
+
+TEST(Noise, ForceNoiseIsRelativePlusAbsolute) {
+  NoiseSpec n;
+  n.force_relative = 0.02;
+  n.force_N = 0.05;
+  n.seed = 12;
+  const Trajectory noisy = AddNoise(StillLog(false), n);
+  // fx = 3: std = hypot(0.02 * 3, 0.05); fy = -4: hypot(0.02 * 4, 0.05).
+  ExpectGaussian(Statistics(noisy, [](auto& s) { return s.applied.fx; }), 3.0,
+                 std::hypot(0.06, 0.05), "fx");
+  ExpectGaussian(Statistics(noisy, [](auto& s) { return s.applied.fy; }), -4.0,
+                 std::hypot(0.08, 0.05), "fy");
+  // Without a push point the moments get the relative part.
+  const double tz = StillLog(false).samples[0].applied.tz;
+  ExpectGaussian(Statistics(noisy, [](auto& s) { return s.applied.tz; }), tz,
+                 0.02 * std::abs(tz), "tz");
+}
+
+TEST(Noise, OutliersHitTheSpecifiedFractionOfRowsWithTheSpecifiedJump) {
+  NoiseSpec n;
+  n.outlier_fraction = 0.05;
+  n.outlier_m = 0.02;
+  n.seed = 13;
+  const Trajectory noisy = AddNoise(StillLog(false), n);
+  int jumps = 0;
+  for (const TrajectorySample& s : noisy.samples) {
+    const double d = std::hypot(s.state.x - 1.0, s.state.y - 2.0);
+    if (d == 0.0) continue;
+    ++jumps;
+    EXPECT_NEAR(d, n.outlier_m, 1e-12);
+    EXPECT_NEAR(std::abs(s.state.theta - 0.5), n.outlier_m / 0.05, 1e-12);
+  }
+  // Binomial(N, p): standard deviation sqrt(N p (1 - p)).
+  const double expected = n.outlier_fraction * kRows;
+  EXPECT_NEAR(jumps, expected, kSigmas * std::sqrt(expected * (1 - n.outlier_fraction)));
+}
+
+TEST(Noise, SameSeedGivesTheSameBytesAndAnotherSeedOtherBytes) {
+  NoiseSpec n;
+  n.pose_m = 3e-4;
+  n.angle_rad = 3e-3;
+  n.force_relative = 0.02;
+  n.force_N = 0.05;
+  n.outlier_fraction = 0.01;
+  n.outlier_m = 0.01;
+  n.seed = 42;
+  const Trajectory clean = testing::SimulateOrFail(testing::PushedSlider());
+  const std::string a = Written(AddNoise(clean, n));
+  EXPECT_EQ(a, Written(AddNoise(clean, n)));
+  n.seed = 43;
+  EXPECT_NE(a, Written(AddNoise(clean, n)));
+}
+
+TEST(Noise, AddNoiseKeepsTheFirstVersionsStreamForPoseAngleAndVelocity) {
+  // The first AddNoise drew 11 normals and 2 uniforms per row from mt19937_64(seed), the
+  // first six for x, y, theta, vx, vy, wz. Tests with fixed seeds rely on that stream.
+  NoiseSpec n;
+  n.pose_m = 1e-3;
+  n.angle_rad = 1e-2;
+  n.velocity_mps = 0.1;
+  n.spin_radps = 1.0;
+  n.seed = 5;
+  const Trajectory clean = testing::SimulateOrFail(testing::FreeSlideWithSpin());
+  const Trajectory noisy = AddNoise(clean, n);
+  std::mt19937_64 rng(n.seed);
+  std::normal_distribution<double> normal(0.0, 1.0);
+  std::uniform_real_distribution<double> uniform(0.0, 1.0);
+  for (size_t u = 0; u < clean.samples.size(); ++u) {
+    double z[11];
+    for (double& v : z) v = normal(rng);
+    uniform(rng);
+    uniform(rng);
+    const PlanarState& c = clean.samples[u].state;
+    const PlanarState& q = noisy.samples[u].state;
+    EXPECT_EQ(q.x, c.x + n.pose_m * z[0]) << u;
+    EXPECT_EQ(q.y, c.y + n.pose_m * z[1]) << u;
+    EXPECT_EQ(q.theta, c.theta + n.angle_rad * z[2]) << u;
+    EXPECT_EQ(q.vx, c.vx + n.velocity_mps * z[3]) << u;
+    EXPECT_EQ(q.vy, c.vy + n.velocity_mps * z[4]) << u;
+    EXPECT_EQ(q.wz, c.wz + n.spin_radps * z[5]) << u;
+  }
+  EXPECT_FALSE(noisy.columns.step_info);
+  EXPECT_EQ(noisy.extra_metadata.back(), std::make_pair(std::string("noise_seed"),
+                                                        std::string("5")));
+}
+
+TEST(Noise, PushPointMomentsFollowTheNoisyForceAndKeepTheResidualMoment) {
+  NoiseSpec n;
+  n.pose_m = 1e-3;
+  n.force_relative = 0.05;
+  n.force_N = 0.1;
+  n.seed = 21;
+  Trajectory clean = StillLog(true);
+  clean.samples.resize(50);
+  const AppliedWrench residual{0, 0, 0, 0.001, -0.002, 0.003};  // a second, pure moment
+  for (TrajectorySample& s : clean.samples) {
+    s.applied.tx += residual.tx;
+    s.applied.ty += residual.ty;
+    s.applied.tz += residual.tz;
+  }
+  const Trajectory noisy = AddNoise(clean, n);
+  for (const TrajectorySample& s : noisy.samples) {
+    const Eigen::Vector3d& p = *s.push_point_world;
+    const AppliedWrench rxf = WrenchFromForceAt(s.applied.fx, s.applied.fy, s.applied.fz,
+                                                p.x() - s.state.x, p.y() - s.state.y,
+                                                p.z() - noisy.slider.com_height_m);
+    EXPECT_NEAR(s.applied.tx - rxf.tx, residual.tx, 1e-15);
+    EXPECT_NEAR(s.applied.ty - rxf.ty, residual.ty, 1e-15);
+    EXPECT_NEAR(s.applied.tz - rxf.tz, residual.tz, 1e-15);
+  }
+  // Written and read back, the log gives the same wrenches: it is consistent.
+  const std::string path = ::testing::TempDir() + "/noise_push_point.csv";
+  WritePushLog(noisy, path);
+  const Trajectory back = ReadPushLog(path);
+  for (size_t u = 0; u < noisy.samples.size(); ++u) {
+    EXPECT_EQ(back.samples[u].applied.tz, noisy.samples[u].applied.tz) << u;
+    EXPECT_EQ(back.samples[u].applied.fx, noisy.samples[u].applied.fx) << u;
+  }
+}
+
+TEST(Noise, RowsWithoutForceGetNoForceNoise) {
+  NoiseSpec n;
+  n.force_relative = 0.1;
+  n.force_N = 1.0;
+  const Trajectory clean = testing::SimulateOrFail(testing::FreeSlideWithSpin());
+  for (const TrajectorySample& s : AddNoise(clean, n).samples) {
+    EXPECT_TRUE(s.applied.IsZero());
+  }
+}
+
+TEST(Noise, InvalidSpecIsRejected) {
+  NoiseSpec n;
+  n.pose_m = -1;
+  std::string why;
+  EXPECT_FALSE(n.IsValid(&why));
+  EXPECT_NE(why.find("pose_m"), std::string::npos) << why;
+  EXPECT_THROW(AddNoise(StillLog(false), n), std::invalid_argument);
+  n.pose_m = 0;
+  n.outlier_fraction = 2;
+  EXPECT_FALSE(n.IsValid(&why));
+}
+
+// ---- the sensor model ----
+
+TEST(SensorModel, DecimationKeepsEveryKthRowWithTheForceAtItsTime) {
+  Scene scene = testing::PushedSlider();
+  scene.dt_s = 0.001;
+  const Trajectory fine = testing::SimulateOrFail(scene);
+  LogSpec spec;
+  spec.log_every = 10;
+  const Trajectory log = MakeLog(fine, spec);
+  ASSERT_EQ(log.samples.size(), (fine.samples.size() - 1) / 10 + 1);
+  for (size_t j = 0; j < log.samples.size(); ++j) {
+    const TrajectorySample& a = log.samples[j];
+    const TrajectorySample& b = fine.samples[10 * j];
+    EXPECT_EQ(a.t_s, b.t_s);
+    EXPECT_EQ(a.state.x, b.state.x);
+    EXPECT_EQ(a.state.wz, b.state.wz);
+    EXPECT_EQ(a.applied.fx, b.applied.fx);  // the force applied at the row's time
+    EXPECT_EQ(a.applied.tz, b.applied.tz);
+    EXPECT_EQ(a.ecp_world, b.ecp_world);
+    if (j == 0) continue;
+    double pt = 0;  // the impulse over the log interval: the sum over its steps
+    for (size_t i = 10 * j - 9; i <= 10 * j; ++i) pt += fine.samples[i].pt;
+    EXPECT_NEAR(a.pt, pt, 1e-15);
+  }
+  EXPECT_TRUE(log.columns.step_info);  // noiseless: the truth columns stay
+}
+
+TEST(SensorModel, ColumnsFollowTheSpec) {
+  const Trajectory fine = testing::SimulateOrFail(testing::PushedSlider());
+  LogSpec spec;
+  spec.motion = LogMotion::kPoses;
+  spec.noise.pose_m = 1e-4;
+  Trajectory log = MakeLog(fine, spec);
+  EXPECT_TRUE(log.columns.pose);
+  EXPECT_FALSE(log.columns.velocity);
+  EXPECT_TRUE(log.columns.push_point);
+  EXPECT_FALSE(log.columns.step_info);  // noisy: a sensor does not see the ECP
+  // Poses only: the velocities are those a reader derives.
+  Trajectory derived = log;
+  SetVelocitiesFromPoses(&derived);
+  EXPECT_EQ(log.samples[7].state.vx, derived.samples[7].state.vx);
+  std::string text = Written(log);
+  EXPECT_NE(text.find("t,x,y,theta,fx,fy,px,py,pz\n"), std::string::npos);
+  EXPECT_NE(text.find("# noise_pose_m = 0.0001"), std::string::npos);
+
+  spec.motion = LogMotion::kVelocities;
+  spec.push = LogPush::kMoments;
+  spec.step_info = true;
+  log = MakeLog(fine, spec);
+  text = Written(log);
+  EXPECT_NE(text.find("t,vx,vy,wz,fx,fy,tx,ty,tz,ax,ay"), std::string::npos) << text.substr(0, 900);
+
+  spec.push = LogPush::kPoint;
+  EXPECT_THROW(MakeLog(fine, spec), std::invalid_argument);  // points need poses
+}
+
+TEST(SensorModel, ThetaNoiseIsAddedBeforeWrapping) {
+  Scene scene = testing::FreeSlideWithSpin();  // turns by several radians
+  const Trajectory fine = testing::SimulateOrFail(scene);
+  LogSpec spec;
+  spec.wrap_theta = true;
+  spec.noise.angle_rad = 1e-3;
+  spec.noise.seed = 3;
+  const Trajectory wrapped = MakeLog(fine, spec);
+  spec.wrap_theta = false;
+  const Trajectory unwrapped = MakeLog(fine, spec);
+  bool wrapped_some = false;
+  for (size_t u = 0; u < fine.samples.size(); ++u) {
+    const double w = wrapped.samples[u].state.theta, raw = unwrapped.samples[u].state.theta;
+    EXPECT_GT(w, -kPi);
+    EXPECT_LE(w, kPi);
+    EXPECT_NEAR(std::remainder(raw - w, 2 * kPi), 0.0, 1e-12) << u;
+    wrapped_some = wrapped_some || w != raw;
+  }
+  EXPECT_TRUE(wrapped_some);
+  // Read back, the reader unwraps: the same angles as without wrapping.
+  const std::string path = ::testing::TempDir() + "/wrapped_theta.csv";
+  WritePushLog(wrapped, path);
+  const Trajectory back = ReadPushLog(path);
+  EXPECT_NEAR(back.samples.back().state.theta, unwrapped.samples.back().state.theta, 1e-9);
+}
+
+}  // namespace
+}  // namespace slideid

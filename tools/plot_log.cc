@@ -1,0 +1,107 @@
+// plot-log: draw a push log as the paper draws its examples (CM path with patch snapshots,
+// ECP, push; velocities and spin against time), optionally with the trajectory replayed
+// from identified parameters (identify --json). Uses gnuplot.
+
+#include <cstdio>
+#include <fstream>
+#include <iostream>
+#include <sstream>
+
+#include "datasets/log_plot.h"
+#include "forward_model/push_log.h"
+#include "forward_model/simulator.h"
+#include "tools/tool_support.h"
+
+namespace po = boost::program_options;
+using namespace slideid;
+
+int main(int argc, char** argv) {
+  return tools::RunTool("plot-log", [&]() -> int {
+    po::options_description opts(
+        "plot-log: draw a push log to a PNG with gnuplot (Debian: gnuplot-nox).\n"
+        "Left: the CM path, the contact patch (from the log's 'patch' metadata) every K rows,\n"
+        "the ECP of every step (when the log has ax, ay) and the push as arrows. Right: vx, vy\n"
+        "and wz against time. With --fit, also the trajectory replayed from the log's first\n"
+        "state under the logged forces with the identified parameters.\n\n"
+        "Usage: plot-log LOG.csv --out FIG.png [--fit RESULT.json] [options]\n\nOptions");
+    PlotOptions defaults;
+    opts.add_options()
+        ("help,h", "print this help and exit")
+        ("version", "print the version and exit")
+        ("log", po::value<std::string>()->value_name("LOG.csv"), "the push log (or first argument)")
+        ("out", po::value<std::string>()->value_name("FIG.png"), "the picture to write (required)")
+        ("fit", po::value<std::string>()->value_name("RESULT.json"),
+         "identify --json output: overlay the replay with its parameters (held values where "
+         "not identifiable)")
+        ("substeps", po::value<int>()->default_value(1)->value_name("N"),
+         "forward-model steps per log interval for the replay (use identify's)")
+        ("every", po::value<int>()->default_value(0)->value_name("K"),
+         "rows between patch snapshots (0: about 16 over the log)")
+        ("width", po::value<int>()->default_value(defaults.width_px), "picture width [px]")
+        ("height", po::value<int>()->default_value(defaults.height_px), "picture height [px]")
+        ("gnuplot", po::value<std::string>()->default_value(defaults.gnuplot), "gnuplot program")
+        ("keep", po::value<std::string>()->value_name("DIR"),
+         "write the gnuplot script and data into DIR and keep them");
+    po::positional_options_description positional;
+    positional.add("log", 1);
+    po::variables_map vm;
+    po::store(po::command_line_parser(argc, argv).options(opts).positional(positional).run(), vm);
+    po::notify(vm);
+    if (vm.count("help")) {
+      std::cout << opts << "\nExit codes: 0 ok, 1 bad log or result file, 2 usage, "
+                           "3 the replay failed, 4 gnuplot missing or failing, or a file not "
+                           "writable.\n";
+      return tools::kExitOk;
+    }
+    if (vm.count("version")) {
+      std::cout << "plot-log (slideid) " << SLIDEID_VERSION << "\n";
+      return tools::kExitOk;
+    }
+    if (!vm.count("log")) throw po::error("the log (LOG.csv) is required");
+    if (!vm.count("out")) throw po::error("the option '--out' is required");
+    PlotOptions options;
+    options.out_png = vm["out"].as<std::string>();
+    options.snapshot_every = vm["every"].as<int>();
+    options.width_px = vm["width"].as<int>();
+    options.height_px = vm["height"].as<int>();
+    options.gnuplot = vm["gnuplot"].as<std::string>();
+    if (vm.count("keep")) options.work_dir = vm["keep"].as<std::string>();
+    const std::string log_path = vm["log"].as<std::string>();
+    options.title = log_path;
+    std::string why;
+    if (!options.IsValid(&why)) throw po::error(why);
+    if (vm["substeps"].as<int>() < 1) throw po::error("--substeps must be >= 1");
+
+    LogReadOptions read;
+    read.require_slider_properties = vm.count("fit") > 0;  // the replay needs them
+    const Trajectory log = ReadPushLog(log_path, read);
+    std::optional<Trajectory> fit;
+    std::string fit_label;
+    if (vm.count("fit")) {
+      std::ifstream in(vm["fit"].as<std::string>());
+      if (!in) throw std::runtime_error(vm["fit"].as<std::string>() + ": cannot read");
+      std::stringstream json;
+      json << in.rdbuf();
+      const ReducedFriction r = ParseIdentifyJson(json.str());
+      const SimulationResult replay =
+          ReplayLog(log, r.ToFrictionParameters(), vm["substeps"].as<int>());
+      if (!replay.summary.ok()) {
+        std::cerr << "plot-log: replay: " << ToString(replay.summary.status) << ": "
+                  << replay.summary.message << "\n";
+        return tools::kExitNumerical;
+      }
+      fit = replay.trajectory;
+      char buf[160];
+      std::snprintf(buf, sizeof buf, "fit: a = %.4g, b = %.4g, c = %.4g m", r.a, r.b, r.c);
+      fit_label = buf;
+    }
+    try {
+      PlotLog(log, fit ? &*fit : nullptr, options, fit_label);
+    } catch (const std::runtime_error& e) {
+      std::cerr << "plot-log: " << e.what() << "\n";
+      return tools::kExitIo;
+    }
+    std::printf("wrote %s\n", options.out_png.c_str());
+    return tools::kExitOk;
+  });
+}
