@@ -64,7 +64,9 @@ std::string FormatReport(const EstimateResult& r, const std::optional<ReducedFri
     out << line;
     if (truth) out << "  " << Number(TruthOf(*truth, i));
     out << "\n";
-    if (!p.identifiable && !p.note.empty()) out << "    not identifiable: " << p.note << "\n";
+    if (!p.note.empty()) {
+      out << "    " << (p.identifiable ? "note: " : "not identifiable: ") << p.note << "\n";
+    }
   }
   out << "(e_t_mu = e_t mu; e_o_over_e_t = e_o/e_t; e_r_over_e_t = e_r/e_t [m])\n";
   out << "steps: " << r.steps_used << " used of " << r.steps_total;

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <memory>
 #include <stdexcept>
 
@@ -24,6 +25,10 @@ constexpr double kNoiseFloor = 1e-10;
 // Rows of poses a segment's start velocity is seeded from (least-squares line): one
 // difference of noisy poses would make the seed ~ sqrt(2) sigma / h off.
 constexpr int kVelocitySeedRows = 5;
+// Fewest segments for the cluster-robust covariance: with fewer, the sum of K outer
+// products estimates the 3x3 score covariance too poorly; the white-noise covariance is
+// then reported alone.
+constexpr int kMinClusters = 10;
 // Fewest rows a segment may have: 3 rows = 9 residuals against 6 state parameters.
 constexpr int kMinSegmentRows = 3;
 // Stop when an iteration lowers the cost by less than kStatisticalTolerance / N relative,
@@ -305,10 +310,16 @@ class TrajectoryProblem {
     return summary;
   }
 
-  // Information of (log a, log b, log c) marginalised over the segment states (Schur).
+  // Information of (log a, log b, log c) marginalised over the segment states (Schur), and
+  // the outer products of the segments' marginal scores for the cluster-robust covariance.
   // Also marks the segments whose own state the data leave undetermined.
-  Eigen::Matrix3d MarginalInformation() {
-    Eigen::Matrix3d info = Eigen::Matrix3d::Zero();
+  struct Information {
+    Eigen::Matrix3d fisher = Eigen::Matrix3d::Zero();
+    Eigen::Matrix3d score_outer = Eigen::Matrix3d::Zero();
+    int clusters = 0;
+  };
+  Information MarginalInformation() {
+    Information result;
     for (Segment& seg : segments_) {
       SegmentCost cost(log_, seg.first_row, seg.last_row, options_.substeps, use_pose_,
                        length_m_);
@@ -326,18 +337,25 @@ class TrajectoryProblem {
       Jp.col(1) = Eigen::Map<const Eigen::VectorXd>(jb.data(), n);
       Jp.col(2) = Eigen::Map<const Eigen::VectorXd>(jc.data(), n);
       const Matrix66 Hss = Js.transpose() * Js;
-      const Matrix63 Hsp = Js.transpose() * Jp;
       const int first = use_pose_ ? 0 : 3;  // the free part of the state
       const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(
           Hss.bottomRightCorner(6 - first, 6 - first));
       seg.state_determined =
           eig.eigenvalues()(0) > kRankDeficientSegment * eig.eigenvalues().maxCoeff();
-      info += Jp.transpose() * Jp;
-      // A segment whose own state is not determined (e.g. at rest) gives its parameters
-      // nothing; the pseudo-inverse keeps that from poisoning the sum.
-      info -= Hsp.transpose() * Hss.completeOrthogonalDecomposition().pseudoInverse() * Hsp;
+      // Project the segment's state out of J_p: what the parameters explain beyond it. A
+      // segment whose state is not determined (e.g. at rest) gives them nothing; the
+      // pseudo-inverse keeps that from poisoning the sum.
+      const Eigen::MatrixXd Jp_marginal =
+          Jp - Js * (Hss.completeOrthogonalDecomposition().pseudoInverse() *
+                     (Js.transpose() * Jp));
+      result.fisher += Jp_marginal.transpose() * Jp_marginal;
+      const Eigen::Vector3d score =
+          Jp_marginal.transpose() * Eigen::Map<const Eigen::VectorXd>(r.data(), n);
+      result.score_outer += score * score.transpose();
+      ++result.clusters;
     }
-    return 0.5 * (info + info.transpose());
+    result.fisher = 0.5 * (result.fisher + result.fisher.transpose());
+    return result;
   }
 
   // Marginal covariance of the free log-parameters from ceres::Covariance (unscaled).
@@ -384,6 +402,35 @@ class TrajectoryProblem {
   std::vector<Segment> segments_;
   double log_params_[3] = {0, 0, 0};
 };
+
+// Cluster-robust (sandwich) variances of the free log-parameters with the segments as
+// clusters: H^-1 (sum_k g_k g_k^T) H^-1 K / (K - 1), valid whatever the correlation of the
+// residuals within a segment. Zero (no widening) below kMinClusters segments, where the
+// sandwich itself is too noisy to trust.
+Eigen::Vector3d ClusterRobustVariance(const TrajectoryProblem::Information& info,
+                                      const std::array<bool, 3>& free) {
+  Eigen::Vector3d var = Eigen::Vector3d::Zero();
+  if (info.clusters < kMinClusters) return var;
+  std::vector<int> idx;
+  for (int i = 0; i < 3; ++i) {
+    if (free[i]) idx.push_back(i);
+  }
+  const int n = static_cast<int>(idx.size());
+  Eigen::MatrixXd H(n, n), S(n, n);
+  for (int a = 0; a < n; ++a) {
+    for (int b = 0; b < n; ++b) {
+      H(a, b) = info.fisher(idx[a], idx[b]);
+      S(a, b) = info.score_outer(idx[a], idx[b]);
+    }
+  }
+  const Eigen::LDLT<Eigen::MatrixXd> ldlt(H);
+  if (ldlt.info() != Eigen::Success) return var;
+  const Eigen::MatrixXd Hinv = ldlt.solve(Eigen::MatrixXd::Identity(n, n));
+  const Eigen::MatrixXd C =
+      Hinv * S * Hinv * (static_cast<double>(info.clusters) / (info.clusters - 1));
+  for (int a = 0; a < n; ++a) var(idx[a]) = std::max(0.0, C(a, a));
+  return var;
+}
 
 void FillResiduals(const TrajectoryProblem& problem, const Trajectory& log,
                    EstimateResult* result) {
@@ -438,7 +485,7 @@ EstimateResult EstimateTrajectory(const Trajectory& log, const EstimatorOptions&
     return dof > 0 ? ss / dof : 0.0;
   };
   std::array<ParameterIdentifiability, 3> verdict =
-      AssessIdentifiability(problem.MarginalInformation(), variance(3));
+      AssessIdentifiability(problem.MarginalInformation().fisher, variance(3));
   for (int i = 0; i < 3; ++i) free[i] = verdict[i].identifiable;
   if (!free[0] && !free[1] && !free[2]) {
     throw std::invalid_argument("too little sliding to identify anything: the log does not "
@@ -452,16 +499,29 @@ EstimateResult EstimateTrajectory(const Trajectory& log, const EstimatorOptions&
   const double s2 = variance(n_free);
   Eigen::Matrix3d cov;
   const bool have_cov = problem.Covariance(free, &cov);
+  const Eigen::Vector3d robust_var = ClusterRobustVariance(problem.MarginalInformation(), free);
   for (int i = 0; i < 3; ++i) {
     const double value = std::exp(problem.log_param(i));
     if (!free[i]) {
       result.parameters[i] = NotIdentifiable(value, verdict[i].note);
-    } else if (have_cov) {
-      result.parameters[i] = EstimateFromLog(problem.log_param(i), std::sqrt(s2 * cov(i, i)));
-    } else {
-      result.parameters[i] = EstimateFromLog(problem.log_param(i), verdict[i].stderr_log);
-      result.parameters[i].note = "ceres::Covariance failed; error from the marginal information";
+      continue;
     }
+    double var = have_cov ? s2 * cov(i, i) : std::pow(verdict[i].stderr_log, 2);
+    std::string note =
+        have_cov ? "" : "ceres::Covariance failed; error from the marginal information";
+    if (robust_var(i) > var) {
+      // Residuals correlated within segments (model mismatch: unmodelled force noise, a
+      // coarse log): the white-noise error would be optimistic.
+      char buf[160];
+      std::snprintf(buf, sizeof buf,
+                    "error widened %.2fx: residuals correlated within segments "
+                    "(cluster-robust covariance)",
+                    std::sqrt(robust_var(i) / var));
+      note = buf;
+      var = robust_var(i);
+    }
+    result.parameters[i] = EstimateFromLog(problem.log_param(i), std::sqrt(var));
+    result.parameters[i].note = note;
   }
 
   const int rows = static_cast<int>(log.samples.size());

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
-# Quick start, first command: install what is missing, build, and run the main job on the
-# bundled default (the paper's Example 1: where the slider comes to rest).
+# Quick start, first command: install what is missing, build, and run the main job:
+# identify the friction of the bundled default log (known truth, printed beside).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/build.sh
-build/bin/simulate --scene datasets/scenes/example1_square.ini --duration 0.6 --out build/example1_square.csv
+build/bin/identify --log datasets/logs/default_push.csv
