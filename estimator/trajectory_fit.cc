@@ -7,6 +7,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <memory>
 #include <stdexcept>
 
@@ -25,6 +26,11 @@ constexpr double kNoiseFloor = 1e-10;
 // Rows of poses a segment's start velocity is seeded from (least-squares line): one
 // difference of noisy poses would make the seed ~ sqrt(2) sigma / h off.
 constexpr int kVelocitySeedRows = 5;
+// Physical range of (a, b, c [m]) the fit searches: mu e_t from 1e-4 (ice) to 10, an
+// anisotropy within 1e3 either way, and a spin-resistance length from 1e-6 m to 10 m.
+// Beyond these the step's parameters under- or overflow (exp of the log-parameter).
+constexpr double kLowerBound[3] = {1e-4, 1e-3, 1e-6};
+constexpr double kUpperBound[3] = {10.0, 1e3, 10.0};
 // Fewest segments for the cluster-robust covariance: with fewer, the sum of K outer
 // products estimates the 3x3 score covariance too poorly; the white-noise covariance is
 // then reported alone.
@@ -40,7 +46,12 @@ constexpr int kMinSegmentRows = 3;
 constexpr double kStatisticalTolerance = 1e-4;
 constexpr double kMinFunctionTolerance = 1e-12;
 constexpr double kParameterTolerance = 1e-10;
-constexpr double kGradientTolerance = 1e-14;
+// No gradient test (issue 5, docs/stability.md): Ceres' gradient tolerance is absolute,
+// and on a log whose poses barely feel a parameter (the pushed slider at 1000 kg: c acts
+// only through a spin of 2 mrad/s) the gradient fell below the former 1e-14 with c still
+// 2.7e-5 off and its 95% interval excluding the truth. The relative function and parameter
+// tolerances above end every fit.
+constexpr double kGradientTolerance = 0.0;
 // A segment whose own 6x6 information has a relative eigenvalue below this leaves part of
 // its state undetermined (typically the start velocity of a segment that begins stuck).
 constexpr double kRankDeficientSegment = 1e-12;
@@ -67,12 +78,27 @@ class SegmentCost final : public ceres::CostFunction {
     mutable_parameter_block_sizes()->assign({6, 1, 1, 1});
   }
 
+  // Ceres functors never throw: an infeasible point (a step that fails, parameters the
+  // step rejects) returns false and the trust region shrinks.
   bool Evaluate(double const* const* params, double* residuals,
                 double** jacobians) const override {
+    try {
+      return Simulate(params, residuals, jacobians);
+    } catch (const std::exception&) {
+      return false;
+    }
+  }
+
+ private:
+  bool Simulate(double const* const* params, double* residuals, double** jacobians) const {
     PlanarState s{params[0][0], params[0][1], params[0][2],
                   params[0][3], params[0][4], params[0][5]};
     const ReducedFriction abc{std::exp(params[1][0]), std::exp(params[2][0]),
                               std::exp(params[3][0])};
+    if (!(abc.a > 0 && abc.b > 0 && abc.c > 0) ||
+        !std::isfinite(abc.a * abc.b * abc.c)) {
+      return false;
+    }
     Matrix66 d_state = Matrix66::Identity();  // d(state) / d(initial state)
     Matrix63 d_param = Matrix63::Zero();      // d(state) / d(log a, log b, log c)
     const bool want = jacobians != nullptr;
@@ -105,7 +131,6 @@ class SegmentCost final : public ceres::CostFunction {
     return true;
   }
 
- private:
   // nu' = f(nu, theta); q' = q + h nu'.
   static void Propagate(const StepSensitivity& sens, double h, Matrix66* d_state,
                         Matrix63* d_param) {
@@ -192,20 +217,23 @@ Vector6 SeedState(const Trajectory& log, int row, int last_row) {
   return s;
 }
 
-// Equation-error seed where it is identifiable, else the closed form, else defaults that
-// are typical of table-top sliding (a = 0.3, b = 1, c = the radius of gyration).
-std::array<double, 3> SeedParameters(const Trajectory& log, const EstimatorOptions& options,
-                                     double length_m) {
-  std::array<double, 3> seed{{0.3, 1.0, length_m}};
-  std::array<bool, 3> have{{false, false, false}};
+// Candidate seeds: defaults typical of table-top sliding (a = 0.3, b = 1, c = the radius
+// of gyration), and the equation-error and closed-form estimates where they identify a
+// parameter (the rest from the defaults). On noisy poses these can be far off (a closed
+// form a = 4.3 for a truth of 0.25 makes the simulated slider never slide), so the caller
+// keeps whichever fits the log best.
+std::vector<std::array<double, 3>> CandidateSeeds(const Trajectory& log,
+                                                  const EstimatorOptions& options,
+                                                  double length_m) {
+  const std::array<double, 3> defaults{{0.3, 1.0, length_m}};
+  std::vector<std::array<double, 3>> seeds{defaults};
   auto take = [&](const EstimateResult& r) {
+    std::array<double, 3> seed = defaults;
     for (int i = 0; i < 3; ++i) {
       const ParameterEstimate& p = r.parameters[i];
-      if (!have[i] && p.identifiable && std::isfinite(p.value) && p.value > 0) {
-        seed[i] = p.value;
-        have[i] = true;
-      }
+      if (p.identifiable && std::isfinite(p.value) && p.value > 0) seed[i] = p.value;
     }
+    if (seed != defaults) seeds.push_back(seed);
   };
   try {
     take(EstimateEquationError(log, options));
@@ -215,7 +243,7 @@ std::array<double, 3> SeedParameters(const Trajectory& log, const EstimatorOptio
     take(EstimateClosedForm(log, options));
   } catch (const std::exception&) {
   }
-  return seed;
+  return seeds;
 }
 
 ceres::LossFunction* MakeLoss(RobustLoss loss, double scale) {
@@ -248,9 +276,21 @@ class TrajectoryProblem {
       throw std::invalid_argument("log too short for the trajectory method: " +
                                   std::to_string(log.samples.size()) + " rows");
     }
-    const std::array<double, 3> seed = SeedParameters(log, options, length_m_);
-    for (int i = 0; i < 3; ++i) log_params_[i] = std::log(seed[i]);
     for (Segment& seg : segments_) seg.state = SeedState(log, seg.first_row, seg.last_row);
+    double best = std::numeric_limits<double>::infinity();
+    std::array<double, 3> chosen{};
+    for (const std::array<double, 3>& seed : CandidateSeeds(log, options, length_m_)) {
+      for (int i = 0; i < 3; ++i) {
+        log_params_[i] = std::log(std::clamp(seed[i], kLowerBound[i], kUpperBound[i]));
+      }
+      double cost = 0;
+      for (double r : Residuals()) cost += r * r;
+      if (cost < best) {
+        best = cost;
+        for (int i = 0; i < 3; ++i) chosen[i] = log_params_[i];
+      }
+    }
+    for (int i = 0; i < 3; ++i) log_params_[i] = chosen[i];
   }
 
   int Rows() const {
@@ -294,6 +334,8 @@ class TrajectoryProblem {
     }
     for (int i = 0; i < 3; ++i) {
       ordering->AddElementToGroup(&log_params_[i], 1);
+      problem.SetParameterLowerBound(&log_params_[i], 0, std::log(kLowerBound[i]));
+      problem.SetParameterUpperBound(&log_params_[i], 0, std::log(kUpperBound[i]));
       if (!free[i]) problem.SetParameterBlockConstant(&log_params_[i]);
     }
     ceres::Solver::Options solver;
@@ -488,8 +530,10 @@ EstimateResult EstimateTrajectory(const Trajectory& log, const EstimatorOptions&
       AssessIdentifiability(problem.MarginalInformation().fisher, variance(3));
   for (int i = 0; i < 3; ++i) free[i] = verdict[i].identifiable;
   if (!free[0] && !free[1] && !free[2]) {
-    throw std::invalid_argument("too little sliding to identify anything: the log does not "
-                                "determine any friction parameter");
+    throw std::invalid_argument(
+        "too little sliding to identify anything: the log does not determine any friction "
+        "parameter (it barely slides, or its noise is too large for its length: " +
+        std::to_string(log.samples.size()) + " rows)");
   }
   if (!(free[0] && free[1] && free[2])) {
     summary = problem.Solve(free, options.loss_scale_sigmas * problem.RobustSigma());
