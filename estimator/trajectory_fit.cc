@@ -30,6 +30,9 @@ constexpr int kVelocitySeedRows = 5;
 // anisotropy within 1e3 either way, and a spin-resistance length from 1e-6 m to 10 m.
 // Beyond these the step's parameters under- or overflow (exp of the log-parameter).
 constexpr double kLowerBound[3] = {1e-4, 1e-3, 1e-6};
+// A preferred seed is kept while its trajectory cost is within this factor of the best
+// candidate's: far enough from the best to be a different basin, it is not.
+constexpr double kSeedCostSlack = 2.0;
 constexpr double kUpperBound[3] = {10.0, 1e3, 10.0};
 // Fewest segments for the cluster-robust covariance: with fewer, the sum of K outer
 // products estimates the 3x3 score covariance too poorly; the white-noise covariance is
@@ -217,16 +220,16 @@ Vector6 SeedState(const Trajectory& log, int row, int last_row) {
   return s;
 }
 
-// Candidate seeds: defaults typical of table-top sliding (a = 0.3, b = 1, c = the radius
-// of gyration), and the equation-error and closed-form estimates where they identify a
-// parameter (the rest from the defaults). On noisy poses these can be far off (a closed
+// Candidate seeds, in order of preference: the equation-error and closed-form estimates
+// where they identify a parameter (the rest from the defaults), then defaults typical of
+// table-top sliding (a = 0.3, b = 1, c = the radius of gyration). On noisy poses these can be far off (a closed
 // form a = 4.3 for a truth of 0.25 makes the simulated slider never slide), so the caller
 // keeps whichever fits the log best.
 std::vector<std::array<double, 3>> CandidateSeeds(const Trajectory& log,
                                                   const EstimatorOptions& options,
                                                   double length_m) {
   const std::array<double, 3> defaults{{0.3, 1.0, length_m}};
-  std::vector<std::array<double, 3>> seeds{defaults};
+  std::vector<std::array<double, 3>> seeds;
   auto take = [&](const EstimateResult& r) {
     std::array<double, 3> seed = defaults;
     for (int i = 0; i < 3; ++i) {
@@ -243,6 +246,7 @@ std::vector<std::array<double, 3>> CandidateSeeds(const Trajectory& log,
     take(EstimateClosedForm(log, options));
   } catch (const std::exception&) {
   }
+  seeds.push_back(defaults);
   return seeds;
 }
 
@@ -277,20 +281,26 @@ class TrajectoryProblem {
                                   std::to_string(log.samples.size()) + " rows");
     }
     for (Segment& seg : segments_) seg.state = SeedState(log, seg.first_row, seg.last_row);
-    double best = std::numeric_limits<double>::infinity();
-    std::array<double, 3> chosen{};
+    // The candidates come in order of preference; take the first that fits within a factor
+    // kSeedCostSlack of the best (on clean logs they all fit to rounding, and the most
+    // accurate one, the equation error, should win the tie).
+    std::vector<std::array<double, 3>> candidates;
+    std::vector<double> costs;
     for (const std::array<double, 3>& seed : CandidateSeeds(log, options, length_m_)) {
+      std::array<double, 3> logs;
       for (int i = 0; i < 3; ++i) {
-        log_params_[i] = std::log(std::clamp(seed[i], kLowerBound[i], kUpperBound[i]));
+        logs[i] = std::log(std::clamp(seed[i], kLowerBound[i], kUpperBound[i]));
+        log_params_[i] = logs[i];
       }
       double cost = 0;
       for (double r : Residuals()) cost += r * r;
-      if (cost < best) {
-        best = cost;
-        for (int i = 0; i < 3; ++i) chosen[i] = log_params_[i];
-      }
+      candidates.push_back(logs);
+      costs.push_back(std::isfinite(cost) ? cost : std::numeric_limits<double>::infinity());
     }
-    for (int i = 0; i < 3; ++i) log_params_[i] = chosen[i];
+    const double best = *std::min_element(costs.begin(), costs.end());
+    size_t chosen = 0;
+    while (chosen + 1 < costs.size() && !(costs[chosen] <= kSeedCostSlack * best)) ++chosen;
+    for (int i = 0; i < 3; ++i) log_params_[i] = candidates[chosen][i];
   }
 
   int Rows() const {
