@@ -70,7 +70,9 @@ bool SolveStepWithSensitivity(const SliderProperties& slider, const ReducedFrict
   Eigen::Matrix3d dnu_dp = Eigen::Matrix3d::Zero();
   dnu_dp(0, 0) = 1.0 / t.m;
   dnu_dp(1, 1) = 1.0 / t.m;
-  dnu_dp.row(2) << t.ptx / (t.pn * t.I), t.pty / (t.pn * t.I), 1.0 / t.I;
+  // (ptx / pn) / I: the product pn I underflows for tiny masses (issue 5, as in
+  // StepEquations::EcpVelocity).
+  dnu_dp.row(2) << t.ptx / t.pn / t.I, t.pty / t.pn / t.I, 1.0 / t.I;
   Eigen::Matrix<double, 3, 4> dnu_dz = Eigen::Matrix<double, 3, 4>::Zero();
   dnu_dz.leftCols<3>() = dnu_dp * (P * Eigen::Vector3d(1.0, abc.b, abc.c)).asDiagonal();
   Eigen::Matrix<double, 3, kX> dnu_dx;

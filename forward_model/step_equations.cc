@@ -1,7 +1,9 @@
 #include "forward_model/step_equations.h"
 
+#include <Eigen/LU>
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 
 namespace slideid {
@@ -15,6 +17,14 @@ constexpr int kMaxScalarIterations = 200;
 constexpr double kGuessSlipFraction = 1e-2;
 // A first guess needs no more digits than Newton's first quadratic step doubles.
 constexpr double kGuessTolerance = 1e-8;
+// ComponentwiseResidual measures each row against its own terms plus this fraction of
+// the same terms with the impulses at the ellipsoid's size. Without it a row whose exact
+// value is zero (no spin: tau_r = 0) is measured against its own rounding residue and
+// never converges (ratio 1, issue 5); with the whole ellipsoid instead, the spin of a
+// slider whose c |w| << |v| was only accurate to 1e-12 |v| / (c |w|) relative, and c was
+// identified to 5e-5 only. 1e-6: the spin is then accurate to 1e-18 of the friction's
+// capacity, still far above what Newton reaches (tau_r ~ 1e-30 in that case).
+constexpr double kEllipsoidFloor = 1e-6;
 }  // namespace
 
 StepEquations::StepEquations(const SliderProperties& slider, const ReducedFriction& friction,
@@ -32,8 +42,28 @@ StepEquations::StepEquations(const SliderProperties& slider, const ReducedFricti
   t_.k << t_.m * state.vx + dt_s * applied.fx, t_.m * state.vy + dt_s * applied.fy,
       t_.I * state.wz + dt_s * applied.tz;
   P_ = t_.a * t_.pn;
-  velocity_scale_ = std::sqrt(std::pow(t_.k(0) / t_.m, 2) + std::pow(t_.b * t_.k(1) / t_.m, 2) +
-                              std::pow(t_.c * t_.k(2) / t_.I, 2));
+  const double u0 = t_.k(0) / t_.m, u1 = t_.b * t_.k(1) / t_.m, u2 = t_.c * t_.k(2) / t_.I;
+  velocity_scale_ = std::sqrt(u0 * u0 + u1 * u1 + u2 * u2);
+  // Squares overflow from ~1e154 m/s and underflow below ~1e-154 m/s (issue 5): the scaled
+  // norm, slower, only then.
+  if (!std::isfinite(velocity_scale_) || (velocity_scale_ < 1e-150 && velocity_scale_ > 0) ||
+      (velocity_scale_ == 0 && (u0 != 0 || u1 != 0 || u2 != 0))) {
+    velocity_scale_ = std::hypot(u0, u1, u2);
+  }
+}
+
+const Eigen::Vector3d& StepEquations::RowTerms() const {
+  if (row_terms_ready_) return row_terms_;
+  row_terms_ready_ = true;
+  // Magnitudes of the terms of u = (v_t, b v_o, c v_r) with every friction impulse at the
+  // size of the ellipsoid (|p_t| <= P, |p_o| <= P b, |p_r| <= P c).
+  const double w = (std::abs(t_.k(2)) + P_ * t_.c +
+                    P_ * ((std::abs(t_.ptx) + t_.b * std::abs(t_.pty)) / t_.pn)) / t_.I;
+  const double rx = std::abs(t_.pty) / t_.pn + t_.qz * t_.a;
+  const double ry = std::abs(t_.ptx) / t_.pn + t_.qz * t_.a * t_.b;
+  row_terms_ << (std::abs(t_.k(0)) + P_) / t_.m + w * ry,
+      t_.b * ((std::abs(t_.k(1)) + P_ * t_.b) / t_.m + w * rx), t_.c * w;
+  return row_terms_;
 }
 
 Eigen::Vector3d StepEquations::StoppingImpulse() const {
@@ -46,7 +76,13 @@ Eigen::Vector3d StepEquations::StoppingImpulse() const {
 
 bool StepEquations::InsideEllipsoid(const Eigen::Vector3d& p) const {
   const double qo = p(1) / t_.b, qr = p(2) / t_.c;
-  return p(0) * p(0) + qo * qo + qr * qr <= P_ * P_;
+  const double lhs = p(0) * p(0) + qo * qo + qr * qr, rhs = P_ * P_;
+  if (std::isnormal(lhs) && std::isnormal(rhs)) return lhs <= rhs;
+  // The squares under- or overflowed (masses or steps far from 1; issue 5: m = 1e-300 kg
+  // "stuck" with 0 <= 0): in ratios to a p_n.
+  if (p(0) == 0.0 && p(1) == 0.0 && p(2) == 0.0) return true;  // at rest, even if P_ = 0
+  const double rt = p(0) / P_, ro = qo / P_, rr = qr / P_;
+  return rt * rt + ro * ro + rr * rr <= 1.0;
 }
 
 Eigen::Vector3d StepEquations::EndVelocity(const Eigen::Vector3d& p) const {
@@ -63,7 +99,9 @@ Eigen::Vector3d StepEquations::EcpVelocity(const Eigen::Vector3d& p,
   const Eigen::Vector2d r = EcpOffset(p);
   const double w = nu(2);
   if (dv_dp) {
-    const Eigen::RowVector3d dw(t_.ptx / (t_.pn * t_.I), t_.pty / (t_.pn * t_.I), 1.0 / t_.I);
+    // (ptx / pn) / I, not ptx / (pn I): the product underflows for tiny masses (issue 5:
+    // m = 1e-300 kg gave 0 / 0 = NaN).
+    const Eigen::RowVector3d dw(t_.ptx / t_.pn / t_.I, t_.pty / t_.pn / t_.I, 1.0 / t_.I);
     const double dr = -t_.qz / t_.pn;  // d r_x / d p_t = d r_y / d p_o
     dv_dp->row(0) = -r(1) * dw;
     (*dv_dp)(0, 0) += 1.0 / t_.m;
@@ -105,6 +143,131 @@ double StepEquations::RelativeResidual(const Eigen::Vector4d& z,
   return std::max(motion, sphere);
 }
 
+double StepEquations::ComponentwiseResidual(const Eigen::Vector4d& z,
+                                            const Eigen::Vector4d& f) const {
+  // |terms| of nu' = M^-1 (k + p + coupling), of the ECP offsets and of u + s tau at z,
+  // plus kEllipsoidFloor of the same with the impulses at the ellipsoid's size.
+  const Eigen::Vector3d p = Impulses(z).cwiseAbs();
+  const double w = (std::abs(t_.k(2)) + p(2) +
+                    p(0) * (std::abs(t_.ptx) / t_.pn) + p(1) * (std::abs(t_.pty) / t_.pn)) /
+                   t_.I;
+  const double rx = std::abs(t_.pty) / t_.pn + t_.qz * (p(0) / t_.pn);
+  const double ry = std::abs(t_.ptx) / t_.pn + t_.qz * (p(1) / t_.pn);
+  const double s = std::abs(z(3));
+  const Eigen::Vector3d terms(
+      (std::abs(t_.k(0)) + p(0)) / t_.m + w * ry + s * std::abs(z(0)),
+      t_.b * ((std::abs(t_.k(1)) + p(1)) / t_.m + w * rx) + s * std::abs(z(1)),
+      t_.c * w + s * std::abs(z(2)));
+  double worst = 0;
+  for (int i = 0; i < 3; ++i) {
+    const double scale = terms(i) + kEllipsoidFloor * RowTerms()(i);
+    if (scale > 0) worst = std::max(worst, std::abs(f(i)) / scale);
+  }
+  return worst;
+}
+
+double StepEquations::ConvergenceResidual(const Eigen::Vector4d& z, const Eigen::Vector4d& f,
+                                          double tolerance) const {
+  const double normwise = RelativeResidual(z, f);
+  if (!(normwise <= tolerance)) return normwise;
+  return std::max(normwise, ComponentwiseResidual(z, f));
+}
+
+bool StepEquations::ScalesRepresentable(std::string* why, bool with_equation_terms) const {
+  auto fail = [&](const char* what, double value) {
+    if (why) {
+      char buf[200];
+      std::snprintf(buf, sizeof buf, "%s = %g is outside the normal range of double", what,
+                    value);
+      *why = buf;
+    }
+    return false;
+  };
+  // Subnormal a p_n (< 2.2e-308 N s) has lost digits already: the solve then stalls.
+  if (!(P_ >= std::numeric_limits<double>::min()) || !std::isfinite(P_)) {
+    return fail("a p_n (the ellipsoid's size) [N s]", P_);
+  }
+  for (int i = 0; i < 3; ++i) {
+    if (!std::isfinite(t_.k(i))) return fail("M nu + applied impulse [N s, N m s]", t_.k(i));
+  }
+  if (!std::isfinite(t_.ptx) || !std::isfinite(t_.pty)) {
+    return fail("tilting impulse [N m s]", std::isfinite(t_.ptx) ? t_.pty : t_.ptx);
+  }
+  if (!std::isfinite(velocity_scale_)) return fail("free slip speed V [m/s]", velocity_scale_);
+  if (with_equation_terms) {
+    for (int i = 0; i < 3; ++i) {
+      if (!std::isfinite(RowTerms()(i))) {
+        return fail("magnitude of a scaled equation's terms (e.g. c^2 a p_n / I) [m/s]",
+                    RowTerms()(i));
+      }
+    }
+  }
+  return true;
+}
+
+double StepEquations::CouplingSpeed() const {
+  const double offset = (std::abs(t_.ptx) + std::abs(t_.pty)) / t_.pn +
+                        t_.qz * t_.a * std::max(1.0, t_.b);
+  return std::abs(t_.k(2)) / t_.I * offset;
+}
+
+double StepEquations::EllipsoidRatio(const Eigen::Vector3d& p) const {
+  const double qt = p(0) / P_, qo = p(1) / (P_ * t_.b), qr = p(2) / (P_ * t_.c);
+  return std::sqrt(qt * qt + qo * qo + qr * qr);
+}
+
+Eigen::Vector4d StepEquations::LinearisedStopGuess() const {
+  const Eigen::Vector3d p = StoppingImpulse();
+  Eigen::Vector4d z;
+  z << p(0) / P_, p(1) / (P_ * t_.b), p(2) / (P_ * t_.c), 0.0;
+  Eigen::Vector4d f;
+  Eigen::Matrix4d jac;
+  Evaluate(z, &f, &jac);  // at s = 0 the 3x3 block is A = du/dtau
+  const Eigen::Matrix3d A = jac.topLeftCorner<3, 3>();
+  const Eigen::Vector3d rhs = A * z.head<3>();
+  auto tau_at = [&](double s, Eigen::Vector3d* dtau) {
+    const Eigen::PartialPivLU<Eigen::Matrix3d> lu(A + s * Eigen::Matrix3d::Identity());
+    const Eigen::Vector3d tau = lu.solve(rhs);
+    if (dtau) *dtau = -lu.solve(tau);
+    return tau;
+  };
+  // g(s) = 1 / |tau(s)| - 1: negative at s = 0 (outside the ellipsoid), positive for s
+  // large against |A|; Newton inside a bracket, bisection (geometric: s spans decades)
+  // where Newton leaves it.
+  double lo = 0.0, hi = 2.0 * z.head<3>().norm() * A.norm();
+  for (int i = 0; i < 60 && !(tau_at(hi, nullptr).norm() < 1.0); ++i) hi *= 4.0;
+  if (!(hi > 0) || !std::isfinite(hi)) return StoppingGuess();
+  double s = hi * kGuessTolerance;
+  Eigen::Vector3d tau, dtau;
+  for (int it = 0; it < kMaxScalarIterations; ++it) {
+    tau = tau_at(s, &dtau);
+    const double n = tau.norm();
+    const double g = 1.0 / n - 1.0;
+    if (std::abs(g) <= kGuessTolerance || !std::isfinite(g)) break;
+    if (g < 0) lo = s; else hi = s;
+    const double dg = -tau.dot(dtau) / (n * n * n);
+    double next = s - g / dg;
+    if (!(next > lo && next < hi)) next = lo > 0 ? std::sqrt(lo * hi) : 0.5 * hi;
+    s = next;
+    if (hi - lo <= 4 * kEps * hi) break;
+  }
+  if (!tau.allFinite() || !(tau.norm() > 0) || !(s > 0)) return StoppingGuess();
+  z.head<3>() = tau.normalized();
+  z(3) = s;
+  return z;
+}
+
+Eigen::Vector4d StepEquations::EcpVelocityGuess(Eigen::Vector4d z, int sweeps) const {
+  for (int i = 0; i < sweeps; ++i) {
+    const Eigen::Vector3d v = EcpVelocity(Impulses(z), nullptr);
+    const Eigen::Vector3d u(v(0), t_.b * v(1), t_.c * v(2));
+    const double speed = u.norm();
+    if (!(speed > 0) || !std::isfinite(speed)) break;
+    z << -u / speed, speed;
+  }
+  return z;
+}
+
 Eigen::Vector4d StepEquations::DecoupledAt(double s) const {
   // p_i = -P D_i k_i / (M_i s + P D_i), D = (1, b^2, c^2): tau = p / (P weight).
   return {-t_.k(0) / (t_.m * s + P_), -t_.b * t_.k(1) / (t_.m * s + P_ * t_.b * t_.b),
@@ -132,7 +295,8 @@ bool StepEquations::SolveDecoupled(Eigen::Vector4d* z, int* iterations,
       const double d = weight(i) * weight(i);
       const double den = mass(i) * s + P_ * d;
       if (t_.k(i) == 0.0) continue;
-      const double term = d * t_.k(i) * t_.k(i) / (den * den);
+      const double ratio = t_.k(i) / den;  // squared as a ratio: no under/overflow
+      const double term = d * ratio * ratio;
       phi += term;
       dphi -= 2.0 * term * mass(i) / den;
     }
@@ -186,6 +350,7 @@ StepEquations StepEquations::WithCouplingScaled(double scale) const {
   scaled.t_.qz *= scale;
   scaled.t_.ptx *= scale;
   scaled.t_.pty *= scale;
+  scaled.row_terms_ready_ = false;
   return scaled;
 }
 

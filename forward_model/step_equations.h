@@ -10,6 +10,7 @@
 // in velocity units, so a relative tolerance means the same in every scene.
 
 #include <Eigen/Core>
+#include <string>
 
 #include "forward_model/planar_state.h"
 #include "forward_model/slider.h"
@@ -89,6 +90,26 @@ class StepEquations {
   void Evaluate(const Eigen::Vector4d& z, Eigen::Vector4d* f, Eigen::Matrix4d* jac) const;
   /// max(|F_1..3| / (V + s), | |tau|^2 - 1 |): the solver's convergence measure.
   double RelativeResidual(const Eigen::Vector4d& z, const Eigen::Vector4d& f) const;
+  /// max_i |F_i| / T_i over the three motion rows, T_i the sum of the magnitudes of row i's
+  /// terms with the friction impulses at the size of the ellipsoid (its rounding floor is a
+  /// few ulps of T_i). Stricter than RelativeResidual where one row's terms are much
+  /// smaller than V (e.g. c |w| << V, or |v| << c |w|), as the paper-form residuals of
+  /// SlidingEquationResiduals are (issue 5, docs/stability.md).
+  double ComponentwiseResidual(const Eigen::Vector4d& z, const Eigen::Vector4d& f) const;
+  /// Largest of RelativeResidual and ComponentwiseResidual (the latter only evaluated once
+  /// the former is below `tolerance`: it matters only near a root).
+  double ConvergenceResidual(const Eigen::Vector4d& z, const Eigen::Vector4d& f,
+                             double tolerance) const;
+  /// False, with the reason in `why`, when a scale of the step is not a normal double:
+  /// a p_n subnormal, zero or overflowed, or the momenta, tilting impulses or the free slip
+  /// speed overflowed; with `with_equation_terms`, also the magnitudes of the scaled
+  /// equations' terms (a domain limit of double precision, docs/stability.md).
+  bool ScalesRepresentable(std::string* why, bool with_equation_terms = false) const;
+  /// |w| times the largest ECP offset the friction allows: the slip the spin about an ECP
+  /// away from the CM adds, against the free slip speed V [m/s].
+  double CouplingSpeed() const;
+  /// sqrt(p_t^2 + (p_o/b)^2 + (p_r/c)^2) / (a p_n): 1 on the ellipsoid.
+  double EllipsoidRatio(const Eigen::Vector3d& p) const;
 
   /// No CM height and no tilting moments: the ECP stays under the CM.
   bool IsDecoupled() const { return t_.qz == 0.0 && t_.ptx == 0.0 && t_.pty == 0.0; }
@@ -106,6 +127,17 @@ class StepEquations {
   /// A first guess near the stick boundary: the direction of the stopping impulse, and the
   /// slip speed each axis alone would have (decoupled closed form), averaged by weight.
   Eigen::Vector4d StoppingGuess() const;
+  /// A first guess near the stick boundary (stopping impulse just outside the ellipsoid):
+  /// the ECP velocity linearised about the stopping impulse, u = A (tau - tau_stop), where
+  /// it is zero, and s the root of |(A + s I)^-1 A tau_stop| = 1 (a scalar root, bracketed).
+  /// Exact to second order in the distance to the boundary, where the direction of the
+  /// stopping impulse alone leaves Newton crawling along a weakly stiff row (issue 5).
+  Eigen::Vector4d LinearisedStopGuess() const;
+  /// `sweeps` fixed-point sweeps of u(tau) + s tau = 0 from z: tau = -u / |u|, s = |u|, u the
+  /// weighted ECP velocity at the impulses of the previous sweep. A first guess where the
+  /// coupling moves the ECP far from the CM, so that the spin about it, not the free slip
+  /// speed V, sets the slip speed (found by the stability sweep, docs/stability.md).
+  Eigen::Vector4d EcpVelocityGuess(Eigen::Vector4d z, int sweeps) const;
   /// Closed form for pure translation with b = 1 (model.md, erratum 4).
   Eigen::Vector4d PureTranslationClosedForm() const;
   /// The same step with q_z and the tilting impulses scaled by `scale` (continuation).
@@ -116,7 +148,12 @@ class StepEquations {
 
  private:
   Eigen::Vector4d DecoupledAt(double s) const;
+  /// T_i of ComponentwiseResidual at the ellipsoid's size (without s tau_i); cached,
+  /// computed only for steps that slide.
+  const Eigen::Vector3d& RowTerms() const;
   StepTerms<double> t_;
+  mutable Eigen::Vector3d row_terms_;
+  mutable bool row_terms_ready_ = false;
   double P_;                  // a p_n
   double velocity_scale_;     // |k / M| weighted by (1, b, c): free slip speed [m/s]
 };

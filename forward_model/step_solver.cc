@@ -12,6 +12,7 @@
 namespace slideid {
 namespace {
 
+constexpr double kEps = std::numeric_limits<double>::epsilon();
 
 // Armijo constant and the bound on halvings of the Newton line search.
 constexpr double kArmijo = 1e-4;
@@ -22,6 +23,27 @@ constexpr double kMinSlipFraction = 0.1;
 constexpr double kSingularBlock = 1e-12;
 // Coupling scales of the continuation used only when Newton from the decoupled guess fails.
 constexpr double kContinuation[] = {0.125, 0.25, 0.5, 0.75, 1.0};
+// Fixed-point sweeps of the ECP-velocity guess: each contracts by about the ratio of the
+// friction's effect on the ECP velocity to the slip speed; three bring the far-ECP cases of
+// the stability sweep within Newton's reach (docs/stability.md).
+constexpr int kEcpVelocitySweeps = 3;
+// Ratio of StepEquations::CouplingSpeed to V above which the spin about a far ECP, not
+// the friction, dominates the ECP velocity: the ECP-velocity guess goes first. (The
+// failing case of the sweep had 575; cases that converge from the decoupled guess, 0.1.)
+constexpr double kFarEcpRatio = 10.0;
+// Newton iterations allowed to that speculative first try: where its guess is right it
+// converges in a handful; where it is not, the usual guesses follow.
+constexpr int kSpeculativeIterations = 12;
+// A stopping impulse within this many ulps (relative) of the ellipsoid is on it: the stick
+// test and the sliding solve round it differently, and the sliding root is then s = 0
+// within rounding, i.e. the slider stops at the end of the step (issue 5).
+constexpr double kBoundaryUlps = 16.0;
+// Stopping impulse within this relative distance outside the ellipsoid: the slide ends
+// nearly at rest, its friction impulse nearly the stopping one; Newton starts from that.
+constexpr double kNearStickBoundary = 1e-3;
+// SlidingEquationResiduals counts each friction impulse at least at this fraction of the
+// ellipsoid's half-axis (as StepEquations::ComponentwiseResidual does).
+constexpr double kEllipsoidFloor = 1e-6;
 
 void Validate(const SliderProperties& slider, const FrictionParameters& f, double dt_s) {
   auto require = [](bool ok, const char* what, double value) {
@@ -43,6 +65,25 @@ void Validate(const SliderProperties& slider, const FrictionParameters& f, doubl
   require(std::isfinite(f.e_o) && f.e_o > 0, "e_o must be > 0", f.e_o);
   require(std::isfinite(f.e_r) && f.e_r > 0, "e_r must be > 0", f.e_r);
   require(std::isfinite(dt_s) && dt_s > 0, "time step must be > 0", dt_s);
+}
+
+// Issue 5: a NaN or Inf in the state or the wrench went through as "did not converge
+// (relative residual nan)"; it is bad input and says which field.
+void ValidateFinite(const PlanarState& s, const AppliedWrench& w) {
+  const std::pair<const char*, double> fields[] = {
+      {"state.x", s.x},   {"state.y", s.y},   {"state.theta", s.theta}, {"state.vx", s.vx},
+      {"state.vy", s.vy}, {"state.wz", s.wz}, {"applied.fx", w.fx},     {"applied.fy", w.fy},
+      {"applied.fz", w.fz}, {"applied.tx", w.tx}, {"applied.ty", w.ty}, {"applied.tz", w.tz}};
+  double probe = 0.0;  // v * 0 is 0 for every finite v, NaN for Inf or NaN: one test
+  for (const auto& field : fields) probe += field.second * 0.0;
+  if (probe == 0.0) return;
+  for (const auto& [name, value] : fields) {
+    if (!std::isfinite(value)) {
+      std::ostringstream msg;
+      msg << "SolveStep: " << name << " must be finite (got " << value << ")";
+      throw std::invalid_argument(msg.str());
+    }
+  }
 }
 
 // The Jacobian is bordered, [[A, tau], [V tau^T, 0]]: eliminate through the 3x3 block A
@@ -76,64 +117,88 @@ bool Newton(const StepEquations& eq, const StepOptions& options, Eigen::Vector4d
   Eigen::Vector4d f;
   Eigen::Matrix4d jac;
   eq.Evaluate(*z, &f, &jac);
+  const double tol = options.relative_tolerance;
   for (int it = 0; it < options.max_iterations; ++it) {
-    *relative_residual = eq.RelativeResidual(*z, f);
-    if (*relative_residual <= options.relative_tolerance) return (*z)(3) > 0;
+    *relative_residual = eq.ConvergenceResidual(*z, f, tol);
+    if (*relative_residual <= tol) return (*z)(3) > 0;
     Eigen::Vector4d dz;
     if (!SolveNewtonSystem(jac, f, &dz)) return false;
     double alpha = 1.0;
     if ((*z)(3) + dz(3) < kMinSlipFraction * (*z)(3)) {
       alpha = (1.0 - kMinSlipFraction) * (*z)(3) / -dz(3);
     }
-    const double merit = 0.5 * f.squaredNorm();
     Eigen::Vector4d trial_f;
     Eigen::Matrix4d trial_jac;
-    int halvings = 0;
-    for (;; ++halvings) {
-      const Eigen::Vector4d trial = *z + alpha * dz;
-      eq.Evaluate(trial, &trial_f, &trial_jac);
-      if (0.5 * trial_f.squaredNorm() <= (1.0 - 2.0 * kArmijo * alpha) * merit) break;
-      if (halvings == kMaxHalvings) return false;
-      alpha *= 0.5;
+    if (eq.RelativeResidual(*z, f) <= tol) {
+      // Polishing (issue 5): only a row whose terms are much smaller than V is left above
+      // tolerance. The merit |F|^2 is at rounding level and cannot rank the steps; take the
+      // Newton step while it lowers the convergence residual.
+      eq.Evaluate(*z + alpha * dz, &trial_f, &trial_jac);
+      if (!(eq.ConvergenceResidual(*z + alpha * dz, trial_f, tol) < *relative_residual)) {
+        return false;
+      }
+    } else {
+      const double merit = 0.5 * f.squaredNorm();
+      for (int halvings = 0;; ++halvings) {
+        const Eigen::Vector4d trial = *z + alpha * dz;
+        eq.Evaluate(trial, &trial_f, &trial_jac);
+        if (0.5 * trial_f.squaredNorm() <= (1.0 - 2.0 * kArmijo * alpha) * merit) break;
+        if (halvings == kMaxHalvings) return false;
+        alpha *= 0.5;
+      }
     }
     *z += alpha * dz;
     f = trial_f;
     jac = trial_jac;
     *iterations = it + 1;
   }
-  *relative_residual = eq.RelativeResidual(*z, f);
-  return *relative_residual <= options.relative_tolerance && (*z)(3) > 0;
+  *relative_residual = eq.ConvergenceResidual(*z, f, tol);
+  return *relative_residual <= tol && (*z)(3) > 0;
 }
 
 // Newton from the decoupled guess; where that fails (typically near the stick boundary,
 // where the decoupled problem sticks but the coupled one slides), from the stopping
-// impulse's direction; last, continuation in the coupling strength.
-bool SolveGeneral(const StepEquations& eq, const StepOptions& options, Eigen::Vector4d* z,
-                  int* iterations, double* relative_residual) {
-  int its = 0;
+// impulse's direction; then from the ECP-velocity guess; last, continuation in the
+// coupling strength. Within kNearStickBoundary of the ellipsoid the linearisation about
+// the stopping impulse is the better guess and goes first (issue 5: from the decoupled
+// guess Newton drove s to 0 with tau off the stopping direction, and spent its 60
+// iterations there).
+bool SolveGeneral(const StepEquations& eq, const StepOptions& options, double stop_ratio,
+                  Eigen::Vector4d* z, int* iterations, double* relative_residual) {
   *iterations = 0;
-  if (options.initial_guess && options.initial_guess->allFinite() &&
-      (*options.initial_guess)(3) > 0) {
-    *z = *options.initial_guess;
-    if (Newton(eq, options, z, &its, relative_residual)) {
-      *iterations = its;
-      return true;
+  auto attempt = [&](const Eigen::Vector4d& guess, int max_iterations = 0) {
+    int its = 0;
+    *z = guess;
+    StepOptions limited = options;
+    if (max_iterations > 0) {
+      limited.max_iterations = std::min(options.max_iterations, max_iterations);
     }
-    *iterations = its;
-    its = 0;
+    const bool ok = Newton(eq, limited, z, &its, relative_residual);
+    *iterations += its;
+    return ok;
+  };
+  if (options.initial_guess && options.initial_guess->allFinite() &&
+      (*options.initial_guess)(3) > 0 && attempt(*options.initial_guess)) {
+    return true;
   }
-  *z = eq.DecoupledGuess();
-  bool ok = Newton(eq, options, z, &its, relative_residual);
-  *iterations += its;
-  if (ok) return true;
-  *z = eq.StoppingGuess();  // built only when needed: it is rarely needed
-  its = 0;
-  ok = Newton(eq, options, z, &its, relative_residual);
-  *iterations += its;
-  if (ok) return true;
-  *z = eq.DecoupledGuess();
+  if (stop_ratio < 1.0 + kNearStickBoundary && attempt(eq.LinearisedStopGuess())) return true;
+  const Eigen::Vector4d decoupled = eq.DecoupledGuess();
+  // The ECP far from the CM (large q_z or tilting moments with a fast spin): the slip
+  // speed is set by the spin about the ECP, far from V, and the decoupled guess is off by
+  // more than the whole velocity scale (issue 5, docs/stability.md). Try that guess first
+  // there, last elsewhere.
+  const bool far_ecp = eq.CouplingSpeed() > kFarEcpRatio * eq.velocity_scale();
+  if (far_ecp &&
+      attempt(eq.EcpVelocityGuess(decoupled, kEcpVelocitySweeps), kSpeculativeIterations)) {
+    return true;
+  }
+  if (attempt(decoupled)) return true;
+  // The stopping guess is built only when needed: it is rarely needed.
+  if (attempt(eq.StoppingGuess())) return true;
+  if (!far_ecp && attempt(eq.EcpVelocityGuess(decoupled, kEcpVelocitySweeps))) return true;
+  *z = decoupled;
   for (double scale : kContinuation) {
-    its = 0;
+    int its = 0;
     const bool ok = Newton(eq.WithCouplingScaled(scale), options, z, &its, relative_residual);
     *iterations += its;
     if (!ok) return false;
@@ -167,6 +232,21 @@ StepResult Finish(const SliderProperties& slider, const FrictionParameters& fric
   return r;
 }
 
+// The step ends at rest with the stopping impulse p_stop (model.md, "Sticking").
+StepResult Stick(const SliderProperties& slider, const FrictionParameters& friction,
+                 const PlanarState& state, double dt_s, const StepEquations& eq,
+                 const Eigen::Vector3d& p_stop) {
+  StepResult r = Finish(slider, friction, state, dt_s, eq, p_stop, 0.0);
+  r.state.vx = r.state.vy = r.state.wz = 0.0;  // exact zero, not rounding residue
+  r.state.x = state.x;
+  r.state.y = state.y;
+  r.state.theta = state.theta;
+  r.ecp_world = Eigen::Vector2d(state.x, state.y) + r.ecp_offset_world;
+  r.mode = StepMode::kStick;
+  r.path = StepPath::kStick;
+  return r;
+}
+
 }  // namespace
 
 bool StepOptions::IsValid(std::string* why) const {
@@ -185,13 +265,15 @@ StepResult SolveStep(const SliderProperties& slider, const FrictionParameters& f
                      const PlanarState& state, const AppliedWrench& applied, double dt_s,
                      const StepOptions& options) {
   Validate(slider, friction, dt_s);
+  ValidateFinite(state, applied);
   std::string why;
   if (!options.IsValid(&why)) throw std::invalid_argument("SolveStep: " + why);
 
   StepResult fail;
   fail.state = state;
-  const double pn = dt_s * (slider.mass_kg * slider.gravity_mps2 - applied.fz);
-  if (!(pn > 0)) {
+  const double net_weight = slider.mass_kg * slider.gravity_mps2 - applied.fz;
+  const double pn = dt_s * net_weight;
+  if (!(net_weight > 0)) {
     fail.status = StepStatus::kLiftOff;
     fail.message = "normal impulse p_n <= 0: the applied vertical force lifts the slider";
     return fail;
@@ -200,16 +282,23 @@ StepResult SolveStep(const SliderProperties& slider, const FrictionParameters& f
 
   // Stick when the impulse that stops the slider lies inside the ellipsoid (model.md).
   const Eigen::Vector3d p_stop = eq.StoppingImpulse();
-  if (eq.InsideEllipsoid(p_stop)) {
-    StepResult r = Finish(slider, friction, state, dt_s, eq, p_stop, 0.0);
-    r.state.vx = r.state.vy = r.state.wz = 0.0;  // exact zero, not rounding residue
-    r.state.x = state.x;
-    r.state.y = state.y;
-    r.state.theta = state.theta;
-    r.ecp_world = Eigen::Vector2d(state.x, state.y) + r.ecp_offset_world;
-    r.mode = StepMode::kStick;
-    r.path = StepPath::kStick;
-    return r;
+  if (eq.InsideEllipsoid(p_stop)) return Stick(slider, friction, state, dt_s, eq, p_stop);
+
+  // Domain limits of double (issue 5): p_n, a p_n, the momenta, V or the terms of the
+  // scaled equations under- or overflow (far outside any physical slider: e.g.
+  // h m g < 1e-308 N s, or c > 1e150 m). A status naming the scale, not a NaN residual.
+  const bool pn_normal = std::isnormal(pn);
+  if (!pn_normal || !eq.ScalesRepresentable(&why)) {
+    fail.status = StepStatus::kNoConvergence;
+    std::ostringstream msg;
+    msg << "step outside the range of double: ";
+    if (!pn_normal) {
+      msg << "p_n = h (m g - f_z) = " << dt_s << " * " << net_weight << " = " << pn;
+    } else {
+      msg << why;
+    }
+    fail.message = msg.str();
+    return fail;
   }
 
   Eigen::Vector4d z;
@@ -225,13 +314,28 @@ StepResult SolveStep(const SliderProperties& slider, const FrictionParameters& f
     ok = eq.SolveDecoupled(&z, &iterations);
     path = StepPath::kDecoupled;
   } else {
-    ok = SolveGeneral(eq, options, &z, &iterations, &residual);
+    ok = SolveGeneral(eq, options, eq.EllipsoidRatio(p_stop), &z, &iterations, &residual);
   }
-  if (ok) {
+  // Newton's own test is ConvergenceResidual already. The special paths satisfy the three
+  // motion rows exactly to rounding by construction (tau_i explicit in s): their test is
+  // the normwise one, which holds the sphere they solve for.
+  if (ok && path != StepPath::kGeneral) {
     Eigen::Vector4d f;
     eq.Evaluate(z, &f, nullptr);
     residual = eq.RelativeResidual(z, f);
     ok = z(3) > 0 && residual <= options.relative_tolerance;
+  }
+  if (!ok && eq.EllipsoidRatio(p_stop) <= 1.0 + kBoundaryUlps * kEps) {
+    // Stick-slip boundary (issue 5): the slide root is at s = 0 within rounding (the
+    // decoupled root or the closed form find s <= 0): the slider stops, with the stopping
+    // impulse, on the ellipsoid to rounding.
+    return Stick(slider, friction, state, dt_s, eq, p_stop);
+  }
+  if (!ok && !eq.ScalesRepresentable(&why, true)) {
+    // The terms of the scaled equations overflow (e.g. c = 1e300 m): say so (issue 5).
+    fail.status = StepStatus::kNoConvergence;
+    fail.message = "step outside the range of double: " + why;
+    return fail;
   }
   if (!ok) {
     fail.status = StepStatus::kNoConvergence;
@@ -240,6 +344,10 @@ StepResult SolveStep(const SliderProperties& slider, const FrictionParameters& f
     std::ostringstream msg;
     msg << "step did not converge (" << ToString(path) << " path, " << iterations
         << " iterations, relative residual " << residual << ")";
+    if (!std::isfinite(residual)) {
+      // Issue 5: scales near the limits of double (e.g. h = 1e200 s with tilting moments).
+      msg << ": an intermediate product of the step's equations overflowed";
+    }
     fail.message = msg.str();
     return fail;
   }
@@ -270,22 +378,33 @@ Eigen::Vector4d SlidingEquationResiduals(const SliderProperties& slider,
   const double ry = (-ptx - qz * po) / pn;
   const double rx = (pty - qz * pt) / pn;
   const double vt = vx - wz * ry, vo = vy + wz * rx, vr = wz;
-  const double abs_vt = std::abs(state.vx) + (std::abs(pt) + std::abs(px)) / m +
-                        std::abs(wz * ry);
-  const double abs_vo = std::abs(state.vy) + (std::abs(po) + std::abs(py)) / m +
-                        std::abs(wz * rx);
-  const double abs_vr = std::abs(state.wz) + (std::abs(pr) + std::abs(ptz) + std::abs(coupling)) / I;
   const double k = f.mu * pn;
+  // Scales: the magnitudes of the terms, w_z' and the ECP offsets by their terms'
+  // magnitudes too, and each friction impulse plus kEllipsoidFloor of the ellipsoid's
+  // half-axis (k e_t, k e_o, k e_r). Issue 5: a row whose exact value is zero (no spin:
+  // p_r = 0) was measured against its own rounding residue and reported 1 for a correct
+  // solution.
+  const double cap_t = kEllipsoidFloor * k * f.e_t, cap_o = kEllipsoidFloor * k * f.e_o,
+               cap_r = kEllipsoidFloor * k * f.e_r;
+  const double abs_vr = std::abs(state.wz) + (std::abs(pr) + cap_r + std::abs(ptz) +
+                                              (std::abs(pt * ptx) + std::abs(po * pty)) / pn) / I;
+  const double abs_ry = (std::abs(ptx) + qz * (std::abs(po) + cap_o)) / pn;
+  const double abs_rx = (std::abs(pty) + qz * (std::abs(pt) + cap_t)) / pn;
+  const double abs_vt = std::abs(state.vx) + (std::abs(pt) + cap_t + std::abs(px)) / m +
+                        abs_vr * abs_ry;
+  const double abs_vo = std::abs(state.vy) + (std::abs(po) + cap_o + std::abs(py)) / m +
+                        abs_vr * abs_rx;
   auto relative = [](double value, double scale) {
     return scale > 0 ? value / scale : value;
   };
+  const double abs_sigma = std::abs(sigma);
   Eigen::Vector4d r;
   r(0) = relative(k * f.e_t * f.e_t * vt + pt * sigma,
-                  k * f.e_t * f.e_t * abs_vt + std::abs(pt * sigma));
+                  k * f.e_t * f.e_t * abs_vt + (std::abs(pt) + cap_t) * abs_sigma);
   r(1) = relative(k * f.e_o * f.e_o * vo + po * sigma,
-                  k * f.e_o * f.e_o * abs_vo + std::abs(po * sigma));
+                  k * f.e_o * f.e_o * abs_vo + (std::abs(po) + cap_o) * abs_sigma);
   r(2) = relative(k * f.e_r * f.e_r * vr + pr * sigma,
-                  k * f.e_r * f.e_r * abs_vr + std::abs(pr * sigma));
+                  k * f.e_r * f.e_r * abs_vr + (std::abs(pr) + cap_r) * abs_sigma);
   const double qt = pt / f.e_t, qo = po / f.e_o, qr = pr / f.e_r;
   r(3) = relative(k * k - qt * qt - qo * qo - qr * qr, k * k + qt * qt + qo * qo + qr * qr);
   return r;
