@@ -192,7 +192,9 @@ EstimateResult EstimateEquationError(const Trajectory& log, const EstimatorOptio
     if (!active[i]) theta[i] = seed[i];
   }
   result.final_cost = summary.final_cost;
-  result.converged = summary.IsSolutionUsable() && at_solution.ok;
+  // Usable is not converged: a solve cut off by the iteration limit is usable to Ceres.
+  result.converged =
+      summary.termination_type == ceres::CONVERGENCE && at_solution.ok;
   result.message = summary.BriefReport();
   if (!at_solution.ok) result.message += "; the model could not be evaluated at the solution";
 

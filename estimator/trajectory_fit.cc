@@ -586,7 +586,8 @@ EstimateResult EstimateTrajectory(const Trajectory& log, const EstimatorOptions&
   if (rows - 1 > intervals) result.Exclude("between shooting segments", rows - 1 - intervals);
   result.final_cost = summary.final_cost;
   result.iterations = iterations;
-  result.converged = summary.IsSolutionUsable();
+  // Usable is not converged: a solve cut off by the iteration limit is usable to Ceres.
+  result.converged = summary.termination_type == ceres::CONVERGENCE;
   result.message = summary.BriefReport();
   FillResiduals(problem, log, &result);
   result.seconds =

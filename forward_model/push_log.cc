@@ -1,5 +1,6 @@
 #include "forward_model/push_log.h"
 
+#include <algorithm>
 #include <array>
 #include <cctype>
 #include <cerrno>
@@ -7,6 +8,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <limits>
 #include <memory>
@@ -20,6 +22,8 @@
 #include <libfccp/csv.h>
 #pragma GCC diagnostic pop
 
+#include "forward_model/contact_patch.h"
+
 namespace slideid {
 
 namespace {
@@ -31,6 +35,26 @@ constexpr double kDefaultGravity = 9.81;  // log-format.md: gravity defaults to 
 // (r x f) + residual reproduces the total bit for bit; 4 covers every rounding case that
 // can be repaired at all (the plain difference is off by at most one or two ulps).
 constexpr int kMaxResidualNudges = 4;
+
+// Reader: an interval longer than this many times the median interval is reported as a
+// warning (dropped samples); LogReadOptions::max_gap_ratio makes longer ones errors.
+constexpr double kWarnGapRatio = 3.0;
+// Reader: fccp's LineReader refuses lines of its block length (16 MiB) or more; text in
+// memory is held to the same limit.
+constexpr std::size_t kMaxLineBytes = std::size_t{1} << 24;
+// Reader: magnitudes no pushing experiment reaches. A value beyond one is read, but warned
+// about: a unit error (mm for m, g for kg, g cm^2 for kg m^2) is far likelier.
+constexpr double kAbsurdPosition_m = 1e3;    // x, y, px, py, pz
+constexpr double kAbsurdSpeed_mps = 1e2;     // vx, vy, given or from poses
+constexpr double kAbsurdSpin_radps = 1e3;    // wz: 160 turns a second
+constexpr double kAbsurdForce_N = 1e5;       // fx, fy, fz
+constexpr double kAbsurdMoment_Nm = 1e5;     // tx, ty, tz
+constexpr double kAbsurdMass_kg = 1e4;
+constexpr double kAbsurdComHeight_m = 1e2;
+constexpr double kMinGyration_m = 1e-4;      // radius of gyration sqrt(I/m)
+constexpr double kMaxGyration_m = 1e2;
+constexpr double kMinGravity_mps2 = 0.1;
+constexpr double kMaxGravity_mps2 = 1e2;     // 981 would be cm/s^2
 
 // ---------------------------------------------------------------------------------------
 // Columns
@@ -71,6 +95,7 @@ struct RawRow {
 struct Metadata {
   std::map<std::string, std::pair<double, int>> numbers;  // key -> (value, line)
   std::optional<std::string> patch;
+  int patch_line = 0;
   std::vector<std::pair<std::string, std::string>> extra;
 };
 
@@ -89,12 +114,23 @@ std::string_view Trim(std::string_view s) {
   return s.substr(first, last - first + 1);
 }
 
-std::vector<std::string_view> SplitFields(std::string_view line) {
-  std::vector<std::string_view> fields;
+/// A cell without surrounding blanks and without one pair of enclosing double quotes
+/// (spreadsheets quote text cells, such as the header's names).
+std::string_view Unquote(std::string_view cell) {
+  cell = Trim(cell);
+  if (cell.size() >= 2 && cell.front() == '"' && cell.back() == '"') {
+    cell = Trim(cell.substr(1, cell.size() - 2));
+  }
+  return cell;
+}
+
+/// Splits `line` at commas into `fields` (cleared first; reused to spare allocations).
+void SplitFields(std::string_view line, std::vector<std::string_view>& fields) {
+  fields.clear();
   for (;;) {
     const auto comma = line.find(',');
-    fields.push_back(Trim(line.substr(0, comma)));
-    if (comma == std::string_view::npos) return fields;
+    fields.push_back(Unquote(line.substr(0, comma)));
+    if (comma == std::string_view::npos) return;
     line.remove_prefix(comma + 1);
   }
 }
@@ -133,6 +169,21 @@ std::string ShortNumber(double value) {
   return std::string(buffer, result.ptr);
 }
 
+/// "file:line: column 'c': what", the form of every LogError and reader warning.
+std::string FormatLogError(const std::string& file, int line, const std::string& column,
+                           const std::string& what) {
+  std::string message = file + ":" + std::to_string(line) + ": ";
+  if (!column.empty()) message += "column '" + column + "': ";
+  return message + what;
+}
+
+/// Three significant digits, for ratios in messages.
+std::string RoundedNumber(double value) {
+  char buffer[40];
+  std::snprintf(buffer, sizeof buffer, "%.3g", value);
+  return buffer;
+}
+
 const char* ModeName(SampleMode mode) {
   switch (mode) {
     case SampleMode::kStart: return "start";
@@ -161,6 +212,19 @@ bool Contains(const std::array<const char*, N>& keys, std::string_view key) {
 // Reader: preamble (metadata comments) and header
 // ---------------------------------------------------------------------------------------
 
+/// The lines of a log, numbered from 1, without their line break ("\n" or "\r\n"); a UTF-8
+/// BOM at the start is skipped. Files are read by fast-cpp-csv-parser's LineReader; text
+/// in memory (ParsePushLog) by a splitter with the same rules, which spares fuzzing the
+/// LineReader's 48 MiB buffer per input (tests check that both read alike).
+class LineSource {
+ public:
+  virtual ~LineSource() = default;
+  /// The next line, or nullopt at the end. Throws LogError for a NUL byte.
+  virtual std::optional<std::string_view> NextLine() = 0;
+  /// The number of the line NextLine returned last.
+  virtual int LineNumber() const = 0;
+};
+
 /// Context shared by the reader's phases.
 struct ReadContext {
   const std::string& path;
@@ -184,6 +248,7 @@ void ParseCommentLine(const ReadContext& ctx, std::string_view line, int line_no
   if (key == "patch") {
     if (meta.patch) ctx.Fail(line_no, "", "metadata 'patch' given twice");
     meta.patch = value;
+    meta.patch_line = line_no;
   } else if (Contains(kSliderKeys, key) || Contains(kTruthKeys, key)) {
     if (meta.numbers.count(key)) ctx.Fail(line_no, "", "metadata '" + key + "' given twice");
     const auto number = ParseFiniteNumber(value);
@@ -197,11 +262,11 @@ void ParseCommentLine(const ReadContext& ctx, std::string_view line, int line_no
 }
 
 /// Reads comment and blank lines up to the header; returns the header line's text.
-std::string ReadPreamble(const ReadContext& ctx, io::LineReader& in, Metadata& meta,
+std::string ReadPreamble(const ReadContext& ctx, LineSource& in, Metadata& meta,
                          int& header_line) {
-  while (const char* raw = in.next_line()) {
-    const std::string_view line = Trim(raw);
-    const int line_no = static_cast<int>(in.get_file_line());
+  while (const auto raw = in.NextLine()) {
+    const std::string_view line = Trim(*raw);
+    const int line_no = in.LineNumber();
     if (line.empty()) continue;
     if (line.front() == '#') {
       ParseCommentLine(ctx, line, line_no, meta);
@@ -256,8 +321,20 @@ Header ParseHeader(const ReadContext& ctx, const std::string& text, int line) {
   Header h;
   h.text = text;
   h.line = line;
-  const auto names = SplitFields(text);
+  std::vector<std::string_view> names;
+  SplitFields(text, names);
   h.num_fields = static_cast<int>(names.size());
+  if (h.num_fields == 1) {
+    for (const char separator : {';', '\t', ' ', '|'}) {
+      if (text.find(separator) != std::string::npos) {
+        ctx.Fail(line, "", "the header '" + text + "' has one field: fields must be separated "
+                           "by commas (this line seems to use " +
+                           (separator == '\t' ? std::string("tabs")
+                                               : "'" + std::string(1, separator) + "'") +
+                           ")");
+      }
+    }
+  }
   std::map<std::string, int> seen;
   for (int i = 0; i < h.num_fields; ++i) {
     const std::string name(names[i]);
@@ -277,23 +354,85 @@ Header ParseHeader(const ReadContext& ctx, const std::string& text, int line) {
 // Reader: data rows
 // ---------------------------------------------------------------------------------------
 
-RawRow ParseRow(const ReadContext& ctx, const Header& h, std::string_view line, int line_no) {
-  const auto cells = SplitFields(line);
+/// Why `cell` is not a finite number, or nullptr when `value` now holds it. Locale
+/// independent (std::from_chars); "nan", "inf", "1.2abc", "" and 1e999 are all rejected.
+const char* ParseCell(std::string_view cell, double* value) {
+  if (cell.empty()) return "is empty: every cell of a known column needs a number";
+  std::string_view s = cell;
+  if (s.front() == '+') s.remove_prefix(1);  // from_chars rejects '+'
+  if (s.empty() || s.front() == '+') return "is not a number";
+  const auto [end, ec] = std::from_chars(s.data(), s.data() + s.size(), *value);
+  if (ec == std::errc::result_out_of_range) return "is out of the range of a double";
+  if (ec != std::errc() || end != s.data() + s.size()) return "is not a number";
+  if (!std::isfinite(*value)) return "is not a finite number (NaN and Inf are not allowed)";
+  return nullptr;
+}
+
+/// Counts the rows whose value in one column is absurd for a pushing experiment.
+struct MagnitudeTally {
+  int count = 0;
+  int first_line = 0;
+  double first_value = 0.0;
+
+  void Add(double value, int line) {
+    if (count++ == 0) {
+      first_line = line;
+      first_value = value;
+    }
+  }
+};
+
+/// |value| beyond which a column is absurd (0: not checked), and its unit, for warnings.
+struct AbsurdLimit {
+  double limit;
+  const char* unit;
+};
+
+constexpr std::array<AbsurdLimit, kNumNumeric> MakeAbsurdLimits() {
+  std::array<AbsurdLimit, kNumNumeric> l{};
+  for (auto& x : l) x = {0.0, ""};
+  for (Col c : {kX, kY, kPx, kPy, kPz}) l[c] = {kAbsurdPosition_m, "m"};
+  for (Col c : {kVx, kVy}) l[c] = {kAbsurdSpeed_mps, "m/s"};
+  l[kWz] = {kAbsurdSpin_radps, "rad/s"};
+  for (Col c : {kFx, kFy, kFz}) l[c] = {kAbsurdForce_N, "N"};
+  for (Col c : {kTx, kTy, kTz}) l[c] = {kAbsurdMoment_Nm, "N m"};
+  return l;
+}
+constexpr std::array<AbsurdLimit, kNumNumeric> kAbsurdLimits = MakeAbsurdLimits();
+
+/// Adds a warning for each tallied column: its first absurd row and how many there are.
+void WarnAbsurd(const ReadContext& ctx, const std::array<MagnitudeTally, kNumNumeric>& tally,
+                const char* how) {
+  for (int c = 0; c < kNumNumeric; ++c) {
+    const MagnitudeTally& t = tally[c];
+    if (t.count == 0) continue;
+    const AbsurdLimit& l = kAbsurdLimits[c];
+    ctx.report.warnings.push_back(
+        FormatLogError(ctx.path, t.first_line, kColumnNames[c],
+                       std::string(how) + ShortNumber(t.first_value) + " " + l.unit +
+                           " is beyond " + ShortNumber(l.limit) + " " + l.unit +
+                           ", absurd for a pushing experiment (a unit error?)" +
+                           (t.count > 1 ? "; " + std::to_string(t.count) + " rows like it"
+                                        : std::string())));
+  }
+}
+
+/// Parses one data line into `row`; `cells` is scratch space reused across rows.
+void ParseRow(const ReadContext& ctx, const Header& h, std::string_view line, int line_no,
+              std::vector<std::string_view>& cells, RawRow& row) {
+  SplitFields(line, cells);
   if (static_cast<int>(cells.size()) != h.num_fields) {
     ctx.Fail(line_no, "", "expected " + std::to_string(h.num_fields) +
                               " fields as in the header on line " + std::to_string(h.line) +
                               ", found " + std::to_string(cells.size()));
   }
-  RawRow row;
   row.line = line_no;
   for (int c = 0; c < kNumNumeric; ++c) {
     if (!h.Has(static_cast<Col>(c))) continue;
     const std::string_view cell = cells[h.field[c]];
-    const auto value = ParseFiniteNumber(cell);
-    if (!value) {
-      ctx.Fail(line_no, kColumnNames[c], "'" + std::string(cell) + "' is not a finite number");
+    if (const char* why = ParseCell(cell, &row.v[c])) {
+      ctx.Fail(line_no, kColumnNames[c], "'" + std::string(cell) + "' " + why);
     }
-    row.v[c] = *value;
   }
   if (h.mode_field >= 0) {
     const std::string_view cell = cells[h.mode_field];
@@ -302,30 +441,188 @@ RawRow ParseRow(const ReadContext& ctx, const Header& h, std::string_view line, 
       ctx.Fail(line_no, kModeColumn, "'" + std::string(cell) + "' is not start, slide or stick");
     }
   }
-  return row;
 }
 
-std::vector<RawRow> ReadRows(const ReadContext& ctx, io::LineReader& in, const Header& h) {
-  std::vector<RawRow> rows;
-  while (const char* raw = in.next_line()) {
-    const std::string_view line = Trim(raw);
+/// Shifts `theta` by a multiple of 2 pi so that theta - prev lies in (-pi, pi]; a value
+/// needing no shift keeps its bits. Returns false when the difference overflows.
+bool UnwrapAgainst(double prev, double& theta, bool& shifted) {
+  const double raw = theta;
+  double k = std::round((prev - raw) / kTwoPi);
+  if (!std::isfinite(k)) return false;
+  // Rounding of the quotient can leave the difference just outside (-pi, pi].
+  for (int i = 0; i < 2; ++i) {
+    const double diff = raw + k * kTwoPi - prev;
+    if (diff > kPi) k -= 1.0;
+    else if (diff <= -kPi) k += 1.0;
+  }
+  shifted = k != 0.0;
+  if (shifted) theta = raw + k * kTwoPi;
+  return true;
+}
+
+/// Total applied wrench of a row: f, the given moments, plus r x f at the push point.
+AppliedWrench RowWrench(const RawRow& row, bool push_point, double com_height_m) {
+  const auto& v = row.v;
+  AppliedWrench w{v[kFx], v[kFy], v[kFz], 0.0, 0.0, 0.0};
+  if (push_point) {
+    w = WrenchFromForceAt(v[kFx], v[kFy], v[kFz], v[kPx] - v[kX], v[kPy] - v[kY],
+                          v[kPz] - com_height_m);
+  }
+  // The writer's residual moments rely on this exact order: (r x f) + residual.
+  w.tx += v[kTx];
+  w.ty += v[kTy];
+  w.tz += v[kTz];
+  return w;
+}
+
+TrajectorySample RowSample(const RawRow& row, const Header& h, double com_height_m,
+                           bool first) {
+  const auto& v = row.v;
+  TrajectorySample s;
+  s.t_s = v[kT];
+  s.state = PlanarState{v[kX], v[kY], v[kTheta], v[kVx], v[kVy], v[kWz]};
+  s.applied = RowWrench(row, h.Has(kPx), com_height_m);
+  if (h.Has(kPx)) s.push_point_world = Eigen::Vector3d(v[kPx], v[kPy], v[kPz]);
+  s.ecp_world = Eigen::Vector2d(v[kAx], v[kAy]);
+  s.pt = v[kPt];
+  s.po = v[kPo];
+  s.pr = v[kPr];
+  s.sigma = v[kSigma];
+  s.mode = row.mode ? *row.mode : (first ? SampleMode::kStart : SampleMode::kSlide);
+  return s;
+}
+
+bool IsFinite(const AppliedWrench& w) {
+  return std::isfinite(w.fx) && std::isfinite(w.fy) && std::isfinite(w.fz) &&
+         std::isfinite(w.tx) && std::isfinite(w.ty) && std::isfinite(w.tz);
+}
+
+/// Reads the data rows one at a time into trajectory.samples (the line of each in `lines`),
+/// checking each as it comes: strictly increasing t, a positive normal force m g - fz
+/// (log-format.md: fz reduces it) when the mass is known, finite moments, theta unwrapped.
+void ReadSamples(const ReadContext& ctx, LineSource& in, const Header& h,
+                 Trajectory& trajectory, std::vector<int>& lines, bool mass_known) {
+  const double weight = trajectory.slider.mass_kg * trajectory.slider.gravity_mps2;
+  const double com_height = trajectory.slider.com_height_m;
+  std::vector<std::string_view> cells;
+  std::array<MagnitudeTally, kNumNumeric> tally;
+  RawRow row;
+  double prev_t = 0.0, prev_theta = 0.0;
+  int prev_line = 0, unwrapped = 0;
+  while (const auto raw = in.NextLine()) {
+    const std::string_view line = Trim(*raw);
     // fccp's comment policy would skip '#' lines anywhere; only those before the header
     // are metadata, later ones are plain comments.
     if (line.empty() || line.front() == '#') continue;
-    rows.push_back(ParseRow(ctx, h, line, static_cast<int>(in.get_file_line())));
-    if (rows.size() > 1) {
-      const RawRow& prev = rows[rows.size() - 2];
-      if (!(rows.back().v[kT] > prev.v[kT])) {
-        ctx.Fail(rows.back().line, "t",
-                 "t = " + ShortNumber(rows.back().v[kT]) + " is not greater than t = " +
-                     ShortNumber(prev.v[kT]) + " on line " + std::to_string(prev.line));
+    const int line_no = in.LineNumber();
+    ParseRow(ctx, h, line, line_no, cells, row);
+    const bool first = lines.empty();
+    if (!first && !(row.v[kT] > prev_t)) {
+      ctx.Fail(line_no, "t", "t = " + ShortNumber(row.v[kT]) + " is not greater than t = " +
+                                 ShortNumber(prev_t) + " on line " + std::to_string(prev_line));
+    }
+    if (mass_known && !(weight - row.v[kFz] > 0.0)) {
+      ctx.Fail(line_no, "fz", "vertical force lifts the slider: fz = " +
+                                  ShortNumber(row.v[kFz]) + " N is not below m g = " +
+                                  ShortNumber(weight) + " N");
+    }
+    if (!first && h.Has(kTheta)) {
+      bool shifted = false;
+      if (!UnwrapAgainst(prev_theta, row.v[kTheta], shifted)) {
+        ctx.Fail(line_no, "theta", "theta = " + ShortNumber(row.v[kTheta]) +
+                                       " cannot be unwrapped against " +
+                                       ShortNumber(prev_theta) + ": the difference overflows");
+      }
+      unwrapped += shifted;
+    }
+    for (int c = 0; c < kNumNumeric; ++c) {
+      if (kAbsurdLimits[c].limit > 0 && h.Has(static_cast<Col>(c)) &&
+          std::abs(row.v[c]) > kAbsurdLimits[c].limit) {
+        tally[c].Add(row.v[c], line_no);
       }
     }
+    trajectory.samples.push_back(RowSample(row, h, com_height, first));
+    if (!IsFinite(trajectory.samples.back().applied)) {
+      ctx.Fail(line_no, h.Has(kPx) ? "px" : "tx",
+               "the applied moment (r x f at the push point, plus tx, ty, tz) overflows");
+    }
+    lines.push_back(line_no);
+    prev_t = row.v[kT];
+    prev_theta = row.v[kTheta];
+    prev_line = line_no;
   }
-  if (rows.empty()) ctx.Fail(h.line, "", "the header is not followed by any data row");
-  return rows;
+  if (lines.empty()) ctx.Fail(h.line, "", "the header is not followed by any data row");
+  if (unwrapped > 0) {
+    ctx.report.notes.push_back("theta unwrapped: " + std::to_string(unwrapped) +
+                               " rows shifted by multiples of 2 pi");
+  }
+  WarnAbsurd(ctx, tally, "");
 }
 
+/// Time gaps (docs/robustness.md): the model holds a row's force over the interval to the
+/// next row and takes one backward-Euler step across it, so an interval many times the
+/// median one is a hole in the log, not a sample. Above options.max_gap_ratio medians it is
+/// an error; above kWarnGapRatio medians, a warning.
+void CheckTimeGaps(const ReadContext& ctx, const Trajectory& tr, const std::vector<int>& lines) {
+  const std::size_t n = tr.samples.size();
+  if (n < 3) return;  // one interval: nothing to compare it with
+  std::vector<double> dt(n - 1);
+  for (std::size_t u = 1; u < n; ++u) dt[u - 1] = tr.samples[u].t_s - tr.samples[u - 1].t_s;
+  std::vector<double> sorted = dt;
+  // The lower median: with two intervals, the shorter one is the reference.
+  const auto mid = sorted.begin() + static_cast<std::ptrdiff_t>((sorted.size() - 1) / 2);
+  std::nth_element(sorted.begin(), mid, sorted.end());
+  const double median = *mid;
+  const double max_ratio = ctx.options.max_gap_ratio;
+  int long_count = 0;
+  std::size_t longest = 0;
+  for (std::size_t u = 0; u < dt.size(); ++u) {
+    const double ratio = dt[u] / median;
+    if (max_ratio > 0 && !(ratio <= max_ratio)) {
+      ctx.Fail(lines[u + 1], "t",
+               "t jumps by " + ShortNumber(dt[u]) + " s from t = " +
+                   ShortNumber(tr.samples[u].t_s) + " (line " + std::to_string(lines[u]) +
+                   "), " + RoundedNumber(ratio) + " times the median interval " +
+                   ShortNumber(median) + " s: the model holds the force across an interval "
+                   "and cannot represent the motion missing from it; split the log there, or "
+                   "allow it with --max-gap-ratio (now " + ShortNumber(max_ratio) + ")");
+    }
+    if (ratio > kWarnGapRatio) {
+      if (long_count == 0 || dt[u] > dt[longest]) longest = u;
+      ++long_count;
+    }
+  }
+  if (long_count > 0) {
+    ctx.report.warnings.push_back(FormatLogError(
+        ctx.path, lines[longest + 1], "t",
+        std::to_string(long_count) + " intervals longer than " + ShortNumber(kWarnGapRatio) +
+            " times the median " + ShortNumber(median) + " s (dropped samples?); the longest, " +
+            ShortNumber(dt[longest]) + " s, ends here"));
+  }
+}
+
+/// Velocities from poses by the kinematic map; they must be finite, and are checked for
+/// absurd magnitudes like given ones.
+void VelocitiesFromPoses(const ReadContext& ctx, Trajectory& tr, const std::vector<int>& lines) {
+  SetVelocitiesFromPoses(&tr);
+  ctx.report.velocities_from_poses = true;
+  ctx.report.notes.push_back("velocities computed from poses (backward Euler)");
+  std::array<MagnitudeTally, kNumNumeric> tally;
+  for (std::size_t u = 1; u < tr.samples.size(); ++u) {
+    const PlanarState& q = tr.samples[u].state;
+    const std::array<std::pair<Col, double>, 3> v = {{{kVx, q.vx}, {kVy, q.vy}, {kWz, q.wz}}};
+    for (const auto& [c, value] : v) {
+      if (!std::isfinite(value)) {
+        const Col pose = c == kVx ? kX : c == kVy ? kY : kTheta;
+        ctx.Fail(lines[u], kColumnNames[pose],
+                 std::string("the velocity from poses, ") + kColumnNames[c] + " = (" +
+                     kColumnNames[pose] + " - previous) / (t - previous), overflows");
+      }
+      if (std::abs(value) > kAbsurdLimits[c].limit) tally[c].Add(value, lines[u]);
+    }
+  }
+  WarnAbsurd(ctx, tally, "from poses: ");
+}
 // ---------------------------------------------------------------------------------------
 // Reader: slider properties
 // ---------------------------------------------------------------------------------------
@@ -368,6 +665,19 @@ bool ResolveProperty(const ReadContext& ctx, const PropertySpec& spec, const Met
   return true;
 }
 
+/// " (found '# Mass = ...': metadata keys are lower case)" when such a key is there.
+std::string MisspeltKeyHint(const Metadata& meta, const std::string& key) {
+  for (const auto& [other, value] : meta.extra) {
+    if (other.size() == key.size() &&
+        std::equal(other.begin(), other.end(), key.begin(), [](char a, char b) {
+          return std::tolower(static_cast<unsigned char>(a)) == b;
+        })) {
+      return " (found '# " + other + " = " + value + "': metadata keys are lower case)";
+    }
+  }
+  return "";
+}
+
 /// Slider properties from overrides and metadata; `known` says which ones were given.
 SliderProperties ResolveSlider(const ReadContext& ctx, const Metadata& meta,
                                std::array<bool, 4>& known) {
@@ -379,7 +689,8 @@ SliderProperties ResolveSlider(const ReadContext& ctx, const Metadata& meta,
     const bool is_gravity = i + 1 == kPropertySpecs.size();
     if (!known[i] && !is_gravity && ctx.options.require_slider_properties) {
       ctx.Fail(0, "", std::string("slider ") + spec.key + " is not known: add '# " + spec.key +
-                          " = ...' to the log or pass " + spec.option);
+                          " = ...' to the log or pass " + spec.option +
+                          MisspeltKeyHint(meta, spec.key));
     }
   }
   return slider;
@@ -408,74 +719,52 @@ void ResolveTruth(const ReadContext& ctx, const Metadata& meta, Trajectory& traj
 }
 
 // ---------------------------------------------------------------------------------------
-// Reader: samples
+// Reader: putting it together
 // ---------------------------------------------------------------------------------------
 
-/// Adds multiples of 2 pi so consecutive differences lie in (-pi, pi]; returns the number of
-/// rows shifted. Rows needing no shift keep their value bit for bit.
-int UnwrapTheta(std::vector<RawRow>& rows) {
-  int shifted = 0;
-  for (std::size_t u = 1; u < rows.size(); ++u) {
-    const double prev = rows[u - 1].v[kTheta];
-    const double raw = rows[u].v[kTheta];
-    double k = std::round((prev - raw) / kTwoPi);
-    // Rounding of the quotient can leave the difference just outside (-pi, pi].
-    for (int i = 0; i < 2; ++i) {
-      const double diff = raw + k * kTwoPi - prev;
-      if (diff > kPi) k -= 1.0;
-      else if (diff <= -kPi) k += 1.0;
-    }
-    if (k != 0.0) {
-      rows[u].v[kTheta] = raw + k * kTwoPi;
-      ++shifted;
-    }
+/// Warnings for slider properties no pushing experiment has (a unit error is likelier).
+void WarnAbsurdSlider(const ReadContext& ctx, const Metadata& meta,
+                      const SliderProperties& s, const std::array<bool, 4>& known) {
+  auto where = [&](const char* key) {
+    const auto it = meta.numbers.find(key);
+    return it == meta.numbers.end() ? 0 : it->second.second;
+  };
+  auto warn = [&](const char* key, const std::string& what) {
+    ctx.report.warnings.push_back(FormatLogError(ctx.path, where(key), "", what));
+  };
+  if (known[0] && s.mass_kg > kAbsurdMass_kg) {
+    warn("mass", "mass = " + ShortNumber(s.mass_kg) + " kg is beyond " +
+                     ShortNumber(kAbsurdMass_kg) + " kg (a unit error?)");
   }
-  return shifted;
-}
-
-/// Total applied wrench of a row: f, the given moments, plus r x f at the push point.
-AppliedWrench RowWrench(const RawRow& row, bool push_point, double com_height_m) {
-  const auto& v = row.v;
-  AppliedWrench w{v[kFx], v[kFy], v[kFz], 0.0, 0.0, 0.0};
-  if (push_point) {
-    w = WrenchFromForceAt(v[kFx], v[kFy], v[kFz], v[kPx] - v[kX], v[kPy] - v[kY],
-                          v[kPz] - com_height_m);
-  }
-  // The writer's residual moments rely on this exact order: (r x f) + residual.
-  w.tx += v[kTx];
-  w.ty += v[kTy];
-  w.tz += v[kTz];
-  return w;
-}
-
-TrajectorySample RowSample(const RawRow& row, const Header& h, double com_height_m,
-                           bool first) {
-  const auto& v = row.v;
-  TrajectorySample s;
-  s.t_s = v[kT];
-  s.state = PlanarState{v[kX], v[kY], v[kTheta], v[kVx], v[kVy], v[kWz]};
-  s.applied = RowWrench(row, h.Has(kPx), com_height_m);
-  if (h.Has(kPx)) s.push_point_world = Eigen::Vector3d(v[kPx], v[kPy], v[kPz]);
-  s.ecp_world = Eigen::Vector2d(v[kAx], v[kAy]);
-  s.pt = v[kPt];
-  s.po = v[kPo];
-  s.pr = v[kPr];
-  s.sigma = v[kSigma];
-  s.mode = row.mode ? *row.mode : (first ? SampleMode::kStart : SampleMode::kSlide);
-  return s;
-}
-
-/// The normal force m g - fz must stay positive (log-format.md: fz reduces it).
-void CheckNormalForce(const ReadContext& ctx, const std::vector<RawRow>& rows,
-                      const SliderProperties& slider) {
-  const double weight = slider.mass_kg * slider.gravity_mps2;
-  for (const RawRow& row : rows) {
-    if (!(weight - row.v[kFz] > 0.0)) {
-      ctx.Fail(row.line, "fz", "vertical force lifts the slider: fz = " +
-                                   ShortNumber(row.v[kFz]) + " N is not below m g = " +
-                                   ShortNumber(weight) + " N");
+  if (known[0] && known[1]) {
+    const double gyration = std::sqrt(s.inertia_kgm2 / s.mass_kg);
+    if (!(gyration >= kMinGyration_m && gyration <= kMaxGyration_m)) {
+      warn("inertia", "inertia = " + ShortNumber(s.inertia_kgm2) + " kg m^2 gives a radius of "
+                      "gyration sqrt(I/m) = " + ShortNumber(gyration) + " m, outside [" +
+                      ShortNumber(kMinGyration_m) + ", " + ShortNumber(kMaxGyration_m) +
+                      "] m (inertia in kg m^2 about the vertical axis through the CM?)");
     }
   }
+  if (known[2] && s.com_height_m > kAbsurdComHeight_m) {
+    warn("com_height", "com_height = " + ShortNumber(s.com_height_m) + " m is beyond " +
+                           ShortNumber(kAbsurdComHeight_m) + " m (a unit error?)");
+  }
+  if (!(s.gravity_mps2 >= kMinGravity_mps2 && s.gravity_mps2 <= kMaxGravity_mps2)) {
+    warn("gravity", "gravity = " + ShortNumber(s.gravity_mps2) + " m/s^2 is outside [" +
+                        ShortNumber(kMinGravity_mps2) + ", " + ShortNumber(kMaxGravity_mps2) +
+                        "] m/s^2 (a unit error?)");
+  }
+}
+
+/// The patch metadata, checked: a spec ContactPatch::Parse reads, or empty.
+std::string CheckedPatch(const ReadContext& ctx, const Metadata& meta) {
+  if (!meta.patch) return "";
+  try {
+    ContactPatch::Parse(*meta.patch);
+  } catch (const std::invalid_argument& e) {
+    ctx.Fail(meta.patch_line, "", std::string("metadata 'patch': ") + e.what());
+  }
+  return *meta.patch;
 }
 
 LogColumns PresentColumns(const Header& h) {
@@ -491,24 +780,6 @@ LogColumns PresentColumns(const Header& h) {
   return c;
 }
 
-void FillSamples(const ReadContext& ctx, std::vector<RawRow>& rows, const Header& h,
-                 Trajectory& trajectory) {
-  const int shifted = h.Has(kTheta) ? UnwrapTheta(rows) : 0;
-  if (shifted > 0) {
-    ctx.report.notes.push_back("theta unwrapped: " + std::to_string(shifted) +
-                               " rows shifted by multiples of 2 pi");
-  }
-  for (std::size_t u = 0; u < rows.size(); ++u) {
-    trajectory.samples.push_back(
-        RowSample(rows[u], h, trajectory.slider.com_height_m, u == 0));
-  }
-  if (!h.Has(kVx)) {
-    SetVelocitiesFromPoses(&trajectory);
-    ctx.report.velocities_from_poses = true;
-    ctx.report.notes.push_back("velocities computed from poses (backward Euler)");
-  }
-}
-
 void NoteUnknownColumns(const ReadContext& ctx) {
   if (ctx.report.unknown_columns.empty()) return;
   std::string note = "unknown columns ignored:";
@@ -516,12 +787,11 @@ void NoteUnknownColumns(const ReadContext& ctx) {
   ctx.report.notes.push_back(note);
 }
 
-Trajectory ReadFromLines(const ReadContext& ctx, io::LineReader& in) {
+Trajectory ReadFromLines(const ReadContext& ctx, LineSource& in) {
   Metadata meta;
   int header_line = 0;
   const std::string header_text = ReadPreamble(ctx, in, meta, header_line);
   const Header header = ParseHeader(ctx, header_text, header_line);
-  std::vector<RawRow> rows = ReadRows(ctx, in, header);
 
   Trajectory trajectory;
   std::array<bool, 4> known{};  // mass, inertia, com_height, gravity (kPropertySpecs order)
@@ -530,20 +800,22 @@ Trajectory ReadFromLines(const ReadContext& ctx, io::LineReader& in) {
     ctx.Fail(0, "", "slider com_height is not known but needed for the moments of px, py, pz: "
                     "add '# com_height = ...' to the log or pass --com-height");
   }
-  if (known[0]) {
-    CheckNormalForce(ctx, rows, trajectory.slider);
-  } else if (header.Has(kFz)) {
+  WarnAbsurdSlider(ctx, meta, trajectory.slider, known);
+  if (!known[0] && header.Has(kFz)) {
     ctx.report.notes.push_back("fz not checked against m g: mass unknown");
   }
-  trajectory.patch_spec = meta.patch.value_or("");
+  trajectory.patch_spec = CheckedPatch(ctx, meta);
   trajectory.extra_metadata = meta.extra;
   ResolveTruth(ctx, meta, trajectory);
   trajectory.columns = PresentColumns(header);
-  FillSamples(ctx, rows, header, trajectory);
+
+  std::vector<int> lines;  // the file line of each sample, for messages
+  ReadSamples(ctx, in, header, trajectory, lines, known[0]);
+  CheckTimeGaps(ctx, trajectory, lines);
+  if (!header.Has(kVx)) VelocitiesFromPoses(ctx, trajectory, lines);
   NoteUnknownColumns(ctx);
   return trajectory;
 }
-
 // ---------------------------------------------------------------------------------------
 // Writer
 // ---------------------------------------------------------------------------------------
@@ -675,15 +947,6 @@ void WriteUnchecked(const Trajectory& tr, std::ostream& out) {
 // Public functions
 // ---------------------------------------------------------------------------------------
 
-namespace {
-std::string FormatLogError(const std::string& file, int line, const std::string& column,
-                           const std::string& what) {
-  std::string message = file + ":" + std::to_string(line) + ": ";
-  if (!column.empty()) message += "column '" + column + "': ";
-  return message + what;
-}
-}  // namespace
-
 LogError::LogError(const std::string& file, int line, const std::string& column,
                    const std::string& what)
     : std::runtime_error(FormatLogError(file, line, column, what)),
@@ -691,21 +954,165 @@ LogError::LogError(const std::string& file, int line, const std::string& column,
       line_(line),
       column_(column) {}
 
+namespace {
+
+/// What CheckedByteSource has seen. Kept outside it: fccp destroys its byte source as soon
+/// as the first read reaches the end of a short file.
+struct ByteCount {
+  long long lines = 0;
+  long long bytes = 0;
+  bool ends_with_newline = false;
+};
+
+/// fccp's byte source, checked: a NUL byte (a binary file, or the zero-filled tail a crash
+/// leaves in a file being written) is an error naming its line, since fccp would silently
+/// cut the line short there. Also records whether the text ends with a line break.
+/// fccp calls read() on its helper thread and rethrows what it throws on the reading one.
+class CheckedByteSource : public io::ByteSourceBase {
+ public:
+  CheckedByteSource(std::unique_ptr<io::ByteSourceBase> inner, const std::string& path,
+                    ByteCount* count)
+      : inner_(std::move(inner)), path_(path), count_(count) {}
+
+  int read(char* buffer, int size) override {
+    const int n = inner_->read(buffer, size);
+    if (n <= 0) return n;
+    const char* const begin = buffer;
+    const char* const end = buffer + n;
+    const char* nul = static_cast<const char*>(std::memchr(begin, '\0', n));
+    count_->lines += std::count(begin, nul ? nul : end, '\n');
+    if (nul) {
+      throw LogError(path_, static_cast<int>(count_->lines + 1), "",
+                     "NUL byte at offset " + std::to_string(count_->bytes + (nul - begin)) +
+                         ": not a text file (or one cut short by a crash)");
+    }
+    count_->bytes += n;
+    count_->ends_with_newline = end[-1] == '\n';
+    return n;
+  }
+
+ private:
+  std::unique_ptr<io::ByteSourceBase> inner_;
+  std::string path_;
+  ByteCount* count_;
+};
+
+/// A file's lines, by fccp's LineReader over a CheckedByteSource.
+class FileLines : public LineSource {
+ public:
+  FileLines(const std::string& path, std::unique_ptr<io::ByteSourceBase> source)
+      : reader_(path, std::make_unique<CheckedByteSource>(std::move(source), path, &count_)) {}
+  std::optional<std::string_view> NextLine() override {
+    const char* line = reader_.next_line();
+    if (line == nullptr) return std::nullopt;
+    return std::string_view(line);
+  }
+  int LineNumber() const override { return static_cast<int>(reader_.get_file_line()); }
+  const ByteCount& count() const { return count_; }
+
+ private:
+  ByteCount count_;  // before reader_: the reader's first read writes it
+  io::LineReader reader_;
+};
+
+/// Lines of text in memory, split by the rules of fccp's LineReader (and of FileLines: a
+/// NUL byte is an error).
+class MemoryLines : public LineSource {
+ public:
+  MemoryLines(const std::string& path, std::string_view text) : path_(path), rest_(text) {
+    if (rest_.substr(0, 3) == "\xEF\xBB\xBF") rest_.remove_prefix(3);
+  }
+  std::optional<std::string_view> NextLine() override {
+    if (rest_.empty()) return std::nullopt;
+    ++line_;
+    const std::size_t end = rest_.find('\n');
+    std::string_view line = rest_.substr(0, end);
+    rest_.remove_prefix(end == std::string_view::npos ? rest_.size() : end + 1);
+    if (line.size() + 1 > kMaxLineBytes) {
+      throw LogError(path_, line_, "", "line longer than " + std::to_string(kMaxLineBytes - 1) +
+                                           " bytes");
+    }
+    if (line.find('\0') != std::string_view::npos) {
+      throw LogError(path_, line_, "", "NUL byte: not a text file (or one cut short by a crash)");
+    }
+    if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
+    return line;
+  }
+  int LineNumber() const override { return line_; }
+
+ private:
+  std::string path_;
+  std::string_view rest_;
+  int line_ = 0;
+};
+
+/// Runs the reader over `lines`, mapping fccp's errors to LogError.
+Trajectory ReadFrom(const ReadContext& ctx, LineSource& lines) {
+  try {
+    return ReadFromLines(ctx, lines);
+  } catch (const io::error::base& e) {  // e.g. a line longer than fccp's 16 MiB block
+    throw LogError(ctx.path, lines.LineNumber(), "", e.what());
+  }
+}
+
+void NoteMissingFinalLineBreak(const ReadContext& ctx, bool empty, bool ends_with_newline) {
+  if (!empty && !ends_with_newline) {
+    ctx.report.notes.push_back("the last line has no line break: check that the file was not "
+                               "cut short");
+  }
+}
+
+/// A byte source that owns its FILE.
+class FileByteSource : public io::ByteSourceBase {
+ public:
+  explicit FileByteSource(std::FILE* file) : file_(file) {}
+  ~FileByteSource() override { std::fclose(file_); }
+  int read(char* buffer, int size) override {
+    const std::size_t n = std::fread(buffer, 1, static_cast<std::size_t>(size), file_);
+    if (n == 0 && std::ferror(file_)) {
+      throw std::runtime_error(std::string("read error: ") + std::strerror(errno));
+    }
+    return static_cast<int>(n);
+  }
+
+ private:
+  std::FILE* file_;
+};
+
+}  // namespace
+
 Trajectory ReadPushLog(const std::string& path, const LogReadOptions& options,
                        LogReadReport* report) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec)) {
+    throw LogError(path, 0, "", "cannot read: it is a directory, not a log file");
+  }
+  std::FILE* file = std::fopen(path.c_str(), "rb");
+  if (file == nullptr) {
+    throw LogError(path, 0, "", std::string("cannot read: ") + std::strerror(errno));
+  }
   LogReadReport local_report;
   const ReadContext ctx{path, options, report ? *report : local_report};
-  std::unique_ptr<io::LineReader> in;
   try {
-    in = std::make_unique<io::LineReader>(path);
-  } catch (const io::error::base& e) {
+    FileLines lines(path, std::make_unique<FileByteSource>(file));
+    Trajectory trajectory = ReadFrom(ctx, lines);
+    NoteMissingFinalLineBreak(ctx, lines.count().bytes == 0, lines.count().ends_with_newline);
+    return trajectory;
+  } catch (const LogError&) {
+    throw;
+  } catch (const std::runtime_error& e) {  // a read error on fccp's helper thread
     throw LogError(path, 0, "", std::string("cannot read: ") + e.what());
   }
-  try {
-    return ReadFromLines(ctx, *in);
-  } catch (const io::error::base& e) {  // e.g. a line longer than fccp's 16 MiB block
-    throw LogError(path, static_cast<int>(in->get_file_line()), "", e.what());
-  }
+}
+
+Trajectory ParsePushLog(std::string_view text, const std::string& source,
+                        const LogReadOptions& options, LogReadReport* report) {
+  LogReadReport local_report;
+  const ReadContext ctx{source, options, report ? *report : local_report};
+  MemoryLines lines(source, text);
+  Trajectory trajectory = ReadFrom(ctx, lines);
+  NoteMissingFinalLineBreak(ctx, text.empty(), text.empty() || text.back() == '\n');
+  return trajectory;
 }
 
 void WritePushLog(const Trajectory& trajectory, std::ostream& out) {

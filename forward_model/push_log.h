@@ -7,6 +7,7 @@
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "forward_model/trajectory.h"
@@ -37,10 +38,18 @@ struct LogReadOptions {
   SliderOverrides overrides;
   /// Require mass and inertia (and com_height) to be known; identify needs them.
   bool require_slider_properties = true;
+  /// An interval between rows longer than this many times the median interval is an error
+  /// (the model holds the force across it: docs/robustness.md); 0 or less: no limit.
+  double max_gap_ratio = 10.0;
 };
 
-/// Notes the reader made that are not errors (unknown columns, unwrapped theta, ...).
+/// What the reader noticed that is not an error.
 struct LogReadReport {
+  /// Likely mistakes, each "file:line: column 'c': what": absurd magnitudes (a unit
+  /// error?), long gaps in t. Tools print them always.
+  std::vector<std::string> warnings;
+  /// Plain facts (unknown columns, unwrapped theta, velocities from poses, ...). Tools print
+  /// them with --verbose.
   std::vector<std::string> notes;
   std::vector<std::string> unknown_columns;
   bool velocities_from_poses = false;  ///< velocities came from the kinematic map
@@ -51,6 +60,9 @@ struct LogReadReport {
 /// tz plus r x f when px, py, pz are present. theta is unwrapped. Throws LogError.
 Trajectory ReadPushLog(const std::string& path, const LogReadOptions& options = {},
                        LogReadReport* report = nullptr);
+/// Same, from the text of a log in memory; `source` names it in messages (fuzzing, tests).
+Trajectory ParsePushLog(std::string_view text, const std::string& source,
+                        const LogReadOptions& options = {}, LogReadReport* report = nullptr);
 
 /// Writes `trajectory` with the metadata comments (slider, patch, truth, extra) and the
 /// column groups in trajectory.columns. Numbers at full precision (%.17g). Throws

@@ -7,6 +7,9 @@
 namespace slideid {
 namespace {
 
+// Most steps one simulation keeps in memory.
+constexpr double kMaxSimulationSteps = 2e7;
+
 // Wrench of every push active at t, and the point of the push when exactly one is active
 // (a log row has one push point; several simultaneous pushes go in as moments).
 AppliedWrench PushWrench(const Scene& scene, double t, const PlanarState& pose,
@@ -75,6 +78,16 @@ SimulationResult Simulate(const Scene& scene, const SimulationOptions& options) 
   if (!options.IsValid(&why)) throw std::invalid_argument("Simulate: " + why);
   if (!(scene.dt_s > 0) || !(scene.duration_s > 0)) {
     throw std::invalid_argument("Simulate: dt and duration must be > 0");
+  }
+  // The trajectory is kept in memory (~200 bytes a step): beyond this it would not fit.
+  const double requested = scene.duration_s / scene.dt_s;
+  if (!(requested <= kMaxSimulationSteps)) {
+    char buf[200];
+    std::snprintf(buf, sizeof buf,
+                  "Simulate: duration / dt = %.3g / %.3g = %.3g steps; at most %.0e (about 4 "
+                  "GB of trajectory): use a larger dt or a shorter duration",
+                  scene.duration_s, scene.dt_s, requested, kMaxSimulationSteps);
+    throw std::invalid_argument(buf);
   }
   SimulationResult result;
   Trajectory& traj = result.trajectory;

@@ -12,6 +12,7 @@ packages=(
   libgtest-dev           # unit and recovery tests
   libbenchmark-dev       # step and estimator benchmarks
   gnuplot-nox            # plot-log
+  clang libclang-rt-14-dev  # fuzz targets: libFuzzer and clang's sanitizer runtimes (scripts/fuzz.sh)
 )
 
 missing=()

@@ -1,7 +1,13 @@
 #!/usr/bin/env bash
-# Quick start, second command: install what is missing, build, run every test.
+# Quick start, second command: install what is missing, build, run every test (what CI
+# runs). Then the robustness passes of docs/robustness.md: each fuzzer for 30 s
+# (scripts/fuzz.sh) and the whole suite under ASan + UBSan (scripts/sanitizers.sh).
+# SLIDEID_QUICK=1 skips the robustness passes.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/build.sh
-cd build
-ctest --output-on-failure -j"$(nproc)"
+(cd build && ctest --output-on-failure -j"$(nproc)")
+if [ "${SLIDEID_QUICK:-0}" != 1 ]; then
+  bash scripts/fuzz.sh 30
+  bash scripts/sanitizers.sh
+fi

@@ -186,3 +186,22 @@ TEST(SimulateTool, ExitCodesSayWhatWentWrong) {
 
 }  // namespace
 }  // namespace slideid
+
+namespace slideid {
+namespace {
+
+TEST(Simulator, TooManyStepsIsAnErrorNamingDtAndDuration) {
+  Scene scene = LoadScene(std::string(SLIDEID_SOURCE_DIR) + "/datasets/scenes/example1_square.ini");
+  scene.dt_s = 1e-9;
+  scene.duration_s = 1e9;
+  try {
+    Simulate(scene);
+    FAIL() << "no error";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("steps"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("dt"), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace slideid

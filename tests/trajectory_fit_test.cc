@@ -240,3 +240,19 @@ TEST(TrajectoryFit, IntervalsStayHonestUnderModelMismatchOfACoarseNoisyLog) {
 
 }  // namespace
 }  // namespace slideid
+
+namespace slideid {
+namespace {
+
+// Ceres calls a solve cut off by the iteration limit "usable"; it is not converged.
+TEST(TrajectoryFit, SolveCutOffByTheIterationLimitIsNotConverged) {
+  const Trajectory log = NoisyPosesOnly(SimulateOrFail(testing::TiltingPush()), 77);
+  EstimatorOptions options = Options(25);
+  options.max_iterations = 1;
+  EXPECT_FALSE(EstimateTrajectory(log, options).converged);
+  options.max_iterations = 100;
+  EXPECT_TRUE(EstimateTrajectory(log, options).converged);
+}
+
+}  // namespace
+}  // namespace slideid

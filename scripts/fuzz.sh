@@ -1,0 +1,40 @@
+#!/usr/bin/env bash
+# Builds the libFuzzer targets with clang in build-fuzz/ (ASan + UBSan + coverage) and runs
+# each for a bounded time from its seed corpus in fuzz/corpus/ (docs/robustness.md). New
+# inputs go to build-fuzz/corpus/, never into the repository; a crash leaves its input in
+# build-fuzz/artifacts/ and fails the script. Reproduce one with
+#   build-fuzz/bin/fuzz_push_log build-fuzz/artifacts/crash-...
+# Usage: bash scripts/fuzz.sh [SECONDS per target, default 30]  (the targets run in parallel)
+set -euo pipefail
+cd "$(dirname "$0")/.."
+seconds=${1:-30}
+bash scripts/setup.sh
+mkdir -p build-fuzz
+cmake -S . -B build-fuzz -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_BUILD_TYPE=Release \
+  -DSLIDEID_BUILD_FUZZERS=ON -DSLIDEID_BUILD_TESTS=OFF -DSLIDEID_BUILD_BENCHMARKS=OFF \
+  > build-fuzz/configure.log 2>&1 || { cat build-fuzz/configure.log; exit 1; }
+cmake --build build-fuzz --target fuzz_push_log fuzz_scene -j"$(nproc)" > build-fuzz/build.log 2>&1 ||
+  { tail -60 build-fuzz/build.log; exit 1; }
+mkdir -p build-fuzz/artifacts
+pids=()
+for name in push_log:log scene:scene; do
+  target=${name%%:*} corpus=${name##*:}
+  mkdir -p "build-fuzz/corpus/$corpus"
+  build-fuzz/bin/fuzz_$target -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 \
+    -dict="fuzz/$corpus.dict" -artifact_prefix=build-fuzz/artifacts/ -print_final_stats=1 \
+    "build-fuzz/corpus/$corpus" "fuzz/corpus/$corpus" > "build-fuzz/fuzz_$target.log" 2>&1 &
+  pids+=($!)
+done
+status=0
+for i in "${!pids[@]}"; do
+  target=$([ "$i" = 0 ] && echo push_log || echo scene)
+  if wait "${pids[$i]}"; then
+    runs=$(sed -n 's/^stat::number_of_executed_units: *//p' "build-fuzz/fuzz_$target.log")
+    echo "fuzz: fuzz_$target ok: ${runs:-?} inputs in ${seconds} s"
+  else
+    status=1
+    echo "fuzz: fuzz_$target FAILED:"
+    grep -v -E '^#[0-9]+' "build-fuzz/fuzz_$target.log" | tail -40
+  fi
+done
+exit $status
