@@ -22,6 +22,8 @@
 #include <stdexcept>
 #include <string>
 #include <unsupported/Eigen/NonLinearOptimization>
+
+#include "tests/random_step_cases.h"
 #include <utility>
 #include <vector>
 
@@ -48,71 +50,25 @@ constexpr double kAcceptedResidual = 1e-10;
 constexpr int kRepetitions = 10;
 constexpr double kMinTimePerRepetition_s = 0.25;
 
-/// One step to solve: everything SolveStep takes.
-struct Case {
-  SliderProperties slider;
-  FrictionParameters friction;
-  PlanarState state;
-  AppliedWrench applied;
-  double dt_s = 0.01;  ///< [s]
-};
+using testing::Case;
 
 /// The scenes of a benchmark, named by the path SolveStep takes on them.
 enum class Family { kGeneral, kDecoupled, kPureTranslation };
 
-// Random but realistic cases (as tests/step_solver_test.cc): log-uniform sizes, q_z > 0,
-// tilting moments; the families then switch off what their path does not need.
-class CaseGenerator {
- public:
-  explicit CaseGenerator(unsigned seed) : rng_(seed) {}
-
-  Case Make(Family family) {
-    Case c = General();
-    if (family == Family::kDecoupled) {
-      c.slider.com_height_m = 0;
-      c.applied.tx = c.applied.ty = 0;
-    } else if (family == Family::kPureTranslation) {
-      c.friction.e_o = c.friction.e_t;
-      c.state.wz = 0;
-      c.applied.tx = c.applied.ty = c.applied.tz = 0;
-    }
-    return c;
+// The shared random cases (tests/random_step_cases.h), with what each family's path does
+// not need switched off.
+Case Make(testing::CaseGenerator& gen, Family family) {
+  Case c = gen.General();
+  if (family == Family::kDecoupled) {
+    c.slider.com_height_m = 0;
+    c.applied.tx = c.applied.ty = 0;
+  } else if (family == Family::kPureTranslation) {
+    c.friction.e_o = c.friction.e_t;
+    c.state.wz = 0;
+    c.applied.tx = c.applied.ty = c.applied.tz = 0;
   }
-
- private:
-  double LogUniform(double lo, double hi) {
-    return std::exp(std::uniform_real_distribution<double>(std::log(lo), std::log(hi))(rng_));
-  }
-  double Uniform(double lo, double hi) {
-    return std::uniform_real_distribution<double>(lo, hi)(rng_);
-  }
-  Case General() {
-    Case c;
-    const double size = LogUniform(0.02, 0.3);  // patch half-size scale [m]
-    c.slider.mass_kg = LogUniform(0.05, 20);
-    c.slider.inertia_kgm2 = c.slider.mass_kg * size * size * Uniform(0.1, 0.7);
-    c.slider.com_height_m = size * Uniform(0.0, 1.0);
-    c.slider.gravity_mps2 = 9.81;
-    c.friction = {LogUniform(0.05, 1.0), LogUniform(0.5, 2.0), LogUniform(0.5, 2.0),
-                  size * LogUniform(0.1, 1.0)};
-    const double speed = LogUniform(0.01, 2.0);
-    c.state = {Uniform(-1, 1), Uniform(-1, 1), Uniform(-3, 3), speed * Uniform(-1, 1),
-               speed * Uniform(-1, 1), speed / size * Uniform(-1, 1)};
-    const double weight = c.slider.mass_kg * c.slider.gravity_mps2;
-    const double push = weight * Uniform(0, 1.5);
-    const double angle = Uniform(-M_PI, M_PI);
-    c.applied.fx = push * std::cos(angle);
-    c.applied.fy = push * std::sin(angle);
-    c.applied.fz = weight * Uniform(-0.3, 0.3);
-    c.applied.tx = weight * size * Uniform(-0.2, 0.2);
-    c.applied.ty = weight * size * Uniform(-0.2, 0.2);
-    c.applied.tz = weight * size * Uniform(-0.5, 0.5);
-    c.dt_s = LogUniform(1e-3, 2e-2);
-    return c;
-  }
-
-  std::mt19937_64 rng_;
-};
+  return c;
+}
 
 const char* ToString(Family family) {
   switch (family) {
@@ -139,10 +95,10 @@ StepResult Solve(const Case& c, const StepOptions& options = {}) {
 /// kCases sliding steps of `family` (sticking steps skipped). Throws std::logic_error if a
 /// step fails or SolveStep takes another path than the family's.
 std::vector<Case> MakeCases(Family family, unsigned seed) {
-  CaseGenerator gen(seed);
+  testing::CaseGenerator gen(seed);
   std::vector<Case> cases;
   while (static_cast<int>(cases.size()) < kCases) {
-    const Case c = gen.Make(family);
+    const Case c = Make(gen, family);
     const StepResult r = Solve(c);
     if (!r.ok()) throw std::logic_error(std::string("case set: SolveStep failed: ") + r.message);
     if (r.mode == StepMode::kStick) continue;

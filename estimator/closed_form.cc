@@ -9,27 +9,18 @@
 #include <vector>
 
 #include "estimator/identifiability.h"
+#include "estimator/robust_statistics.h"
 #include "estimator/step_observations.h"
 
 namespace slideid {
 namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-/// 1.4826 MAD estimates the standard deviation of Gaussian data.
-constexpr double kMadToSigma = 1.4826;
 /// sqrt(pi / 2): asymptotic standard error of the median over that of the mean (Gaussian).
 constexpr double kMedianOverMeanStdErr = 1.2533;
 
 const char* const kSymbol[3] = {"a", "b", "c"};
 
-double Median(std::vector<double> x) {
-  const size_t n = x.size();
-  std::nth_element(x.begin(), x.begin() + n / 2, x.end());
-  const double upper = x[n / 2];
-  if (n % 2 == 1) return upper;
-  const double lower = *std::max_element(x.begin(), x.begin() + n / 2);
-  return 0.5 * (lower + upper);
-}
 
 /// |x| is nonzero and at least kDivisorFraction of `scale`.
 bool ClearOfZero(double x, double scale) {

@@ -12,22 +12,13 @@
 
 #include "estimator/closed_form.h"
 #include "estimator/identifiability.h"
+#include "estimator/robust_statistics.h"
 
 namespace slideid {
 namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-/// 1.4826 MAD estimates the standard deviation of Gaussian data.
-constexpr double kMadToSigma = 1.4826;
 
-double Median(std::vector<double> x) {
-  const size_t n = x.size();
-  std::nth_element(x.begin(), x.begin() + n / 2, x.end());
-  const double upper = x[n / 2];
-  if (n % 2 == 1) return upper;
-  const double lower = *std::max_element(x.begin(), x.begin() + n / 2);
-  return 0.5 * (lower + upper);
-}
 
 /// Raw (un-robustified) residuals and their Jacobian w.r.t. all three log-parameters.
 struct Linearisation {

@@ -14,6 +14,7 @@
 #include "estimator/closed_form.h"
 #include "estimator/equation_error.h"
 #include "estimator/identifiability.h"
+#include "estimator/robust_statistics.h"
 #include "estimator/step_sensitivity.h"
 #include "forward_model/step_solver.h"
 
@@ -324,12 +325,11 @@ class TrajectoryProblem {
     return all;
   }
 
-  // Robust spread of the residuals: 1.4826 MAD.
+  // Robust spread of the residuals (about zero): kMadToSigma MAD.
   double RobustSigma() const {
     std::vector<double> r = Residuals();
     for (double& v : r) v = std::abs(v);
-    std::nth_element(r.begin(), r.begin() + r.size() / 2, r.end());
-    return 1.4826 * r[r.size() / 2];
+    return kMadToSigma * Median(r);
   }
 
   ceres::Solver::Summary Solve(const std::array<bool, 3>& free, double loss_scale) {

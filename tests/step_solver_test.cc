@@ -11,6 +11,7 @@
 #include <unsupported/Eigen/NonLinearOptimization>
 
 #include "forward_model/quasi_static.h"
+#include "tests/random_step_cases.h"
 
 namespace slideid {
 namespace {
@@ -19,52 +20,8 @@ namespace {
 constexpr double kAgreement = 1e-10;
 constexpr int kRandomCases = 3000;
 
-struct Case {
-  SliderProperties slider;
-  FrictionParameters friction;
-  PlanarState state;
-  AppliedWrench applied;
-  double dt_s;
-};
-
-// Random but realistic cases: log-uniform sizes, q_z > 0, tilting moments.
-class CaseGenerator {
- public:
-  explicit CaseGenerator(unsigned seed) : rng_(seed) {}
-  double LogUniform(double lo, double hi) {
-    return std::exp(std::uniform_real_distribution<double>(std::log(lo), std::log(hi))(rng_));
-  }
-  double Uniform(double lo, double hi) {
-    return std::uniform_real_distribution<double>(lo, hi)(rng_);
-  }
-  Case General() {
-    Case c;
-    const double size = LogUniform(0.02, 0.3);  // patch half-size scale [m]
-    c.slider.mass_kg = LogUniform(0.05, 20);
-    c.slider.inertia_kgm2 = c.slider.mass_kg * size * size * Uniform(0.1, 0.7);
-    c.slider.com_height_m = size * Uniform(0.0, 1.0);
-    c.slider.gravity_mps2 = 9.81;
-    c.friction = {LogUniform(0.05, 1.0), LogUniform(0.5, 2.0), LogUniform(0.5, 2.0),
-                  size * LogUniform(0.1, 1.0)};
-    const double speed = LogUniform(0.01, 2.0);
-    c.state = {Uniform(-1, 1), Uniform(-1, 1), Uniform(-3, 3), speed * Uniform(-1, 1),
-               speed * Uniform(-1, 1), speed / size * Uniform(-1, 1)};
-    const double weight = c.slider.mass_kg * c.slider.gravity_mps2;
-    const double push = weight * Uniform(0, 1.5);
-    const double angle = Uniform(-M_PI, M_PI);
-    c.applied.fx = push * std::cos(angle);
-    c.applied.fy = push * std::sin(angle);
-    c.applied.fz = weight * Uniform(-0.3, 0.3);
-    c.applied.tx = weight * size * Uniform(-0.2, 0.2);
-    c.applied.ty = weight * size * Uniform(-0.2, 0.2);
-    c.applied.tz = weight * size * Uniform(-0.5, 0.5);
-    c.dt_s = LogUniform(1e-3, 2e-2);
-    return c;
-  }
-
- private:
-  std::mt19937_64 rng_;
-};
+using testing::Case;
+using testing::CaseGenerator;
 
 StepResult Solve(const Case& c, bool special_cases = true) {
   StepOptions options;
