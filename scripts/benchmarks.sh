@@ -163,14 +163,14 @@ per_paper() {  # our ns vs the paper's ms
   echo
   echo "Against the paper's Table 1 (MATLAB, 2.6 GHz MacBook Pro, per step; Examples 1 / 2 / 3),"
   echo "as the paper's time divided by this run's wall time of the general path ($(us "$general"))"
-  echo "for Examples 1 and 2 (q_z > 0) and of the closed-form path ($(us "$closed")) for Example 3"
-  echo "(pure translation):"
+  echo "for all three examples: each has q_z = 0.08 m, and Example 3 turns (its push is 2.5 mm"
+  echo "off the centre line), so every one of their steps takes the general path:"
   echo
   echo "| paper's solver | Example 1 | Example 2 | Example 3 | paper / slideid |"
   echo "|---|---:|---:|---:|---:|"
-  echo "| NCP-based model, PATH | 6.4 ms | 6.4 ms | 3.6 ms | $(per_paper "$general" 6.4) / $(per_paper "$general" 6.4) / $(per_paper "$closed" 3.6) |"
-  echo "| quadratic model, PATH | 2.4 ms | 2.6 ms | 1.4 ms | $(per_paper "$general" 2.4) / $(per_paper "$general" 2.6) / $(per_paper "$closed" 1.4) |"
-  echo "| quadratic model, fsolve | 9.9 ms | 8.3 ms | 5.8 ms | $(per_paper "$general" 9.9) / $(per_paper "$general" 8.3) / $(per_paper "$closed" 5.8) |"
+  echo "| NCP-based model, PATH | 6.4 ms | 6.4 ms | 3.6 ms | $(per_paper "$general" 6.4) / $(per_paper "$general" 6.4) / $(per_paper "$general" 3.6) |"
+  echo "| quadratic model, PATH | 2.4 ms | 2.6 ms | 1.4 ms | $(per_paper "$general" 2.4) / $(per_paper "$general" 2.6) / $(per_paper "$general" 1.4) |"
+  echo "| quadratic model, fsolve | 9.9 ms | 8.3 ms | 5.8 ms | $(per_paper "$general" 9.9) / $(per_paper "$general" 8.3) / $(per_paper "$general" 5.8) |"
   echo
   echo "Accuracy of both solvers on the same steps, from the same run (residual ="
   echo "max|SlidingEquationResiduals| at the solution):"
