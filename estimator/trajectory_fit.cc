@@ -262,12 +262,15 @@ ceres::LossFunction* MakeLoss(RobustLoss loss, double scale) {
 
 class TrajectoryProblem {
  public:
+  SegmentCost MakeCost(const Segment& seg) const {
+    return SegmentCost(log_, seg.first_row, seg.last_row, options_.substeps, use_pose_,
+                       length_m_);
+  }
+
   // Velocity residuals do not see the pose: then only the velocity part of a segment's
   // state is a parameter (a SubsetManifold holds x, y, theta).
   void AddSegment(ceres::Problem* problem, Segment& seg, ceres::LossFunction* loss) {
-    problem->AddResidualBlock(new SegmentCost(log_, seg.first_row, seg.last_row,
-                                              options_.substeps, use_pose_, length_m_),
-                              loss, seg.state.data(), &log_params_[0], &log_params_[1],
+    problem->AddResidualBlock(new SegmentCost(MakeCost(seg)), loss, seg.state.data(), &log_params_[0], &log_params_[1],
                               &log_params_[2]);
     if (!use_pose_) problem->SetManifold(seg.state.data(), new ceres::SubsetManifold(6, {0, 1, 2}));
   }
@@ -314,8 +317,7 @@ class TrajectoryProblem {
   std::vector<double> Residuals() const {
     std::vector<double> all;
     for (const Segment& seg : segments_) {
-      SegmentCost cost(log_, seg.first_row, seg.last_row, options_.substeps, use_pose_,
-                       length_m_);
+      const SegmentCost cost = MakeCost(seg);
       std::vector<double> r(cost.num_residuals());
       const double* params[] = {seg.state.data(), &log_params_[0], &log_params_[1],
                                 &log_params_[2]};
@@ -373,8 +375,7 @@ class TrajectoryProblem {
   Information MarginalInformation() {
     Information result;
     for (Segment& seg : segments_) {
-      SegmentCost cost(log_, seg.first_row, seg.last_row, options_.substeps, use_pose_,
-                       length_m_);
+      const SegmentCost cost = MakeCost(seg);
       const int n = cost.num_residuals();
       std::vector<double> r(n), js(6 * n), ja(n), jb(n), jc(n);
       double* jac[] = {js.data(), ja.data(), jb.data(), jc.data()};

@@ -20,6 +20,7 @@ namespace {
 using testing::SimulateOrFail;
 
 using testing::ExpectRecovers;
+using testing::ExpectWithinStandardErrors;
 using testing::FullyIdentifiableScenes;
 using testing::NamedScene;
 using testing::PosesOnly;
@@ -131,19 +132,11 @@ NoiseSpec VelocityNoise(std::uint64_t seed) {
 TEST(ClosedForm, NoisyLogsGiveEstimatesWithinTheirStandardErrors) {
   for (const NamedScene& s : FullyIdentifiableScenes()) {
     const ReducedFriction truth = ReducedFriction::From(s.scene.friction);
-    const double expected[3] = {truth.a, truth.b, truth.c};
     const Trajectory clean = SimulateOrFail(s.scene);
     for (int seed = 1; seed <= 10; ++seed) {
       const EstimateResult r = EstimateClosedForm(AddNoise(clean, VelocityNoise(seed)), {});
-      for (int i = 0; i < 3; ++i) {
-        const ParameterEstimate& p = r.parameters[i];
-        ASSERT_TRUE(p.identifiable) << s.name << " seed " << seed << " " << ParameterName(i);
-        EXPECT_LE(p.stderr_value / expected[i], kMaxNoisyRelStdErr)
-            << s.name << " seed " << seed << " " << ParameterName(i);
-        EXPECT_LE(std::abs(p.value - expected[i]), kNoiseSigmas * p.stderr_value)
-            << s.name << " seed " << seed << " " << ParameterName(i) << " = " << p.value
-            << " +- " << p.stderr_value << ", truth " << expected[i];
-      }
+      ExpectWithinStandardErrors(r, truth, kMaxNoisyRelStdErr, kNoiseSigmas,
+                                 std::string(s.name) + " seed " + std::to_string(seed));
     }
   }
 }

@@ -23,6 +23,7 @@ namespace {
 using testing::SimulateOrFail;
 
 using testing::ExpectRecovers;
+using testing::ExpectWithinStandardErrors;
 using testing::FullyIdentifiableScenes;
 using testing::NamedScene;
 using testing::PosesOnly;
@@ -128,20 +129,12 @@ constexpr double kMaxMeanRelError = 0.005;
 TEST(EquationError, NoisyLogsGiveEstimatesWithinTheirStandardErrors) {
   for (const NamedScene& s : FullyIdentifiableScenes()) {
     const ReducedFriction truth = ReducedFriction::From(s.scene.friction);
-    const double expected[3] = {truth.a, truth.b, truth.c};
     const Trajectory clean = SimulateOrFail(s.scene);
     for (int seed = 1; seed <= 10; ++seed) {
       const EstimateResult r = EstimateEquationError(AddNoise(clean, VelocityNoise(seed)), {});
       EXPECT_TRUE(r.converged) << s.name << " seed " << seed << ": " << r.message;
-      for (int i = 0; i < 3; ++i) {
-        const ParameterEstimate& p = r.parameters[i];
-        ASSERT_TRUE(p.identifiable) << s.name << " seed " << seed << " " << ParameterName(i);
-        EXPECT_LE(p.stderr_value / expected[i], kMaxNoisyRelStdErr)
-            << s.name << " seed " << seed << " " << ParameterName(i);
-        EXPECT_LE(std::abs(p.value - expected[i]), kNoiseSigmas * p.stderr_value)
-            << s.name << " seed " << seed << " " << ParameterName(i) << " = " << p.value
-            << " +- " << p.stderr_value << ", truth " << expected[i];
-      }
+      ExpectWithinStandardErrors(r, truth, kMaxNoisyRelStdErr, kNoiseSigmas,
+                                 std::string(s.name) + " seed " + std::to_string(seed));
     }
   }
 }

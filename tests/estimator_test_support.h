@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <cmath>
 #include <cstdlib>
 #include <string>
 #include <vector>
@@ -55,6 +56,22 @@ inline void ExpectRecovers(const EstimateResult& r, const ReducedFriction& truth
     EXPECT_GT(p.ci95_lo, 0.0);
     EXPECT_LE(p.ci95_lo, p.value);
     EXPECT_GE(p.ci95_hi, p.value);
+  }
+}
+
+/// Every parameter identifiable, its standard error at most `max_rel_stderr` of the truth,
+/// and the estimate within `n_sigmas` of its standard errors of the truth.
+inline void ExpectWithinStandardErrors(const EstimateResult& r, const ReducedFriction& truth,
+                                       double max_rel_stderr, double n_sigmas,
+                                       const std::string& what) {
+  const double expected[3] = {truth.a, truth.b, truth.c};
+  for (int i = 0; i < 3; ++i) {
+    const ParameterEstimate& p = r.parameters[i];
+    ASSERT_TRUE(p.identifiable) << what << " " << ParameterName(i);
+    EXPECT_LE(p.stderr_value / expected[i], max_rel_stderr) << what << " " << ParameterName(i);
+    EXPECT_LE(std::abs(p.value - expected[i]), n_sigmas * p.stderr_value)
+        << what << " " << ParameterName(i) << " = " << p.value << " +- " << p.stderr_value
+        << ", truth " << expected[i];
   }
 }
 
