@@ -34,7 +34,7 @@
 
 #include "datasets/noise.h"
 #include "estimator/identify.h"
-#include "forward_model/push_log.h"
+#include "io/push_log.h"
 #include "forward_model/simulator.h"
 
 namespace slideid {

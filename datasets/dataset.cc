@@ -2,14 +2,11 @@
 
 #include <cmath>
 #include <cstdio>
-#include <filesystem>
-#include <fstream>
 #include <random>
 #include <sstream>
 #include <stdexcept>
 
 #include "datasets/sensor_model.h"
-#include "forward_model/push_log.h"
 #include "forward_model/simulator.h"
 
 namespace slideid {
@@ -231,62 +228,6 @@ DatasetEntry DrawDatasetLog(const DatasetSpec& spec, int index, Trajectory* log)
   for (const std::string& r : entry.redraw_reasons) reasons += "\n  " + r;
   throw std::runtime_error("dataset: " + entry.file + ": no valid draw in " +
                            std::to_string(spec.max_redraws + 1) + " attempts:" + reasons);
-}
-
-// ---- the manifest and the directory ----
-
-std::string TruthCsvHeader() {
-  return "file,mass,inertia,com_height,mu,e_t,e_o,e_r,a,b,c,noise,patch,rows,redraws";
-}
-
-std::string TruthCsvRow(const DatasetEntry& e) {
-  const SliderProperties& s = e.scene.slider;
-  const FrictionParameters& f = e.scene.friction;
-  const ReducedFriction r = ReducedFriction::From(f);
-  std::string row = e.file;
-  for (double v : {s.mass_kg, s.inertia_kgm2, s.com_height_m, f.mu, f.e_t, f.e_o, f.e_r, r.a,
-                   r.b, r.c}) {
-    row += "," + Format(v);
-  }
-  return row + "," + e.scene.log.noise.Describe() + "," + e.scene.patch.Spec() + "," +
-         std::to_string(e.rows) + "," + std::to_string(e.redraw_reasons.size());
-}
-
-DatasetSummary MakeDataset(const DatasetSpec& spec, const std::string& directory) {
-  std::string why;
-  if (!spec.IsValid(&why)) throw std::invalid_argument("dataset: " + why);
-  std::error_code ec;
-  std::filesystem::create_directories(directory, ec);
-  if (ec || !std::filesystem::is_directory(directory)) {
-    throw std::runtime_error(directory + ": cannot create the dataset directory" +
-                             (ec ? ": " + ec.message() : ""));
-  }
-  DatasetSummary summary;
-  summary.directory = directory;
-  std::string truth = TruthCsvHeader() + "\n";
-  for (int i = 0; i < spec.count; ++i) {
-    Trajectory log;
-    DatasetEntry entry = DrawDatasetLog(spec, i, &log);
-    WritePushLog(log, directory + "/" + entry.file);
-    truth += TruthCsvRow(entry) + "\n";
-    summary.redraws += static_cast<int>(entry.redraw_reasons.size());
-    summary.entries.push_back(std::move(entry));
-  }
-  const std::string path = directory + "/truth.csv";
-  const std::string tmp = path + ".tmp";
-  {
-    std::ofstream out(tmp, std::ios::binary);
-    out << truth;
-    if (!out.flush()) {
-      std::remove(tmp.c_str());
-      throw std::runtime_error(path + ": cannot write the truth manifest");
-    }
-  }
-  if (std::rename(tmp.c_str(), path.c_str()) != 0) {
-    std::remove(tmp.c_str());
-    throw std::runtime_error(path + ": cannot write the truth manifest");
-  }
-  return summary;
 }
 
 }  // namespace slideid

@@ -1,7 +1,8 @@
 #pragma once
 // Synthetic datasets: N sliders and friction parameters drawn from ranges, each pushed by a
-// random push program, logged as a sensor would (datasets/sensor_model.h), with a truth
-// manifest. Deterministic by seed. The make-dataset tool is a thin front end to this.
+// random push program, logged as a sensor would (datasets/sensor_model.h). Deterministic by
+// seed. In memory only: io/dataset_files.h writes a dataset (logs and truth manifest), and
+// the make-dataset tool is a thin front end to that.
 
 #include <cstdint>
 #include <optional>
@@ -82,19 +83,5 @@ struct DatasetEntry {
 /// logged. Deterministic in (spec, index). Throws std::runtime_error when max_redraws is
 /// exhausted, std::invalid_argument for an invalid spec.
 DatasetEntry DrawDatasetLog(const DatasetSpec& spec, int index, Trajectory* log);
-
-struct DatasetSummary {
-  std::string directory;
-  std::vector<DatasetEntry> entries;
-  int redraws = 0;  ///< total over all logs
-};
-
-/// Makes the whole dataset in `directory` (created if missing): log_0000.csv, ... and
-/// truth.csv. Throws std::runtime_error naming a path that cannot be written.
-DatasetSummary MakeDataset(const DatasetSpec& spec, const std::string& directory);
-
-/// The header of truth.csv, and one of its rows (no line break).
-std::string TruthCsvHeader();
-std::string TruthCsvRow(const DatasetEntry& entry);
 
 }  // namespace slideid

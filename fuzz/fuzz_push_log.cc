@@ -14,7 +14,7 @@
 #include <string>
 #include <string_view>
 
-#include "forward_model/push_log.h"
+#include "io/push_log.h"
 
 namespace {
 

@@ -20,7 +20,7 @@
 #include <string>
 #include <vector>
 
-#include "forward_model/push_log.h"
+#include "io/push_log.h"
 #include "forward_model/scene.h"
 #include "tests/synthetic_scenes.h"
 

@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "datasets/noise.h"
-#include "forward_model/push_log.h"
+#include "io/push_log.h"
 #include "tests/estimator_test_support.h"
 
 namespace slideid {

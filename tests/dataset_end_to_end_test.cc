@@ -16,7 +16,7 @@
 #include "datasets/log_plot.h"
 #include "datasets/sensor_model.h"
 #include "estimator/identify.h"
-#include "forward_model/push_log.h"
+#include "io/push_log.h"
 #include "forward_model/simulator.h"
 
 namespace slideid {

@@ -14,7 +14,7 @@
 
 #include "datasets/noise.h"
 #include "estimator/identifiability.h"
-#include "forward_model/push_log.h"
+#include "io/push_log.h"
 #include "tests/estimator_test_support.h"
 
 namespace slideid {

@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "estimator/estimate.h"
-#include "forward_model/push_log.h"
+#include "io/push_log.h"
 #include "tests/synthetic_scenes.h"
 
 namespace slideid::testing {

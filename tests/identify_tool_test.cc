@@ -10,7 +10,7 @@
 #include <fstream>
 #include <sstream>
 
-#include "forward_model/push_log.h"
+#include "io/push_log.h"
 #include "tests/synthetic_scenes.h"
 
 namespace slideid {

@@ -11,7 +11,7 @@
 #include <string>
 
 #include "estimator/identify.h"
-#include "forward_model/push_log.h"
+#include "io/push_log.h"
 #include "tests/synthetic_scenes.h"
 
 #if defined(__SANITIZE_ADDRESS__)

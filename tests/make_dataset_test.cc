@@ -12,7 +12,8 @@
 #include <fstream>
 #include <sstream>
 
-#include "forward_model/push_log.h"
+#include "io/dataset_files.h"
+#include "io/push_log.h"
 
 namespace slideid {
 namespace {

@@ -10,7 +10,7 @@
 #include <sstream>
 
 #include "datasets/sensor_model.h"
-#include "forward_model/push_log.h"
+#include "io/push_log.h"
 #include "synthetic_scenes.h"
 
 namespace slideid {

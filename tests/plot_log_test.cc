@@ -13,7 +13,7 @@
 
 #include "datasets/sensor_model.h"
 #include "estimator/identify.h"
-#include "forward_model/push_log.h"
+#include "io/push_log.h"
 #include "forward_model/simulator.h"
 #include "synthetic_scenes.h"
 

@@ -1,4 +1,4 @@
-#include "forward_model/push_log.h"
+#include "io/push_log.h"
 
 #include <Eigen/Geometry>
 #include <gtest/gtest.h>

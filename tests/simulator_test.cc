@@ -9,7 +9,7 @@
 #include <cstdlib>
 #include <fstream>
 
-#include "forward_model/push_log.h"
+#include "io/push_log.h"
 
 namespace slideid {
 namespace {

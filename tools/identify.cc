@@ -9,7 +9,7 @@
 #include <stdexcept>
 
 #include "estimator/identify.h"
-#include "forward_model/push_log.h"
+#include "io/push_log.h"
 #include "tools/tool_support.h"
 
 namespace po = boost::program_options;

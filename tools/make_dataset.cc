@@ -1,11 +1,11 @@
 // make-dataset: draw N sliders and friction parameters from ranges, push each with a random
-// push program, and write the logs with a truth manifest (datasets/dataset.h).
+// push program, and write the logs with a truth manifest (io/dataset_files.h).
 
 #include <cstdio>
 #include <iostream>
 
 #include "datasets/cli_options.h"
-#include "datasets/dataset.h"
+#include "io/dataset_files.h"
 #include "tools/tool_support.h"
 
 namespace po = boost::program_options;

@@ -8,7 +8,7 @@
 #include <sstream>
 
 #include "datasets/log_plot.h"
-#include "forward_model/push_log.h"
+#include "io/push_log.h"
 #include "forward_model/simulator.h"
 #include "tools/tool_support.h"
 

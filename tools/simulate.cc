@@ -7,7 +7,7 @@
 
 #include "datasets/cli_options.h"
 #include "datasets/sensor_model.h"
-#include "forward_model/push_log.h"
+#include "io/push_log.h"
 #include "forward_model/scene.h"
 #include "forward_model/simulator.h"
 #include "tools/tool_support.h"
