@@ -34,8 +34,8 @@
 
 #include "datasets/noise.h"
 #include "estimator/identify.h"
-#include "io/push_log.h"
 #include "forward_model/simulator.h"
+#include "io/push_log.h"
 
 namespace slideid {
 namespace {

@@ -1,11 +1,8 @@
 #pragma once
-// Scene files: INI read with Boost.Program_options' config-file parser. Sections
-// [slider] [friction] [patch] [initial] [push] [push.1] [push.2] ... [program] [sim] [log]
-// [noise]; keys and defaults in datasets/README.md. Unknown keys, missing required keys and
-// bad values throw SceneError naming the file and the key.
+// What a simulation needs: the slider, its friction and contact patch, the initial state, the
+// pushes, the step and the duration. Scene files are read by io/scene_file.h.
 
 #include <Eigen/Core>
-#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -52,16 +49,5 @@ struct Scene {
   /// How the simulated trajectory is logged: [sim] log_every, [log], [noise].
   LogSpec log;
 };
-
-/// Bad scene file: message names the file and the key.
-class SceneError : public std::runtime_error {
- public:
-  using std::runtime_error::runtime_error;
-};
-
-/// Reads a scene file. Throws SceneError.
-Scene LoadScene(const std::string& path);
-/// Same, from text (source names it in messages).
-Scene ParseScene(const std::string& ini_text, const std::string& source);
 
 }  // namespace slideid

@@ -11,7 +11,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "forward_model/scene.h"
+#include "io/scene_file.h"
 
 namespace {
 

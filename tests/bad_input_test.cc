@@ -21,7 +21,7 @@
 #include <vector>
 
 #include "io/push_log.h"
-#include "forward_model/scene.h"
+#include "io/scene_file.h"
 #include "tests/synthetic_scenes.h"
 
 namespace slideid {

@@ -16,8 +16,9 @@
 #include "datasets/log_plot.h"
 #include "datasets/sensor_model.h"
 #include "estimator/identify.h"
-#include "io/push_log.h"
 #include "forward_model/simulator.h"
+#include "io/push_log.h"
+#include "io/scene_file.h"
 
 namespace slideid {
 namespace {

@@ -13,8 +13,8 @@
 
 #include "datasets/sensor_model.h"
 #include "estimator/identify.h"
-#include "io/push_log.h"
 #include "forward_model/simulator.h"
+#include "io/push_log.h"
 #include "synthetic_scenes.h"
 
 namespace slideid {

@@ -1,4 +1,4 @@
-#include "forward_model/scene.h"
+#include "io/scene_file.h"
 
 #include <gtest/gtest.h>
 

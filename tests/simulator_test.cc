@@ -10,6 +10,7 @@
 #include <fstream>
 
 #include "io/push_log.h"
+#include "io/scene_file.h"
 
 namespace slideid {
 namespace {

@@ -11,6 +11,7 @@
 #include "datasets/noise.h"
 #include "datasets/sensor_model.h"
 #include "estimator/closed_form.h"
+#include "io/scene_file.h"
 #include "tests/synthetic_scenes.h"
 
 namespace slideid {

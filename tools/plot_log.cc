@@ -8,8 +8,8 @@
 #include <sstream>
 
 #include "datasets/log_plot.h"
-#include "io/push_log.h"
 #include "forward_model/simulator.h"
+#include "io/push_log.h"
 #include "tools/tool_support.h"
 
 namespace po = boost::program_options;

@@ -7,9 +7,9 @@
 
 #include "datasets/cli_options.h"
 #include "datasets/sensor_model.h"
-#include "io/push_log.h"
-#include "forward_model/scene.h"
 #include "forward_model/simulator.h"
+#include "io/push_log.h"
+#include "io/scene_file.h"
 #include "tools/tool_support.h"
 
 namespace po = boost::program_options;
