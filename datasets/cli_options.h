@@ -7,7 +7,7 @@
 #include <boost/program_options.hpp>
 
 #include "datasets/dataset.h"
-#include "forward_model/log_spec.h"
+#include "datasets/log_spec.h"
 
 namespace slideid::cli {
 

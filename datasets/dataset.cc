@@ -175,7 +175,7 @@ DatasetEntry DrawDatasetLog(const DatasetSpec& spec, int index, Trajectory* log)
   entry.file = LogFileName(index);
   for (int attempt = 0; attempt <= spec.max_redraws; ++attempt) {
     // Every variate of an attempt is drawn, in this order, whatever the options.
-    Scene scene;
+    LoggedScene scene;
     scene.source = "make-dataset seed " + std::to_string(spec.seed) + " " + entry.file;
     scene.slider.mass_kg = draw(spec.mass_kg);
     scene.slider.com_height_m = draw(spec.com_height_m);

@@ -9,10 +9,10 @@
 #include <string>
 #include <vector>
 
+#include "datasets/log_spec.h"
+#include "datasets/logged_scene.h"
+#include "datasets/push_program.h"
 #include "forward_model/contact_patch.h"
-#include "forward_model/log_spec.h"
-#include "forward_model/push_program.h"
-#include "forward_model/scene.h"
 #include "forward_model/slider.h"
 #include "forward_model/trajectory.h"
 
@@ -73,9 +73,9 @@ struct DatasetSpec {
 
 /// One log of a dataset and the truth it was made with.
 struct DatasetEntry {
-  std::string file;  ///< "log_0000.csv" (relative to the dataset directory)
-  Scene scene;       ///< slider, friction, patch, pushes, log spec (with its noise seed)
-  int rows = 0;      ///< rows in the log
+  std::string file;   ///< "log_0000.csv" (relative to the dataset directory)
+  LoggedScene scene;  ///< slider, friction, patch, pushes, log spec (with its noise seed)
+  int rows = 0;       ///< rows in the log
   std::vector<std::string> redraw_reasons;  ///< one per rejected draw, in order
 };
 

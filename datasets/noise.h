@@ -1,9 +1,9 @@
 #pragma once
 // Sensor-like noise on a simulated log: Gaussian pose, velocity and force noise and
-// motion-capture outliers, reproducible by seed. NoiseSpec (plain data) lives in
-// forward_model/noise_spec.h so that scenes can hold it.
+// motion-capture outliers, reproducible by seed. NoiseSpec (plain data) is in
+// datasets/noise_spec.h.
 
-#include "forward_model/noise_spec.h"
+#include "datasets/noise_spec.h"
 #include "forward_model/trajectory.h"
 
 namespace slideid {

@@ -2,7 +2,7 @@
 // From a simulated trajectory to the log a sensor would have recorded: decimation (log every
 // k-th simulated step), the columns written, and noise (datasets/noise.h).
 
-#include "forward_model/log_spec.h"
+#include "datasets/log_spec.h"
 #include "forward_model/trajectory.h"
 
 namespace slideid {

@@ -7,7 +7,6 @@
 #include <vector>
 
 #include "forward_model/contact_patch.h"
-#include "forward_model/log_spec.h"
 #include "forward_model/planar_state.h"
 #include "forward_model/slider.h"
 
@@ -34,20 +33,18 @@ struct PushSpec {
                          Eigen::Vector3d* point_world = nullptr) const;
 };
 
-/// Everything a simulation needs.
+/// Everything a simulation needs (physics only: how a log samples it is datasets' LogSpec).
 struct Scene {
-  std::string source;  ///< file it came from, for messages
+  std::string source;  ///< where it came from (a file, a generator), for messages
   SliderProperties slider;
   FrictionParameters friction;
   ContactPatch patch = ContactPatch::Rectangle(0.05, 0.05);
   PlanarState initial;
-  /// Empty: free sliding. From [push], then [push.1], [push.2], ... in numeric order, or
-  /// drawn by a [program] random = N section (forward_model/push_program.h).
+  /// Empty: free sliding. A scene file gives them in [push], [push.1], ... or draws them
+  /// from a [program] section (io/scene_file.h).
   std::vector<PushSpec> pushes;
-  double dt_s = 0.01;
-  double duration_s = 1.0;  ///< [sim] duration; with a random program, defaults to its end
-  /// How the simulated trajectory is logged: [sim] log_every, [log], [noise].
-  LogSpec log;
+  double dt_s = 0.01;        ///< simulation step [s]
+  double duration_s = 1.0;  ///< simulated time [s]
 };
 
 }  // namespace slideid

@@ -12,7 +12,7 @@
 #include <set>
 #include <sstream>
 
-#include "forward_model/push_program.h"
+#include "datasets/push_program.h"
 
 namespace slideid {
 namespace {
@@ -512,12 +512,12 @@ LogSpec ReadLogSpec(const Reader& r, bool has_pushes) {
 
 }  // namespace
 
-Scene ParseScene(const std::string& ini_text, const std::string& source) {
+LoggedScene ParseScene(const std::string& ini_text, const std::string& source) {
   const Layout layout = ScanLayout(ini_text);
   CheckPushSections(source, layout);
   const Reader r(source, ParseKeyValues(ini_text, source, layout), layout);
   CheckSections(r, layout);
-  Scene scene;
+  LoggedScene scene;
   scene.source = source;
   scene.slider = ReadSlider(r);
   scene.friction = ReadFriction(r);
@@ -546,7 +546,7 @@ Scene ParseScene(const std::string& ini_text, const std::string& source) {
   return scene;
 }
 
-Scene LoadScene(const std::string& path) {
+LoggedScene LoadScene(const std::string& path) {
   std::ifstream in(path);
   if (!in) throw SceneError(path + ": cannot open scene file for reading");
   std::string text;

@@ -7,7 +7,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "forward_model/scene.h"
+#include "datasets/logged_scene.h"
 
 namespace slideid {
 
@@ -17,9 +17,9 @@ class SceneError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-/// Reads a scene file. Throws SceneError.
-Scene LoadScene(const std::string& path);
+/// Reads a scene file: the scene and its log spec. Throws SceneError.
+LoggedScene LoadScene(const std::string& path);
 /// Same, from text (source names it in messages).
-Scene ParseScene(const std::string& ini_text, const std::string& source);
+LoggedScene ParseScene(const std::string& ini_text, const std::string& source);
 
 }  // namespace slideid

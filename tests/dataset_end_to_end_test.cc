@@ -112,7 +112,7 @@ TEST(DatasetEndToEnd, PushesThroughTheCmLeaveCUnidentifiedAndFlagged) {
 
 /// The default scene without noise, simulated at 1 ms and logged every k steps.
 Trajectory DefaultSceneLoggedEvery(int k, FrictionParameters* truth) {
-  Scene scene = LoadScene(Source("datasets/scenes/default_push.ini"));
+  LoggedScene scene = LoadScene(Source("datasets/scenes/default_push.ini"));
   scene.dt_s = 1e-3;
   scene.log.log_every = k;
   scene.log.noise = NoiseSpec{};
@@ -139,7 +139,7 @@ TEST(DatasetEndToEnd, LogsSampledCoarserThanSimulatedAreStillIdentified) {
 constexpr double kRegenerationTolerance = 1e-9;
 
 TEST(DatasetEndToEnd, BundledDefaultLogIsWhatItsSceneMakes) {
-  Scene scene = LoadScene(Source("datasets/scenes/default_push.ini"));
+  LoggedScene scene = LoadScene(Source("datasets/scenes/default_push.ini"));
   const SimulationResult sim = Simulate(scene);
   ASSERT_TRUE(sim.summary.ok()) << sim.summary.message;
   const Trajectory made = MakeLog(sim.trajectory, scene.log);

@@ -1,7 +1,7 @@
 // Push programs: sections [push.N] run in sequence with rests; random programs are
 // reproducible by seed, stay within their ranges and excite rotation and stick-slip.
 
-#include "forward_model/push_program.h"
+#include "datasets/push_program.h"
 
 #include <gtest/gtest.h>
 

@@ -2,7 +2,7 @@
 
 #include <gtest/gtest.h>
 
-#include "forward_model/push_program.h"
+#include "datasets/push_program.h"
 
 #include <cmath>
 #include <string>
@@ -282,7 +282,7 @@ TEST(Scene, BadNumberedPushValuesNameTheirSection) {
 }
 
 TEST(Scene, LogAndNoiseSectionsSetTheLogSpec) {
-  const Scene plain = ParseScene(SceneText(""), "scene.ini");
+  const LoggedScene plain = ParseScene(SceneText(""), "scene.ini");
   EXPECT_EQ(plain.log.log_every, 1);
   EXPECT_EQ(plain.log.motion, LogMotion::kBoth);
   EXPECT_EQ(plain.log.push, LogPush::kPoint);
@@ -295,7 +295,7 @@ TEST(Scene, LogAndNoiseSectionsSetTheLogSpec) {
       "force_relative = 0.02\nforce = 0.05\noutlier_fraction = 0.01\noutlier = 0.02\n"
       "seed = 18446744073709551615\n");
   text.replace(text.find("dt = 0.01"), 9, "dt = 0.001\nlog_every = 10");
-  const Scene s = ParseScene(text, "scene.ini");
+  const LoggedScene s = ParseScene(text, "scene.ini");
   EXPECT_EQ(s.log.log_every, 10);
   EXPECT_EQ(s.log.motion, LogMotion::kPoses);
   EXPECT_EQ(s.log.push, LogPush::kMoments);
@@ -384,7 +384,7 @@ TEST(Scene, ProgramSettingsAreChecked) {
 }
 
 TEST(Scene, BundledDefaultPushSceneIsARealisticExperiment) {
-  const Scene s = LoadScene(ScenePath("default_push.ini"));
+  const LoggedScene s = LoadScene(ScenePath("default_push.ini"));
   EXPECT_GE(s.slider.mass_kg, 0.5);
   EXPECT_LE(s.slider.mass_kg, 1.0);
   EXPECT_NE(s.friction.e_o, s.friction.e_t);  // b != 1

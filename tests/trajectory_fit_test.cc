@@ -215,7 +215,8 @@ namespace {
 // (on the bundled log by 4.6 standard errors in a); the cluster-robust covariance must
 // widen them so that they cover it in at least 90% of logs.
 TEST(TrajectoryFit, IntervalsStayHonestUnderModelMismatchOfACoarseNoisyLog) {
-  const Scene scene = LoadScene(std::string(SLIDEID_SOURCE_DIR) + "/datasets/scenes/default_push.ini");
+  const LoggedScene scene =
+      LoadScene(std::string(SLIDEID_SOURCE_DIR) + "/datasets/scenes/default_push.ini");
   const SimulationResult sim = Simulate(scene);
   ASSERT_TRUE(sim.summary.ok()) << sim.summary.message;
   const ReducedFriction t = ReducedFriction::From(scene.friction);

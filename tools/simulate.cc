@@ -76,7 +76,7 @@ int main(int argc, char** argv) {
     }
     if (!vm.count("scene")) throw po::error("the option '--scene' is required");
 
-    Scene scene = LoadScene(vm["scene"].as<std::string>());
+    LoggedScene scene = LoadScene(vm["scene"].as<std::string>());
     if (vm.count("dt")) {
       scene.dt_s = vm["dt"].as<double>();
       if (!(scene.dt_s > 0)) throw po::error("--dt must be > 0");

@@ -1,12 +1,13 @@
 #pragma once
 // How a simulated trajectory becomes a log, as a sensor would record it: sampling, columns
-// and noise. Plain data held by a scene ([sim] log_every, [log], [noise]); applied by
+// and noise. Plain data: a scene file's [sim] log_every, [log] and [noise] sections
+// (LoggedScene, io/scene_file.h) and a dataset's logs (datasets/dataset.h); applied by
 // datasets/sensor_model.h (MakeLog).
 
 #include <optional>
 #include <string>
 
-#include "forward_model/noise_spec.h"
+#include "datasets/noise_spec.h"
 
 namespace slideid {
 

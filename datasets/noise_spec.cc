@@ -1,4 +1,4 @@
-#include "forward_model/noise_spec.h"
+#include "datasets/noise_spec.h"
 
 #include <cinttypes>
 #include <cmath>

@@ -1,4 +1,4 @@
-#include "forward_model/log_spec.h"
+#include "datasets/log_spec.h"
 
 namespace slideid {
 

@@ -1,6 +1,6 @@
 #pragma once
-// What noise a synthetic log carries: plain data, so that a scene can hold it. Applying it
-// is the datasets library's job (datasets/noise.h, datasets/sensor_model.h).
+// What noise a synthetic log carries: plain data, part of a LogSpec (datasets/log_spec.h).
+// Applied by datasets/noise.h and datasets/sensor_model.h.
 
 #include <cstdint>
 #include <string>

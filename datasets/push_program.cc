@@ -1,4 +1,4 @@
-#include "forward_model/push_program.h"
+#include "datasets/push_program.h"
 
 #include <algorithm>
 #include <cmath>
