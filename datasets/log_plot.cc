@@ -126,29 +126,6 @@ bool PlotOptions::IsValid(std::string* why) const {
   return true;
 }
 
-ReducedFriction ParseIdentifyJson(const std::string& json) {
-  const auto value_of = [&](const char* name) {
-    const std::string key = std::string("\"") + name + "\"";
-    const auto at = json.find(key);
-    if (at == std::string::npos) {
-      throw std::invalid_argument(std::string("identify JSON: no \"") + name + "\"");
-    }
-    const auto end = json.find('}', at);
-    for (const char* field : {"\"value\"", "\"held_at\""}) {
-      const auto f = json.find(field, at);
-      if (f == std::string::npos || f > end) continue;
-      const auto colon = json.find(':', f);
-      const char* begin = json.c_str() + colon + 1;
-      char* stop = nullptr;
-      const double v = std::strtod(begin, &stop);
-      if (stop != begin && std::isfinite(v) && v > 0) return v;  // null parses as nothing
-    }
-    throw std::invalid_argument(std::string("identify JSON: \"") + name +
-                                "\" has neither a value nor a held_at value");
-  };
-  return {value_of("e_t_mu"), value_of("e_o_over_e_t"), value_of("e_r_over_e_t")};
-}
-
 void WritePlotData(const Trajectory& log, const Trajectory* fit, const PlotOptions& options,
                    const std::string& dir) {
   const std::vector<PlanarState> poses = Poses(log);

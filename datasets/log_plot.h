@@ -30,10 +30,6 @@ struct PlotOptions {
 /// Snapshots of the patch drawn along the path when PlotOptions::snapshot_every is 0.
 constexpr int kDefaultSnapshots = 16;
 
-/// The parameters of an `identify --json` result: each parameter's value, or its held_at
-/// value when it was not identifiable. Throws std::invalid_argument naming what is missing.
-ReducedFriction ParseIdentifyJson(const std::string& json);
-
 /// The gnuplot script for `log` (and `fit`, a replay at the log's times, when not null)
 /// reading its data from files in `data_dir`; WritePlotData writes them.
 std::string PlotScript(const Trajectory& log, const Trajectory* fit, const PlotOptions& options,

@@ -18,6 +18,7 @@
 #include "estimator/identify.h"
 #include "forward_model/simulator.h"
 #include "io/push_log.h"
+#include "io/result_json.h"
 #include "io/scene_file.h"
 
 namespace slideid {

@@ -15,6 +15,7 @@
 #include "estimator/identify.h"
 #include "forward_model/simulator.h"
 #include "io/push_log.h"
+#include "io/result_json.h"
 #include "synthetic_scenes.h"
 
 namespace slideid {

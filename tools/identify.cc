@@ -10,6 +10,8 @@
 
 #include "estimator/identify.h"
 #include "io/push_log.h"
+#include "io/result_json.h"
+#include "io/result_report.h"
 #include "tools/tool_support.h"
 
 namespace po = boost::program_options;

@@ -10,6 +10,7 @@
 #include "datasets/log_plot.h"
 #include "forward_model/simulator.h"
 #include "io/push_log.h"
+#include "io/result_json.h"
 #include "tools/tool_support.h"
 
 namespace po = boost::program_options;

@@ -1,0 +1,217 @@
+#include "io/result_json.h"
+
+#include <climits>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <nlohmann/json.hpp>
+
+namespace slideid {
+namespace {
+
+// Keys keep the order in which FormatJson inserts them (and in which a reader finds them).
+using Json = nlohmann::ordered_json;
+
+const char* const kPrefix = "identify JSON: ";
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+// A value quoted in a message is cut to this many characters.
+constexpr std::size_t kMaxQuoted = 40;
+
+// ---- writing ----
+
+/// A number, or null when it is not finite (JSON has no NaN or infinity).
+Json NumberOrNull(double v) { return std::isfinite(v) ? Json(v) : Json(nullptr); }
+
+/// A scalar as nlohmann writes it: strings escaped (invalid UTF-8 replaced, never thrown),
+/// doubles in their shortest round-trip form.
+std::string Scalar(const Json& j) { return j.dump(-1, ' ', false, Json::error_handler_t::replace); }
+
+/// Appends `j` in the documented layout: ", " between items and ": " after keys, on one
+/// line (nlohmann's compact dump has no spaces, its indented dump has line breaks).
+void Print(const Json& j, std::string* out) {
+  if (!j.is_object() && !j.is_array()) {
+    *out += Scalar(j);
+    return;
+  }
+  *out += j.is_object() ? '{' : '[';
+  for (auto it = j.begin(); it != j.end(); ++it) {
+    if (it != j.begin()) *out += ", ";
+    if (j.is_object()) *out += Scalar(Json(it.key())) + ": ";
+    Print(it.value(), out);
+  }
+  *out += j.is_object() ? '}' : ']';
+}
+
+Json ParameterJson(const ParameterEstimate& p) {
+  const bool id = p.identifiable;
+  Json j = Json::object();
+  j["value"] = id ? NumberOrNull(p.value) : Json(nullptr);
+  j["stderr"] = id ? NumberOrNull(p.stderr_value) : Json(nullptr);
+  j["ci95"] = Json::array({id ? NumberOrNull(p.ci95_lo) : Json(nullptr),
+                           id ? NumberOrNull(p.ci95_hi) : Json(nullptr)});
+  j["identifiable"] = id;
+  j["held_at"] = id ? Json(nullptr) : NumberOrNull(p.held_at);
+  j["note"] = p.note;
+  return j;
+}
+
+// ---- reading: typed access whose errors name the JSON path ----
+
+[[noreturn]] void Fail(const std::string& path, const std::string& what) {
+  throw ResultJsonError(kPrefix + (path.empty() ? what : path + ": " + what));
+}
+
+std::string Quoted(const Json& j) {
+  std::string text = Scalar(j);
+  if (text.size() > kMaxQuoted) text = text.substr(0, kMaxQuoted) + "...";
+  return text;
+}
+
+Json Parse(const std::string& text) {
+  try {
+    return Json::parse(text);
+  } catch (const Json::parse_error& e) {
+    // "[json.exception.parse_error.101] parse error at line 1, column 5: ..."
+    const std::string what = e.what();
+    const auto tag_end = what.find("] ");
+    Fail("", tag_end == std::string::npos ? what : what.substr(tag_end + 2));
+  }
+}
+
+const Json& Member(const Json& object, const std::string& path, const std::string& key) {
+  const auto it = object.find(key);
+  if (it == object.end()) Fail(path, "no \"" + key + "\"");
+  return *it;
+}
+
+const Json& Object(const Json& j, const std::string& path) {
+  if (!j.is_object()) Fail(path, "expected an object, got " + Quoted(j));
+  return j;
+}
+
+double NumberOrNaN(const Json& j, const std::string& path) {
+  if (j.is_null()) return kNaN;
+  if (!j.is_number()) Fail(path, "expected a number or null, got " + Quoted(j));
+  return j.get<double>();
+}
+
+int Count(const Json& j, const std::string& path) {
+  // nlohmann reads a non-negative integer as unsigned, a negative one as signed.
+  if (!j.is_number_unsigned() || j.get<std::uint64_t>() > INT_MAX) {
+    Fail(path, "expected an integer from 0 to " + std::to_string(INT_MAX) + ", got " + Quoted(j));
+  }
+  return static_cast<int>(j.get<std::uint64_t>());
+}
+
+bool Boolean(const Json& j, const std::string& path) {
+  if (!j.is_boolean()) Fail(path, "expected true or false, got " + Quoted(j));
+  return j.get<bool>();
+}
+
+std::string Text(const Json& j, const std::string& path) {
+  if (!j.is_string()) Fail(path, "expected a string, got " + Quoted(j));
+  return j.get<std::string>();
+}
+
+/// Member `key` of the object at `path`, read by `read` with its own path in messages.
+template <typename Read>
+auto Field(const Json& object, const std::string& path, const std::string& key, Read read) {
+  return read(Member(object, path, key), path + "/" + key);
+}
+
+ParameterEstimate ReadParameter(const Json& root, int index) {
+  const std::string path = std::string("/") + ParameterName(index);
+  const Json& j = Object(Member(root, "", ParameterName(index)), path);
+  ParameterEstimate p;
+  p.value = Field(j, path, "value", NumberOrNaN);
+  p.stderr_value = Field(j, path, "stderr", NumberOrNaN);
+  const Json& ci = Member(j, path, "ci95");
+  if (!ci.is_array() || ci.size() != 2) Fail(path + "/ci95", "expected [lo, hi], got " + Quoted(ci));
+  p.ci95_lo = NumberOrNaN(ci[0], path + "/ci95/0");
+  p.ci95_hi = NumberOrNaN(ci[1], path + "/ci95/1");
+  p.identifiable = Field(j, path, "identifiable", Boolean);
+  p.held_at = Field(j, path, "held_at", NumberOrNaN);
+  p.note = Field(j, path, "note", Text);
+  return p;
+}
+
+EstimatorMethod ReadMethod(const Json& root) {
+  const std::string name = Field(root, "", "method", Text);
+  for (EstimatorMethod m : {EstimatorMethod::kClosedForm, EstimatorMethod::kEquationError,
+                            EstimatorMethod::kTrajectory}) {
+    if (name == ToString(m)) return m;
+  }
+  Fail("/method", "unknown method '" + name + "' (closed-form, equation-error, trajectory)");
+}
+
+}  // namespace
+
+std::string FormatJson(const EstimateResult& r) {
+  Json doc = Json::object();
+  for (int i = 0; i < 3; ++i) doc[ParameterName(i)] = ParameterJson(r.parameters[i]);
+  int excluded = 0;
+  Json reasons = Json::object();
+  for (const auto& [reason, count] : r.steps_excluded) {
+    excluded += count;
+    reasons[reason] = reasons.value(reason, 0) + count;  // one key per reason
+  }
+  doc["method"] = ToString(r.method);
+  doc["steps_used"] = r.steps_used;
+  doc["steps_total"] = r.steps_total;
+  doc["steps_excluded"] = excluded;
+  doc["steps_excluded_by_reason"] = reasons;
+  doc["seconds"] = NumberOrNull(r.seconds);
+  doc["iterations"] = r.iterations;
+  doc["final_cost"] = NumberOrNull(r.final_cost);
+  doc["converged"] = r.converged;
+  doc["message"] = r.message;
+  std::string out;
+  Print(doc, &out);
+  return out;
+}
+
+EstimateResult ParseResultJson(const std::string& json) {
+  const Json root = Object(Parse(json), "");
+  EstimateResult r;
+  for (int i = 0; i < 3; ++i) r.parameters[i] = ReadParameter(root, i);
+  r.method = ReadMethod(root);
+  r.steps_used = Field(root, "", "steps_used", Count);
+  r.steps_total = Field(root, "", "steps_total", Count);
+  const int excluded = Field(root, "", "steps_excluded", Count);
+  const Json& reasons = Object(Member(root, "", "steps_excluded_by_reason"),
+                               "/steps_excluded_by_reason");
+  long long sum = 0;
+  for (auto it = reasons.begin(); it != reasons.end(); ++it) {
+    const int count = Count(it.value(), "/steps_excluded_by_reason/" + it.key());
+    r.steps_excluded.emplace_back(it.key(), count);
+    sum += count;
+  }
+  if (sum != excluded) {
+    Fail("/steps_excluded", std::to_string(excluded) + " is not the sum of " +
+                                "steps_excluded_by_reason (" + std::to_string(sum) + ")");
+  }
+  r.seconds = Field(root, "", "seconds", NumberOrNaN);
+  r.iterations = Field(root, "", "iterations", Count);
+  r.final_cost = Field(root, "", "final_cost", NumberOrNaN);
+  r.converged = Field(root, "", "converged", Boolean);
+  r.message = Field(root, "", "message", Text);
+  return r;
+}
+
+ReducedFriction ParseIdentifyJson(const std::string& json) {
+  const Json root = Object(Parse(json), "");
+  const auto value_of = [&](int index) {
+    const std::string name = ParameterName(index);
+    const Json& p = Object(Member(root, "", name), "/" + name);
+    for (const char* field : {"value", "held_at"}) {
+      const auto it = p.find(field);
+      if (it == p.end()) continue;
+      const double v = NumberOrNaN(*it, "/" + name + "/" + field);
+      if (std::isfinite(v) && v > 0) return v;
+    }
+    Fail("", "\"" + name + "\" has neither a value nor a held_at value");
+  };
+  return {value_of(kA), value_of(kB), value_of(kC)};
+}
+
+}  // namespace slideid

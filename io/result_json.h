@@ -1,0 +1,45 @@
+#pragma once
+// The identify result as JSON (`identify --json`; `plot-log --fit` reads it), written and
+// read with nlohmann-json. One object on one line:
+//   {"e_t_mu": {"value": 0.31, "stderr": 0.00012, "ci95": [0.3098, 0.3102],
+//    "identifiable": true, "held_at": null, "note": "..."}, "e_o_over_e_t": {...},
+//   "e_r_over_e_t": {...}, "method": "trajectory", "steps_used": 295, "steps_total": 300,
+//   "steps_excluded": 5, "steps_excluded_by_reason": {"sticking": 5}, "seconds": 0.006,
+//   "iterations": 12, "final_cost": 1.2e-05, "converged": true, "message": "..."}
+// Keys in this order, ", " and ": " between items. Numbers are written in the shortest form
+// that reads back to the same double; a number that is not finite is written as null and
+// read back as NaN. A parameter that is not identifiable has null value, stderr and ci95,
+// and its held_at; an identifiable one has a null held_at.
+
+#include <stdexcept>
+#include <string>
+
+#include "estimator/estimate.h"
+#include "forward_model/slider.h"
+
+namespace slideid {
+
+/// Bad result JSON: the message names the JSON path ("/e_t_mu/ci95/1") or, for a syntax
+/// error, the line and column. An std::invalid_argument, as ParseIdentifyJson always threw.
+class ResultJsonError : public std::invalid_argument {
+ public:
+  using std::invalid_argument::invalid_argument;
+};
+
+/// One JSON object (no line break): the three parameters, method, steps_used, steps_total,
+/// steps_excluded (their sum) and steps_excluded_by_reason, seconds, iterations, final_cost,
+/// converged, message. Residuals are not in it (identify --residuals writes them).
+std::string FormatJson(const EstimateResult& result);
+
+/// Reads what FormatJson wrote: every key it writes is required (others are ignored).
+/// FormatJson(ParseResultJson(FormatJson(r))) == FormatJson(r), and every field it carries
+/// reads back bit for bit (nulls as NaN); residuals and residual_names keep their defaults.
+/// Throws ResultJsonError.
+EstimateResult ParseResultJson(const std::string& json);
+
+/// The parameters of an `identify --json` result: each parameter's value, or its held_at
+/// value when it has no positive value (not identifiable). Needs only the three parameter
+/// objects. Throws ResultJsonError naming what is missing or malformed.
+ReducedFriction ParseIdentifyJson(const std::string& json);
+
+}  // namespace slideid

@@ -1,0 +1,324 @@
+// The identify result JSON (io/result_json.h): its documented layout, exact round trips of
+// every field it carries (random bit patterns included), null for what is not a number, the
+// JSON identify itself prints, and errors that name the JSON path.
+
+#include "io/result_json.h"
+
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cfloat>
+#include <climits>
+#include <cmath>
+#include <cstdint>
+#include <cstdlib>
+#include <cstring>
+#include <fstream>
+#include <limits>
+#include <random>
+#include <sstream>
+
+#include "io/push_log.h"
+#include "tests/synthetic_scenes.h"
+
+namespace slideid {
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+std::uint64_t Bits(double v) {
+  std::uint64_t bits;
+  std::memcpy(&bits, &v, sizeof bits);
+  return bits;
+}
+
+/// Same double bit for bit, or both NaN (JSON null carries no NaN payload).
+void ExpectSameDouble(double expected, double actual, const std::string& what) {
+  if (std::isnan(expected)) {
+    EXPECT_TRUE(std::isnan(actual)) << what << ": " << actual;
+  } else {
+    EXPECT_EQ(Bits(expected), Bits(actual)) << what << ": " << expected << " read as " << actual;
+  }
+}
+
+/// Every field FormatJson writes; `expected` must hold NaN where FormatJson writes null.
+void ExpectSameResult(const EstimateResult& expected, const EstimateResult& actual) {
+  for (int i = 0; i < 3; ++i) {
+    const ParameterEstimate& e = expected.parameters[i];
+    const ParameterEstimate& a = actual.parameters[i];
+    const std::string name = ParameterName(i);
+    EXPECT_EQ(e.identifiable, a.identifiable) << name;
+    ExpectSameDouble(e.value, a.value, name + " value");
+    ExpectSameDouble(e.stderr_value, a.stderr_value, name + " stderr");
+    ExpectSameDouble(e.ci95_lo, a.ci95_lo, name + " ci95_lo");
+    ExpectSameDouble(e.ci95_hi, a.ci95_hi, name + " ci95_hi");
+    ExpectSameDouble(e.held_at, a.held_at, name + " held_at");
+    EXPECT_EQ(e.note, a.note) << name;
+  }
+  EXPECT_EQ(expected.method, actual.method);
+  EXPECT_EQ(expected.steps_total, actual.steps_total);
+  EXPECT_EQ(expected.steps_used, actual.steps_used);
+  EXPECT_EQ(expected.steps_excluded, actual.steps_excluded);
+  ExpectSameDouble(expected.final_cost, actual.final_cost, "final_cost");
+  EXPECT_EQ(expected.iterations, actual.iterations);
+  ExpectSameDouble(expected.seconds, actual.seconds, "seconds");
+  EXPECT_EQ(expected.converged, actual.converged);
+  EXPECT_EQ(expected.message, actual.message);
+}
+
+ParameterEstimate Identified(double value, double stderr_value, const std::string& note = "") {
+  ParameterEstimate p;
+  p.identifiable = true;
+  p.value = value;
+  p.stderr_value = stderr_value;
+  p.ci95_lo = value - kZ95 * stderr_value;
+  p.ci95_hi = value + kZ95 * stderr_value;
+  p.note = note;
+  return p;
+}
+
+ParameterEstimate Held(double held_at, const std::string& note) {
+  ParameterEstimate p;
+  p.held_at = held_at;
+  p.note = note;
+  return p;
+}
+
+EstimateResult Simple() {
+  EstimateResult r;
+  r.method = EstimatorMethod::kTrajectory;
+  r.parameters[kA] = Identified(0.25, 0.5);
+  r.parameters[kA].ci95_lo = -0.75;
+  r.parameters[kA].ci95_hi = 1.25;
+  r.parameters[kB] = Identified(1.5, 0.125, "error widened 2x");
+  r.parameters[kB].ci95_lo = 1.25;
+  r.parameters[kB].ci95_hi = 1.75;
+  r.parameters[kC] = Held(0.03125, "no rotation");
+  r.steps_total = 300;
+  r.steps_used = 295;
+  r.Exclude("sticking", 3);
+  r.Exclude("between shooting segments", 2);
+  r.seconds = 0.5;
+  r.iterations = 12;
+  r.final_cost = 2.0;
+  r.converged = true;
+  r.message = "done";
+  return r;
+}
+
+TEST(ResultJson, KeepsTheDocumentedKeysOrderAndLayout) {
+  EXPECT_EQ(FormatJson(Simple()),
+            "{\"e_t_mu\": {\"value\": 0.25, \"stderr\": 0.5, \"ci95\": [-0.75, 1.25], "
+            "\"identifiable\": true, \"held_at\": null, \"note\": \"\"}, "
+            "\"e_o_over_e_t\": {\"value\": 1.5, \"stderr\": 0.125, \"ci95\": [1.25, 1.75], "
+            "\"identifiable\": true, \"held_at\": null, \"note\": \"error widened 2x\"}, "
+            "\"e_r_over_e_t\": {\"value\": null, \"stderr\": null, \"ci95\": [null, null], "
+            "\"identifiable\": false, \"held_at\": 0.03125, \"note\": \"no rotation\"}, "
+            "\"method\": \"trajectory\", \"steps_used\": 295, \"steps_total\": 300, "
+            "\"steps_excluded\": 5, \"steps_excluded_by_reason\": {\"sticking\": 3, "
+            "\"between shooting segments\": 2}, \"seconds\": 0.5, \"iterations\": 12, "
+            "\"final_cost\": 2.0, \"converged\": true, \"message\": \"done\"}");
+}
+
+TEST(ResultJson, ReadsBackEveryFieldBitForBitAtTheExtremesOfDouble) {
+  EstimateResult r = Simple();
+  r.method = EstimatorMethod::kEquationError;
+  r.parameters[kA] = Identified(1.0 / 3.0, DBL_TRUE_MIN, "denormal error");
+  r.parameters[kA].ci95_lo = -DBL_MAX;
+  r.parameters[kA].ci95_hi = DBL_MAX;
+  r.parameters[kB] = Identified(0.1 + 0.2, DBL_MIN);
+  r.parameters[kB].ci95_lo = -0.0;
+  r.parameters[kC] = Held(std::nextafter(0.03, 1.0),
+                          "quotes \" backslash \\ newline \n tab \t bell \x07 utf-8 \xc3\xa9 /");
+  r.seconds = 1e-300;
+  r.final_cost = 123456789012345678.0;
+  r.iterations = INT_MAX;
+  r.steps_total = INT_MAX;
+  r.converged = false;
+  r.message = "Ceres Solver Report: Iterations: 14, Termination: NO_CONVERGENCE";
+  const std::string json = FormatJson(r);
+  const EstimateResult back = ParseResultJson(json);
+  ExpectSameResult(r, back);
+  EXPECT_EQ(FormatJson(back), json);
+  EXPECT_EQ(json.find('\n'), std::string::npos) << "one line: " << json;
+}
+
+TEST(ResultJson, ReadsBackRandomBitPatternsExactly) {
+  std::mt19937_64 rng(20240917);
+  const auto any_double = [&] {  // any finite double, every exponent and mantissa
+    for (;;) {
+      const std::uint64_t bits = rng();
+      double v;
+      std::memcpy(&v, &bits, sizeof v);
+      if (std::isfinite(v)) return v;
+    }
+  };
+  for (int trial = 0; trial < 500; ++trial) {
+    EstimateResult r;
+    r.method = static_cast<EstimatorMethod>(trial % 3);
+    for (int i = 0; i < 3; ++i) {
+      if ((rng() & 3) != 0) {
+        r.parameters[i] = Identified(any_double(), any_double());
+        r.parameters[i].ci95_lo = any_double();
+        r.parameters[i].ci95_hi = any_double();
+      } else {
+        r.parameters[i] = Held(any_double(), "held");
+      }
+    }
+    r.steps_total = static_cast<int>(rng() % 1000000);
+    r.steps_used = static_cast<int>(rng() % 1000000);
+    if (rng() & 1) r.Exclude("sticking", static_cast<int>(rng() % 1000));
+    r.seconds = any_double();
+    r.final_cost = any_double();
+    r.iterations = static_cast<int>(rng() % 1000);
+    r.converged = (rng() & 1) != 0;
+    const std::string json = FormatJson(r);
+    const EstimateResult back = ParseResultJson(json);
+    ExpectSameResult(r, back);
+    ASSERT_EQ(FormatJson(back), json) << "trial " << trial;
+    if (HasFailure()) FAIL() << "trial " << trial << ": " << json;
+  }
+}
+
+TEST(ResultJson, WritesNullForWhatIsNotANumberAndReadsItAsNaN) {
+  EstimateResult r = Simple();
+  r.parameters[kA].value = kNaN;         // a failed fit: identifiable, but no number
+  r.parameters[kA].stderr_value = kInf;  // JSON has no infinity either
+  r.parameters[kC].value = 0.5;          // not identifiable: its value is never written
+  r.final_cost = -kInf;
+  const std::string json = FormatJson(r);
+  EXPECT_EQ(json.find("nan"), std::string::npos) << json;
+  EXPECT_EQ(json.find("inf"), std::string::npos) << json;
+  EXPECT_NE(json.find("\"e_t_mu\": {\"value\": null, \"stderr\": null, \"ci95\": [-0.75"),
+            std::string::npos)
+      << json;
+  EXPECT_NE(json.find("\"final_cost\": null"), std::string::npos) << json;
+  const EstimateResult back = ParseResultJson(json);
+  EXPECT_TRUE(back.parameters[kA].identifiable);
+  EXPECT_TRUE(std::isnan(back.parameters[kA].value));
+  EXPECT_TRUE(std::isnan(back.parameters[kA].stderr_value));
+  EXPECT_TRUE(std::isnan(back.parameters[kC].value));
+  EXPECT_EQ(back.parameters[kC].held_at, 0.03125);
+  EXPECT_TRUE(std::isnan(back.final_cost));
+  EXPECT_EQ(FormatJson(back), json);
+}
+
+/// ResultJsonError's message from `parse` on `json`, or "" when it parses.
+template <typename Parse>
+std::string ErrorOf(Parse parse, const std::string& json) {
+  try {
+    parse(json);
+  } catch (const ResultJsonError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+std::string ResultError(const std::string& json) {
+  return ErrorOf([](const std::string& j) { ParseResultJson(j); }, json);
+}
+
+std::string Replaced(std::string text, const std::string& from, const std::string& to) {
+  const auto at = text.find(from);
+  if (at == std::string::npos) ADD_FAILURE() << "'" << from << "' not in " << text;
+  return at == std::string::npos ? text : text.replace(at, from.size(), to);
+}
+
+TEST(ResultJson, BadJsonNamesThePathOrTheLineAndColumn) {
+  const std::string good = FormatJson(Simple());
+  const std::string truncated = ResultError(good.substr(0, 60));
+  EXPECT_NE(truncated.find("identify JSON: parse error at line 1, column"), std::string::npos)
+      << truncated;
+  EXPECT_NE(ResultError("[1, 2]").find("expected an object"), std::string::npos);
+  EXPECT_EQ(ResultError(Replaced(good, "\"steps_used\"", "\"steps_usd\"")),
+            "identify JSON: no \"steps_used\"");
+  EXPECT_EQ(ResultError(Replaced(good, "[1.25, 1.75]", "[1.25, \"x\"]")),
+            "identify JSON: /e_o_over_e_t/ci95/1: expected a number or null, got \"x\"");
+  EXPECT_EQ(ResultError(Replaced(good, "[1.25, 1.75]", "[1.25]")),
+            "identify JSON: /e_o_over_e_t/ci95: expected [lo, hi], got [1.25]");
+  EXPECT_EQ(ResultError(Replaced(good, "\"identifiable\": true", "\"identifiable\": 1")),
+            "identify JSON: /e_t_mu/identifiable: expected true or false, got 1");
+  EXPECT_EQ(ResultError(Replaced(good, "\"trajectory\"", "\"magic\"")),
+            "identify JSON: /method: unknown method 'magic' (closed-form, equation-error, "
+            "trajectory)");
+  EXPECT_EQ(ResultError(Replaced(good, "\"iterations\": 12", "\"iterations\": -1")),
+            "identify JSON: /iterations: expected an integer from 0 to 2147483647, got -1");
+  EXPECT_EQ(ResultError(Replaced(good, "\"iterations\": 12", "\"iterations\": 12.5")),
+            "identify JSON: /iterations: expected an integer from 0 to 2147483647, got 12.5");
+  EXPECT_EQ(ResultError(Replaced(good, "\"sticking\": 3", "\"sticking\": 4")),
+            "identify JSON: /steps_excluded: 5 is not the sum of steps_excluded_by_reason (6)");
+  EXPECT_EQ(ResultError(Replaced(good, "\"note\": \"\"", "\"note\": null")),
+            "identify JSON: /e_t_mu/note: expected a string, got null");
+}
+
+std::string IdentifyError(const std::string& json) {
+  return ErrorOf([](const std::string& j) { ParseIdentifyJson(j); }, json);
+}
+
+TEST(ResultJson, ParseIdentifyJsonTakesValuesOrHeldValuesAndNamesWhatIsWrong) {
+  const ReducedFriction f = ParseIdentifyJson(FormatJson(Simple()));
+  EXPECT_EQ(f.a, 0.25);
+  EXPECT_EQ(f.b, 1.5);
+  EXPECT_EQ(f.c, 0.03125);
+  // Only the three parameter objects are needed (a hand-written fit).
+  const ReducedFriction hand = ParseIdentifyJson(
+      "{\"e_t_mu\": {\"value\": 0.3}, \"e_o_over_e_t\": {\"value\": 1.2},"
+      " \"e_r_over_e_t\": {\"value\": null, \"held_at\": 0.02}}");
+  EXPECT_EQ(hand.a, 0.3);
+  EXPECT_EQ(hand.b, 1.2);
+  EXPECT_EQ(hand.c, 0.02);
+  EXPECT_EQ(IdentifyError("{\"e_t_mu\": {\"value\": 0.3}}"),
+            "identify JSON: no \"e_o_over_e_t\"");
+  EXPECT_EQ(IdentifyError("{\"e_t_mu\": {\"value\": -0.3}, \"e_o_over_e_t\": {}, "
+                          "\"e_r_over_e_t\": {}}"),
+            "identify JSON: \"e_t_mu\" has neither a value nor a held_at value");
+  EXPECT_EQ(IdentifyError("{\"e_t_mu\": 0.3}"),
+            "identify JSON: /e_t_mu: expected an object, got 0.3");
+  EXPECT_EQ(IdentifyError("{\"e_t_mu\": {\"value\": \"0.3\"}}"),
+            "identify JSON: /e_t_mu/value: expected a number or null, got \"0.3\"");
+  EXPECT_NE(IdentifyError("{\"e_t_mu\": {\"value\": 0.3").find("parse error at line 1"),
+            std::string::npos);
+  EXPECT_NE(IdentifyError("").find("parse error"), std::string::npos);
+}
+
+/// Standard output of identify with `args` (standard error discarded), and its exit code.
+std::string IdentifyStdout(const std::string& args, int* exit_code) {
+  const char* bin = std::getenv("SLIDEID_BIN_DIR");
+  const std::string out_file =
+      ::testing::TempDir() + "/result_json_stdout_" + std::to_string(getpid()) + ".txt";
+  const std::string cmd = std::string(bin ? bin : "build/bin") + "/identify " + args + " > " +
+                          out_file + " 2> /dev/null";
+  const int status = std::system(cmd.c_str());
+  *exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  std::ostringstream text;
+  text << std::ifstream(out_file).rdbuf();
+  return text.str();
+}
+
+TEST(ResultJson, WhatIdentifyPrintsReadsBackExactlyForEveryMethod) {
+  const std::string pushed = ::testing::TempDir() + "/result_json_pushed.csv";
+  WritePushLog(testing::SimulateOrFail(testing::PushedSlider()), pushed);
+  const std::string translation = ::testing::TempDir() + "/result_json_translation.csv";
+  WritePushLog(testing::SimulateOrFail(testing::PureTranslation()), translation);  // c held
+  int held = 0;  // parameters not identifiable: their nulls and held_at read back too
+  for (const std::string& log : {pushed, translation}) {
+    for (const char* method : {"closed-form", "equation-error", "trajectory"}) {
+      int code = -1;
+      const std::string out =
+          IdentifyStdout("--log " + log + " --json --method " + std::string(method), &code);
+      ASSERT_EQ(code, 0) << log << " " << method;
+      ASSERT_FALSE(out.empty());
+      ASSERT_EQ(out.back(), '\n');
+      const std::string json = out.substr(0, out.size() - 1);
+      const EstimateResult read = ParseResultJson(json);
+      EXPECT_EQ(FormatJson(read), json) << method;
+      for (const ParameterEstimate& p : read.parameters) held += !p.identifiable;
+    }
+  }
+  EXPECT_GT(held, 0);
+}
+
+}  // namespace
+}  // namespace slideid
