@@ -442,6 +442,176 @@ RowWrench MeanWrench(const Streams& s, const Offset& offset, double sign, double
   return mean;
 }
 
+/// Steps 1-3: sorts, checks counts and magnitudes, rejects a dead channel, drops frozen
+/// force samples, repairs theta.
+Rejection PrepareStreams(const MitImportOptions& o, Streams* s, std::vector<FrozenRun>* frozen,
+                         MitImportReport* r) {
+  r->object_pose = Clean(&s->object);
+  r->tip_pose = Clean(&s->tip);
+  r->ft_wrench = Clean(&s->ft);
+  for (const auto& [name, stream] : {std::pair{"object_pose", &r->object_pose},
+                                     std::pair{"tip_pose", &r->tip_pose},
+                                     std::pair{"ft_wrench", &r->ft_wrench}}) {
+    if (stream->rows < kMinStreamRows) {
+      return std::string(name) + " has " + std::to_string(stream->rows) +
+             " distinct times (need " + std::to_string(kMinStreamRows) + ")";
+    }
+  }
+  constexpr std::array<double, 4> kPose = {kMaxAbsTimeS, kMaxAbsPositionM, kMaxAbsPositionM,
+                                           kMaxAbsAngleRad};
+  constexpr std::array<double, 4> kWrench = {kMaxAbsTimeS, kMaxAbsForceN, kMaxAbsForceN,
+                                             kMaxAbsForceN};
+  for (const std::string& implausible :
+       {Implausible(s->object, "object_pose", kPose, {"t", "x", "y", "theta"}),
+        Implausible(s->tip, "tip_pose", kPose, {"t", "x", "y", "yaw"}),
+        Implausible(s->ft, "ft_wrench", kWrench, {"t", "fx", "fy", "tz"})}) {
+    if (!implausible.empty()) return implausible;
+  }
+  if (const std::string dead = DeadChannel(s->ft); !dead.empty()) {
+    const double value = s->ft.front()[dead == "fx" ? 1 : 2];
+    return "force channel constant (dead sensor?): " + dead + Format(" = %.6g N in all ", value) +
+           std::to_string(r->ft_wrench.rows) + " samples";
+  }
+  *frozen = DropFrozen(&s->ft);
+  r->frozen_force_samples = r->ft_wrench.rows - static_cast<int>(s->ft.size());
+  if (static_cast<int>(s->ft.size()) < kMinStreamRows) {
+    return "force channel frozen (dead sensor?): " + std::to_string(r->frozen_force_samples) +
+           " of " + std::to_string(r->ft_wrench.rows) + " samples repeat a reading";
+  }
+  RepairTheta(&s->object, o.theta_jump_rad, r);
+  return std::nullopt;
+}
+
+/// The push as found by FindPush.
+struct Push {
+  std::vector<ForceSample> samples;       ///< every force sample, classified
+  std::vector<const ForceSample*> above;  ///< touching, moving, force above the noise
+  Offset offset;
+};
+
+/// Steps 4-6: the samples of the push, the offset, the sign.
+Rejection FindPush(const Streams& s, const MitImportOptions& o, Push* push, MitImportReport* r) {
+  push->samples = ClassifyForceSamples(s, o);
+  const ForceSample *first_active = nullptr, *last_active = nullptr;
+  double closest = std::numeric_limits<double>::infinity();
+  for (const ForceSample& f : push->samples) {
+    if (f.known) closest = std::min(closest, f.contact.gap_m);
+    if (!f.active) continue;
+    if (!first_active) first_active = &f;
+    last_active = &f;
+  }
+  if (!first_active) {
+    return std::isfinite(closest)
+               ? Format("no contact: the tip never touches the object while it moves "
+                        "(closest approach %.1f mm beyond the tip radius)", closest * 1e3)
+               : std::string("no contact: the streams do not overlap in time");
+  }
+  if (Rejection no = EstimateOffset(push->samples, first_active->t, last_active->t, o,
+                                    &push->offset, r)) {
+    return no;
+  }
+  for (const ForceSample& f : push->samples) {
+    if (f.active && (f.f - push->offset.At(f.t)).norm() > r->force_threshold_N) {
+      push->above.push_back(&f);
+    }
+  }
+  if (push->above.empty()) {
+    return Format("no push: the force stays below the noise threshold (%.3g N) while the tip "
+                  "touches the object and moves", r->force_threshold_N);
+  }
+  return CheckSign(push->above, push->offset, o, r);
+}
+
+/// Step 7: the push plus the margins, inside every stream; rejects a short push, a frozen
+/// force or a long motion-capture gap inside it, or an absurd number of rows.
+Rejection ChooseWindow(const Streams& s, const Push& push, const std::vector<FrozenRun>& frozen,
+                       const MitImportOptions& o, double* start, double* end,
+                       MitImportReport* r) {
+  const double push_start = push.above.front()->t, push_end = push.above.back()->t;
+  if (push_end - push_start < o.min_push_duration_s) {
+    return Format("log too short: the push lasts %.3g s (need %.3g s, --min-push-duration)",
+                  push_end - push_start, o.min_push_duration_s);
+  }
+  *start = std::max({push_start - o.margin_s, s.object.front()[0], s.tip.front()[0],
+                     s.ft.front()[0]});
+  *end = std::min({push_end + o.margin_s, s.object.back()[0], s.tip.back()[0], s.ft.back()[0]});
+  for (const FrozenRun& run : frozen) {
+    if (run.t_last >= *start && run.t_first <= *end) {
+      return std::string(run.channel) + Format(" frozen at %.6g N for ", run.value_N) +
+             std::to_string(run.samples) +
+             " samples inside the push window (saturated or stalled sensor)";
+    }
+  }
+  for (std::size_t i = 1; i < s.object.size(); ++i) {
+    const double t0 = s.object[i - 1][0], t1 = s.object[i][0];
+    if (t1 < *start || t0 > *end) continue;
+    r->largest_pose_gap_in_window_s = std::max(r->largest_pose_gap_in_window_s, t1 - t0);
+  }
+  if (r->largest_pose_gap_in_window_s > o.max_pose_gap_s) {
+    return Format("object_pose gap of %.0f ms inside the push window (more than %.0f ms, "
+                  "--max-pose-gap)",
+                  r->largest_pose_gap_in_window_s * 1e3, o.max_pose_gap_s * 1e3);
+  }
+  if ((*end - *start) * o.rate_hz >= kMaxRows) {
+    return Format("push window of %.3g s at %.3g Hz: more rows than any push needs (times "
+                  "not in seconds?)", *end - *start, o.rate_hz);
+  }
+  return std::nullopt;
+}
+
+/// Step 8: the rows on one clock from `start` to `end`, and their contact statistics.
+Trajectory BuildLog(const Streams& s, const Offset& offset, double start, double end,
+                    const MitImportOptions& o, MitImportReport* r) {
+  const double dt = 1.0 / o.rate_hz;
+  const int rows = static_cast<int>(std::floor((end - start) / dt + 1e-9)) + 1;
+  const double sign = r->force_flipped ? -1.0 : 1.0;
+  r->time_origin_s = start;
+  r->window_start_s = 0;
+  r->window_end_s = (rows - 1) * dt;
+  r->rows = rows;
+  Trajectory log;
+  log.slider = o.slider;
+  log.patch_spec = ContactPatch::Parse(o.patch_spec).Spec();
+  log.columns.pose = true;
+  log.columns.velocity = false;
+  log.columns.force = true;
+  log.columns.push_point = true;
+  log.columns.step_info = false;
+  std::vector<double> gaps;
+  int out_of_contact = 0;
+  for (int u = 0; u < rows; ++u) {
+    const double t = start + u * dt;
+    const Eigen::Vector3d pose = s.PoseAt(t);
+    const Contact contact = s.ContactAtTime(t);
+    const RowWrench wrench = MeanWrench(s, offset, sign, t, t + dt);
+    const Eigen::Vector2d f = wrench.force_N;
+    TrajectorySample sample;
+    sample.t_s = u * dt;
+    sample.state.x = pose.x();
+    sample.state.y = pose.y();
+    sample.state.theta = pose.z();
+    const Eigen::Vector2d arm = contact.point_world - pose.head<2>();
+    sample.applied = WrenchFromForceAt(f.x(), f.y(), 0.0, arm.x(), arm.y(), 0.0);
+    sample.applied.tz = wrench.moment_Nm;  // the writer keeps what r x f misses as tz
+    sample.push_point_world =
+        Eigen::Vector3d(contact.point_world.x(), contact.point_world.y(), o.slider.com_height_m);
+    sample.mode = u == 0 ? SampleMode::kStart : SampleMode::kSlide;
+    log.samples.push_back(sample);
+    r->peak_force_N = std::max(r->peak_force_N, f.norm());
+    if (f.norm() > r->force_threshold_N) {
+      gaps.push_back(contact.gap_m);
+      if (contact.gap_m > o.contact_tolerance_m) ++out_of_contact;
+    }
+  }
+  if (!gaps.empty()) {
+    r->contact_gap_median_m = Median(gaps);
+    r->contact_gap_p05_m = Quantile(gaps, 0.05);
+    r->contact_gap_p95_m = Quantile(gaps, 0.95);
+    r->rows_out_of_contact_fraction = static_cast<double>(out_of_contact) / gaps.size();
+  }
+  return log;
+}
+
 /// The report row of a rejection, the log left empty.
 MitImportResult Reject(MitImportResult result, const std::string& reason) {
   result.report.verdict = ImportVerdict::kRejected;
@@ -526,156 +696,15 @@ MitImportResult ImportMitPush(const MitPushRecording& recording, const std::stri
   r.source = source;
   r.object = ParseMitPushFileName(source).shape;
   Streams s(recording, o);
-
-  // 1. Sort, deduplicate.
-  r.object_pose = Clean(&s.object);
-  r.tip_pose = Clean(&s.tip);
-  r.ft_wrench = Clean(&s.ft);
-  for (const auto& [name, stream] : {std::pair{"object_pose", &r.object_pose},
-                                     std::pair{"tip_pose", &r.tip_pose},
-                                     std::pair{"ft_wrench", &r.ft_wrench}}) {
-    if (stream->rows < kMinStreamRows) {
-      return Reject(result, std::string(name) + " has " + std::to_string(stream->rows) +
-                                " distinct times (need " + std::to_string(kMinStreamRows) + ")");
-    }
-  }
-  for (const std::string& implausible :
-       {Implausible(s.object, "object_pose", {kMaxAbsTimeS, kMaxAbsPositionM, kMaxAbsPositionM, kMaxAbsAngleRad},
-                    {"t", "x", "y", "theta"}),
-        Implausible(s.tip, "tip_pose", {kMaxAbsTimeS, kMaxAbsPositionM, kMaxAbsPositionM, kMaxAbsAngleRad},
-                    {"t", "x", "y", "yaw"}),
-        Implausible(s.ft, "ft_wrench", {kMaxAbsTimeS, kMaxAbsForceN, kMaxAbsForceN, kMaxAbsForceN},
-                    {"t", "fx", "fy", "tz"})}) {
-    if (!implausible.empty()) return Reject(result, implausible);
-  }
-  // 2. Dead and frozen force channel.
-  if (const std::string dead = DeadChannel(s.ft); !dead.empty()) {
-    const double value = s.ft.front()[dead == "fx" ? 1 : 2];
-    return Reject(result, "force channel constant (dead sensor?): " + dead +
-                              Format(" = %.6g N in all ", value) + std::to_string(r.ft_wrench.rows) + " samples");
-  }
-  const std::vector<FrozenRun> frozen = DropFrozen(&s.ft);
-  r.frozen_force_samples = r.ft_wrench.rows - static_cast<int>(s.ft.size());
-  if (static_cast<int>(s.ft.size()) < kMinStreamRows) {
-    return Reject(result, "force channel frozen (dead sensor?): " +
-                              std::to_string(r.frozen_force_samples) + " of " +
-                              std::to_string(r.ft_wrench.rows) + " samples repeat a reading");
-  }
-  // 3. Theta.
-  RepairTheta(&s.object, o.theta_jump_rad, &r);
-  // 4. The push: tip moving and touching.
-  const std::vector<ForceSample> samples = ClassifyForceSamples(s, o);
-  const ForceSample *first_active = nullptr, *last_active = nullptr;
-  double closest = std::numeric_limits<double>::infinity();
-  for (const ForceSample& f : samples) {
-    if (f.known) closest = std::min(closest, f.contact.gap_m);
-    if (!f.active) continue;
-    if (!first_active) first_active = &f;
-    last_active = &f;
-  }
-  if (!first_active) {
-    return Reject(result, std::isfinite(closest)
-                              ? Format("no contact: the tip never touches the object while it "
-                                       "moves (closest approach %.1f mm beyond the tip radius)",
-                                       closest * 1e3)
-                              : std::string("no contact: the streams do not overlap in time"));
-  }
-  // 5. Offset.
-  Offset offset;
-  if (Rejection no = EstimateOffset(samples, first_active->t, last_active->t, o, &offset, &r)) {
+  std::vector<FrozenRun> frozen;
+  if (Rejection no = PrepareStreams(o, &s, &frozen, &r)) return Reject(result, *no);
+  Push push;
+  if (Rejection no = FindPush(s, o, &push, &r)) return Reject(result, *no);
+  double start = 0, end = 0;
+  if (Rejection no = ChooseWindow(s, push, frozen, o, &start, &end, &r)) {
     return Reject(result, *no);
   }
-  std::vector<const ForceSample*> push;
-  for (const ForceSample& f : samples) {
-    if (f.active && (f.f - offset.At(f.t)).norm() > r.force_threshold_N) push.push_back(&f);
-  }
-  if (push.empty()) {
-    return Reject(result, Format("no push: the force stays below the noise threshold "
-                                 "(%.3g N) while the tip touches the object and moves",
-                                 r.force_threshold_N));
-  }
-  // 6. Sign.
-  if (Rejection no = CheckSign(push, offset, o, &r)) return Reject(result, *no);
-  // 7. Window.
-  const double push_start = push.front()->t, push_end = push.back()->t;
-  if (push_end - push_start < o.min_push_duration_s) {
-    return Reject(result, Format("log too short: the push lasts %.3g s (need %.3g s, "
-                                 "--min-push-duration)",
-                                 push_end - push_start, o.min_push_duration_s));
-  }
-  const double span_start = std::max({s.object.front()[0], s.tip.front()[0], s.ft.front()[0]});
-  const double span_end = std::min({s.object.back()[0], s.tip.back()[0], s.ft.back()[0]});
-  const double start = std::max(push_start - o.margin_s, span_start);
-  const double end = std::min(push_end + o.margin_s, span_end);
-  for (const FrozenRun& run : frozen) {
-    if (run.t_last >= start && run.t_first <= end) {
-      return Reject(result, std::string(run.channel) + Format(" frozen at %.6g N for ", run.value_N) +
-                                std::to_string(run.samples) +
-                                " samples inside the push window (saturated or stalled sensor)");
-    }
-  }
-  for (std::size_t i = 1; i < s.object.size(); ++i) {
-    const double t0 = s.object[i - 1][0], t1 = s.object[i][0];
-    if (t1 < start || t0 > end) continue;
-    r.largest_pose_gap_in_window_s = std::max(r.largest_pose_gap_in_window_s, t1 - t0);
-  }
-  if (r.largest_pose_gap_in_window_s > o.max_pose_gap_s) {
-    return Reject(result, Format("object_pose gap of %.0f ms inside the push window (more than "
-                                 "%.0f ms, --max-pose-gap)",
-                                 r.largest_pose_gap_in_window_s * 1e3, o.max_pose_gap_s * 1e3));
-  }
-  // 8. Rows.
-  const double dt = 1.0 / o.rate_hz;
-  if ((end - start) / dt >= kMaxRows) {
-    return Reject(result, Format("push window of %.3g s at %.3g Hz: more rows than any push "
-                                 "needs (times not in seconds?)", end - start, o.rate_hz));
-  }
-  const int rows = static_cast<int>(std::floor((end - start) / dt + 1e-9)) + 1;
-  const double sign = r.force_flipped ? -1.0 : 1.0;
-  r.time_origin_s = start;
-  r.window_start_s = 0;
-  r.window_end_s = (rows - 1) * dt;
-  Trajectory& log = result.log;
-  log.slider = o.slider;
-  log.patch_spec = ContactPatch::Parse(o.patch_spec).Spec();
-  log.columns.pose = true;
-  log.columns.velocity = false;
-  log.columns.force = true;
-  log.columns.push_point = true;
-  log.columns.step_info = false;
-  std::vector<double> gaps;
-  int out_of_contact = 0;
-  for (int u = 0; u < rows; ++u) {
-    const double t = start + u * dt;
-    const Eigen::Vector3d pose = s.PoseAt(t);
-    const Contact contact = s.ContactAtTime(t);
-    const RowWrench wrench = MeanWrench(s, offset, sign, t, t + dt);
-    const Eigen::Vector2d f = wrench.force_N;
-    TrajectorySample sample;
-    sample.t_s = u * dt;
-    sample.state.x = pose.x();
-    sample.state.y = pose.y();
-    sample.state.theta = pose.z();
-    const Eigen::Vector2d arm = contact.point_world - pose.head<2>();
-    sample.applied = WrenchFromForceAt(f.x(), f.y(), 0.0, arm.x(), arm.y(), 0.0);
-    sample.applied.tz = wrench.moment_Nm;  // the writer keeps what r x f misses as tz
-    sample.push_point_world =
-        Eigen::Vector3d(contact.point_world.x(), contact.point_world.y(), o.slider.com_height_m);
-    sample.mode = u == 0 ? SampleMode::kStart : SampleMode::kSlide;
-    log.samples.push_back(sample);
-    r.peak_force_N = std::max(r.peak_force_N, f.norm());
-    if (f.norm() > r.force_threshold_N) {
-      gaps.push_back(contact.gap_m);
-      if (contact.gap_m > o.contact_tolerance_m) ++out_of_contact;
-    }
-  }
-  r.rows = rows;
-  if (!gaps.empty()) {
-    r.contact_gap_median_m = Median(gaps);
-    r.contact_gap_p05_m = Quantile(gaps, 0.05);
-    r.contact_gap_p95_m = Quantile(gaps, 0.95);
-    r.rows_out_of_contact_fraction = static_cast<double>(out_of_contact) / gaps.size();
-  }
+  result.log = BuildLog(s, push.offset, start, end, o, &r);
   if (r.theta_jumps_unrepaired > 0) {
     r.notes.push_back(std::to_string(r.theta_jumps_unrepaired) +
                       " theta step(s) above the jump threshold not near a multiple of pi/2: "
@@ -686,7 +715,7 @@ MitImportResult ImportMitPush(const MitPushRecording& recording, const std::stri
                       " frozen force samples (a repeated reading) dropped outside the push");
   }
   r.verdict = ImportVerdict::kAccepted;
-  AddMetadata(r, o, source, &log);
+  AddMetadata(r, o, source, &result.log);
   return result;
 }
 
