@@ -13,21 +13,23 @@ mkdir -p build-fuzz
 cmake -S . -B build-fuzz -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_BUILD_TYPE=Release \
   -DSLIDEID_BUILD_FUZZERS=ON -DSLIDEID_BUILD_TESTS=OFF -DSLIDEID_BUILD_BENCHMARKS=OFF \
   > build-fuzz/configure.log 2>&1 || { cat build-fuzz/configure.log; exit 1; }
-cmake --build build-fuzz --target fuzz_push_log fuzz_scene -j"$(nproc)" > build-fuzz/build.log 2>&1 ||
+cmake --build build-fuzz --target fuzz_push_log fuzz_scene fuzz_mit_push_json -j"$(nproc)" > build-fuzz/build.log 2>&1 ||
   { tail -60 build-fuzz/build.log; exit 1; }
 mkdir -p build-fuzz/artifacts
 pids=()
-for name in push_log:log scene:scene; do
+targets=()
+for name in push_log:log scene:scene mit_push_json:mit_push; do
   target=${name%%:*} corpus=${name##*:}
   mkdir -p "build-fuzz/corpus/$corpus"
   build-fuzz/bin/fuzz_$target -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 \
     -dict="fuzz/$corpus.dict" -artifact_prefix=build-fuzz/artifacts/ -print_final_stats=1 \
     "build-fuzz/corpus/$corpus" "fuzz/corpus/$corpus" > "build-fuzz/fuzz_$target.log" 2>&1 &
   pids+=($!)
+  targets+=("$target")
 done
 status=0
 for i in "${!pids[@]}"; do
-  target=$([ "$i" = 0 ] && echo push_log || echo scene)
+  target=${targets[$i]}
   if wait "${pids[$i]}"; then
     runs=$(sed -n 's/^stat::number_of_executed_units: *//p' "build-fuzz/fuzz_$target.log")
     echo "fuzz: fuzz_$target ok: ${runs:-?} inputs in ${seconds} s"

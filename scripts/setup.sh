@@ -9,7 +9,7 @@ packages=(
   libceres-dev           # robust least squares and covariance
   libboost-program-options-dev  # command lines and INI scene files
   libfccp-dev            # fast-cpp-csv-parser: push logs
-  nlohmann-json3-dev     # the identify result JSON
+  nlohmann-json3-dev     # JSON: the identify result, imported MIT push files (io/)
   libgtest-dev           # unit and recovery tests
   libbenchmark-dev       # step and estimator benchmarks
   gnuplot-nox            # plot-log

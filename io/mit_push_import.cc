@@ -1,0 +1,746 @@
+#include "io/mit_push_import.h"
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <stdexcept>
+
+#include "forward_model/contact_patch.h"
+#include "forward_model/planar_state.h"
+
+namespace slideid {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr double kHalfPi = kPi / 2;
+// A stream needs this many rows after cleanup for rates, speeds and interpolation to mean
+// anything (40 ms at 250 Hz; the real streams hold 87-313).
+constexpr int kMinStreamRows = 10;
+// A live sensor whose resolution is finer than its noise does not repeat a reading exactly
+// (the real files print 16 digits; still noise is about 0.05 N): this many identical
+// consecutive readings of fx or fy (20 ms at 250 Hz) are a stalled or saturated channel.
+constexpr int kFrozenRun = 5;
+// Still samples needed for an offset estimate: 10 samples (40 ms at 250 Hz) make the
+// median's error about 0.4 sigma.
+constexpr int kMinStillSamples = 10;
+// Still samples are taken this far from the push [s]: the sensor and the object settle
+// (the real force decays within about 50 ms of the tip stopping).
+constexpr double kGuardS = 0.05;
+// Force "above noise": kNoiseSigmas robust standard deviations of the still samples, and
+// never below kMinForceThresholdN (a noiseless synthetic sensor would otherwise make any
+// rounding a push).
+constexpr double kNoiseSigmas = 5.0;
+constexpr double kMinForceThresholdN = 0.05;
+constexpr double kMadToSigma = 1.4826;
+// The force on the object lies in the friction cone of the contact normal. |alignment|
+// below 0.5 (a cone of 60 deg, a pusher friction coefficient of 1.7) is no pushing force:
+// a wrong outline, pose or force frame, not a sign to pick.
+constexpr double kMinNormalAlignment = 0.5;
+// Plausible magnitudes: beyond them a value is a unit or format error, and arithmetic on it
+// (differences of angles, products of arms and forces) could overflow. Times: Unix seconds
+// (about 1.5e9) or seconds from a start; positions: a robot's workspace; forces: far beyond
+// any pushing sensor.
+constexpr double kMaxAbsTimeS = 1e11;
+constexpr double kMaxAbsPositionM = 1e3;
+constexpr double kMaxAbsAngleRad = 1e4;
+constexpr double kMaxAbsForceN = 1e5;
+// Most rows one log may have (a push window of 10^4 s at 100 Hz): beyond, the times are
+// not seconds, or the rate is absurd.
+constexpr double kMaxRows = 1e6;
+// The tip speed is a central difference over +-20 ms: the robot's position noise (about
+// 1e-5 m) then makes at most 0.5 mm/s of speed noise, far below the still threshold, while
+// a push (0.1-0.2 s to reach its speed) is still resolved.
+constexpr double kSpeedHalfWindowS = 0.02;
+// Circles (disk and ring outlines) as polygons: 720 segments sit within 1e-5 R of the circle.
+constexpr int kCircleSegments = 720;
+
+/// Linear interpolation of column k of sorted `rows` at t (clamped at the ends).
+double Interpolate(const std::vector<MitStreamRow>& rows, double t, int k) {
+  if (t <= rows.front()[0]) return rows.front()[k];
+  if (t >= rows.back()[0]) return rows.back()[k];
+  const auto hi = std::upper_bound(rows.begin(), rows.end(), t,
+                                   [](double value, const MitStreamRow& r) { return value < r[0]; });
+  const auto lo = hi - 1;
+  const double w = (t - (*lo)[0]) / ((*hi)[0] - (*lo)[0]);  // rows strictly increase in t
+  return (*lo)[k] + w * ((*hi)[k] - (*lo)[k]);
+}
+
+double Quantile(std::vector<double> x, double q) {
+  std::sort(x.begin(), x.end());
+  const double position = q * static_cast<double>(x.size() - 1);
+  const std::size_t i = static_cast<std::size_t>(position);
+  if (i + 1 >= x.size()) return x.back();
+  return x[i] + (position - static_cast<double>(i)) * (x[i + 1] - x[i]);
+}
+
+double Median(std::vector<double> x) { return Quantile(std::move(x), 0.5); }
+
+std::string Format(const char* format, double a, double b = 0, double c = 0) {
+  char buffer[256];
+  std::snprintf(buffer, sizeof buffer, format, a, b, c);
+  return buffer;
+}
+
+std::string Vec(const Eigen::Vector2d& v) { return Format("%.4g %.4g", v.x(), v.y()); }
+
+StreamSummary Clean(std::vector<MitStreamRow>* rows) {
+  StreamSummary s;
+  s.cleanup = SortAndDeduplicate(rows);
+  s.rows = static_cast<int>(rows->size());
+  if (rows->size() < 2) return s;
+  std::vector<double> dt;
+  for (std::size_t i = 1; i < rows->size(); ++i) dt.push_back((*rows)[i][0] - (*rows)[i - 1][0]);
+  s.median_rate_hz = 1.0 / Median(dt);  // dt > 0: times strictly increase after cleanup
+  s.largest_gap_s = *std::max_element(dt.begin(), dt.end());
+  return s;
+}
+
+/// The first value beyond a plausible magnitude, as a reason, or empty.
+std::string Implausible(const std::vector<MitStreamRow>& rows, const char* stream,
+                        const std::array<double, 4>& limits,
+                        const std::array<const char*, 4>& names) {
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    for (int k = 0; k < 4; ++k) {
+      if (std::abs(rows[i][k]) <= limits[k]) continue;
+      return std::string(stream) + ": " + names[k] + Format(" = %.6g beyond any plausible value ", rows[i][k]) +
+             Format("(|value| <= %.0e): a unit or format error?", limits[k]);
+    }
+  }
+  return "";
+}
+
+/// "fx" or "fy" when that channel holds one value throughout, else empty.
+std::string DeadChannel(const std::vector<MitStreamRow>& ft) {
+  for (int k : {1, 2}) {
+    const bool constant = std::all_of(ft.begin(), ft.end(),
+                                      [&](const MitStreamRow& r) { return r[k] == ft.front()[k]; });
+    if (constant) return k == 1 ? "fx" : "fy";
+  }
+  return "";
+}
+
+/// A run of identical readings of one force channel: [first, last] time and the value.
+struct FrozenRun {
+  double t_first, t_last;
+  const char* channel;  ///< "fx" or "fy"
+  double value_N;
+  int samples;
+};
+
+/// Removes the samples where fx or fy repeats one reading kFrozenRun times or more in a
+/// row; returns the runs.
+std::vector<FrozenRun> DropFrozen(std::vector<MitStreamRow>* ft) {
+  std::vector<FrozenRun> runs;
+  std::vector<bool> frozen(ft->size(), false);
+  for (int k : {1, 2}) {
+    std::size_t i = 0;
+    while (i < ft->size()) {
+      std::size_t j = i + 1;
+      while (j < ft->size() && (*ft)[j][k] == (*ft)[i][k]) ++j;
+      if (j - i >= static_cast<std::size_t>(kFrozenRun)) {
+        runs.push_back({(*ft)[i][0], (*ft)[j - 1][0], k == 1 ? "fx" : "fy", (*ft)[i][k],
+                        static_cast<int>(j - i)});
+        std::fill(frozen.begin() + i, frozen.begin() + j, true);
+      }
+      i = j;
+    }
+  }
+  std::vector<MitStreamRow> kept;
+  for (std::size_t i = 0; i < ft->size(); ++i) {
+    if (!frozen[i]) kept.push_back((*ft)[i]);
+  }
+  *ft = std::move(kept);
+  return runs;
+}
+
+/// Unwraps theta and repairs steps near a non-zero multiple of pi/2 (model: the tracker
+/// swapped to a symmetric marker assignment; every later sample carries the same offset).
+void RepairTheta(std::vector<MitStreamRow>* pose, double threshold, MitImportReport* report) {
+  double previous_raw = (*pose)[0][3];
+  double previous = previous_raw;
+  for (std::size_t i = 1; i < pose->size(); ++i) {
+    const double raw = (*pose)[i][3];
+    double step = raw - previous_raw;
+    if (std::abs(step) > threshold) {
+      const double k = std::round(step / kHalfPi);
+      const double residual = step - k * kHalfPi;
+      if (k != 0.0 && std::abs(residual) <= threshold) {
+        step = residual;
+        (std::fmod(std::abs(k), 4.0) == 0.0 ? report->theta_wraps : report->theta_jumps_repaired)++;
+      } else {
+        ++report->theta_jumps_unrepaired;
+      }
+    }
+    report->largest_theta_step_rad = std::max(report->largest_theta_step_rad, std::abs(step));
+    previous_raw = raw;
+    previous += step;
+    (*pose)[i][3] = previous;
+  }
+}
+
+/// The outline of the object in its frame as a closed polygon, counter-clockwise.
+std::vector<Eigen::Vector2d> ClosedOutline(const ContactPatch& patch) {
+  std::vector<Eigen::Vector2d> outline = patch.Outline(kCircleSegments);
+  if ((outline.front() - outline.back()).norm() > 0.0) outline.push_back(outline.front());
+  return outline;
+}
+
+/// Where the tip is relative to the object at one time.
+struct Contact {
+  double gap_m;                 ///< centre to outline (negative inside) minus tip radius
+  Eigen::Vector2d point_world;  ///< outline point nearest the tip centre
+  Eigen::Vector2d normal_in;    ///< unit, world: from the tip into the object
+};
+
+bool Inside(const std::vector<Eigen::Vector2d>& poly, const Eigen::Vector2d& p) {
+  bool inside = false;
+  for (std::size_t i = 0, j = poly.size() - 2; i + 1 < poly.size(); j = i++) {
+    const Eigen::Vector2d &a = poly[i], &b = poly[j];
+    if ((a.y() > p.y()) != (b.y() > p.y()) &&
+        p.x() < (b.x() - a.x()) * (p.y() - a.y()) / (b.y() - a.y()) + a.x()) {
+      inside = !inside;
+    }
+  }
+  return inside;
+}
+
+Contact ContactAt(const std::vector<Eigen::Vector2d>& outline, const Eigen::Vector3d& pose,
+                  const Eigen::Vector2d& tip_world, double tip_radius) {
+  const Eigen::Rotation2Dd rotation(pose.z());
+  const Eigen::Vector2d c = rotation.inverse() * (tip_world - pose.head<2>());
+  double best = std::numeric_limits<double>::infinity();
+  Eigen::Vector2d nearest = outline.front(), edge_inward(1, 0);
+  for (std::size_t i = 0; i + 1 < outline.size(); ++i) {
+    const Eigen::Vector2d a = outline[i], e = outline[i + 1] - a;
+    const double length2 = e.squaredNorm();
+    if (length2 == 0.0) continue;
+    const double s = std::clamp((c - a).dot(e) / length2, 0.0, 1.0);
+    const Eigen::Vector2d q = a + s * e;
+    if ((c - q).norm() < best) {
+      best = (c - q).norm();
+      nearest = q;
+      edge_inward = Eigen::Vector2d(-e.y(), e.x()).normalized();  // left of a CCW edge
+    }
+  }
+  const bool inside = Inside(outline, c);
+  Eigen::Vector2d normal = inside ? Eigen::Vector2d(c - nearest) : Eigen::Vector2d(nearest - c);
+  // On the outline itself the direction is undefined: take the edge's inward normal.
+  normal = normal.norm() > 1e-12 ? Eigen::Vector2d(normal.normalized()) : edge_inward;
+  return {(inside ? -best : best) - tip_radius, pose.head<2>() + rotation * nearest,
+          rotation * normal};
+}
+
+/// The recording after cleanup, with what later steps evaluate at any time.
+class Streams {
+ public:
+  Streams(const MitPushRecording& r, const MitImportOptions& o)
+      : object(r.object_pose), tip(r.tip_pose), ft(r.ft_wrench), options_(o),
+        outline_(ClosedOutline(ContactPatch::Parse(o.patch_spec))) {}
+
+  std::vector<MitStreamRow> object, tip, ft;
+
+  Eigen::Vector3d PoseAt(double t) const {
+    return {Interpolate(object, t, 1), Interpolate(object, t, 2), Interpolate(object, t, 3)};
+  }
+  Eigen::Vector2d TipAt(double t) const { return {Interpolate(tip, t, 1), Interpolate(tip, t, 2)}; }
+  Contact ContactAtTime(double t) const {
+    return ContactAt(outline_, PoseAt(t), TipAt(t), options_.tip_radius_m);
+  }
+  /// Tip velocity by a central difference over +-kSpeedHalfWindowS, inside the stream [m/s].
+  Eigen::Vector2d TipVelocityAt(double t) const {
+    const double lo = std::max(t - kSpeedHalfWindowS, tip.front()[0]);
+    const double hi = std::min(t + kSpeedHalfWindowS, tip.back()[0]);
+    if (hi <= lo) return Eigen::Vector2d::Zero();  // cannot happen: >= kMinStreamRows times
+    return (TipAt(hi) - TipAt(lo)) / (hi - lo);
+  }
+  bool InTipSpan(double t) const { return t >= tip.front()[0] && t <= tip.back()[0]; }
+  bool InObjectSpan(double t) const { return t >= object.front()[0] && t <= object.back()[0]; }
+
+ private:
+  const MitImportOptions& options_;
+  std::vector<Eigen::Vector2d> outline_;
+};
+
+/// A force sample with what the push detection needs.
+struct ForceSample {
+  double t;
+  Eigen::Vector2d f;  ///< stored force [N]
+  bool known = false; ///< tip and object streams cover t
+  bool active = false;  ///< tip moving and touching
+  Contact contact{};
+  Eigen::Vector2d tip_velocity = Eigen::Vector2d::Zero();
+};
+
+std::vector<ForceSample> ClassifyForceSamples(const Streams& s, const MitImportOptions& o) {
+  std::vector<ForceSample> out;
+  for (const MitStreamRow& r : s.ft) {
+    ForceSample f{r[0], {r[1], r[2]}};
+    f.known = s.InTipSpan(f.t) && s.InObjectSpan(f.t);
+    if (f.known) {
+      f.contact = s.ContactAtTime(f.t);
+      f.tip_velocity = s.TipVelocityAt(f.t);
+      f.active = f.tip_velocity.norm() > o.still_speed_mps &&
+                 f.contact.gap_m < o.contact_tolerance_m;
+    }
+    out.push_back(f);
+  }
+  return out;
+}
+
+/// The force offset over time: the still samples' medians before and after the push,
+/// linear in between (or the one that exists).
+class Offset {
+ public:
+  std::optional<Eigen::Vector2d> before, after;
+  double t_before = 0, t_after = 0;  ///< last before-sample, first after-sample
+
+  Eigen::Vector2d At(double t) const {
+    if (!after) return *before;
+    if (!before || t >= t_after) return *after;
+    if (t <= t_before) return *before;
+    const double w = (t - t_before) / (t_after - t_before);  // t_after > t_before here
+    return *before + w * (*after - *before);
+  }
+};
+
+Eigen::Vector2d ComponentMedian(const std::vector<const ForceSample*>& samples) {
+  std::vector<double> x, y;
+  for (const ForceSample* s : samples) {
+    x.push_back(s->f.x());
+    y.push_back(s->f.y());
+  }
+  return {Median(x), Median(y)};
+}
+
+/// What went wrong, if anything, as the report's reason.
+using Rejection = std::optional<std::string>;
+
+Rejection EstimateOffset(const std::vector<ForceSample>& samples, double t_first_active,
+                         double t_last_active, const MitImportOptions& o, Offset* offset,
+                         MitImportReport* report) {
+  std::vector<const ForceSample*> before, after;
+  for (const ForceSample& s : samples) {
+    if (!s.known) continue;
+    if (s.t < t_first_active - kGuardS) before.push_back(&s);
+    if (s.t > t_last_active + kGuardS) after.push_back(&s);
+  }
+  report->offset_before_samples = static_cast<int>(before.size());
+  report->offset_after_samples = static_cast<int>(after.size());
+  if (static_cast<int>(before.size()) >= kMinStillSamples) {
+    offset->before = ComponentMedian(before);
+    offset->t_before = before.back()->t;
+  } else {
+    report->notes.push_back("no offset before the push: " + std::to_string(before.size()) +
+                            " still force samples (the streams start during the push?)");
+  }
+  if (static_cast<int>(after.size()) >= kMinStillSamples) {
+    offset->after = ComponentMedian(after);
+    offset->t_after = after.front()->t;
+  } else {
+    report->notes.push_back("no offset after the push: " + std::to_string(after.size()) +
+                            " still force samples");
+  }
+  report->offset_before_N = offset->before;
+  report->offset_after_N = offset->after;
+  if (!offset->before && !offset->after) {
+    return "force offset unknown: too few still force samples before (" +
+           std::to_string(before.size()) + ") and after (" + std::to_string(after.size()) +
+           ") the push (need " + std::to_string(kMinStillSamples) + ")";
+  }
+  if (offset->before && offset->after) {
+    report->offset_drift_N = (*offset->after - *offset->before).norm();
+    if (*report->offset_drift_N > o.max_offset_drift_N) {
+      return Format("force offset drift %.3g N between before (", *report->offset_drift_N) +
+             Vec(*offset->before) + ") and after (" + Vec(*offset->after) +
+             Format(") the push exceeds %.3g N (--max-offset-drift)", o.max_offset_drift_N);
+    }
+  }
+  std::vector<double> deviations;
+  for (const auto* side : {&before, &after}) {
+    for (const ForceSample* s : *side) deviations.push_back((s->f - offset->At(s->t)).norm());
+  }
+  // |deviation| of a 2-D Gaussian has median sigma sqrt(2 ln 2) = 1.177 sigma.
+  report->force_noise_N = Median(deviations) / 1.1774;
+  report->force_threshold_N = std::max(kMinForceThresholdN, kNoiseSigmas * report->force_noise_N);
+  return std::nullopt;
+}
+
+/// Step 6: decides whether to flip the stored force; returns a rejection when it cannot.
+Rejection CheckSign(const std::vector<const ForceSample*>& push, const Offset& offset,
+                    const MitImportOptions& o, MitImportReport* report) {
+  double along = 0, magnitude = 0, fv = 0, ff = 0, vv = 0;
+  for (const ForceSample* s : push) {
+    const Eigen::Vector2d g = s->f - offset.At(s->t);
+    along += g.dot(s->contact.normal_in);
+    magnitude += g.norm();
+    fv += g.dot(s->tip_velocity);
+    ff += g.squaredNorm();
+    vv += s->tip_velocity.squaredNorm();
+  }
+  report->normal_alignment = along / magnitude;  // magnitude > 0: push samples exceed the threshold
+  if (ff > 0 && vv > 0) report->velocity_correlation = fv / std::sqrt(ff * vv);
+  const double alignment = *report->normal_alignment;
+  if (o.force_sign == ForceSign::kAuto) {
+    if (std::abs(alignment) < kMinNormalAlignment) {
+      return Format("sign check inconclusive: the force is not along the contact normal "
+                    "(alignment %+.2f; a push gives about +-1)", alignment);
+    }
+    report->force_flipped = alignment < 0;
+    return std::nullopt;
+  }
+  report->force_flipped = o.force_sign == ForceSign::kReaction;
+  const double effective = report->force_flipped ? -alignment : alignment;
+  if (effective < kMinNormalAlignment) {
+    report->notes.push_back(std::string("--force-sign ") + ToString(o.force_sign) +
+                            Format(" disagrees with the contact normal (alignment of the "
+                                   "force used %+.2f)", effective));
+  }
+  return std::nullopt;
+}
+
+/// A row's force [N] and its moment about the CM [N m]: means over the row's interval.
+struct RowWrench {
+  Eigen::Vector2d force_N = Eigen::Vector2d::Zero();
+  double moment_Nm = 0;
+};
+
+/// Means over [t0, t1] of the corrected force (the linear interpolant of its samples) and of
+/// its moment about the CM at the contact point (both move within the interval: the mean
+/// moment is not the moment of the mean force at either end).
+RowWrench MeanWrench(const Streams& s, const Offset& offset, double sign, double t0, double t1) {
+  t0 = std::max(t0, s.ft.front()[0]);
+  t1 = std::min(t1, s.ft.back()[0]);
+  auto at = [&](double t) {
+    const Eigen::Vector2d f(Interpolate(s.ft, t, 1), Interpolate(s.ft, t, 2));
+    RowWrench w;
+    w.force_N = sign * (f - offset.At(t));
+    const Eigen::Vector2d arm = s.ContactAtTime(t).point_world - s.PoseAt(t).head<2>();
+    w.moment_Nm = arm.x() * w.force_N.y() - arm.y() * w.force_N.x();
+    return w;
+  };
+  if (t1 <= t0) return at(t0);
+  // Trapezoids between t0, every force sample inside and t1.
+  std::vector<double> knots{t0};
+  auto by_time = [](const MitStreamRow& r, double t) { return r[0] < t; };
+  for (auto it = std::lower_bound(s.ft.begin(), s.ft.end(), t0, by_time);
+       it != s.ft.end() && (*it)[0] < t1; ++it) {
+    if ((*it)[0] > t0) knots.push_back((*it)[0]);
+  }
+  knots.push_back(t1);
+  RowWrench mean;
+  RowWrench previous = at(t0);
+  for (std::size_t i = 1; i < knots.size(); ++i) {
+    const RowWrench next = at(knots[i]);
+    const double h = 0.5 * (knots[i] - knots[i - 1]) / (t1 - t0);
+    mean.force_N += h * (previous.force_N + next.force_N);
+    mean.moment_Nm += h * (previous.moment_Nm + next.moment_Nm);
+    previous = next;
+  }
+  return mean;
+}
+
+/// Steps 1-3: sorts, checks counts and magnitudes, rejects a dead channel, drops frozen
+/// force samples, repairs theta.
+Rejection PrepareStreams(const MitImportOptions& o, Streams* s, std::vector<FrozenRun>* frozen,
+                         MitImportReport* r) {
+  r->object_pose = Clean(&s->object);
+  r->tip_pose = Clean(&s->tip);
+  r->ft_wrench = Clean(&s->ft);
+  for (const auto& [name, stream] : {std::pair{"object_pose", &r->object_pose},
+                                     std::pair{"tip_pose", &r->tip_pose},
+                                     std::pair{"ft_wrench", &r->ft_wrench}}) {
+    if (stream->rows < kMinStreamRows) {
+      return std::string(name) + " has " + std::to_string(stream->rows) +
+             " distinct times (need " + std::to_string(kMinStreamRows) + ")";
+    }
+  }
+  constexpr std::array<double, 4> kPose = {kMaxAbsTimeS, kMaxAbsPositionM, kMaxAbsPositionM,
+                                           kMaxAbsAngleRad};
+  constexpr std::array<double, 4> kWrench = {kMaxAbsTimeS, kMaxAbsForceN, kMaxAbsForceN,
+                                             kMaxAbsForceN};
+  for (const std::string& implausible :
+       {Implausible(s->object, "object_pose", kPose, {"t", "x", "y", "theta"}),
+        Implausible(s->tip, "tip_pose", kPose, {"t", "x", "y", "yaw"}),
+        Implausible(s->ft, "ft_wrench", kWrench, {"t", "fx", "fy", "tz"})}) {
+    if (!implausible.empty()) return implausible;
+  }
+  if (const std::string dead = DeadChannel(s->ft); !dead.empty()) {
+    const double value = s->ft.front()[dead == "fx" ? 1 : 2];
+    return "force channel constant (dead sensor?): " + dead + Format(" = %.6g N in all ", value) +
+           std::to_string(r->ft_wrench.rows) + " samples";
+  }
+  *frozen = DropFrozen(&s->ft);
+  r->frozen_force_samples = r->ft_wrench.rows - static_cast<int>(s->ft.size());
+  if (static_cast<int>(s->ft.size()) < kMinStreamRows) {
+    return "force channel frozen (dead sensor?): " + std::to_string(r->frozen_force_samples) +
+           " of " + std::to_string(r->ft_wrench.rows) + " samples repeat a reading";
+  }
+  RepairTheta(&s->object, o.theta_jump_rad, r);
+  return std::nullopt;
+}
+
+/// The push as found by FindPush.
+struct Push {
+  std::vector<ForceSample> samples;       ///< every force sample, classified
+  std::vector<const ForceSample*> above;  ///< touching, moving, force above the noise
+  Offset offset;
+};
+
+/// Steps 4-6: the samples of the push, the offset, the sign.
+Rejection FindPush(const Streams& s, const MitImportOptions& o, Push* push, MitImportReport* r) {
+  push->samples = ClassifyForceSamples(s, o);
+  const ForceSample *first_active = nullptr, *last_active = nullptr;
+  double closest = std::numeric_limits<double>::infinity();
+  for (const ForceSample& f : push->samples) {
+    if (f.known) closest = std::min(closest, f.contact.gap_m);
+    if (!f.active) continue;
+    if (!first_active) first_active = &f;
+    last_active = &f;
+  }
+  if (!first_active) {
+    return std::isfinite(closest)
+               ? Format("no contact: the tip never touches the object while it moves "
+                        "(closest approach %.1f mm beyond the tip radius)", closest * 1e3)
+               : std::string("no contact: the streams do not overlap in time");
+  }
+  if (Rejection no = EstimateOffset(push->samples, first_active->t, last_active->t, o,
+                                    &push->offset, r)) {
+    return no;
+  }
+  for (const ForceSample& f : push->samples) {
+    if (f.active && (f.f - push->offset.At(f.t)).norm() > r->force_threshold_N) {
+      push->above.push_back(&f);
+    }
+  }
+  if (push->above.empty()) {
+    return Format("no push: the force stays below the noise threshold (%.3g N) while the tip "
+                  "touches the object and moves", r->force_threshold_N);
+  }
+  return CheckSign(push->above, push->offset, o, r);
+}
+
+/// Step 7: the push plus the margins, inside every stream; rejects a short push, a frozen
+/// force or a long motion-capture gap inside it, or an absurd number of rows.
+Rejection ChooseWindow(const Streams& s, const Push& push, const std::vector<FrozenRun>& frozen,
+                       const MitImportOptions& o, double* start, double* end,
+                       MitImportReport* r) {
+  const double push_start = push.above.front()->t, push_end = push.above.back()->t;
+  if (push_end - push_start < o.min_push_duration_s) {
+    return Format("log too short: the push lasts %.3g s (need %.3g s, --min-push-duration)",
+                  push_end - push_start, o.min_push_duration_s);
+  }
+  *start = std::max({push_start - o.margin_s, s.object.front()[0], s.tip.front()[0],
+                     s.ft.front()[0]});
+  *end = std::min({push_end + o.margin_s, s.object.back()[0], s.tip.back()[0], s.ft.back()[0]});
+  for (const FrozenRun& run : frozen) {
+    if (run.t_last >= *start && run.t_first <= *end) {
+      return std::string(run.channel) + Format(" frozen at %.6g N for ", run.value_N) +
+             std::to_string(run.samples) +
+             " samples inside the push window (saturated or stalled sensor)";
+    }
+  }
+  for (std::size_t i = 1; i < s.object.size(); ++i) {
+    const double t0 = s.object[i - 1][0], t1 = s.object[i][0];
+    if (t1 < *start || t0 > *end) continue;
+    r->largest_pose_gap_in_window_s = std::max(r->largest_pose_gap_in_window_s, t1 - t0);
+  }
+  if (r->largest_pose_gap_in_window_s > o.max_pose_gap_s) {
+    return Format("object_pose gap of %.0f ms inside the push window (more than %.0f ms, "
+                  "--max-pose-gap)",
+                  r->largest_pose_gap_in_window_s * 1e3, o.max_pose_gap_s * 1e3);
+  }
+  if ((*end - *start) * o.rate_hz >= kMaxRows) {
+    return Format("push window of %.3g s at %.3g Hz: more rows than any push needs (times "
+                  "not in seconds?)", *end - *start, o.rate_hz);
+  }
+  return std::nullopt;
+}
+
+/// Step 8: the rows on one clock from `start` to `end`, and their contact statistics.
+Trajectory BuildLog(const Streams& s, const Offset& offset, double start, double end,
+                    const MitImportOptions& o, MitImportReport* r) {
+  const double dt = 1.0 / o.rate_hz;
+  const int rows = static_cast<int>(std::floor((end - start) / dt + 1e-9)) + 1;
+  const double sign = r->force_flipped ? -1.0 : 1.0;
+  r->time_origin_s = start;
+  r->window_start_s = 0;
+  r->window_end_s = (rows - 1) * dt;
+  r->rows = rows;
+  Trajectory log;
+  log.slider = o.slider;
+  log.patch_spec = ContactPatch::Parse(o.patch_spec).Spec();
+  log.columns.pose = true;
+  log.columns.velocity = false;
+  log.columns.force = true;
+  log.columns.push_point = true;
+  log.columns.step_info = false;
+  std::vector<double> gaps;
+  int out_of_contact = 0;
+  for (int u = 0; u < rows; ++u) {
+    const double t = start + u * dt;
+    const Eigen::Vector3d pose = s.PoseAt(t);
+    const Contact contact = s.ContactAtTime(t);
+    const RowWrench wrench = MeanWrench(s, offset, sign, t, t + dt);
+    const Eigen::Vector2d f = wrench.force_N;
+    TrajectorySample sample;
+    sample.t_s = u * dt;
+    sample.state.x = pose.x();
+    sample.state.y = pose.y();
+    sample.state.theta = pose.z();
+    const Eigen::Vector2d arm = contact.point_world - pose.head<2>();
+    sample.applied = WrenchFromForceAt(f.x(), f.y(), 0.0, arm.x(), arm.y(), 0.0);
+    sample.applied.tz = wrench.moment_Nm;  // the writer keeps what r x f misses as tz
+    sample.push_point_world =
+        Eigen::Vector3d(contact.point_world.x(), contact.point_world.y(), o.slider.com_height_m);
+    sample.mode = u == 0 ? SampleMode::kStart : SampleMode::kSlide;
+    log.samples.push_back(sample);
+    r->peak_force_N = std::max(r->peak_force_N, f.norm());
+    if (f.norm() > r->force_threshold_N) {
+      gaps.push_back(contact.gap_m);
+      if (contact.gap_m > o.contact_tolerance_m) ++out_of_contact;
+    }
+  }
+  if (!gaps.empty()) {
+    r->contact_gap_median_m = Median(gaps);
+    r->contact_gap_p05_m = Quantile(gaps, 0.05);
+    r->contact_gap_p95_m = Quantile(gaps, 0.95);
+    r->rows_out_of_contact_fraction = static_cast<double>(out_of_contact) / gaps.size();
+  }
+  return log;
+}
+
+/// The report row of a rejection, the log left empty.
+MitImportResult Reject(MitImportResult result, const std::string& reason) {
+  result.report.verdict = ImportVerdict::kRejected;
+  result.report.reason = reason;
+  result.log.samples.clear();
+  return result;
+}
+
+void AddMetadata(const MitImportReport& r, const MitImportOptions& o, const std::string& source,
+                 Trajectory* log) {
+  auto add = [&](const std::string& key, const std::string& value) {
+    log->extra_metadata.emplace_back(key, value);
+  };
+  add("source", source);
+  add("import_format", "mit-push");
+  if (!r.object.empty()) add("object", r.object);
+  add("time_origin_unix_s", Format("%.17g", r.time_origin_s));
+  add("rate_hz", Format("%.17g", o.rate_hz));
+  add("tip_radius_m", Format("%.17g", o.tip_radius_m));
+  add("stream_rates_hz", Format("object_pose %.1f, tip_pose %.1f, ", r.object_pose.median_rate_hz,
+                                r.tip_pose.median_rate_hz) +
+                             Format("ft_wrench %.1f", r.ft_wrench.median_rate_hz));
+  add("force_offset_before_N", r.offset_before_N ? Vec(*r.offset_before_N) : "none");
+  add("force_offset_after_N", r.offset_after_N ? Vec(*r.offset_after_N) : "none");
+  add("force_sign", r.force_flipped ? "flipped (the stored force is the reaction on the sensor)"
+                                    : "as stored");
+  add("theta_jumps_repaired", std::to_string(r.theta_jumps_repaired));
+  add("pz", "com_height: the pusher height is not recorded; at the CM height the push has no "
+            "tilting moment");
+  for (const auto& [key, value] : o.extra_metadata) add(key, value);
+}
+
+bool ObjectIsValid(const MitImportOptions& o, std::string* why) {
+  const SliderProperties& s = o.slider;
+  const char* bad = !(std::isfinite(s.mass_kg) && s.mass_kg > 0)             ? "mass must be > 0"
+                    : !(std::isfinite(s.inertia_kgm2) && s.inertia_kgm2 > 0) ? "inertia must be > 0"
+                    : !(std::isfinite(s.com_height_m) && s.com_height_m >= 0)
+                        ? "com_height must be >= 0"
+                    : !(std::isfinite(s.gravity_mps2) && s.gravity_mps2 > 0) ? "gravity must be > 0"
+                                                                             : nullptr;
+  if (bad) {
+    *why = bad;
+    return false;
+  }
+  try {
+    ContactPatch::Parse(o.patch_spec);
+  } catch (const std::invalid_argument& e) {
+    *why = std::string("patch: ") + e.what();
+    return false;
+  }
+  return true;
+}
+
+}  // namespace
+
+bool MitImportOptions::IsValid(std::string* why) const {
+  auto fail = [&](const std::string& message) {
+    if (why) *why = message;
+    return false;
+  };
+  const std::pair<const char*, double> positive[] = {
+      {"tip_radius", tip_radius_m},         {"rate", rate_hz},
+      {"max_offset_drift", max_offset_drift_N}, {"max_pose_gap", max_pose_gap_s},
+      {"min_push_duration", min_push_duration_s}, {"theta_jump", theta_jump_rad},
+      {"contact_tolerance", contact_tolerance_m}, {"still_speed", still_speed_mps}};
+  for (const auto& [name, value] : positive) {
+    if (!(std::isfinite(value) && value > 0)) return fail(std::string(name) + " must be > 0");
+  }
+  if (!(std::isfinite(margin_s) && margin_s >= 0)) return fail("margin must be >= 0");
+  if (theta_jump_rad >= kHalfPi / 2) return fail("theta_jump must be below pi/4");
+  return true;
+}
+
+MitImportResult ImportMitPush(const MitPushRecording& recording, const std::string& source,
+                              const MitImportOptions& o) {
+  std::string why;
+  if (!o.IsValid(&why) || !ObjectIsValid(o, &why)) {
+    throw std::invalid_argument("MIT import options: " + why);
+  }
+  MitImportResult result;
+  MitImportReport& r = result.report;
+  r.source = source;
+  r.object = ParseMitPushFileName(source).shape;
+  Streams s(recording, o);
+  std::vector<FrozenRun> frozen;
+  if (Rejection no = PrepareStreams(o, &s, &frozen, &r)) return Reject(result, *no);
+  Push push;
+  if (Rejection no = FindPush(s, o, &push, &r)) return Reject(result, *no);
+  double start = 0, end = 0;
+  if (Rejection no = ChooseWindow(s, push, frozen, o, &start, &end, &r)) {
+    return Reject(result, *no);
+  }
+  result.log = BuildLog(s, push.offset, start, end, o, &r);
+  if (r.theta_jumps_unrepaired > 0) {
+    r.notes.push_back(std::to_string(r.theta_jumps_unrepaired) +
+                      " theta step(s) above the jump threshold not near a multiple of pi/2: "
+                      "left as measured");
+  }
+  if (!frozen.empty()) {
+    r.notes.push_back(std::to_string(r.frozen_force_samples) +
+                      " frozen force samples (a repeated reading) dropped outside the push");
+  }
+  r.verdict = ImportVerdict::kAccepted;
+  AddMetadata(r, o, source, &result.log);
+  return result;
+}
+
+const char* ToString(ImportVerdict verdict) {
+  switch (verdict) {
+    case ImportVerdict::kAccepted:
+      return "accepted";
+    case ImportVerdict::kRejected:
+      return "rejected";
+    case ImportVerdict::kUnreadable:
+      return "unreadable";
+  }
+  return "?";
+}
+
+const char* ToString(ForceSign sign) {
+  switch (sign) {
+    case ForceSign::kAuto:
+      return "auto";
+    case ForceSign::kApplied:
+      return "applied";
+    case ForceSign::kReaction:
+      return "reaction";
+  }
+  return "?";
+}
+
+}  // namespace slideid

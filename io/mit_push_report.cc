@@ -1,0 +1,178 @@
+#include "io/mit_push_report.h"
+
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <functional>
+#include <stdexcept>
+#include <utility>
+
+namespace slideid {
+namespace {
+
+constexpr double kRadToDeg = 180.0 / 3.14159265358979323846;
+
+std::string Number(double value) {
+  char buffer[64];
+  std::snprintf(buffer, sizeof buffer, "%.6g", value);
+  return buffer;
+}
+
+std::string Number(const std::optional<double>& value, double scale = 1.0) {
+  return value ? Number(*value * scale) : "";
+}
+
+/// RFC 4180 quoting where needed.
+std::string Text(const std::string& text) {
+  if (text.find_first_of(",\"\n\r") == std::string::npos) return text;
+  std::string out = "\"";
+  for (char c : text) {
+    if (c == '"') out += '"';
+    out += (c == '\n' || c == '\r') ? ' ' : c;
+  }
+  return out + "\"";
+}
+
+using Cell = std::function<std::string(const MitImportReport&)>;
+
+/// Whether the streams were examined (not for an unreadable file or an unknown object):
+/// counts of a file never examined are unknown, not zero.
+bool Examined(const MitImportReport& r) { return r.ft_wrench.cleanup.rows_in > 0; }
+
+/// A count, empty when the file was not examined.
+std::string Count(const MitImportReport& r, int value) {
+  return Examined(r) ? std::to_string(value) : "";
+}
+
+void AddStream(std::vector<std::pair<std::string, Cell>>* columns, const std::string& name,
+               StreamSummary MitImportReport::*stream) {
+  columns->push_back({name + "_rows_in", [=](const MitImportReport& r) {
+                        return Count(r, (r.*stream).cleanup.rows_in);
+                      }});
+  columns->push_back({name + "_backward_steps", [=](const MitImportReport& r) {
+                        return Count(r, (r.*stream).cleanup.backward_steps);
+                      }});
+  columns->push_back({name + "_duplicates_dropped", [=](const MitImportReport& r) {
+                        return Count(r, (r.*stream).cleanup.duplicates_dropped);
+                      }});
+  columns->push_back({name + "_rate_hz", [=](const MitImportReport& r) {
+                        return Examined(r) ? Number((r.*stream).median_rate_hz) : "";
+                      }});
+  columns->push_back({name + "_largest_gap_ms", [=](const MitImportReport& r) {
+                        return Examined(r) ? Number((r.*stream).largest_gap_s * 1e3) : "";
+                      }});
+}
+
+const std::vector<std::pair<std::string, Cell>>& Columns() {
+  static const std::vector<std::pair<std::string, Cell>> columns = [] {
+    std::vector<std::pair<std::string, Cell>> c;
+    using R = const MitImportReport&;
+    c.push_back({"source", [](R r) { return Text(r.source); }});
+    c.push_back({"object", [](R r) { return Text(r.object); }});
+    c.push_back({"verdict", [](R r) { return std::string(ToString(r.verdict)); }});
+    c.push_back({"reason", [](R r) { return Text(r.reason); }});
+    c.push_back({"output", [](R r) { return Text(r.output); }});
+    AddStream(&c, "object_pose", &MitImportReport::object_pose);
+    AddStream(&c, "tip_pose", &MitImportReport::tip_pose);
+    AddStream(&c, "ft_wrench", &MitImportReport::ft_wrench);
+    c.push_back({"frozen_force_samples", [](R r) { return Count(r, r.frozen_force_samples); }});
+    c.push_back({"theta_wraps", [](R r) { return Count(r, r.theta_wraps); }});
+    c.push_back({"theta_jumps_repaired", [](R r) { return Count(r, r.theta_jumps_repaired); }});
+    c.push_back({"theta_jumps_unrepaired",
+                 [](R r) { return Count(r, r.theta_jumps_unrepaired); }});
+    c.push_back({"largest_theta_step_deg",
+                 [](R r) { return Examined(r) ? Number(r.largest_theta_step_rad * kRadToDeg) : ""; }});
+    c.push_back({"largest_pose_gap_in_window_ms",
+                 [](R r) { return r.rows > 0 ? Number(r.largest_pose_gap_in_window_s * 1e3) : ""; }});
+    c.push_back({"offset_before_fx_N", [](R r) {
+                   return r.offset_before_N ? Number(r.offset_before_N->x()) : "";
+                 }});
+    c.push_back({"offset_before_fy_N", [](R r) {
+                   return r.offset_before_N ? Number(r.offset_before_N->y()) : "";
+                 }});
+    c.push_back({"offset_before_samples", [](R r) { return Count(r, r.offset_before_samples); }});
+    c.push_back({"offset_after_fx_N", [](R r) {
+                   return r.offset_after_N ? Number(r.offset_after_N->x()) : "";
+                 }});
+    c.push_back({"offset_after_fy_N", [](R r) {
+                   return r.offset_after_N ? Number(r.offset_after_N->y()) : "";
+                 }});
+    c.push_back({"offset_after_samples", [](R r) { return Count(r, r.offset_after_samples); }});
+    c.push_back({"offset_drift_N", [](R r) { return Number(r.offset_drift_N); }});
+    c.push_back({"force_noise_N", [](R r) {
+                   return r.force_threshold_N > 0 ? Number(r.force_noise_N) : "";
+                 }});
+    c.push_back({"force_threshold_N", [](R r) {
+                   return r.force_threshold_N > 0 ? Number(r.force_threshold_N) : "";
+                 }});
+    c.push_back({"normal_alignment", [](R r) { return Number(r.normal_alignment); }});
+    c.push_back({"velocity_correlation", [](R r) { return Number(r.velocity_correlation); }});
+    c.push_back({"force_flipped", [](R r) {
+                   return r.normal_alignment ? std::string(r.force_flipped ? "yes" : "no") : "";
+                 }});
+    c.push_back({"contact_gap_median_mm", [](R r) { return Number(r.contact_gap_median_m, 1e3); }});
+    c.push_back({"contact_gap_p05_mm", [](R r) { return Number(r.contact_gap_p05_m, 1e3); }});
+    c.push_back({"contact_gap_p95_mm", [](R r) { return Number(r.contact_gap_p95_m, 1e3); }});
+    c.push_back({"rows_out_of_contact_fraction", [](R r) {
+                   return r.rows > 0 ? Number(r.rows_out_of_contact_fraction) : "";
+                 }});
+    c.push_back({"rows", [](R r) { return std::to_string(r.rows); }});
+    c.push_back({"window_s", [](R r) { return r.rows > 0 ? Number(r.window_end_s) : ""; }});
+    c.push_back({"peak_force_N", [](R r) { return r.rows > 0 ? Number(r.peak_force_N) : ""; }});
+    c.push_back({"time_origin_unix_s", [](R r) {
+                   if (r.rows == 0) return std::string();
+                   char buffer[64];
+                   std::snprintf(buffer, sizeof buffer, "%.17g", r.time_origin_s);
+                   return std::string(buffer);
+                 }});
+    c.push_back({"notes", [](R r) {
+                   std::string all;
+                   for (const std::string& note : r.notes) all += (all.empty() ? "" : "; ") + note;
+                   return Text(all);
+                 }});
+    return c;
+  }();
+  return columns;
+}
+
+}  // namespace
+
+std::string MitImportReportHeader() {
+  std::string line;
+  for (const auto& [name, cell] : Columns()) line += (line.empty() ? "" : ",") + name;
+  return line;
+}
+
+std::string MitImportReportRow(const MitImportReport& report) {
+  std::string line;
+  bool first = true;
+  for (const auto& [name, cell] : Columns()) {
+    line += (first ? "" : ",") + cell(report);
+    first = false;
+  }
+  return line;
+}
+
+void WriteMitImportReport(const std::vector<MitImportReport>& reports, const std::string& path) {
+  const std::string tmp = path + ".tmp";
+  {
+    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+    if (out) {
+      out << MitImportReportHeader() << '\n';
+      for (const MitImportReport& r : reports) out << MitImportReportRow(r) << '\n';
+    }
+    out.close();
+    if (!out) {
+      std::remove(tmp.c_str());
+      throw std::runtime_error("cannot write the import report '" + path + "'");
+    }
+  }
+  if (std::rename(tmp.c_str(), path.c_str()) != 0) {
+    const std::string why = std::strerror(errno);
+    std::remove(tmp.c_str());
+    throw std::runtime_error("cannot rename '" + tmp + "' to '" + path + "': " + why);
+  }
+}
+
+}  // namespace slideid

@@ -1,0 +1,76 @@
+#!/usr/bin/env bash
+# Runs the importers and identify on the real push logs of ../shared/data/real-pushes (next
+# to the checkout; README there) and rewrites the generated section of docs/real-data.md.
+# The third-party files are read in place, never copied into the repository; the imported
+# logs, reports and fits go to $WORK.
+# Usage: bash scripts/real_data.sh
+# Environment: SLIDEID_REAL_DATA (the real-pushes folder), SLIDEID_BIN_DIR (build/bin),
+#              WORK (build/real-data).
+# Exits 0 with a message when the data is not there. Each section is one function: a new
+# data set (the Zhou tripod logs, when import-log reads them) is one more function and one
+# more line in `sections`.
+set -euo pipefail
+data=${SLIDEID_REAL_DATA:-"$(dirname "$0")/../../shared/data/real-pushes"}
+if [ ! -d "$data" ]; then
+  echo "real_data: no real data at $data (set SLIDEID_REAL_DATA); nothing to do"
+  exit 0
+fi
+data=$(cd "$data" && pwd)
+cd "$(dirname "$0")/.."
+bin=${SLIDEID_BIN_DIR:-build/bin}
+work=${WORK:-build/real-data}
+for tool in import-log identify; do
+  [ -x "$bin/$tool" ] || { echo "real_data: no $bin/$tool: run scripts/build.sh"; exit 1; }
+done
+rm -rf "$work"
+mkdir -p "$work"
+
+# import-log exits 1 when it rejected a file (the others are written): that is a result.
+import() {
+  local name=$1
+  shift
+  local code=0
+  "$bin/import-log" "$@" --out "$work/$name" > "$work/$name.import.txt" 2>&1 || code=$?
+  if [ "$code" -gt 1 ]; then
+    echo "real_data: import-log failed on $name (exit $code):"
+    cat "$work/$name.import.txt"
+    exit 1
+  fi
+  echo "real_data: $name: $(tail -n 2 "$work/$name.import.txt" | head -n 1)"
+}
+
+# identify --json on every imported log of a section; the exit code goes beside the fit.
+identify_all() {
+  local name=$1 log
+  [ -d "$work/$name" ] || return 0
+  for log in "$work/$name"/*.csv; do
+    [ "$(basename "$log")" = import_report.csv ] && continue
+    local code=0
+    "$bin/identify" --log "$log" --json > "${log%.csv}.fit.json" 2> "${log%.csv}.fit.err" || code=$?
+    echo "$code" > "${log%.csv}.fit.exit"
+  done
+}
+
+# One section per data set: import, then identify every imported log.
+mit_rect1() {
+  local files=("$data"/mit_push_rect1_plywood_v100/*/*.json)
+  ((${#files[@]})) || { echo "real_data: mit_rect1: no files; skipped"; return 0; }
+  import mit_rect1 --format mit-push --objects datasets/mit_objects.csv "${files[@]}"
+  identify_all mit_rect1
+}
+
+mit_hex() {
+  local files=("$data"/mit_push_hex_plywood_v150/*.json)
+  ((${#files[@]})) || { echo "real_data: mit_hex: no files; skipped"; return 0; }
+  import mit_hex --format mit-push --objects datasets/mit_objects.csv "${files[@]}"
+  identify_all mit_hex
+}
+
+# zhou_tripod() { ... import zhou_tripod --format zhou-tripod ...; }  # when import-log reads it
+
+shopt -s nullglob
+sections=(mit_rect1 mit_hex)
+for section in "${sections[@]}"; do "$section"; done
+/usr/bin/python3 scripts/real_data_report.py --work "$work" --doc docs/real-data.md \
+  --sections "${sections[@]}"
+echo "real_data: wrote the generated section of docs/real-data.md"

@@ -1,0 +1,238 @@
+// import-log end to end on synthetic MIT files (a good one, a dead sensor, a truncated
+// file, an unknown object): each is imported or reported on its own, the exit code says
+// whether all were imported, the imported log identifies; and the object table and the
+// import report, the two other files the tool reads and writes.
+
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
+
+#include "datasets/mit_push_synth.h"
+#include "io/push_log.h"
+#include "io/mit_push_json.h"
+#include "io/mit_push_report.h"
+#include "io/object_table.h"
+
+namespace slideid {
+namespace {
+
+struct Output {
+  int exit_code;
+  std::string out;
+};
+
+Output RunTool(const std::string& tool, const std::string& args) {
+  const char* bin = std::getenv("SLIDEID_BIN_DIR");
+  const std::string out_file =
+      ::testing::TempDir() + "/import_log_out_" + std::to_string(getpid()) + ".txt";
+  const std::string cmd = std::string(bin ? bin : "build/bin") + "/" + tool + " " + args + " > " +
+                          out_file + " 2>&1";
+  const int status = std::system(cmd.c_str());
+  std::ifstream in(out_file);
+  std::stringstream text;
+  text << in.rdbuf();
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, text.str()};
+}
+
+std::string NewDir(const std::string& name) {
+  std::string dir = ::testing::TempDir() + name + "_XXXXXX";
+  if (mkdtemp(dir.data()) == nullptr) std::abort();
+  return dir;
+}
+
+void WriteText(const std::string& path, const std::string& text) { std::ofstream(path) << text; }
+
+std::vector<std::string> Lines(const std::string& path) {
+  std::ifstream in(path);
+  std::vector<std::string> lines;
+  for (std::string line; std::getline(in, line);) lines.push_back(line);
+  return lines;
+}
+
+/// Cells of one CSV line (RFC 4180 quotes).
+std::vector<std::string> Cells(const std::string& line) {
+  std::vector<std::string> cells(1);
+  bool quoted = false;
+  for (std::size_t i = 0; i < line.size(); ++i) {
+    const char c = line[i];
+    if (c == '"') {
+      if (quoted && i + 1 < line.size() && line[i + 1] == '"') {
+        cells.back() += '"';
+        ++i;
+      } else {
+        quoted = !quoted;
+      }
+    } else if (c == ',' && !quoted) {
+      cells.emplace_back();
+    } else {
+      cells.back() += c;
+    }
+  }
+  return cells;
+}
+
+std::string Cell(const std::vector<std::string>& header, const std::string& row,
+                 const std::string& column) {
+  const std::vector<std::string> cells = Cells(row);
+  for (std::size_t i = 0; i < header.size(); ++i) {
+    if (header[i] == column) return i < cells.size() ? cells[i] : "";
+  }
+  ADD_FAILURE() << "no column " << column;
+  return "";
+}
+
+const char* kGood = "motion_surface=plywood_shape=rect1_a=0_v=100_i=0.000_s=0.300_t=0.000.json";
+const char* kDead = "motion_surface=plywood_shape=rect1_a=0_v=100_i=1.000_s=0.500_t=0.349.json";
+const char* kCut = "motion_surface=plywood_shape=rect1_a=0_v=100_i=2.000_s=0.100_t=0.698.json";
+const char* kHex = "motion_surface=plywood_shape=hex_a=0_v=150_i=1.000_s=0.000_t=-0.349.json";
+
+/// A directory with the four files and an object table that knows rect1 only.
+std::string MakeInputs() {
+  const std::string dir = NewDir("import_log_in");
+  WriteMitPushJson(MakeMitPushRecording(MitSynthSpec{}).recording, dir + "/" + kGood);
+  MitSynthSpec dead;
+  dead.defects.dead_force = true;
+  WriteMitPushJson(MakeMitPushRecording(dead).recording, dir + "/" + kDead);
+  const std::string text = FormatMitPushJson(MakeMitPushRecording(MitSynthSpec{}).recording);
+  WriteText(dir + "/" + kCut, text.substr(0, text.size() / 2));
+  WriteMitPushJson(MakeMitPushRecording(MitSynthSpec{}).recording, dir + "/" + kHex);
+  WriteText(dir + "/objects.csv",
+            "# test objects\nname,mass,inertia,com_height,patch,source\n"
+            "rect1,0.835,0.00112725,0.0065,rectangle 0.09 0.09,\"synthetic, as simulated\"\n");
+  return dir;
+}
+
+TEST(ImportLogTool, ImportsEachFileOnItsOwnAndReportsEveryOne) {
+  const std::string in = MakeInputs(), out = NewDir("import_log_out");
+  const Output o = RunTool("import-log", "--format mit-push --objects " + in + "/objects.csv --out " +
+                                         out + " " + in + "/" + kGood + " " + in + "/" + kDead +
+                                         " " + in + "/" + kCut + " " + in + "/" + kHex);
+  EXPECT_EQ(o.exit_code, 1) << o.out;  // some files were not imported
+  EXPECT_NE(o.out.find("imported 1 of 4 files"), std::string::npos) << o.out;
+  EXPECT_NE(o.out.find("force channel constant (dead sensor?)"), std::string::npos) << o.out;
+  EXPECT_NE(o.out.find("unreadable"), std::string::npos) << o.out;
+  EXPECT_NE(o.out.find("object 'hex': mass, inertia, com_height, patch unknown"), std::string::npos)
+      << o.out;
+
+  const std::vector<std::string> report = Lines(out + "/import_report.csv");
+  ASSERT_EQ(report.size(), 5u);
+  const std::vector<std::string> header = Cells(report[0]);
+  for (std::size_t i = 1; i < report.size(); ++i) {
+    EXPECT_EQ(Cells(report[i]).size(), header.size()) << report[i];
+  }
+  EXPECT_EQ(Cell(header, report[1], "verdict"), "accepted");
+  EXPECT_EQ(Cell(header, report[1], "force_flipped"), "yes");
+  EXPECT_EQ(Cell(header, report[2], "verdict"), "rejected");
+  EXPECT_EQ(Cell(header, report[3], "verdict"), "unreadable");
+  EXPECT_NE(Cell(header, report[3], "reason").find(std::string(kCut) + ":"), std::string::npos);
+  EXPECT_EQ(Cell(header, report[3], "object_pose_rows_in"), "");  // unknown, not 0
+  EXPECT_EQ(Cell(header, report[4], "verdict"), "rejected");
+
+  const std::string log_path = out + "/" + std::string(kGood).substr(0, std::string(kGood).size() - 5) + ".csv";
+  EXPECT_EQ(Cell(header, report[1], "output"), log_path);
+  const Trajectory log = ReadPushLog(log_path);
+  EXPECT_EQ(log.slider.mass_kg, 0.835);
+  bool sourced = false;
+  for (const auto& [key, value] : log.extra_metadata) {
+    sourced |= key == "object_source" && value == "synthetic, as simulated";
+  }
+  EXPECT_TRUE(sourced);
+  const Output fit = RunTool("identify", "--log " + log_path + " --json");
+  EXPECT_EQ(fit.exit_code, 0) << fit.out;
+}
+
+TEST(ImportLogTool, AllFilesImportedIsExitZeroAndOptionsGiveTheObject) {
+  const std::string in = MakeInputs(), out = NewDir("import_log_ok");
+  const Output o = RunTool("import-log", "--format mit-push --mass 0.835 --inertia 1.13e-3 "
+                                     "--com-height 0.0065 --patch 'rectangle 0.09 0.09' --out " +
+                                         out + " " + in + "/" + kGood + " " + in + "/" + kHex);
+  EXPECT_EQ(o.exit_code, 0) << o.out;
+  EXPECT_NE(o.out.find("imported 2 of 2 files"), std::string::npos) << o.out;
+}
+
+TEST(ImportLogTool, UsageErrorsAreExitTwo) {
+  const std::string in = MakeInputs(), out = NewDir("import_log_usage");
+  const std::string file = in + "/" + kGood;
+  Output o = RunTool("import-log", "--format mit-push --mass 1 --out " + out + " " + file);
+  EXPECT_EQ(o.exit_code, 2) << o.out;
+  EXPECT_NE(o.out.find("masses are never guessed"), std::string::npos) << o.out;
+  o = RunTool("import-log", "--format zhou-tripod --out " + out + " " + file);
+  EXPECT_EQ(o.exit_code, 2) << o.out;
+  EXPECT_NE(o.out.find("not yet available"), std::string::npos) << o.out;
+  EXPECT_EQ(RunTool("import-log", "--format csv --out " + out + " " + file).exit_code, 2);
+  EXPECT_EQ(RunTool("import-log", "--format mit-push " + file).exit_code, 2);
+  EXPECT_EQ(RunTool("import-log", "--format mit-push --out " + out).exit_code, 2);
+  o = RunTool("import-log", "--format mit-push --objects " + in + "/objects.csv --rate 0 --out " + out +
+                            " " + file);
+  EXPECT_EQ(o.exit_code, 2) << o.out;
+  EXPECT_EQ(RunTool("import-log", "--format mit-push --objects " + in + "/objects.csv --mass -1 --out " +
+                                  out + " " + file)
+                .exit_code,
+            2);
+  EXPECT_EQ(RunTool("import-log", "--help").exit_code, 0);
+}
+
+TEST(ImportLogTool, UnwritableOutputIsExitFour) {
+  const std::string in = MakeInputs();
+  const Output o = RunTool("import-log", "--format mit-push --objects " + in + "/objects.csv --out " +
+                                         in + "/objects.csv/sub " + in + "/" + kGood);
+  EXPECT_EQ(o.exit_code, 4) << o.out;
+}
+
+TEST(ObjectTable, ReadsRowsWithCommentsQuotesAndOptionalColumns) {
+  const std::string dir = NewDir("objects");
+  WriteText(dir + "/t.csv", "# masses: an estimate\ncom_height,name,inertia,mass\n"
+                            "0.0065,rect1,1.1e-3,0.835\n0,hex,1.5e-3,0.98\n");
+  const ObjectTable t = ReadObjectTable(dir + "/t.csv");
+  ASSERT_EQ(t.size(), 2u);
+  EXPECT_EQ(t.at("rect1").mass_kg, 0.835);
+  EXPECT_EQ(t.at("hex").com_height_m, 0.0);
+  EXPECT_TRUE(t.at("hex").patch_spec.empty());
+}
+
+TEST(ObjectTable, BadTablesNameTheFileLineAndColumn) {
+  const std::string dir = NewDir("objects_bad");
+  auto error = [&](const std::string& text) {
+    WriteText(dir + "/t.csv", text);
+    try {
+      ReadObjectTable(dir + "/t.csv");
+    } catch (const std::runtime_error& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  EXPECT_NE(error("name,mass,inertia\nrect1,1,1\n").find("missing column 'com_height'"),
+            std::string::npos);
+  EXPECT_NE(error("name,mass,inertia,com_height\nrect1,1,1,0\nhex,heavy,1,0\n")
+                .find("t.csv:3: column 'mass': 'heavy' is not a finite number"),
+            std::string::npos);
+  EXPECT_NE(error("name,mass,inertia,com_height\nrect1,0,1,0\n").find("must be > 0"),
+            std::string::npos);
+  EXPECT_NE(error("name,mass,inertia,com_height,patch\nr,1,1,0,square 1\n").find("column 'patch'"),
+            std::string::npos);
+  EXPECT_NE(error("name,mass,inertia,com_height\nr,1,1,0\nr,2,1,0\n").find("given twice"),
+            std::string::npos);
+  EXPECT_NE(error("name,mass,inertia,com_height\n").find("no objects"), std::string::npos);
+}
+
+TEST(MitImportReport, RowsHaveEveryColumnAndQuoteTheirText) {
+  MitImportReport a;
+  a.source = "dir/a,b.json";
+  a.verdict = ImportVerdict::kRejected;
+  a.reason = "offset drift 0.7 N between before (1, 2) and after";
+  a.notes = {"one", "two \"quoted\""};
+  const std::vector<std::string> header = Cells(MitImportReportHeader());
+  const std::vector<std::string> cells = Cells(MitImportReportRow(a));
+  ASSERT_EQ(cells.size(), header.size());
+  EXPECT_EQ(Cell(header, MitImportReportRow(a), "source"), a.source);
+  EXPECT_EQ(Cell(header, MitImportReportRow(a), "reason"), a.reason);
+  EXPECT_EQ(Cell(header, MitImportReportRow(a), "notes"), "one; two \"quoted\"");
+  EXPECT_EQ(Cell(header, MitImportReportRow(a), "offset_before_fx_N"), "");  // unknown: empty
+}
+
+}  // namespace
+}  // namespace slideid
