@@ -41,7 +41,7 @@ bool SolveStepWithSensitivity(const SliderProperties& slider, const ReducedFrict
                               const PlanarState& state, const AppliedWrench& applied,
                               double dt_s, StepSensitivity* out,
                               const StepOptions& options) {
-  out->step = SolveStep(slider, abc.ToFrictionParameters(), state, applied, dt_s, options);
+  out->step = SolveStep(slider, abc, state, applied, dt_s, options);
   out->dnu_dnu.setZero();
   out->dnu_dlogabc.setZero();
   if (!out->step.ok()) return false;

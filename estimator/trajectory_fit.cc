@@ -122,7 +122,7 @@ class SegmentCost final : public ceres::CostFunction {
             return false;
           }
         } else {
-          sens.step = SolveStep(log_.slider, abc.ToFrictionParameters(), s, applied, h,
+          sens.step = SolveStep(log_.slider, abc, s, applied, h,
                                 step_options);
           if (!sens.step.ok()) return false;
         }
