@@ -33,7 +33,16 @@ constexpr int kVelocitySeedRows = 5;
 constexpr double kLowerBound[3] = {1e-4, 1e-3, 1e-6};
 // A preferred seed is kept while its trajectory cost is within this factor of the best
 // candidate's: far enough from the best to be a different basin, it is not.
-constexpr double kSeedCostSlack = 2.0;
+// The seed scan of a: log-spaced points over a factor kScanSpan either side of the
+// candidates' a, then golden-section steps on the best bracket. Each point is one
+// forward pass without derivatives (about 2 ms at 10k rows). 7 points a factor 2 apart
+// put the best within a factor 1.4 of the cost's minimum along a; 6 golden steps narrow
+// that to 5%, from where Levenberg-Marquardt converges in a few iterations.
+constexpr double kScanSpan = 3.0;
+constexpr int kScanPoints = 7;
+constexpr int kGoldenSteps = 6;
+// Typical table-top friction, the default seed of a.
+constexpr double kDefaultA = 0.3;
 constexpr double kUpperBound[3] = {10.0, 1e3, 10.0};
 // Fewest segments for the cluster-robust covariance: with fewer, the sum of K outer
 // products estimates the 3x3 score covariance too poorly; the white-noise covariance is
@@ -56,6 +65,11 @@ constexpr double kParameterTolerance = 1e-10;
 // 2.7e-5 off and its 95% interval excluding the truth. The relative function and parameter
 // tolerances above end every fit.
 constexpr double kGradientTolerance = 0.0;
+// SettledCallback: a free log-parameter whose iteration step is below this fraction of its
+// standard error has settled (its estimate would not move its interval visibly)...
+constexpr double kSettledFraction = 0.02;
+// ... and its standard error is first computed once all steps are below this (0.1%).
+constexpr double kSettleCheck = 1e-3;
 // A segment whose own 6x6 information has a relative eigenvalue below this leaves part of
 // its state undetermined (typically the start velocity of a segment that begins stuck).
 constexpr double kRankDeficientSegment = 1e-12;
@@ -221,33 +235,42 @@ Vector6 SeedState(const Trajectory& log, int row, int last_row) {
   return s;
 }
 
-// Candidate seeds, in order of preference: the equation-error and closed-form estimates
-// where they identify a parameter (the rest from the defaults), then defaults typical of
-// table-top sliding (a = 0.3, b = 1, c = the radius of gyration). On noisy poses these can be far off (a closed
-// form a = 4.3 for a truth of 0.25 makes the simulated slider never slide), so the caller
-// keeps whichever fits the log best.
-std::vector<std::array<double, 3>> CandidateSeeds(const Trajectory& log,
-                                                  const EstimatorOptions& options,
-                                                  double length_m) {
-  const std::array<double, 3> defaults{{0.3, 1.0, length_m}};
-  std::vector<std::array<double, 3>> seeds;
-  auto take = [&](const EstimateResult& r) {
+// Seeds of (b, c): the closed form's where it identifies them, else defaults typical of
+// table-top sliding (b = 1, c = the radius of gyration). On noisy poses the closed form's
+// a can be far off (a = 0.77 for a truth of 0.35 on the benchmark log), and a trajectory
+// fit from there spends its first iterations walking back; a is therefore seeded by
+// ScanFriction instead, with the closed form's and the default a among the points tried.
+// Velocities that were measured (not differentiated from poses) make the equation error
+// accurate: its estimate is a candidate too.
+struct SeedCandidates {
+  std::array<double, 3> base;         // (a, b, c) to scan a around
+  std::vector<std::array<double, 3>> exact;  // full candidates tried as they are
+};
+
+SeedCandidates CandidateSeeds(const Trajectory& log, const EstimatorOptions& options,
+                              double length_m) {
+  const std::array<double, 3> defaults{{kDefaultA, 1.0, length_m}};
+  SeedCandidates seeds{defaults, {defaults}};
+  auto take = [&](const EstimateResult& r, bool set_base) {
     std::array<double, 3> seed = defaults;
     for (int i = 0; i < 3; ++i) {
       const ParameterEstimate& p = r.parameters[i];
       if (p.identifiable && std::isfinite(p.value) && p.value > 0) seed[i] = p.value;
     }
-    if (seed != defaults) seeds.push_back(seed);
+    if (seed == defaults) return;
+    seeds.exact.push_back(seed);
+    if (set_base) seeds.base = {defaults[0], seed[1], seed[2]};
   };
   try {
-    take(EstimateEquationError(log, options));
+    take(EstimateClosedForm(log, options), true);
   } catch (const std::exception&) {
   }
-  try {
-    take(EstimateClosedForm(log, options));
-  } catch (const std::exception&) {
+  if (log.columns.velocity) {
+    try {
+      take(EstimateEquationError(log, options), false);
+    } catch (const std::exception&) {
+    }
   }
-  seeds.push_back(defaults);
   return seeds;
 }
 
@@ -262,15 +285,14 @@ ceres::LossFunction* MakeLoss(RobustLoss loss, double scale) {
 
 class TrajectoryProblem {
  public:
-  SegmentCost MakeCost(const Segment& seg) const {
-    return SegmentCost(log_, seg.first_row, seg.last_row, options_.substeps, use_pose_,
-                       length_m_);
-  }
+  // The cost of a segment, made once: its warm starts then carry over between the seed
+  // scan, the solves and the information passes.
+  const SegmentCost& CostOf(size_t k) const { return *costs_[k]; }
 
   // Velocity residuals do not see the pose: then only the velocity part of a segment's
   // state is a parameter (a SubsetManifold holds x, y, theta).
   void AddSegment(ceres::Problem* problem, Segment& seg, ceres::LossFunction* loss) {
-    problem->AddResidualBlock(new SegmentCost(MakeCost(seg)), loss, seg.state.data(), &log_params_[0], &log_params_[1],
+    problem->AddResidualBlock(costs_[&seg - segments_.data()].get(), loss, seg.state.data(), &log_params_[0], &log_params_[1],
                               &log_params_[2]);
     if (!use_pose_) problem->SetManifold(seg.state.data(), new ceres::SubsetManifold(6, {0, 1, 2}));
   }
@@ -284,27 +306,85 @@ class TrajectoryProblem {
       throw std::invalid_argument("log too short for the trajectory method: " +
                                   std::to_string(log.samples.size()) + " rows");
     }
-    for (Segment& seg : segments_) seg.state = SeedState(log, seg.first_row, seg.last_row);
-    // The candidates come in order of preference; take the first that fits within a factor
-    // kSeedCostSlack of the best (on clean logs they all fit to rounding, and the most
-    // accurate one, the equation error, should win the tie).
-    std::vector<std::array<double, 3>> candidates;
-    std::vector<double> costs;
-    for (const std::array<double, 3>& seed : CandidateSeeds(log, options, length_m_)) {
-      std::array<double, 3> logs;
-      for (int i = 0; i < 3; ++i) {
-        logs[i] = std::log(std::clamp(seed[i], kLowerBound[i], kUpperBound[i]));
-        log_params_[i] = logs[i];
-      }
-      double cost = 0;
-      for (double r : Residuals()) cost += r * r;
-      candidates.push_back(logs);
-      costs.push_back(std::isfinite(cost) ? cost : std::numeric_limits<double>::infinity());
+    for (Segment& seg : segments_) {
+      seg.state = SeedState(log, seg.first_row, seg.last_row);
+      costs_.push_back(std::make_unique<SegmentCost>(log, seg.first_row, seg.last_row,
+                                                     options.substeps, use_pose_, length_m_));
     }
-    const double best = *std::min_element(costs.begin(), costs.end());
-    size_t chosen = 0;
-    while (chosen + 1 < costs.size() && !(costs[chosen] <= kSeedCostSlack * best)) ++chosen;
-    for (int i = 0; i < 3; ++i) log_params_[i] = candidates[chosen][i];
+    SeedParameters(CandidateSeeds(log, options, length_m_));
+  }
+
+  // The seed with the lowest trajectory cost among the exact candidates and a scan of a
+  // (ScanFriction) at the base candidate's (b, c).
+  void SeedParameters(const SeedCandidates& seeds) {
+    double best_cost = std::numeric_limits<double>::infinity();
+    std::array<double, 3> best = seeds.base;
+    auto try_seed = [&](const std::array<double, 3>& seed) {
+      const double cost = CostAt(seed);
+      if (cost < best_cost) {
+        best_cost = cost;
+        best = seed;
+      }
+      return cost;
+    };
+    for (const std::array<double, 3>& seed : seeds.exact) try_seed(seed);
+    double lo = seeds.base[0], hi = seeds.base[0];
+    for (const std::array<double, 3>& seed : seeds.exact) {
+      lo = std::min(lo, seed[0]);
+      hi = std::max(hi, seed[0]);
+    }
+    // Log-spaced scan of a over [lo / span, hi * span].
+    const double log_lo = std::log(lo / kScanSpan), log_hi = std::log(hi * kScanSpan);
+    const double spacing = (log_hi - log_lo) / (kScanPoints - 1);
+    std::vector<double> scan_cost(kScanPoints);
+    int best_point = 0;
+    for (int k = 0; k < kScanPoints; ++k) {
+      std::array<double, 3> seed = seeds.base;
+      seed[0] = std::exp(log_lo + k * spacing);
+      scan_cost[k] = try_seed(seed);
+      if (scan_cost[k] < scan_cost[best_point]) best_point = k;
+    }
+    // Golden section on [best - 1, best + 1] points of the scan.
+    double x0 = log_lo + std::max(0, best_point - 1) * spacing;
+    double x3 = log_lo + std::min(kScanPoints - 1, best_point + 1) * spacing;
+    const double g = 0.5 * (std::sqrt(5.0) - 1.0);
+    double x1 = x3 - g * (x3 - x0), x2 = x0 + g * (x3 - x0);
+    auto at = [&](double log_a) {
+      std::array<double, 3> seed = seeds.base;
+      seed[0] = std::exp(log_a);
+      return try_seed(seed);
+    };
+    double f1 = at(x1), f2 = at(x2);
+    for (int k = 0; k < kGoldenSteps; ++k) {
+      if (f1 <= f2) {
+        x3 = x2;
+        x2 = x1;
+        f2 = f1;
+        x1 = x3 - g * (x3 - x0);
+        f1 = at(x1);
+      } else {
+        x0 = x1;
+        x1 = x2;
+        f1 = f2;
+        x2 = x0 + g * (x3 - x0);
+        f2 = at(x2);
+      }
+    }
+    SetParameters(best);
+  }
+
+  // Sum of squared raw residuals with (a, b, c) = `abc` (clamped to the search range).
+  double CostAt(const std::array<double, 3>& abc) {
+    SetParameters(abc);
+    double cost = 0;
+    for (double r : Residuals()) cost += r * r;
+    return std::isfinite(cost) ? cost : std::numeric_limits<double>::infinity();
+  }
+
+  void SetParameters(const std::array<double, 3>& abc) {
+    for (int i = 0; i < 3; ++i) {
+      log_params_[i] = std::log(std::clamp(abc[i], kLowerBound[i], kUpperBound[i]));
+    }
   }
 
   int Rows() const {
@@ -316,8 +396,9 @@ class TrajectoryProblem {
   // Raw (un-robustified) residuals of every segment at the current parameters.
   std::vector<double> Residuals() const {
     std::vector<double> all;
-    for (const Segment& seg : segments_) {
-      const SegmentCost cost = MakeCost(seg);
+    for (size_t k = 0; k < segments_.size(); ++k) {
+      const Segment& seg = segments_[k];
+      const SegmentCost& cost = CostOf(k);
       std::vector<double> r(cost.num_residuals());
       const double* params[] = {seg.state.data(), &log_params_[0], &log_params_[1],
                                 &log_params_[2]};
@@ -334,9 +415,81 @@ class TrajectoryProblem {
     return kMadToSigma * Median(r);
   }
 
+  // Stops a solve once the free log-parameters have settled: two successive successful
+  // iterations each moved every one by less than kSettledFraction of its standard error.
+  // The segment states may still creep along the kinks that stick-slip switching puts in
+  // the cost (on the benchmark log, 50 more iterations that moved a, b, c by < 0.01 of a
+  // standard error); nothing the estimate reports depends on them. The standard errors are
+  // computed once, when the parameters first move by less than kSettleCheck (one pass).
+  class SettledCallback final : public ceres::IterationCallback {
+   public:
+    SettledCallback(TrajectoryProblem* problem, const std::array<bool, 3>& free)
+        : problem_(problem), free_(free) {
+      for (int i = 0; i < 3; ++i) last_[i] = problem->log_params_[i];
+    }
+    ceres::CallbackReturnType operator()(const ceres::IterationSummary& it) override {
+      if (!it.step_is_successful || it.iteration == 0) return ceres::SOLVER_CONTINUE;
+      double largest = 0;
+      std::array<double, 3> moved{};
+      for (int i = 0; i < 3; ++i) {
+        moved[i] = std::abs(problem_->log_params_[i] - last_[i]);
+        last_[i] = problem_->log_params_[i];
+        if (free_[i]) largest = std::max(largest, moved[i]);
+      }
+      if (largest > kSettleCheck) {
+        settled_ = 0;
+        return ceres::SOLVER_CONTINUE;
+      }
+      if (!have_stderr_) {
+        stderr_ = problem_->LogStdErrors(free_);
+        have_stderr_ = true;
+      }
+      bool settled = true;
+      for (int i = 0; i < 3; ++i) {
+        if (free_[i] && !(moved[i] <= kSettledFraction * stderr_[i])) settled = false;
+      }
+      settled_ = settled ? settled_ + 1 : 0;
+      return settled_ >= 2 ? ceres::SOLVER_TERMINATE_SUCCESSFULLY : ceres::SOLVER_CONTINUE;
+    }
+
+   private:
+    TrajectoryProblem* problem_;
+    std::array<bool, 3> free_;
+    std::array<double, 3> last_{};
+    std::array<double, 3> stderr_{};
+    bool have_stderr_ = false;
+    int settled_ = 0;
+  };
+
+  // One-sigma errors of the free log-parameters from the marginal information and the raw
+  // residual variance at the current point (0 where undetermined: never settled by it).
+  std::array<double, 3> LogStdErrors(const std::array<bool, 3>& free) {
+    const Information info = MarginalInformation();
+    const int dof = 3 * Rows() - 6 * static_cast<int>(segments_.size()) - 3;
+    std::array<double, 3> se{};
+    if (dof <= 0) return se;
+    std::vector<int> idx;
+    for (int i = 0; i < 3; ++i) {
+      if (free[i]) idx.push_back(i);
+    }
+    const int n = static_cast<int>(idx.size());
+    Eigen::MatrixXd H(n, n);
+    for (int a = 0; a < n; ++a) {
+      for (int b = 0; b < n; ++b) H(a, b) = info.fisher(idx[a], idx[b]);
+    }
+    const Eigen::LDLT<Eigen::MatrixXd> ldlt(H);
+    if (ldlt.info() != Eigen::Success) return se;
+    const Eigen::MatrixXd cov = ldlt.solve(Eigen::MatrixXd::Identity(n, n));
+    for (int a = 0; a < n; ++a) {
+      se[idx[a]] = std::sqrt(std::max(0.0, cov(a, a) * info.sum_squares / dof));
+    }
+    return se;
+  }
+
   ceres::Solver::Summary Solve(const std::array<bool, 3>& free, double loss_scale) {
     ceres::Problem::Options problem_options;
     problem_options.loss_function_ownership = ceres::TAKE_OWNERSHIP;
+    problem_options.cost_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
     ceres::Problem problem(problem_options);
     auto* ordering = new ceres::ParameterBlockOrdering;
     for (Segment& seg : segments_) {
@@ -359,6 +512,9 @@ class TrajectoryProblem {
     solver.parameter_tolerance = kParameterTolerance;
     solver.gradient_tolerance = kGradientTolerance;
     solver.logging_type = ceres::SILENT;
+    SettledCallback settled(this, free);
+    solver.update_state_every_iteration = true;
+    solver.callbacks.push_back(&settled);
     ceres::Solver::Summary summary;
     ceres::Solve(solver, &problem, &summary);
     return summary;
@@ -370,12 +526,14 @@ class TrajectoryProblem {
   struct Information {
     Eigen::Matrix3d fisher = Eigen::Matrix3d::Zero();
     Eigen::Matrix3d score_outer = Eigen::Matrix3d::Zero();
+    double sum_squares = 0;  // of the raw residuals
     int clusters = 0;
   };
   Information MarginalInformation() {
     Information result;
-    for (Segment& seg : segments_) {
-      const SegmentCost cost = MakeCost(seg);
+    for (size_t k = 0; k < segments_.size(); ++k) {
+      Segment& seg = segments_[k];
+      const SegmentCost& cost = CostOf(k);
       const int n = cost.num_residuals();
       std::vector<double> r(n), js(6 * n), ja(n), jb(n), jc(n);
       double* jac[] = {js.data(), ja.data(), jb.data(), jc.data()};
@@ -405,6 +563,7 @@ class TrajectoryProblem {
       const Eigen::Vector3d score =
           Jp_marginal.transpose() * Eigen::Map<const Eigen::VectorXd>(r.data(), n);
       result.score_outer += score * score.transpose();
+      result.sum_squares += Eigen::Map<const Eigen::VectorXd>(r.data(), n).squaredNorm();
       ++result.clusters;
     }
     result.fisher = 0.5 * (result.fisher + result.fisher.transpose());
@@ -416,7 +575,9 @@ class TrajectoryProblem {
   // which ceres::Covariance cannot invert, and such a segment (stuck at its start) carries
   // next to no information on (a, b, c); leaving it out can only widen the intervals.
   bool Covariance(const std::array<bool, 3>& free, Eigen::Matrix3d* cov) {
-    ceres::Problem problem;
+    ceres::Problem::Options problem_options;
+    problem_options.cost_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+    ceres::Problem problem(problem_options);
     for (Segment& seg : segments_) {
       if (seg.state_determined) AddSegment(&problem, seg, nullptr);
     }
@@ -453,6 +614,7 @@ class TrajectoryProblem {
   double length_m_ = 1.0;
   bool use_pose_ = true;
   std::vector<Segment> segments_;
+  std::vector<std::unique_ptr<SegmentCost>> costs_;  // one per segment, same order
   double log_params_[3] = {0, 0, 0};
 };
 
@@ -588,7 +750,8 @@ EstimateResult EstimateTrajectory(const Trajectory& log, const EstimatorOptions&
   result.final_cost = summary.final_cost;
   result.iterations = iterations;
   // Usable is not converged: a solve cut off by the iteration limit is usable to Ceres.
-  result.converged = summary.termination_type == ceres::CONVERGENCE;
+  result.converged = summary.termination_type == ceres::CONVERGENCE ||
+                     summary.termination_type == ceres::USER_SUCCESS;
   result.message = summary.BriefReport();
   FillResiduals(problem, log, &result);
   result.seconds =
