@@ -3,6 +3,7 @@
 
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "estimator/estimate.h"
 #include "forward_model/slider.h"
@@ -10,8 +11,14 @@
 
 namespace slideid {
 
-/// Runs the estimator named by options.method on `log`.
-EstimateResult Identify(const Trajectory& log, const EstimatorOptions& options);
+/// Runs the estimator named by options.method on `log`. Throws std::invalid_argument for
+/// invalid options; what the log cannot tell is the result's status.
+EstimateResult Identify(const Trajectory& log, const IdentifyOptions& options);
+
+/// The same over several logs of one slider on one surface: (a, b, c) shared by all, each
+/// log with its own slider properties; result.logs has each log on its own and
+/// result.heterogeneity whether they agree.
+EstimateResult Identify(const std::vector<Trajectory>& logs, const IdentifyOptions& options);
 
 /// Human-readable table: parameter, estimate, standard error, 95% CI, identifiable (and the
 /// truth beside it when given), then steps used and excluded, cost, iterations, run time.
