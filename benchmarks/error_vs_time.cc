@@ -93,16 +93,16 @@ constexpr int kNoiseCount = static_cast<int>(std::size(kNoiseLevels));
 /// One estimator configuration.
 struct Variant {
   std::string name;
-  EstimatorOptions options;
+  IdentifyOptions options;
 };
 
 std::vector<Variant> MakeVariants(int threads) {
   std::vector<Variant> v;
   auto add = [&](const std::string& name, EstimatorMethod m, int segment, int substeps) {
-    EstimatorOptions o;
+    IdentifyOptions o;
     o.method = m;
-    o.segment_steps = segment;
-    o.substeps = substeps;
+    o.trajectory.segment_steps = segment;
+    o.trajectory.substeps = substeps;
     o.threads = threads;
     v.push_back({name, o});
   };
@@ -313,12 +313,13 @@ double ProcessCpuSeconds() {
   return ts.tv_sec + 1e-9 * ts.tv_nsec;
 }
 
-Run IdentifyTimed(const Trajectory& log, const EstimatorOptions& options) {
+Run IdentifyTimed(const Trajectory& log, const IdentifyOptions& options) {
   Run run;
   const double cpu0 = ProcessCpuSeconds();
   const auto t0 = std::chrono::steady_clock::now();
   try {
     const EstimateResult r = Identify(log, options);
+    if (r.status == TerminationStatus::kTooLittleExcitation) throw std::invalid_argument(r.message);
     run.converged = r.converged;
     for (int i = 0; i < 3; ++i) run.p[i] = r.parameters[i];
     run.iterations = r.iterations;
@@ -455,11 +456,11 @@ void WriteCsv(const std::string& path, const std::map<CellKey, Cell>& cells,
   out << ",coverage,med_wall_s,med_cpu_s\n";
   for (const auto& [key, c] : cells) {
     const auto& [v, motion, noise, steps, scene] = key;
-    const EstimatorOptions& o = variants[v].options;
+    const IdentifyOptions& o = variants[v].options;
     const bool traj = o.method == EstimatorMethod::kTrajectory;
     out << variants[v].name << ',' << ToString(o.method) << ','
-        << (traj ? std::to_string(o.segment_steps) : "") << ','
-        << (traj ? std::to_string(o.substeps) : "") << ',' << motion << ','
+        << (traj ? std::to_string(o.trajectory.segment_steps) : "") << ','
+        << (traj ? std::to_string(o.trajectory.substeps) : "") << ',' << motion << ','
         << kNoiseLevels[noise].name << ',' << steps << ',' << scene << ',' << c.runs << ','
         << c.failed << ',' << c.not_converged;
     for (int i = 0; i < 3; ++i) {

@@ -56,7 +56,7 @@ const Trajectory& NoisyLog() {
 
 void Run(benchmark::State& state, EstimatorMethod method) {
   const Trajectory& log = NoisyLog();
-  EstimatorOptions options;
+  IdentifyOptions options;
   options.method = method;
   options.threads = 1;
   EstimateResult result;

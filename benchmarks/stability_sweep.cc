@@ -264,18 +264,21 @@ class Sweep {
       error = true;
       verdict = "simulation: " + sim_error;
     } else {
-      EstimatorOptions options;
+      IdentifyOptions options;
       options.method = std::strcmp(method, "trajectory") == 0 ? EstimatorMethod::kTrajectory
                                                               : EstimatorMethod::kEquationError;
       try {
         const EstimateResult r = Identify(*log, options);
+        if (r.status == TerminationStatus::kTooLittleExcitation) {
+          throw std::invalid_argument(r.message);
+        }
         const double t[] = {truth.a, truth.b, truth.c};
         for (int i = 0; i < 3; ++i) {
           const ParameterEstimate& p = r.parameters[i];
           if (!p.identifiable) {
             unidentifiable = true;
             verdict += std::string(verdict.empty() ? "" : "; ") + ParameterName(i) +
-                       " not identifiable: " + p.note;
+                       " not identifiable: " + p.reason;
             continue;
           }
           rel[i] = std::abs(p.value / t[i] - 1);

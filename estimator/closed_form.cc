@@ -22,9 +22,9 @@ constexpr double kMedianOverMeanStdErr = 1.2533;
 const char* const kSymbol[3] = {"a", "b", "c"};
 
 
-/// |x| is nonzero and at least kDivisorFraction of `scale`.
-bool ClearOfZero(double x, double scale) {
-  return std::abs(x) > 0 && std::abs(x) >= kDivisorFraction * scale;
+/// |x| is nonzero and at least `fraction` of `scale`.
+bool ClearOfZero(double x, double scale, double fraction) {
+  return std::abs(x) > 0 && std::abs(x) >= fraction * scale;
 }
 
 std::string ExclusionSummary(const EstimateResult& r) {
@@ -37,10 +37,13 @@ std::string ExclusionSummary(const EstimateResult& r) {
 
 }  // namespace
 
-EstimateResult EstimateClosedForm(const Trajectory& log, const EstimatorOptions& options) {
+EstimateResult EstimateClosedForm(const Trajectory& log, const IdentifyOptions& options) {
   const auto start_time = std::chrono::steady_clock::now();
   std::string why;
-  if (!options.IsValid(&why)) throw std::invalid_argument("EstimateClosedForm: " + why);
+  if (!options.closed_form.IsValid(&why)) {
+    throw std::invalid_argument("EstimateClosedForm: " + why);
+  }
+  const double fraction = options.closed_form.divisor_fraction;
   const std::vector<StepObservation> steps = ExtractStepObservations(log);
   const double radius = std::sqrt(log.slider.inertia_kgm2 / log.slider.mass_kg);  // L [m]
 
@@ -65,21 +68,21 @@ EstimateResult EstimateClosedForm(const Trajectory& log, const EstimatorOptions&
     // Appendix A, corrected (model.md). Each check names the first divisor that fails.
     std::array<double, 3> squared{{kNaN, kNaN, kNaN}};
     std::array<std::string, 3> reason;
-    if (!ClearOfZero(vt, v_scale)) {
+    if (!ClearOfZero(vt, v_scale, fraction)) {
       reason[kA] = "v_t near zero";
     } else {
       squared[kA] = (pt / pn) * (pt / pn) + pt * po * vo / (pn * pn * vt) +
                     pt * pr * vr / (pn * pn * vt);
     }
-    if (!ClearOfZero(pt, p_scale)) {
+    if (!ClearOfZero(pt, p_scale, fraction)) {
       reason[kB] = reason[kC] = "p_t near zero";
     } else {
-      if (!ClearOfZero(vo, v_scale)) {
+      if (!ClearOfZero(vo, v_scale, fraction)) {
         reason[kB] = "v_o near zero";
       } else {
         squared[kB] = po * vt / (pt * vo);
       }
-      if (!ClearOfZero(radius * vr, v_scale)) {
+      if (!ClearOfZero(radius * vr, v_scale, fraction)) {
         reason[kC] = "v_r near zero";
       } else {
         squared[kC] = pr * vt / (pt * vr);
@@ -100,10 +103,13 @@ EstimateResult EstimateClosedForm(const Trajectory& log, const EstimatorOptions&
 
   result.steps_used = static_cast<int>(usable[kA].size());
   if (result.steps_used < kMinStepsPerParameter) {
-    throw std::invalid_argument(
+    result.status = TerminationStatus::kTooLittleExcitation;
+    result.converged = false;
+    result.message =
         "too little sliding to identify anything: " + std::to_string(result.steps_used) +
         " of " + std::to_string(steps.size()) + " steps give an estimate of a = e_t mu (need " +
-        std::to_string(kMinStepsPerParameter) + "); excluded: " + ExclusionSummary(result));
+        std::to_string(kMinStepsPerParameter) + "); excluded: " + ExclusionSummary(result);
+    return result;
   }
 
   std::array<double, 3> median{{kNaN, kNaN, kNaN}};
@@ -138,11 +144,12 @@ EstimateResult EstimateClosedForm(const Trajectory& log, const EstimatorOptions&
     r.used = !std::isnan(per_step[k][kA]);
     result.residuals.push_back(r);
   }
-  result.converged = true;
   result.message = "closed form: medians of per-step estimates (a " +
                    std::to_string(usable[kA].size()) + ", b " +
                    std::to_string(usable[kB].size()) + ", c " +
                    std::to_string(usable[kC].size()) + " steps)";
+  for (ParameterEstimate& p : result.parameters) p.verdict = p.identifiable ? Verdict::kOk : Verdict::kNotIdentifiable;
+  result.Conclude(true);
   result.seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start_time).count();
   return result;

@@ -7,7 +7,8 @@
 
 namespace slideid {
 
-/// A divisor of an Appendix A formula counts as "near zero" below this fraction of its
+/// Default of ClosedFormOptions::divisor_fraction. A divisor of an Appendix A formula
+/// counts as "near zero" below this fraction of its
 /// step's own scale (|v|_w = sqrt(v_t^2 + v_o^2 + (L v_r)^2) for velocities, |p|_w =
 /// sqrt(p_t^2 + p_o^2 + (p_r / L)^2) for impulses, L = sqrt(I_z / m)). Noise on a divisor
 /// is amplified by scale / |divisor|, so 0.1 caps that at 10x the noise of a step along the
@@ -24,8 +25,9 @@ constexpr int kMinStepsPerParameter = 3;
 /// clamped above 0). A parameter with fewer than kMinStepsPerParameter steps is not
 /// identifiable. Residuals: per step, each estimate's relative deviation from the median
 /// (NaN where the step gave none); used = the step gave an estimate of a.
-/// Throws std::invalid_argument for invalid options or slider properties, and when fewer
-/// than kMinStepsPerParameter steps give an estimate of a ("too little sliding ...").
-EstimateResult EstimateClosedForm(const Trajectory& log, const EstimatorOptions& options);
+/// Throws std::invalid_argument for invalid options or slider properties. When fewer than
+/// kMinStepsPerParameter steps give an estimate of a, the status is kTooLittleExcitation
+/// ("too little sliding ...").
+EstimateResult EstimateClosedForm(const Trajectory& log, const IdentifyOptions& options);
 
 }  // namespace slideid

@@ -52,12 +52,20 @@ Linearisation Linearise(const std::vector<std::unique_ptr<ceres::CostFunction>>&
 
 }  // namespace
 
-EstimateResult EstimateEquationError(const Trajectory& log, const EstimatorOptions& options) {
+EstimateResult EstimateEquationError(const Trajectory& log, const IdentifyOptions& identify,
+                                     const EstimateResult* closed_form) {
   const auto start_time = std::chrono::steady_clock::now();
   std::string why;
+  const EquationErrorOptions& options = identify.equation_error;
   if (!options.IsValid(&why)) throw std::invalid_argument("EstimateEquationError: " + why);
-  // The seed; throws for a log with too little sliding.
-  const EstimateResult seed_result = EstimateClosedForm(log, options);
+  // The seed.
+  const EstimateResult seed_result =
+      closed_form ? *closed_form : EstimateClosedForm(log, identify);
+  if (seed_result.status == TerminationStatus::kTooLittleExcitation) {
+    EstimateResult r = seed_result;
+    r.method = EstimatorMethod::kEquationError;
+    return r;
+  }
   const std::vector<StepObservation> steps = ExtractStepObservations(log);
   const double radius = std::sqrt(log.slider.inertia_kgm2 / log.slider.mass_kg);  // L [m]
 
@@ -93,9 +101,12 @@ EstimateResult EstimateEquationError(const Trajectory& log, const EstimatorOptio
   }
   result.steps_used = static_cast<int>(used.size());
   if (result.steps_used < kMinStepsPerParameter) {
-    throw std::invalid_argument("too little sliding to identify anything: " +
-                                std::to_string(result.steps_used) + " of " +
-                                std::to_string(steps.size()) + " steps usable");
+    result.status = TerminationStatus::kTooLittleExcitation;
+    result.converged = false;
+    result.message = "too little sliding to identify anything: " +
+                     std::to_string(result.steps_used) + " of " +
+                     std::to_string(steps.size()) + " steps usable";
+    return result;
   }
 
   // Seed from the closed form; b = 1 (isotropic) and c = L (uniform disc-like pressure)
@@ -139,7 +150,7 @@ EstimateResult EstimateEquationError(const Trajectory& log, const EstimatorOptio
   ceres::Solver::Options solver_options;
   solver_options.linear_solver_type = ceres::DENSE_QR;
   solver_options.max_num_iterations = options.max_iterations;
-  solver_options.num_threads = options.threads;
+  solver_options.num_threads = identify.threads;
   solver_options.minimizer_progress_to_stdout = false;
   solver_options.logging_type = ceres::SILENT;
   // No gradient test: Ceres' gradient tolerance is absolute, and on a log that barely
@@ -183,8 +194,7 @@ EstimateResult EstimateEquationError(const Trajectory& log, const EstimatorOptio
     if (!active[i]) theta[i] = seed[i];
   }
   result.final_cost = summary.final_cost;
-  // Usable is not converged: a solve cut off by the iteration limit is usable to Ceres.
-  result.converged =
+  const bool solve_converged =
       summary.termination_type == ceres::CONVERGENCE && at_solution.ok;
   result.message = summary.BriefReport();
   if (!at_solution.ok) result.message += "; the model could not be evaluated at the solution";
@@ -197,7 +207,7 @@ EstimateResult EstimateEquationError(const Trajectory& log, const EstimatorOptio
     auto plain = build(nullptr, active);
     ceres::Covariance::Options covariance_options;
     covariance_options.algorithm_type = ceres::DENSE_SVD;
-    covariance_options.num_threads = options.threads;
+    covariance_options.num_threads = identify.threads;
     ceres::Covariance covariance(covariance_options);
     std::vector<std::pair<const double*, const double*>> blocks;
     for (int i = 0; i < 3; ++i) {
@@ -238,6 +248,11 @@ EstimateResult EstimateEquationError(const Trajectory& log, const EstimatorOptio
     if (r.used) ++next_used;
     result.residuals.push_back(r);
   }
+  for (ParameterEstimate& p : result.parameters) {
+    p.verdict = p.identifiable ? Verdict::kOk : Verdict::kNotIdentifiable;
+  }
+  // Usable is not converged: a solve cut off by the iteration limit is usable to Ceres.
+  result.Conclude(solve_converged);
   result.seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start_time).count();
   return result;

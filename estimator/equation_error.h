@@ -71,7 +71,10 @@ struct EquationErrorResidual {
 /// are conservative (~4x the observed spread on the synthetic scenes). Outliers (e.g. sticking
 /// steps a noisy log cannot flag) also inflate s^2, since it uses the raw residuals.
 /// Residuals: per step, names "t", "o", "r", NaN for unused steps.
-/// Throws std::invalid_argument for invalid options or too little sliding.
-EstimateResult EstimateEquationError(const Trajectory& log, const EstimatorOptions& options);
+/// `closed_form`, when given, is EstimateClosedForm's result on the same log (so that an
+/// identification runs it once). Throws std::invalid_argument for invalid options; too
+/// little sliding is the status kTooLittleExcitation.
+EstimateResult EstimateEquationError(const Trajectory& log, const IdentifyOptions& options,
+                                     const EstimateResult* closed_form = nullptr);
 
 }  // namespace slideid

@@ -19,7 +19,7 @@ std::string Format(const char* fmt, double x, double y = 0) {
 }
 
 /// H restricted to the indices in `set`.
-Eigen::MatrixXd Sub(const Eigen::Matrix3d& h, const std::vector<int>& set) {
+Eigen::MatrixXd Sub(const Eigen::MatrixXd& h, const std::vector<int>& set) {
   const int n = static_cast<int>(set.size());
   Eigen::MatrixXd s(n, n);
   for (int i = 0; i < n; ++i) {
@@ -32,9 +32,15 @@ void Remove(std::vector<int>* set, int position) { set->erase(set->begin() + pos
 
 }  // namespace
 
-std::array<ParameterIdentifiability, 3> AssessIdentifiability(const Eigen::Matrix3d& fisher_log,
-                                                              double residual_variance,
-                                                              const std::array<bool, 3>& active) {
+std::vector<ParameterIdentifiability> AssessIdentifiability(const Eigen::MatrixXd& fisher_log,
+                                                           double residual_variance,
+                                                           const std::vector<bool>& active,
+                                                           const std::vector<double>& max_stderr) {
+  const int n = static_cast<int>(fisher_log.rows());
+  if (fisher_log.cols() != n || static_cast<int>(active.size()) != n ||
+      static_cast<int>(max_stderr.size()) != n) {
+    throw std::invalid_argument("AssessIdentifiability: sizes of H, active and max_stderr differ");
+  }
   if (!fisher_log.allFinite()) {
     throw std::invalid_argument("AssessIdentifiability: information matrix is not finite");
   }
@@ -43,17 +49,17 @@ std::array<ParameterIdentifiability, 3> AssessIdentifiability(const Eigen::Matri
         Format("AssessIdentifiability: residual variance must be finite and >= 0, got %g",
                residual_variance));
   }
-  const Eigen::Matrix3d h = 0.5 * (fisher_log + fisher_log.transpose());
-  std::array<ParameterIdentifiability, 3> out;
+  const Eigen::MatrixXd h = 0.5 * (fisher_log + fisher_log.transpose());
+  std::vector<ParameterIdentifiability> out(n);
   for (auto& p : out) p.stderr_log = kNaN;
 
   // (i) no or negligible information.
   double largest = 0;
-  for (int i = 0; i < 3; ++i) {
+  for (int i = 0; i < n; ++i) {
     if (active[i]) largest = std::max(largest, h(i, i));
   }
   std::vector<int> set;
-  for (int i = 0; i < 3; ++i) {
+  for (int i = 0; i < n; ++i) {
     if (!active[i]) {
       out[i].note = "held constant by the caller";
     } else if (!(h(i, i) > 0) || h(i, i) < kNegligibleInformationRatio * largest) {
@@ -95,9 +101,13 @@ std::array<ParameterIdentifiability, 3> AssessIdentifiability(const Eigen::Matri
     for (int k = 0; k < static_cast<int>(set.size()); ++k) {
       se(k) = std::sqrt(residual_variance * std::max(inv(k, k), 0.0));
     }
+    // The worst is the one furthest beyond its own threshold.
+    Eigen::VectorXd excess(set.size());
+    for (int k = 0; k < static_cast<int>(set.size()); ++k) excess(k) = se(k) / max_stderr[set[k]];
     int worst = 0;
-    const double largest_se = se.maxCoeff(&worst);
-    if (largest_se <= kMaxLogStdErr) {
+    const double largest_excess = excess.maxCoeff(&worst);
+    const double largest_se = se(worst);
+    if (largest_excess <= 1.0) {
       for (int k = 0; k < static_cast<int>(set.size()); ++k) {
         out[set[k]].identifiable = true;
         out[set[k]].stderr_log = se(k);
@@ -105,29 +115,43 @@ std::array<ParameterIdentifiability, 3> AssessIdentifiability(const Eigen::Matri
       break;
     }
     out[set[worst]].note = Format(
-        "the log does not constrain it: standard error of its log %.3g exceeds %.3g",
-        largest_se, kMaxLogStdErr);
+        "the log does not constrain it: its standard error %.3g exceeds %.3g", largest_se,
+        max_stderr[set[worst]]);
     Remove(&set, worst);
   }
   return out;
 }
 
+std::array<ParameterIdentifiability, 3> AssessIdentifiability(const Eigen::Matrix3d& fisher_log,
+                                                              double residual_variance,
+                                                              const std::array<bool, 3>& active) {
+  const std::vector<ParameterIdentifiability> v = AssessIdentifiability(
+      Eigen::MatrixXd(fisher_log), residual_variance, {active[0], active[1], active[2]},
+      {kMaxLogStdErr, kMaxLogStdErr, kMaxLogStdErr});
+  return {v[0], v[1], v[2]};
+}
+
 ParameterEstimate EstimateFromLog(double log_value, double stderr_log) {
+  return EstimateFromLog(log_value, stderr_log, kZ95);
+}
+
+ParameterEstimate EstimateFromLog(double log_value, double stderr_log, double quantile) {
   ParameterEstimate p;
   p.identifiable = true;
+  p.verdict = Verdict::kOk;
   p.value = std::exp(log_value);
   p.stderr_value = p.value * stderr_log;
-  p.ci95_lo = std::exp(log_value - kZ95 * stderr_log);
-  p.ci95_hi = std::exp(log_value + kZ95 * stderr_log);
-  p.note = "95% interval from the log-parameter's standard error (asymmetric)";
+  p.ci95_lo = std::exp(log_value - quantile * stderr_log);
+  p.ci95_hi = std::exp(log_value + quantile * stderr_log);
   return p;
 }
 
-ParameterEstimate NotIdentifiable(double held_at, const std::string& note) {
+ParameterEstimate NotIdentifiable(double held_at, const std::string& reason) {
   ParameterEstimate p;
   p.identifiable = false;
+  p.verdict = Verdict::kNotIdentifiable;
   p.held_at = held_at;
-  p.note = note;
+  p.reason = reason;
   return p;
 }
 

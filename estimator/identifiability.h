@@ -23,6 +23,7 @@
 #include <Eigen/Core>
 #include <array>
 #include <string>
+#include <vector>
 
 #include "estimator/estimate.h"
 
@@ -52,10 +53,21 @@ constexpr double kMaxLogStdErr = 0.5;
 /// The verdict on one parameter.
 struct ParameterIdentifiability {
   bool identifiable = false;
-  /// One-sigma error of log(parameter) (dimensionless), NaN when not identifiable.
+  /// One-sigma error of the parameter in the units it was assessed in (of log(parameter)
+  /// for a, b, c: dimensionless), NaN when not identifiable.
   double stderr_log;
   std::string note;  ///< why not identifiable (empty when it is)
 };
+
+/// Rules (i)-(iii) for any number of parameters (a, b, c in log form and sensor nuisances
+/// in their own units), parameter i undetermined under (iii) when its standard error
+/// exceeds max_stderr[i]. `fisher` is n x n symmetric; `active` and `max_stderr` have n
+/// entries. Throws std::invalid_argument for a non-finite H, a negative variance or
+/// mismatched sizes.
+std::vector<ParameterIdentifiability> AssessIdentifiability(const Eigen::MatrixXd& fisher,
+                                                           double residual_variance,
+                                                           const std::vector<bool>& active,
+                                                           const std::vector<double>& max_stderr);
 
 /// Applies rules (i)-(iii) to `fisher_log` (3x3 symmetric, in order log a, log b, log c)
 /// with residual variance `residual_variance` (>= 0). Parameters with active[i] == false
@@ -69,9 +81,12 @@ std::array<ParameterIdentifiability, 3> AssessIdentifiability(
 /// value = exp(log_value), stderr = value * stderr_log (delta method), and the 95% interval
 /// [exp(log_value - kZ95 stderr_log), exp(log_value + kZ95 stderr_log)] (asymmetric, > 0).
 ParameterEstimate EstimateFromLog(double log_value, double stderr_log);
+/// The same with the interval's quantile given (e.g. Student's t for few clusters):
+/// [exp(log_value - quantile stderr_log), exp(log_value + quantile stderr_log)].
+ParameterEstimate EstimateFromLog(double log_value, double stderr_log, double quantile);
 
 /// A parameter the data do not determine: value, stderr and interval NaN, held_at the value
-/// it was held at (NaN if none), and the note.
-ParameterEstimate NotIdentifiable(double held_at, const std::string& note);
+/// it was held at (NaN if none), and the reason.
+ParameterEstimate NotIdentifiable(double held_at, const std::string& reason);
 
 }  // namespace slideid

@@ -8,13 +8,26 @@
 
 namespace slideid {
 
-EstimateResult Identify(const Trajectory& log, const EstimatorOptions& options) {
+EstimateResult Identify(const Trajectory& log, const IdentifyOptions& options) {
+  std::string why;
+  if (!options.IsValid(&why)) throw std::invalid_argument(why);
   switch (options.method) {
     case EstimatorMethod::kClosedForm: return EstimateClosedForm(log, options);
     case EstimatorMethod::kEquationError: return EstimateEquationError(log, options);
     case EstimatorMethod::kTrajectory: return EstimateTrajectory(log, options);
+    case EstimatorMethod::kQuasiStatic: break;
   }
-  throw std::invalid_argument("unknown estimator method");
+  throw std::invalid_argument(std::string("method ") + ToString(options.method) +
+                              " does not take push logs");
+}
+
+EstimateResult Identify(const std::vector<Trajectory>& logs, const IdentifyOptions& options) {
+  if (logs.size() == 1) return Identify(logs[0], options);
+  std::string why;
+  if (!options.IsValid(&why)) throw std::invalid_argument(why);
+  if (options.method == EstimatorMethod::kTrajectory) return EstimateTrajectory(logs, options);
+  throw std::invalid_argument(std::string("method ") + ToString(options.method) +
+                              " does not pool several logs yet");
 }
 
 }  // namespace slideid

@@ -1,7 +1,8 @@
 #pragma once
-// Exact derivatives of one step's end velocity with respect to its start velocity and the
-// log-parameters (log a, log b, log c), by the implicit function theorem on the step's
-// scaled equations (forward_model/step_equations.h): dz/dx = -F_z^-1 F_x.
+// Exact derivatives of one step's end velocity with respect to its start velocity, the
+// log-parameters (log a, log b, log c) and, on request, the applied wrench, by the implicit
+// function theorem on the step's scaled equations (forward_model/step_equations.h):
+// dz/dx = -F_z^-1 F_x.
 
 #include <Eigen/Core>
 
@@ -9,18 +10,21 @@
 
 namespace slideid {
 
-/// A solved step and its sensitivities. While sticking, nu' = 0 locally: both are zero.
+/// A solved step and its sensitivities. While sticking, nu' = 0 locally: all are zero.
 struct StepSensitivity {
   StepResult step;
   Eigen::Matrix3d dnu_dnu = Eigen::Matrix3d::Zero();       ///< d nu' / d nu
   Eigen::Matrix3d dnu_dlogabc = Eigen::Matrix3d::Zero();   ///< d nu' / d(log a, log b, log c)
+  /// d nu' / d(f_x, f_y, t_z, t_x, t_y) [per N and N m], filled when asked for.
+  Eigen::Matrix<double, 3, 5> dnu_dwrench = Eigen::Matrix<double, 3, 5>::Zero();
 };
 
-/// Solves the step with (a, b, c) and fills the derivatives. Returns false when the step
-/// failed (non-convergence, lift-off) or the Jacobian of the equations is singular.
+/// Solves the step with (a, b, c) and fills the derivatives (those with respect to the
+/// applied wrench too when `with_wrench`). Returns false when the step failed
+/// (non-convergence, lift-off) or the Jacobian of the equations is singular.
 bool SolveStepWithSensitivity(const SliderProperties& slider, const ReducedFriction& abc,
                               const PlanarState& state, const AppliedWrench& applied,
                               double dt_s, StepSensitivity* out,
-                              const StepOptions& options = {});
+                              const StepOptions& options = {}, bool with_wrench = false);
 
 }  // namespace slideid

@@ -1,34 +1,51 @@
 #pragma once
 // The trajectory (output-error) estimator: Ceres robust least squares of the simulated
-// trajectory against the measured one over the whole log.
+// trajectory against the measured one, over one log or over several logs pooled.
 //
-// The log is cut into shooting segments of EstimatorOptions::segment_steps intervals. Each
-// segment's initial state (x, y, theta, v_x, v_y, w_z) is a parameter block of its own and
-// (log a, log b, log c) are shared, the structure of bundle adjustment, solved with Ceres'
-// Schur complement (segments eliminated first). Within a segment the forward model is
-// simulated from the segment's state with the logged applied wrench, substeps per log
-// interval, sticking included; the residuals are the measured poses (or velocities, for a
-// log without poses) minus the simulated ones. Segments are independent shooting intervals:
-// each measurement enters once, and the interval between two segments is not used.
-// Derivatives through each step are exact (estimator/step_sensitivity.h).
+// Each log is cut into shooting segments (TrajectorySegmentSteps intervals each). Each
+// segment's initial state (x, y, theta, v_x, v_y, w_z) is a parameter block of its own,
+// (log a, log b, log c) are shared by every segment of every log, and each log may add
+// sensor nuisances (a force offset, a delay: estimator/segment_cost.h). This is the
+// structure of bundle adjustment, solved with Ceres' Schur complement (segments eliminated
+// first). Within a segment the forward model is simulated from the segment's state with
+// the logged wrench, substeps per log interval, sticking included; the residuals are the
+// measured poses (or velocities, for a log without poses) minus the simulated ones, each
+// row robustified on its own at a scale set by the noise the log itself shows
+// (estimator/log_diagnostics.h). Derivatives through each step are exact.
+//
+// Intervals: the white-noise covariance (s^2 times the inverse of the marginal information)
+// and the cluster-robust (sandwich) covariances with the segments, and for a pooled fit the
+// logs, as clusters, with the small-sample factor G / (G - 1) and Student's t quantile on
+// G - 1 degrees of freedom. The widest of these is reported and the table says which: the
+// residuals of real and coarsely sampled logs are correlated within a segment (forces are
+// noisy and held over each row), and pooled logs differ by more than their noise.
 
 #include <ceres/cost_function.h>
 
+#include <vector>
+
 #include "estimator/estimate.h"
+#include "estimator/segment_cost.h"
 #include "forward_model/trajectory.h"
 
 namespace slideid {
 
 /// Fits (a, b, c) to `log` (slider properties set; rows strictly increasing in time).
-/// Seeds from the equation-error estimate (or the closed form, or defaults). Throws
-/// std::invalid_argument for a log too short or with too little sliding.
-EstimateResult EstimateTrajectory(const Trajectory& log, const EstimatorOptions& options);
+/// Seeds (b, c) from the closed form, a from a scan of the trajectory cost. A log that
+/// determines nothing gives status kTooLittleExcitation, with the reason in the message.
+/// Throws std::invalid_argument for invalid options.
+EstimateResult EstimateTrajectory(const Trajectory& log, const IdentifyOptions& options);
+
+/// Fits (a, b, c) shared by every log, each log with its own segments, slider properties
+/// and nuisances; result.logs holds every log fitted on its own (which also seed the pooled
+/// fit) and result.heterogeneity whether they agree. One log: as EstimateTrajectory(log).
+EstimateResult EstimateTrajectory(const std::vector<Trajectory>& logs,
+                                  const IdentifyOptions& options);
 
 /// The cost of one shooting segment (rows first_row..last_row of `log`, which must outlive
-/// it): parameter blocks (x, y, theta, v_x, v_y, w_z) at first_row, log a, log b, log c;
-/// 3 residuals per row (poses, or velocities when use_pose is false, the angular channel
-/// times the radius of gyration). Exposed for derivative checks.
+/// it), parameter blocks as estimator/segment_cost.h says. Exposed for derivative checks.
 ceres::CostFunction* NewSegmentCost(const Trajectory& log, int first_row, int last_row,
-                                    int substeps, bool use_pose);
+                                    int substeps, bool use_pose,
+                                    SegmentNuisances nuisances = {});
 
 }  // namespace slideid

@@ -45,7 +45,7 @@ constexpr double kNearStickBoundary = 1e-3;
 // ellipsoid's half-axis (as StepEquations::ComponentwiseResidual does).
 constexpr double kEllipsoidFloor = 1e-6;
 
-void Validate(const SliderProperties& slider, const FrictionParameters& f, double dt_s) {
+void Validate(const SliderProperties& slider, const ReducedFriction& f, double dt_s) {
   auto require = [](bool ok, const char* what, double value) {
     if (!ok) {
       std::ostringstream msg;
@@ -60,10 +60,9 @@ void Validate(const SliderProperties& slider, const FrictionParameters& f, doubl
           "com_height must be >= 0", slider.com_height_m);
   require(std::isfinite(slider.gravity_mps2) && slider.gravity_mps2 > 0, "gravity must be > 0",
           slider.gravity_mps2);
-  require(std::isfinite(f.mu) && f.mu > 0, "mu must be > 0", f.mu);
-  require(std::isfinite(f.e_t) && f.e_t > 0, "e_t must be > 0", f.e_t);
-  require(std::isfinite(f.e_o) && f.e_o > 0, "e_o must be > 0", f.e_o);
-  require(std::isfinite(f.e_r) && f.e_r > 0, "e_r must be > 0", f.e_r);
+  require(std::isfinite(f.a) && f.a > 0, "a = e_t mu must be > 0", f.a);
+  require(std::isfinite(f.b) && f.b > 0, "b = e_o / e_t must be > 0", f.b);
+  require(std::isfinite(f.c) && f.c > 0, "c = e_r / e_t must be > 0", f.c);
   require(std::isfinite(dt_s) && dt_s > 0, "time step must be > 0", dt_s);
 }
 
@@ -206,8 +205,7 @@ bool SolveGeneral(const StepEquations& eq, const StepOptions& options, double st
   return true;
 }
 
-StepResult Finish(const SliderProperties& slider, const FrictionParameters& friction,
-                  const PlanarState& state, double dt_s, const StepEquations& eq,
+StepResult Finish(const PlanarState& state, double dt_s, const StepEquations& eq,
                   const Eigen::Vector3d& p, double slip) {
   StepResult r;
   r.status = StepStatus::kConverged;
@@ -215,7 +213,7 @@ StepResult Finish(const SliderProperties& slider, const FrictionParameters& fric
   r.po = p(1);
   r.pr = p(2);
   r.pn = eq.pn();
-  r.sigma = friction.e_t * slip;
+  r.sigma = slip;
   const Eigen::Vector3d nu = eq.EndVelocity(p);
   r.state.vx = nu(0);
   r.state.vy = nu(1);
@@ -228,15 +226,13 @@ StepResult Finish(const SliderProperties& slider, const FrictionParameters& fric
   const double c = std::cos(r.state.theta), s = std::sin(r.state.theta);
   r.ecp_body << c * r.ecp_offset_world(0) + s * r.ecp_offset_world(1),
       -s * r.ecp_offset_world(0) + c * r.ecp_offset_world(1);
-  (void)slider;
   return r;
 }
 
 // The step ends at rest with the stopping impulse p_stop (model.md, "Sticking").
-StepResult Stick(const SliderProperties& slider, const FrictionParameters& friction,
-                 const PlanarState& state, double dt_s, const StepEquations& eq,
+StepResult Stick(const PlanarState& state, double dt_s, const StepEquations& eq,
                  const Eigen::Vector3d& p_stop) {
-  StepResult r = Finish(slider, friction, state, dt_s, eq, p_stop, 0.0);
+  StepResult r = Finish(state, dt_s, eq, p_stop, 0.0);
   r.state.vx = r.state.vy = r.state.wz = 0.0;  // exact zero, not rounding residue
   r.state.x = state.x;
   r.state.y = state.y;
@@ -264,6 +260,26 @@ bool StepOptions::IsValid(std::string* why) const {
 StepResult SolveStep(const SliderProperties& slider, const FrictionParameters& friction,
                      const PlanarState& state, const AppliedWrench& applied, double dt_s,
                      const StepOptions& options) {
+  auto require = [](double value, const char* name) {
+    if (!(std::isfinite(value) && value > 0)) {
+      std::ostringstream msg;
+      msg << "SolveStep: " << name << " must be > 0 (got " << value << ")";
+      throw std::invalid_argument(msg.str());
+    }
+  };
+  require(friction.mu, "mu");
+  require(friction.e_t, "e_t");
+  require(friction.e_o, "e_o");
+  require(friction.e_r, "e_r");
+  StepResult r =
+      SolveStep(slider, ReducedFriction::From(friction), state, applied, dt_s, options);
+  r.sigma *= friction.e_t;  // the reduced step's slip is sigma / e_t
+  return r;
+}
+
+StepResult SolveStep(const SliderProperties& slider, const ReducedFriction& friction,
+                     const PlanarState& state, const AppliedWrench& applied, double dt_s,
+                     const StepOptions& options) {
   Validate(slider, friction, dt_s);
   ValidateFinite(state, applied);
   std::string why;
@@ -278,11 +294,11 @@ StepResult SolveStep(const SliderProperties& slider, const FrictionParameters& f
     fail.message = "normal impulse p_n <= 0: the applied vertical force lifts the slider";
     return fail;
   }
-  const StepEquations eq(slider, ReducedFriction::From(friction), state, applied, dt_s);
+  const StepEquations eq(slider, friction, state, applied, dt_s);
 
   // Stick when the impulse that stops the slider lies inside the ellipsoid (model.md).
   const Eigen::Vector3d p_stop = eq.StoppingImpulse();
-  if (eq.InsideEllipsoid(p_stop)) return Stick(slider, friction, state, dt_s, eq, p_stop);
+  if (eq.InsideEllipsoid(p_stop)) return Stick(state, dt_s, eq, p_stop);
 
   // Domain limits of double (issue 5): p_n, a p_n, the momenta, V or the terms of the
   // scaled equations under- or overflow (far outside any physical slider: e.g.
@@ -329,7 +345,7 @@ StepResult SolveStep(const SliderProperties& slider, const FrictionParameters& f
     // Stick-slip boundary (issue 5): the slide root is at s = 0 within rounding (the
     // decoupled root or the closed form find s <= 0): the slider stops, with the stopping
     // impulse, on the ellipsoid to rounding.
-    return Stick(slider, friction, state, dt_s, eq, p_stop);
+    return Stick(state, dt_s, eq, p_stop);
   }
   if (!ok && !eq.ScalesRepresentable(&why, true)) {
     // The terms of the scaled equations overflow (e.g. c = 1e300 m): say so (issue 5).
@@ -351,7 +367,7 @@ StepResult SolveStep(const SliderProperties& slider, const FrictionParameters& f
     fail.message = msg.str();
     return fail;
   }
-  StepResult r = Finish(slider, friction, state, dt_s, eq, eq.Impulses(z), z(3));
+  StepResult r = Finish(state, dt_s, eq, eq.Impulses(z), z(3));
   r.mode = StepMode::kSlide;
   r.path = path;
   r.residual = residual;

@@ -69,9 +69,16 @@ struct StepResult {
   bool ok() const { return status == StepStatus::kConverged; }
 };
 
-/// Advances `state` by one step of length dt_s [s] under `applied` (held over the step).
-/// Throws std::invalid_argument for invalid properties, parameters or step length;
-/// non-convergence and lift-off are statuses.
+/// Advances `state` by one step of length dt_s [s] under `applied` (held over the step),
+/// with the friction given by the three combinations the motion depends on (model.md,
+/// "Only three parameters matter"): the estimators' form, with no conversion per step.
+/// StepResult::sigma is then sigma / e_t [m/s]. Throws std::invalid_argument for invalid
+/// properties, parameters or step length; non-convergence and lift-off are statuses.
+StepResult SolveStep(const SliderProperties& slider, const ReducedFriction& friction,
+                     const PlanarState& state, const AppliedWrench& applied, double dt_s,
+                     const StepOptions& options = {});
+
+/// The same step with the paper's four friction parameters; sigma is the paper's.
 StepResult SolveStep(const SliderProperties& slider, const FrictionParameters& friction,
                      const PlanarState& state, const AppliedWrench& applied, double dt_s,
                      const StepOptions& options = {});

@@ -46,6 +46,8 @@ struct LogColumns {
 
 /// A push log: known slider properties (metadata), optional truth, and samples.
 struct Trajectory {
+  /// Where it came from (a file name), for messages and pooled results; may be empty.
+  std::string source;
   SliderProperties slider;
   std::string patch_spec;  ///< "rectangle W L" etc. (log-format.md), empty when unknown
   std::optional<FrictionParameters> true_friction;  ///< simulated logs only

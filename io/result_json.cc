@@ -50,8 +50,50 @@ Json ParameterJson(const ParameterEstimate& p) {
   j["ci95"] = Json::array({id ? NumberOrNull(p.ci95_lo) : Json(nullptr),
                            id ? NumberOrNull(p.ci95_hi) : Json(nullptr)});
   j["identifiable"] = id;
+  j["verdict"] = ToString(p.verdict);
+  j["reason"] = p.reason;
   j["held_at"] = id ? Json(nullptr) : NumberOrNull(p.held_at);
   j["note"] = p.note;
+  return j;
+}
+
+Json NuisanceJson(const NuisanceEstimate& n) {
+  const bool id = n.identifiable;
+  Json j = Json::object();
+  j["log"] = n.log;
+  j["value"] = id ? NumberOrNull(n.value) : Json(nullptr);
+  j["stderr"] = id ? NumberOrNull(n.stderr_value) : Json(nullptr);
+  j["ci95"] = Json::array({id ? NumberOrNull(n.ci95_lo) : Json(nullptr),
+                           id ? NumberOrNull(n.ci95_hi) : Json(nullptr)});
+  j["identifiable"] = id;
+  j["verdict"] = ToString(n.verdict);
+  j["reason"] = n.reason;
+  j["held_at"] = id ? Json(nullptr) : NumberOrNull(n.held_at);
+  return j;
+}
+
+Json LogJson(const LogResult& log) {
+  Json j = Json::object();
+  j["name"] = log.name;
+  j["skipped"] = log.skipped;
+  j["skip_reason"] = log.skip_reason;
+  j["rows"] = log.rows;
+  j["steps_used"] = log.steps_used;
+  j["status"] = ToString(log.status);
+  j["message"] = log.message;
+  for (int i = 0; i < 3; ++i) j[ParameterName(i)] = ParameterJson(log.parameters[i]);
+  return j;
+}
+
+Json HeterogeneityJson(const Heterogeneity& h) {
+  Json j = Json::object();
+  j["tested"] = h.tested;
+  j["logs"] = h.logs;
+  j["q"] = NumberOrNull(h.q);
+  j["p_value"] = NumberOrNull(h.p_value);
+  j["i2"] = NumberOrNull(h.i2);
+  j["tau_log"] = NumberOrNull(h.tau_log);
+  j["consistent"] = h.consistent;
   return j;
 }
 
@@ -119,29 +161,108 @@ auto Field(const Json& object, const std::string& path, const std::string& key, 
   return read(Member(object, path, key), path + "/" + key);
 }
 
-ParameterEstimate ReadParameter(const Json& root, int index) {
-  const std::string path = std::string("/") + ParameterName(index);
-  const Json& j = Object(Member(root, "", ParameterName(index)), path);
+template <typename Enum, size_t N>
+Enum Named(const Json& j, const std::string& path, const Enum (&choices)[N]) {
+  const std::string name = Text(j, path);
+  std::string all;
+  for (Enum e : choices) {
+    if (name == ToString(e)) return e;
+    all += (all.empty() ? "" : ", ") + std::string(ToString(e));
+  }
+  Fail(path, "unknown value '" + name + "' (" + all + ")");
+}
+
+constexpr Verdict kVerdicts[] = {Verdict::kOk, Verdict::kSuspect, Verdict::kNotIdentifiable};
+constexpr TerminationStatus kStatuses[] = {
+    TerminationStatus::kConverged, TerminationStatus::kConvergedWithCaveats,
+    TerminationStatus::kNoConvergence, TerminationStatus::kTooLittleExcitation};
+
+Verdict ReadVerdict(const Json& j, const std::string& path) { return Named(j, path, kVerdicts); }
+TerminationStatus ReadStatus(const Json& j, const std::string& path) {
+  return Named(j, path, kStatuses);
+}
+
+void ReadInterval(const Json& j, const std::string& path, double* lo, double* hi) {
+  const Json& ci = Member(j, path, "ci95");
+  if (!ci.is_array() || ci.size() != 2) Fail(path + "/ci95", "expected [lo, hi], got " + Quoted(ci));
+  *lo = NumberOrNaN(ci[0], path + "/ci95/0");
+  *hi = NumberOrNaN(ci[1], path + "/ci95/1");
+}
+
+ParameterEstimate ReadParameterAt(const Json& parent, const std::string& parent_path, int index) {
+  const std::string path = parent_path + "/" + ParameterName(index);
+  const Json& j = Object(Member(parent, parent_path, ParameterName(index)), path);
   ParameterEstimate p;
   p.value = Field(j, path, "value", NumberOrNaN);
   p.stderr_value = Field(j, path, "stderr", NumberOrNaN);
-  const Json& ci = Member(j, path, "ci95");
-  if (!ci.is_array() || ci.size() != 2) Fail(path + "/ci95", "expected [lo, hi], got " + Quoted(ci));
-  p.ci95_lo = NumberOrNaN(ci[0], path + "/ci95/0");
-  p.ci95_hi = NumberOrNaN(ci[1], path + "/ci95/1");
+  ReadInterval(j, path, &p.ci95_lo, &p.ci95_hi);
   p.identifiable = Field(j, path, "identifiable", Boolean);
+  p.verdict = Field(j, path, "verdict", ReadVerdict);
+  p.reason = Field(j, path, "reason", Text);
   p.held_at = Field(j, path, "held_at", NumberOrNaN);
   p.note = Field(j, path, "note", Text);
   return p;
 }
 
+const Json& Array(const Json& j, const std::string& path) {
+  if (!j.is_array()) Fail(path, "expected an array, got " + Quoted(j));
+  return j;
+}
+
+NuisanceEstimate ReadNuisance(const Json& j, const std::string& path, const std::string& name) {
+  Object(j, path);
+  NuisanceEstimate n;
+  n.name = name;
+  n.log = Field(j, path, "log", Text);
+  n.value = Field(j, path, "value", NumberOrNaN);
+  n.stderr_value = Field(j, path, "stderr", NumberOrNaN);
+  ReadInterval(j, path, &n.ci95_lo, &n.ci95_hi);
+  n.identifiable = Field(j, path, "identifiable", Boolean);
+  n.verdict = Field(j, path, "verdict", ReadVerdict);
+  n.reason = Field(j, path, "reason", Text);
+  n.held_at = Field(j, path, "held_at", NumberOrNaN);
+  return n;
+}
+
+LogResult ReadLog(const Json& j, const std::string& path) {
+  Object(j, path);
+  LogResult log;
+  log.name = Field(j, path, "name", Text);
+  log.skipped = Field(j, path, "skipped", Boolean);
+  log.skip_reason = Field(j, path, "skip_reason", Text);
+  log.rows = Field(j, path, "rows", Count);
+  log.steps_used = Field(j, path, "steps_used", Count);
+  log.status = Field(j, path, "status", ReadStatus);
+  log.message = Field(j, path, "message", Text);
+  for (int i = 0; i < 3; ++i) log.parameters[i] = ReadParameterAt(j, path, i);
+  return log;
+}
+
+Heterogeneity ReadHeterogeneity(const Json& j, const std::string& path) {
+  Object(j, path);
+  Heterogeneity h;
+  h.tested = Field(j, path, "tested", Boolean);
+  h.logs = Field(j, path, "logs", Count);
+  h.q = Field(j, path, "q", NumberOrNaN);
+  h.p_value = Field(j, path, "p_value", NumberOrNaN);
+  h.i2 = Field(j, path, "i2", NumberOrNaN);
+  h.tau_log = Field(j, path, "tau_log", NumberOrNaN);
+  h.consistent = Field(j, path, "consistent", Boolean);
+  return h;
+}
+
+ParameterEstimate ReadParameter(const Json& root, int index) {
+  return ReadParameterAt(root, "", index);
+}
+
 EstimatorMethod ReadMethod(const Json& root) {
   const std::string name = Field(root, "", "method", Text);
   for (EstimatorMethod m : {EstimatorMethod::kClosedForm, EstimatorMethod::kEquationError,
-                            EstimatorMethod::kTrajectory}) {
+                            EstimatorMethod::kTrajectory, EstimatorMethod::kQuasiStatic}) {
     if (name == ToString(m)) return m;
   }
-  Fail("/method", "unknown method '" + name + "' (closed-form, equation-error, trajectory)");
+  Fail("/method", "unknown method '" + name +
+                      "' (closed-form, equation-error, trajectory, quasi-static)");
 }
 
 }  // namespace
@@ -156,6 +277,7 @@ std::string FormatJson(const EstimateResult& r) {
     reasons[reason] = reasons.value(reason, 0) + count;  // one key per reason
   }
   doc["method"] = ToString(r.method);
+  doc["status"] = ToString(r.status);
   doc["steps_used"] = r.steps_used;
   doc["steps_total"] = r.steps_total;
   doc["steps_excluded"] = excluded;
@@ -165,6 +287,19 @@ std::string FormatJson(const EstimateResult& r) {
   doc["final_cost"] = NumberOrNull(r.final_cost);
   doc["converged"] = r.converged;
   doc["message"] = r.message;
+  doc["log_noise"] = NumberOrNull(r.log_noise);
+  doc["residual_rms"] = NumberOrNull(r.residual_rms);
+  Json nuisance = Json::object();
+  for (const NuisanceEstimate& n : r.nuisance) {
+    if (!nuisance.contains(n.name)) nuisance[n.name] = Json::array();
+    nuisance[n.name].push_back(NuisanceJson(n));
+  }
+  doc["nuisance"] = nuisance;
+  doc["logs"] = Json::array();
+  for (const LogResult& log : r.logs) doc["logs"].push_back(LogJson(log));
+  Json heterogeneity = Json::object();
+  for (int i = 0; i < 3; ++i) heterogeneity[ParameterName(i)] = HeterogeneityJson(r.heterogeneity[i]);
+  doc["heterogeneity"] = heterogeneity;
   std::string out;
   Print(doc, &out);
   return out;
@@ -175,6 +310,7 @@ EstimateResult ParseResultJson(const std::string& json) {
   EstimateResult r;
   for (int i = 0; i < 3; ++i) r.parameters[i] = ReadParameter(root, i);
   r.method = ReadMethod(root);
+  r.status = Field(root, "", "status", ReadStatus);
   r.steps_used = Field(root, "", "steps_used", Count);
   r.steps_total = Field(root, "", "steps_total", Count);
   const int excluded = Field(root, "", "steps_excluded", Count);
@@ -195,6 +331,25 @@ EstimateResult ParseResultJson(const std::string& json) {
   r.final_cost = Field(root, "", "final_cost", NumberOrNaN);
   r.converged = Field(root, "", "converged", Boolean);
   r.message = Field(root, "", "message", Text);
+  r.log_noise = Field(root, "", "log_noise", NumberOrNaN);
+  r.residual_rms = Field(root, "", "residual_rms", NumberOrNaN);
+  const Json& nuisance = Object(Member(root, "", "nuisance"), "/nuisance");
+  for (auto it = nuisance.begin(); it != nuisance.end(); ++it) {
+    const std::string path = "/nuisance/" + it.key();
+    const Json& entries = Array(it.value(), path);
+    for (size_t k = 0; k < entries.size(); ++k) {
+      r.nuisance.push_back(ReadNuisance(entries[k], path + "/" + std::to_string(k), it.key()));
+    }
+  }
+  const Json& logs = Array(Member(root, "", "logs"), "/logs");
+  for (size_t k = 0; k < logs.size(); ++k) {
+    r.logs.push_back(ReadLog(logs[k], "/logs/" + std::to_string(k)));
+  }
+  const Json& heterogeneity = Object(Member(root, "", "heterogeneity"), "/heterogeneity");
+  for (int i = 0; i < 3; ++i) {
+    r.heterogeneity[i] = ReadHeterogeneity(Member(heterogeneity, "/heterogeneity", ParameterName(i)),
+                                           std::string("/heterogeneity/") + ParameterName(i));
+  }
   return r;
 }
 

@@ -2,10 +2,20 @@
 // The identify result as JSON (`identify --json`; `plot-log --fit` reads it), written and
 // read with nlohmann-json. One object on one line:
 //   {"e_t_mu": {"value": 0.31, "stderr": 0.00012, "ci95": [0.3098, 0.3102],
-//    "identifiable": true, "held_at": null, "note": "..."}, "e_o_over_e_t": {...},
-//   "e_r_over_e_t": {...}, "method": "trajectory", "steps_used": 295, "steps_total": 300,
-//   "steps_excluded": 5, "steps_excluded_by_reason": {"sticking": 5}, "seconds": 0.006,
-//   "iterations": 12, "final_cost": 1.2e-05, "converged": true, "message": "..."}
+//    "identifiable": true, "verdict": "ok", "reason": "", "held_at": null, "note": "..."},
+//   "e_o_over_e_t": {...}, "e_r_over_e_t": {...}, "method": "trajectory",
+//   "status": "converged", "steps_used": 295, "steps_total": 300, "steps_excluded": 5,
+//   "steps_excluded_by_reason": {"sticking": 5}, "seconds": 0.006, "iterations": 12,
+//   "final_cost": 1.2e-05, "converged": true, "message": "...", "log_noise": 0.0004,
+//   "residual_rms": 0.00042,
+//   "nuisance": {"force_bias_x_N": [{"log": "a.csv", "value": ..., "stderr": ...,
+//                "ci95": [..], "identifiable": true, "verdict": "ok", "reason": "",
+//                "held_at": null}], ...},
+//   "logs": [{"name": "a.csv", "skipped": false, "skip_reason": "", "rows": 60,
+//             "steps_used": 55, "status": "converged", "message": "...",
+//             "e_t_mu": {...}, "e_o_over_e_t": {...}, "e_r_over_e_t": {...}}, ...],
+//   "heterogeneity": {"e_t_mu": {"tested": true, "logs": 12, "q": 30.1, "p_value": 0.001,
+//                     "i2": 0.63, "tau_log": 0.12, "consistent": false}, ...}}
 // Keys in this order, ", " and ": " between items. Numbers are written in the shortest form
 // that reads back to the same double; a number that is not finite is written as null and
 // read back as NaN. A parameter that is not identifiable has null value, stderr and ci95,
@@ -26,9 +36,9 @@ class ResultJsonError : public std::invalid_argument {
   using std::invalid_argument::invalid_argument;
 };
 
-/// One JSON object (no line break): the three parameters, method, steps_used, steps_total,
-/// steps_excluded (their sum) and steps_excluded_by_reason, seconds, iterations, final_cost,
-/// converged, message. Residuals are not in it (identify --residuals writes them).
+/// One JSON object (no line break), with the keys above: "logs" is empty and every
+/// heterogeneity untested unless the fit pooled several logs; "nuisance" is empty unless
+/// nuisances were fitted. Residuals are not in it (identify --residuals writes them).
 std::string FormatJson(const EstimateResult& result);
 
 /// Reads what FormatJson wrote: every key it writes is required (others are ignored).

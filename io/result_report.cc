@@ -20,27 +20,101 @@ double TruthOf(const ReducedFriction& t, int i) { return i == kA ? t.a : i == kB
 
 }  // namespace
 
+namespace {
+
+std::string Interval(double lo, double hi) {
+  return std::isfinite(lo) ? "[" + Number(lo) + ", " + Number(hi) + "]" : "-";
+}
+
+void ReportReasons(std::ostringstream& out, Verdict verdict, const std::string& reason,
+                   const std::string& note) {
+  if (!reason.empty()) out << "    " << ToString(verdict) << ": " << reason << "\n";
+  if (!note.empty()) out << "    note: " << note << "\n";
+}
+
+void ReportLogs(std::ostringstream& out, const EstimateResult& r) {
+  out << "\nper log (each fitted on its own):\n";
+  char line[512];
+  std::snprintf(line, sizeof line, "  %-36s %6s  %-26s %-26s %-26s %s\n", "log", "rows",
+                "e_t_mu [95% CI]", "e_o_over_e_t [95% CI]", "e_r_over_e_t [95% CI]", "status");
+  out << line;
+  for (const LogResult& log : r.logs) {
+    if (log.skipped) {
+      out << "  " << log.name << ": skipped (" << log.skip_reason << ")\n";
+      continue;
+    }
+    std::string cells[3];
+    for (int i = 0; i < 3; ++i) {
+      const ParameterEstimate& p = log.parameters[i];
+      cells[i] = p.identifiable ? Number(p.value, "%.4g") + " " + Interval(p.ci95_lo, p.ci95_hi)
+                                : "not identifiable";
+      if (p.verdict == Verdict::kSuspect) cells[i] += " ?";
+    }
+    std::string name = log.name;
+    if (name.size() > 36) name = "..." + name.substr(name.size() - 33);
+    std::snprintf(line, sizeof line, "  %-36s %6d  %-26s %-26s %-26s %s\n", name.c_str(),
+                  log.rows, cells[0].c_str(), cells[1].c_str(), cells[2].c_str(),
+                  ToString(log.status));
+    out << line;
+  }
+  out << "  (? = suspect)\nagreement of the logs (Cochran's Q; tau = between-log spread of the "
+         "log-parameter):\n";
+  for (int i = 0; i < 3; ++i) {
+    const Heterogeneity& h = r.heterogeneity[i];
+    out << "  " << ParameterName(i) << ": ";
+    if (!h.tested) {
+      out << "not tested (fewer than two logs identify it)\n";
+      continue;
+    }
+    std::snprintf(line, sizeof line,
+                  "%s (%d logs, Q = %.3g, p = %.3g, I2 = %.0f%%, tau = %.3g)\n",
+                  h.consistent ? "consistent within their noise" : "the logs DISAGREE", h.logs,
+                  h.q, h.p_value, 100 * h.i2, h.tau_log);
+    out << line;
+  }
+}
+
+}  // namespace
+
 std::string FormatReport(const EstimateResult& r, const std::optional<ReducedFriction>& truth) {
   std::ostringstream out;
-  char line[256];
-  std::snprintf(line, sizeof line, "%-14s %12s %12s %27s  %-12s%s\n", "parameter", "estimate",
-                "std. error", "95% CI", "identifiable", truth ? "  truth (log metadata)" : "");
-  out << "method: " << ToString(r.method) << "\n" << line;
+  char line[512];
+  out << "method: " << ToString(r.method) << " (" << ToString(r.status) << ")\n";
+  if (r.status == TerminationStatus::kTooLittleExcitation) {
+    out << r.message << "\n";
+    return out.str();
+  }
+  std::snprintf(line, sizeof line, "%-14s %12s %12s %27s  %-16s%s\n", "parameter", "estimate",
+                "std. error", "95% CI", "verdict", truth ? "  truth (log metadata)" : "");
+  out << line;
   for (int i = 0; i < 3; ++i) {
     const ParameterEstimate& p = r.parameters[i];
-    const std::string ci =
-        p.identifiable ? "[" + Number(p.ci95_lo) + ", " + Number(p.ci95_hi) + "]" : "-";
-    std::snprintf(line, sizeof line, "%-14s %12s %12s %27s  %-12s", ParameterName(i),
-                  Number(p.value).c_str(), Number(p.stderr_value).c_str(), ci.c_str(),
-                  p.identifiable ? "yes" : "no");
+    std::snprintf(line, sizeof line, "%-14s %12s %12s %27s  %-16s", ParameterName(i),
+                  Number(p.value).c_str(), Number(p.stderr_value).c_str(),
+                  Interval(p.ci95_lo, p.ci95_hi).c_str(), ToString(p.verdict));
     out << line;
     if (truth) out << "  " << Number(TruthOf(*truth, i));
     out << "\n";
-    if (!p.note.empty()) {
-      out << "    " << (p.identifiable ? "note: " : "not identifiable: ") << p.note << "\n";
-    }
+    ReportReasons(out, p.verdict, p.reason, p.note);
   }
   out << "(e_t_mu = e_t mu; e_o_over_e_t = e_o/e_t; e_r_over_e_t = e_r/e_t [m])\n";
+  if (!r.nuisance.empty()) {
+    out << "sensor nuisances:\n";
+    for (const NuisanceEstimate& n : r.nuisance) {
+      std::snprintf(line, sizeof line, "  %-18s %-24s %12s %12s %27s  %s\n", n.name.c_str(),
+                    n.log.empty() ? "(all logs)" : n.log.c_str(), Number(n.value).c_str(),
+                    Number(n.stderr_value).c_str(), Interval(n.ci95_lo, n.ci95_hi).c_str(),
+                    ToString(n.verdict));
+      out << line;
+      ReportReasons(out, n.verdict, n.reason, "");
+    }
+  }
+  if (!r.logs.empty()) ReportLogs(out, r);
+  if (std::isfinite(r.log_noise) && std::isfinite(r.residual_rms)) {
+    out << "residuals " << Number(r.residual_rms, "%.3g") << " against the log's own noise "
+        << Number(r.log_noise, "%.3g") << " (ratio " << Number(r.residual_rms / r.log_noise, "%.2f")
+        << ")\n";
+  }
   out << "steps: " << r.steps_used << " used of " << r.steps_total;
   for (const auto& [reason, count] : r.steps_excluded) {
     out << "; " << count << " excluded (" << reason << ")";

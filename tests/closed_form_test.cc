@@ -86,7 +86,8 @@ TEST(ClosedForm, PureTranslationCannotIdentifyC) {
   EXPECT_NEAR(r.parameters[kB].value / truth.b, 1.0, kExactRelTol);
   EXPECT_FALSE(r.parameters[kC].identifiable);
   EXPECT_TRUE(std::isnan(r.parameters[kC].value));
-  EXPECT_FALSE(r.parameters[kC].note.empty());
+  EXPECT_FALSE(r.parameters[kC].reason.empty());
+  EXPECT_EQ(r.parameters[kC].verdict, Verdict::kNotIdentifiable);
 }
 
 TEST(ClosedForm, MotionAlongOneAxisIdentifiesOnlyA) {
@@ -104,12 +105,9 @@ TEST(ClosedForm, MotionAlongOneAxisIdentifiesOnlyA) {
 TEST(ClosedForm, SliderAtRestIsTooLittleSliding) {
   Scene scene = testing::BaseScene();  // starts at rest, no push
   const Trajectory log = SimulateOrFail(scene);
-  try {
-    EstimateClosedForm(log, {});
-    FAIL() << "no exception";
-  } catch (const std::invalid_argument& e) {
-    EXPECT_NE(std::string(e.what()).find("too little sliding"), std::string::npos) << e.what();
-  }
+  const EstimateResult r = EstimateClosedForm(log, {});
+  EXPECT_EQ(r.status, TerminationStatus::kTooLittleExcitation);
+  EXPECT_NE(r.message.find("too little sliding"), std::string::npos) << r.message;
 }
 
 // Noise: velocity 0.002 m/s and spin 0.02 rad/s (a good motion-capture rig after
@@ -153,8 +151,8 @@ TEST(ClosedForm, NoisyStraightLineStillCannotIdentifyBOrC) {
 }
 
 TEST(ClosedForm, RejectsInvalidOptions) {
-  EstimatorOptions options;
-  options.max_iterations = 0;
+  IdentifyOptions options;
+  options.closed_form.divisor_fraction = 0;
   EXPECT_THROW(EstimateClosedForm(SimulateOrFail(testing::FreeSlideWithSpin()), options),
                std::invalid_argument);
 }

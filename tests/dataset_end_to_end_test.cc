@@ -53,10 +53,10 @@ std::string ReadText(const std::string& path) {
   return text.str();
 }
 
-EstimatorOptions Options(int substeps) {
-  EstimatorOptions o;
+IdentifyOptions Options(int substeps) {
+  IdentifyOptions o;
   o.method = EstimatorMethod::kTrajectory;
-  o.substeps = substeps;
+  o.trajectory.substeps = substeps;
   return o;
 }
 
@@ -106,7 +106,7 @@ TEST(DatasetEndToEnd, PushesThroughTheCmLeaveCUnidentifiedAndFlagged) {
   const DatasetEntry e = DrawDatasetLog(spec, 0, &log);
   const EstimateResult r = Identify(log, Options(10));
   EXPECT_FALSE(r.parameters[kC].identifiable) << "c = " << r.parameters[kC].value;
-  EXPECT_FALSE(r.parameters[kC].note.empty());
+  EXPECT_FALSE(r.parameters[kC].reason.empty());
   ExpectRecovered(r, e.scene.friction, kA, kTolA, e.file);
   ExpectRecovered(r, e.scene.friction, kB, kTolB, e.file);  // directions still vary
 }

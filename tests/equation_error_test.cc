@@ -65,8 +65,8 @@ TEST(EquationError, EveryLossRecoversTruthFromNoiselessLogs) {
   const Scene scene = testing::Anisotropic();
   const Trajectory log = SimulateOrFail(scene);
   for (RobustLoss loss : {RobustLoss::kNone, RobustLoss::kHuber, RobustLoss::kCauchy}) {
-    EstimatorOptions options;
-    options.loss = loss;
+    IdentifyOptions options;
+    options.equation_error.loss = loss;
     ExpectRecovers(EstimateEquationError(log, options), ReducedFriction::From(scene.friction),
                    ToString(loss));
   }
@@ -85,7 +85,7 @@ TEST(EquationError, PureTranslationHoldsCAndReportsItNotIdentifiable) {
   EXPECT_TRUE(std::isnan(c.value));
   EXPECT_TRUE(std::isnan(c.stderr_value));
   EXPECT_DOUBLE_EQ(c.held_at, Radius(scene));  // the seed when the closed form has none
-  EXPECT_FALSE(c.note.empty());
+  EXPECT_FALSE(c.reason.empty());
 }
 
 TEST(EquationError, MotionAlongOneAxisIdentifiesOnlyA) {
@@ -236,17 +236,14 @@ TEST(EquationError, ResidualMatchesTheModelAtTheTruth) {
 
 TEST(EquationError, SliderAtRestIsTooLittleSliding) {
   const Trajectory log = SimulateOrFail(testing::BaseScene());  // at rest, no push
-  try {
-    EstimateEquationError(log, {});
-    FAIL() << "no exception";
-  } catch (const std::invalid_argument& e) {
-    EXPECT_NE(std::string(e.what()).find("too little sliding"), std::string::npos) << e.what();
-  }
+  const EstimateResult r = EstimateEquationError(log, {});
+  EXPECT_EQ(r.status, TerminationStatus::kTooLittleExcitation);
+  EXPECT_NE(r.message.find("too little sliding"), std::string::npos) << r.message;
 }
 
 TEST(EquationError, RejectsInvalidOptions) {
-  EstimatorOptions options;
-  options.loss_scale_sigmas = 0;
+  IdentifyOptions options;
+  options.equation_error.loss_scale_sigmas = 0;
   EXPECT_THROW(EstimateEquationError(SimulateOrFail(testing::FreeSlideWithSpin()), options),
                std::invalid_argument);
 }

@@ -127,7 +127,8 @@ TEST(Identifiability, NotIdentifiableCarriesNaNAndHeldValue) {
   EXPECT_TRUE(std::isnan(p.stderr_value));
   EXPECT_TRUE(std::isnan(p.ci95_lo));
   EXPECT_EQ(p.held_at, 0.04);
-  EXPECT_EQ(p.note, "why");
+  EXPECT_EQ(p.reason, "why");
+  EXPECT_EQ(p.verdict, Verdict::kNotIdentifiable);
 }
 
 }  // namespace

@@ -73,7 +73,7 @@ TEST(LargeLog, HundredThousandRowsReadInBoundedMemoryAndIdentifyTheTruth) {
 
   const ReducedFriction truth = ReducedFriction::From(scene.friction);
   for (EstimatorMethod method : {EstimatorMethod::kClosedForm, EstimatorMethod::kEquationError}) {
-    EstimatorOptions options;
+    IdentifyOptions options;
     options.method = method;
     const EstimateResult r = Identify(log, options);
     SCOPED_TRACE(ToString(method));

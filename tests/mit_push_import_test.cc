@@ -312,21 +312,23 @@ TEST(MitPushImport, ImplausibleMagnitudesAreRejectedNotComputedWith) {
 // imported log of the default synthetic push (0.3 mm, 3 mrad, 0.05 N per force sample; with
 // the defects of the test: unsorted and repeated stamps, a quarter-turn jump, an offset
 // drifting by 0.36 N, the reaction stored). A sweep of seeds 1-100 gave worst errors of
-// 1.08% / 1.55% / 2.17% (imported) and 1.74% / 4.24% / 2.19% (a native 100 Hz log of the
-// same simulation with the same noise levels); tolerances are 1.5 times the worst. The
+// 1.84% / 4.21% / 2.76% (imported) and 3.51% / 6.82% / 3.59% (a native 100 Hz log of the
+// same simulation with the same noise levels), with the adaptive segments of 20 intervals
+// (5 segments: enough for a cluster-robust interval, which then covers the truth in
+// 100 / 98 / 100 of the imported logs); tolerances are 1.5 times the worst. The
 // imported log is no worse than the native one: its rows average 2-3 force samples and
 // interpolate 2 pose samples.
-constexpr double kTolImportedA = 0.016, kTolImportedB = 0.023, kTolImportedC = 0.033;
-constexpr double kTolNativeA = 0.026, kTolNativeB = 0.064, kTolNativeC = 0.033;
+constexpr double kTolImportedA = 0.028, kTolImportedB = 0.063, kTolImportedC = 0.041;
+constexpr double kTolNativeA = 0.053, kTolNativeB = 0.102, kTolNativeC = 0.054;
 
 double RelativeError(const EstimateResult& r, int i, const ReducedFriction& truth) {
   const double expected[3] = {truth.a, truth.b, truth.c};
-  EXPECT_TRUE(r.parameters[i].identifiable) << ParameterName(i) << ": " << r.parameters[i].note;
+  EXPECT_TRUE(r.parameters[i].identifiable) << ParameterName(i) << ": " << r.parameters[i].reason;
   return r.parameters[i].value / expected[i] - 1.0;
 }
 
 TEST(MitPushImport, IdentifyRecoversTheTruthFromImportedLogsAsFromNativeOnes) {
-  EstimatorOptions estimator;
+  IdentifyOptions estimator;
   estimator.method = EstimatorMethod::kTrajectory;
   for (std::uint64_t seed = 1; seed <= 4; ++seed) {
     MitSynthSpec spec;

@@ -56,8 +56,56 @@ void ExpectSameResult(const EstimateResult& expected, const EstimateResult& actu
     ExpectSameDouble(e.ci95_hi, a.ci95_hi, name + " ci95_hi");
     ExpectSameDouble(e.held_at, a.held_at, name + " held_at");
     EXPECT_EQ(e.note, a.note) << name;
+    EXPECT_EQ(e.verdict, a.verdict) << name;
+    EXPECT_EQ(e.reason, a.reason) << name;
   }
   EXPECT_EQ(expected.method, actual.method);
+  EXPECT_EQ(expected.status, actual.status);
+  ExpectSameDouble(expected.log_noise, actual.log_noise, "log_noise");
+  ExpectSameDouble(expected.residual_rms, actual.residual_rms, "residual_rms");
+  ASSERT_EQ(expected.nuisance.size(), actual.nuisance.size());
+  for (size_t k = 0; k < expected.nuisance.size(); ++k) {
+    const NuisanceEstimate& e = expected.nuisance[k];
+    const NuisanceEstimate& a = actual.nuisance[k];
+    EXPECT_EQ(e.name, a.name);
+    EXPECT_EQ(e.log, a.log);
+    EXPECT_EQ(e.identifiable, a.identifiable);
+    EXPECT_EQ(e.verdict, a.verdict);
+    EXPECT_EQ(e.reason, a.reason);
+    ExpectSameDouble(e.value, a.value, e.name + " value");
+    ExpectSameDouble(e.stderr_value, a.stderr_value, e.name + " stderr");
+    ExpectSameDouble(e.ci95_lo, a.ci95_lo, e.name + " lo");
+    ExpectSameDouble(e.ci95_hi, a.ci95_hi, e.name + " hi");
+    ExpectSameDouble(e.held_at, a.held_at, e.name + " held_at");
+  }
+  ASSERT_EQ(expected.logs.size(), actual.logs.size());
+  for (size_t k = 0; k < expected.logs.size(); ++k) {
+    const LogResult& e = expected.logs[k];
+    const LogResult& a = actual.logs[k];
+    EXPECT_EQ(e.name, a.name);
+    EXPECT_EQ(e.skipped, a.skipped);
+    EXPECT_EQ(e.skip_reason, a.skip_reason);
+    EXPECT_EQ(e.rows, a.rows);
+    EXPECT_EQ(e.steps_used, a.steps_used);
+    EXPECT_EQ(e.status, a.status);
+    EXPECT_EQ(e.message, a.message);
+    for (int i = 0; i < 3; ++i) {
+      ExpectSameDouble(e.parameters[i].value, a.parameters[i].value, e.name + " value");
+      ExpectSameDouble(e.parameters[i].ci95_lo, a.parameters[i].ci95_lo, e.name + " lo");
+      EXPECT_EQ(e.parameters[i].verdict, a.parameters[i].verdict);
+    }
+  }
+  for (int i = 0; i < 3; ++i) {
+    const Heterogeneity& e = expected.heterogeneity[i];
+    const Heterogeneity& a = actual.heterogeneity[i];
+    EXPECT_EQ(e.tested, a.tested);
+    EXPECT_EQ(e.logs, a.logs);
+    EXPECT_EQ(e.consistent, a.consistent);
+    ExpectSameDouble(e.q, a.q, "q");
+    ExpectSameDouble(e.p_value, a.p_value, "p");
+    ExpectSameDouble(e.i2, a.i2, "i2");
+    ExpectSameDouble(e.tau_log, a.tau_log, "tau");
+  }
   EXPECT_EQ(expected.steps_total, actual.steps_total);
   EXPECT_EQ(expected.steps_used, actual.steps_used);
   EXPECT_EQ(expected.steps_excluded, actual.steps_excluded);
@@ -75,14 +123,15 @@ ParameterEstimate Identified(double value, double stderr_value, const std::strin
   p.stderr_value = stderr_value;
   p.ci95_lo = value - kZ95 * stderr_value;
   p.ci95_hi = value + kZ95 * stderr_value;
+  p.verdict = Verdict::kOk;
   p.note = note;
   return p;
 }
 
-ParameterEstimate Held(double held_at, const std::string& note) {
+ParameterEstimate Held(double held_at, const std::string& reason) {
   ParameterEstimate p;
   p.held_at = held_at;
-  p.note = note;
+  p.reason = reason;
   return p;
 }
 
@@ -111,15 +160,72 @@ EstimateResult Simple() {
 TEST(ResultJson, KeepsTheDocumentedKeysOrderAndLayout) {
   EXPECT_EQ(FormatJson(Simple()),
             "{\"e_t_mu\": {\"value\": 0.25, \"stderr\": 0.5, \"ci95\": [-0.75, 1.25], "
-            "\"identifiable\": true, \"held_at\": null, \"note\": \"\"}, "
+            "\"identifiable\": true, \"verdict\": \"ok\", \"reason\": \"\", \"held_at\": null, "
+            "\"note\": \"\"}, "
             "\"e_o_over_e_t\": {\"value\": 1.5, \"stderr\": 0.125, \"ci95\": [1.25, 1.75], "
-            "\"identifiable\": true, \"held_at\": null, \"note\": \"error widened 2x\"}, "
+            "\"identifiable\": true, \"verdict\": \"ok\", \"reason\": \"\", \"held_at\": null, "
+            "\"note\": \"error widened 2x\"}, "
             "\"e_r_over_e_t\": {\"value\": null, \"stderr\": null, \"ci95\": [null, null], "
-            "\"identifiable\": false, \"held_at\": 0.03125, \"note\": \"no rotation\"}, "
-            "\"method\": \"trajectory\", \"steps_used\": 295, \"steps_total\": 300, "
+            "\"identifiable\": false, \"verdict\": \"not identifiable\", "
+            "\"reason\": \"no rotation\", \"held_at\": 0.03125, \"note\": \"\"}, "
+            "\"method\": \"trajectory\", \"status\": \"converged\", \"steps_used\": 295, "
+            "\"steps_total\": 300, "
             "\"steps_excluded\": 5, \"steps_excluded_by_reason\": {\"sticking\": 3, "
             "\"between shooting segments\": 2}, \"seconds\": 0.5, \"iterations\": 12, "
-            "\"final_cost\": 2.0, \"converged\": true, \"message\": \"done\"}");
+            "\"final_cost\": 2.0, \"converged\": true, \"message\": \"done\", "
+            "\"log_noise\": null, \"residual_rms\": null, \"nuisance\": {}, \"logs\": [], "
+            "\"heterogeneity\": {"
+            "\"e_t_mu\": {\"tested\": false, \"logs\": 0, \"q\": null, \"p_value\": null, "
+            "\"i2\": null, \"tau_log\": null, \"consistent\": true}, "
+            "\"e_o_over_e_t\": {\"tested\": false, \"logs\": 0, \"q\": null, \"p_value\": null, "
+            "\"i2\": null, \"tau_log\": null, \"consistent\": true}, "
+            "\"e_r_over_e_t\": {\"tested\": false, \"logs\": 0, \"q\": null, \"p_value\": null, "
+            "\"i2\": null, \"tau_log\": null, \"consistent\": true}}}");
+}
+
+TEST(ResultJson, ReadsBackPooledLogsNuisancesAndVerdicts) {
+  EstimateResult r = Simple();
+  r.status = TerminationStatus::kConvergedWithCaveats;
+  r.parameters[kA].verdict = Verdict::kSuspect;
+  r.parameters[kA].reason = "residuals 5 times the log's own noise";
+  r.log_noise = 3e-4;
+  r.residual_rms = 1.0 / 3.0;
+  NuisanceEstimate bias;
+  bias.name = "force_bias_x_N";
+  bias.log = "push \"1\".csv";
+  bias.identifiable = true;
+  bias.verdict = Verdict::kOk;
+  bias.value = -0.25;
+  bias.stderr_value = 0.01;
+  bias.ci95_lo = -0.27;
+  bias.ci95_hi = -0.23;
+  NuisanceEstimate delay;
+  delay.name = "delay_s";
+  delay.held_at = 0.0;
+  delay.reason = "not determined";
+  r.nuisance = {bias, delay};
+  LogResult a;
+  a.name = "a.csv";
+  a.rows = 61;
+  a.steps_used = 55;
+  a.status = TerminationStatus::kConverged;
+  a.parameters = Simple().parameters;
+  LogResult b;
+  b.name = "b.csv";
+  b.skipped = true;
+  b.skip_reason = "b.csv:3: column 'x': not a number";
+  r.logs = {a, b};
+  r.heterogeneity[kA].tested = true;
+  r.heterogeneity[kA].logs = 2;
+  r.heterogeneity[kA].q = 7.5;
+  r.heterogeneity[kA].p_value = 0.006;
+  r.heterogeneity[kA].i2 = 0.87;
+  r.heterogeneity[kA].tau_log = 0.2;
+  r.heterogeneity[kA].consistent = false;
+  const std::string text = FormatJson(r);
+  const EstimateResult back = ParseResultJson(text);
+  ExpectSameResult(r, back);
+  EXPECT_EQ(FormatJson(back), text);
 }
 
 TEST(ResultJson, ReadsBackEveryFieldBitForBitAtTheExtremesOfDouble) {
@@ -242,7 +348,7 @@ TEST(ResultJson, BadJsonNamesThePathOrTheLineAndColumn) {
             "identify JSON: /e_t_mu/identifiable: expected true or false, got 1");
   EXPECT_EQ(ResultError(Replaced(good, "\"trajectory\"", "\"magic\"")),
             "identify JSON: /method: unknown method 'magic' (closed-form, equation-error, "
-            "trajectory)");
+            "trajectory, quasi-static)");
   EXPECT_EQ(ResultError(Replaced(good, "\"iterations\": 12", "\"iterations\": -1")),
             "identify JSON: /iterations: expected an integer from 0 to 2147483647, got -1");
   EXPECT_EQ(ResultError(Replaced(good, "\"iterations\": 12", "\"iterations\": 12.5")),

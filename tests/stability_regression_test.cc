@@ -265,7 +265,7 @@ TEST(StabilityRegression, TrajectoryFitRecoversSpinParameterFeltOnlyWeakly) {
   scene.slider = Plate(1000.0, 0.03);
   scene.pushes[0].height_m = 0.03;
   const Trajectory log = testing::SimulateOrFail(scene);
-  EstimatorOptions options;
+  IdentifyOptions options;
   const EstimateResult r = EstimateTrajectory(log, options);
   const ReducedFriction truth = ReducedFriction::From(scene.friction);
   const double t[] = {truth.a, truth.b, truth.c};
@@ -282,7 +282,7 @@ TEST(StabilityRegression, EquationErrorRecoversSpinParameterFeltOnlyWeakly) {
   scene.slider = Plate(1000.0, 0.03);
   scene.pushes[0].height_m = 0.03;
   const Trajectory log = testing::SimulateOrFail(scene);
-  const EstimateResult r = EstimateEquationError(log, EstimatorOptions{});
+  const EstimateResult r = EstimateEquationError(log, IdentifyOptions{});
   EXPECT_NEAR(r.parameters[kC].value / scene.friction.e_r, 1.0, kNoiselessTolerance);
 }
 
@@ -371,7 +371,7 @@ TEST(StabilityExtremes, IdentificationAtTheCornersOfTheParameterBox) {
     const Trajectory log = testing::SimulateOrFail(scene);
     const double t[] = {k.mu, k.b, k.c};
     for (EstimatorMethod method : {EstimatorMethod::kTrajectory, EstimatorMethod::kEquationError}) {
-      EstimatorOptions options;
+      IdentifyOptions options;
       options.method = method;
       const EstimateResult r = method == EstimatorMethod::kTrajectory
                                    ? EstimateTrajectory(log, options)

@@ -257,17 +257,43 @@ TEST(StepSolver, EcpIsUnderCmWhenCmOnPlaneAndAtRestWithoutPush) {
   }
   // At rest without push, with q_z > 0: nothing to resist, the ECP is under the CM.
   const SliderProperties slider{0.5, 2e-4, 0.08, 9.8};
-  const StepResult rest = SolveStep(slider, {0.3, 1, 1, 0.01}, {0.1, 0.2, 0.3}, {}, 0.01);
+  const StepResult rest = SolveStep(slider, FrictionParameters{0.3, 1, 1, 0.01}, {0.1, 0.2, 0.3}, {}, 0.01);
   ASSERT_TRUE(rest.ok());
   EXPECT_EQ(rest.mode, StepMode::kStick);
   EXPECT_EQ(rest.ecp_world, Eigen::Vector2d(0.1, 0.2));
+}
+
+TEST(StepSolver, ReducedFrictionGivesTheSameStepAsTheFourParametersItStandsFor) {
+  // The paper's (mu, e_t, e_o, e_r) and its reduced (a, b, c) must give the same motion
+  // (model.md, "Only three parameters matter"); only sigma scales, by e_t.
+  const SliderProperties slider{0.7, 3e-4, 0.04, 9.81};
+  const FrictionParameters paper{0.35, 1.4, 1.9, 0.042};
+  const ReducedFriction reduced = ReducedFriction::From(paper);
+  AppliedWrench push;
+  push.fx = 3.0;
+  push.fy = -1.0;
+  push.tx = 0.02;
+  push.tz = 0.05;
+  const PlanarState moving{0.1, -0.2, 0.3, 0.4, 0.1, 2.0};
+  const StepResult full = SolveStep(slider, paper, moving, push, 0.01);
+  const StepResult fast = SolveStep(slider, reduced, moving, push, 0.01);
+  ASSERT_TRUE(full.ok());
+  ASSERT_TRUE(fast.ok());
+  ASSERT_EQ(full.mode, StepMode::kSlide);
+  EXPECT_NEAR(full.state.vx, fast.state.vx, 1e-14);
+  EXPECT_NEAR(full.state.vy, fast.state.vy, 1e-14);
+  EXPECT_NEAR(full.state.wz, fast.state.wz, 1e-13);
+  EXPECT_NEAR(full.pr, fast.pr, 1e-16);
+  EXPECT_NEAR(full.sigma, paper.e_t * fast.sigma, 1e-14);
+  EXPECT_THROW(SolveStep(slider, ReducedFriction{0.3, 1.0, -0.01}, moving, push, 0.01),
+               std::invalid_argument);
 }
 
 TEST(StepSolver, LiftOffIsReportedNotSolved) {
   const SliderProperties slider{1.0, 0.01, 0.05, 9.81};
   AppliedWrench lift;
   lift.fz = 9.81;
-  const StepResult r = SolveStep(slider, {}, {0, 0, 0, 1, 0, 0}, lift, 0.01);
+  const StepResult r = SolveStep(slider, FrictionParameters{}, {0, 0, 0, 1, 0, 0}, lift, 0.01);
   EXPECT_EQ(r.status, StepStatus::kLiftOff);
   EXPECT_FALSE(r.ok());
   EXPECT_FALSE(r.message.empty());
@@ -275,11 +301,11 @@ TEST(StepSolver, LiftOffIsReportedNotSolved) {
 
 TEST(StepSolver, InvalidArgumentsThrowNamingTheValue) {
   const SliderProperties bad_mass{-1.0, 0.01, 0.05, 9.81};
-  EXPECT_THROW(SolveStep(bad_mass, {}, {}, {}, 0.01), std::invalid_argument);
-  EXPECT_THROW(SolveStep({}, {}, {}, {}, 0.0), std::invalid_argument);
-  EXPECT_THROW(SolveStep({}, {0.3, 1, 1, -0.01}, {}, {}, 0.01), std::invalid_argument);
+  EXPECT_THROW(SolveStep(bad_mass, FrictionParameters{}, {}, {}, 0.01), std::invalid_argument);
+  EXPECT_THROW(SolveStep({}, FrictionParameters{}, {}, {}, 0.0), std::invalid_argument);
+  EXPECT_THROW(SolveStep({}, FrictionParameters{0.3, 1, 1, -0.01}, {}, {}, 0.01), std::invalid_argument);
   try {
-    SolveStep({}, {std::nan(""), 1, 1, 0.01}, {}, {}, 0.01);
+    SolveStep({}, FrictionParameters{std::nan(""), 1, 1, 0.01}, {}, {}, 0.01);
     FAIL();
   } catch (const std::invalid_argument& e) {
     EXPECT_NE(std::string(e.what()).find("mu"), std::string::npos);

@@ -58,26 +58,27 @@ void RejectOptionsTheMethodIgnores(const po::variables_map& vm, EstimatorMethod 
   }
 }
 
-EstimatorOptions ParseEstimatorOptions(const po::variables_map& vm) {
-  EstimatorOptions o;
+IdentifyOptions ParseEstimatorOptions(const po::variables_map& vm) {
+  IdentifyOptions o;
   o.method = Choose<EstimatorMethod>(vm, "method",
                                      {{"closed-form", EstimatorMethod::kClosedForm},
                                       {"equation-error", EstimatorMethod::kEquationError},
                                       {"trajectory", EstimatorMethod::kTrajectory}});
-  o.loss = Choose<RobustLoss>(vm, "loss", {{"huber", RobustLoss::kHuber},
-                                           {"cauchy", RobustLoss::kCauchy},
-                                           {"none", RobustLoss::kNone}});
+  const RobustLoss loss = Choose<RobustLoss>(vm, "loss", {{"huber", RobustLoss::kHuber},
+                                                          {"cauchy", RobustLoss::kCauchy},
+                                                          {"none", RobustLoss::kNone}});
   RejectOptionsTheMethodIgnores(vm, o.method);
-  o.segment_steps = vm["segment"].as<int>();
-  o.substeps = vm["substeps"].as<int>();
+  o.equation_error.loss = o.trajectory.loss = loss;
+  o.trajectory.segment_steps = vm["segment"].as<int>();
+  o.trajectory.substeps = vm["substeps"].as<int>();
   o.threads = vm["threads"].as<int>();
-  o.max_iterations = vm["max-iterations"].as<int>();
+  o.equation_error.max_iterations = o.trajectory.max_iterations = vm["max-iterations"].as<int>();
   std::string why;
   if (!o.IsValid(&why)) throw po::error(why);
   if (o.threads > kMaxThreads) {
     throw po::error("--threads must be <= " + std::to_string(kMaxThreads));
   }
-  if (o.substeps > kMaxSubsteps) {
+  if (o.trajectory.substeps > kMaxSubsteps) {
     throw po::error("--substeps must be <= " + std::to_string(kMaxSubsteps));
   }
   return o;
@@ -142,8 +143,8 @@ int main(int argc, char** argv) {
          "friction impulses) or trajectory (Ceres fit of the simulated trajectory)")
         ("loss", po::value<std::string>()->default_value("huber"),
          "robust loss: huber, cauchy, none (not closed-form)")
-        ("segment", po::value<int>()->default_value(50)->value_name("N"),
-         "trajectory only: log intervals per shooting segment (>= 2)")
+        ("segment", po::value<int>()->default_value(0)->value_name("N"),
+         "trajectory only: log intervals per shooting segment (>= 2; 0 adapts it to the log)")
         ("substeps", po::value<int>()->default_value(1)->value_name("N"),
          "trajectory only: forward-model steps per log interval (1 to 1000)")
         ("threads", po::value<int>()->default_value(1)->value_name("N"), "Ceres threads (1 to 256)")
@@ -178,7 +179,7 @@ int main(int argc, char** argv) {
     // Ceres logs a page per residual block that evaluates to NaN at a trial point of a
     // fit; the result says how the fit ended, so keep those pages for --verbose.
     if (!vm.count("verbose")) FLAGS_minloglevel = google::GLOG_ERROR;
-    const EstimatorOptions options = ParseEstimatorOptions(vm);
+    const IdentifyOptions options = ParseEstimatorOptions(vm);
     const LogReadOptions log_options = ParseLogOptions(vm);
 
     const std::string path = vm["log"].as<std::string>();
@@ -192,11 +193,9 @@ int main(int argc, char** argv) {
         std::cerr << "identify: note: " << path << ": " << note << "\n";
       }
     }
-    EstimateResult result;
-    try {
-      result = Identify(log, options);
-    } catch (const std::invalid_argument& e) {  // the log cannot identify anything
-      throw tools::BadInput(path + ": " + e.what());
+    const EstimateResult result = Identify(log, options);
+    if (result.status == TerminationStatus::kTooLittleExcitation) {
+      throw tools::BadInput(path + ": " + result.message);
     }
     std::optional<ReducedFriction> truth;
     if (log.true_friction) truth = ReducedFriction::From(*log.true_friction);

@@ -1,0 +1,77 @@
+#include "estimator/plausibility.h"
+
+#include <cmath>
+#include <cstdio>
+#include <string>
+
+namespace slideid {
+namespace {
+
+std::string Format(const char* fmt, double x, double y = 0, double z = 0) {
+  char buf[256];
+  std::snprintf(buf, sizeof buf, fmt, x, y, z);
+  return buf;
+}
+
+void AddReason(ParameterEstimate* p, const std::string& reason) {
+  p->verdict = Verdict::kSuspect;
+  p->reason += (p->reason.empty() ? "" : "; ") + reason;
+}
+
+}  // namespace
+
+void JudgeEstimates(const PlausibilityContext& c, std::array<ParameterEstimate, 3>* parameters) {
+  const double mismatch = c.residual_rms / c.log_noise;
+  for (int i = 0; i < 3; ++i) {
+    ParameterEstimate& p = (*parameters)[i];
+    if (!p.identifiable) {
+      p.verdict = Verdict::kNotIdentifiable;
+      continue;
+    }
+    const double factor = p.ci95_hi / p.ci95_lo;
+    if (!(p.ci95_lo > 0) || !(factor <= kMaxIntervalFactor)) {
+      ParameterEstimate held;
+      held.held_at = p.value;
+      held.reason =
+          p.ci95_lo > 0
+              ? Format("its 95%% interval [%.3g, %.3g] spans a factor %.3g: the log does not "
+                       "determine it",
+                       p.ci95_lo, p.ci95_hi, factor)
+              : Format("its 95%% interval [%.3g, %.3g] reaches down to zero: the log does not "
+                       "determine it",
+                       p.ci95_lo, p.ci95_hi);
+      p = held;
+      continue;
+    }
+    p.verdict = Verdict::kOk;
+    p.reason.clear();
+    if (mismatch > kMismatchRatio) {
+      AddReason(&p, Format("residuals %.3g times the log's own noise (model mismatch: %.3g "
+                           "against %.3g)",
+                           mismatch, c.residual_rms, c.log_noise));
+    }
+    if (i == kA) {
+      for (const PushCapacity& log : c.logs) {
+        const double friction = p.value * log.weight_N;
+        if (log.max_push_N > 0 && friction > kFrictionOverPush * log.max_push_N) {
+          AddReason(&p, Format("implies %.3g N of friction against a largest push of %.3g N: "
+                               "the slider could not have slid",
+                               friction, log.max_push_N));
+          break;
+        }
+      }
+    }
+    const double v = std::log(p.value);
+    if (std::abs(v - std::log(c.lower[i])) < kAtBoundLog ||
+        std::abs(v - std::log(c.upper[i])) < kAtBoundLog) {
+      AddReason(&p, Format("at a bound of the search range [%.3g, %.3g]", c.lower[i],
+                           c.upper[i]));
+    }
+    if (c.seed[i] > 0 && std::abs(v - std::log(c.seed[i])) > std::log(kSeedFactor)) {
+      AddReason(&p, Format("%.3g times the seed %.3g the fit started from", p.value / c.seed[i],
+                           c.seed[i]));
+    }
+  }
+}
+
+}  // namespace slideid

@@ -1,0 +1,23 @@
+#pragma once
+// Pooling many logs of one object on one surface: do they agree within their noise?
+// (estimate.h, Heterogeneity). Shared by every method that pools.
+
+#include <vector>
+
+#include "estimator/estimate.h"
+
+namespace slideid {
+
+/// Logs disagree when Cochran's Q exceeds its chi-square quantile at this level.
+constexpr double kHeterogeneityAlpha = 0.05;
+
+/// Cochran's Q test of parameter `index` over the logs that identify it (each log's
+/// estimate of log(parameter), with standard error stderr / value), and the
+/// DerSimonian-Laird between-log spread. Not tested (tested = false) with fewer than two.
+Heterogeneity TestHeterogeneity(const std::vector<LogResult>& logs, int index);
+
+/// Student's t quantile of a two-sided 95% interval with `dof` degrees of freedom (the
+/// normal quantile for dof above 1e6); dof >= 1.
+double StudentT95(double dof);
+
+}  // namespace slideid

@@ -1,0 +1,86 @@
+#pragma once
+// The cost of one shooting segment of the trajectory fit (estimator/trajectory_fit.h): the
+// forward model simulated from the segment's initial state with the logged wrench, against
+// the logged poses (or velocities), with exact derivatives through every step
+// (estimator/step_sensitivity.h).
+//
+// Parameter blocks, in order: the segment's initial state (x, y, theta, v_x, v_y, w_z);
+// log a; log b; log c; then, when fitted, the log's force offset (o_x, o_y) [N] and its
+// delay [s]. Residuals: 3 per row (x, y, L theta, or v_x, v_y, L w_z), L the radius of
+// gyration, each row's triple robustified on its own (SetRowLoss).
+
+#include <ceres/cost_function.h>
+
+#include <Eigen/Core>
+#include <vector>
+
+#include "estimator/estimate.h"
+#include "forward_model/trajectory.h"
+
+namespace slideid {
+
+/// Which sensor nuisances the cost takes as parameter blocks.
+struct SegmentNuisances {
+  /// (o_x, o_y) [N]: what the force channel reads with no force on the object. The force
+  /// on the object is the logged one minus o, applied where the logged force is (its
+  /// moment about the CM follows from the push point; at the CM for a log without one).
+  bool force_bias = false;
+  /// d [s]: the force stream lags the poses by d; the wrench acting over a row's interval
+  /// is the logged one over the interval shifted by d (piecewise-constant rows, integrated).
+  bool delay = false;
+};
+
+/// The wrench acting over the interval starting at `row` when the force stream lags by
+/// `delay_s`, and its derivative with respect to the delay [per s].
+void DelayedWrench(const Trajectory& log, int row, double delay_s, AppliedWrench* wrench,
+                   AppliedWrench* d_wrench_d_delay);
+
+/// The derivative of a row's wrench with respect to the force offset (o_x, o_y): minus the
+/// force, and minus its moment about the CM at the row's push point.
+void OffsetWrenchJacobian(const Trajectory& log, int row, AppliedWrench* d_wrench_d_ox,
+                          AppliedWrench* d_wrench_d_oy);
+
+/// A robust loss rho(s) applied to each row's squared residual norm s, inside the cost: the
+/// row's residuals are scaled to sqrt(rho(s) / s) r, so that their squared norm is rho(s)
+/// (Ceres' own loss would act on the whole segment's norm at once). The Jacobian is that
+/// of the scaled residuals, exactly.
+struct RowLoss {
+  RobustLoss kind = RobustLoss::kNone;
+  double scale = 0;  ///< a of Huber or Cauchy, in the residuals' units
+};
+
+class SegmentCost final : public ceres::CostFunction {
+ public:
+  /// Rows first_row..last_row of `log` (which must outlive the cost); substeps forward-model
+  /// steps per log interval; use_pose: compare poses (else velocities).
+  SegmentCost(const Trajectory& log, int first_row, int last_row, int substeps, bool use_pose,
+              SegmentNuisances nuisances);
+
+  void SetRowLoss(const RowLoss& loss) { loss_ = loss; }
+  /// The residuals alone, with or without the row loss (diagnostics, the seed scan).
+  bool Residuals(double const* const* params, double* residuals, bool with_row_loss) const;
+  int first_row() const { return first_; }
+  int last_row() const { return last_; }
+  double length_m() const { return length_m_; }
+
+  /// Never throws: an infeasible point (a failed step) returns false.
+  bool Evaluate(double const* const* params, double* residuals,
+                double** jacobians) const override;
+
+ private:
+  bool Simulate(double const* const* params, double* residuals, double** jacobians) const;
+  void ApplyRowLoss(double* residuals, double** jacobians) const;
+
+  const Trajectory& log_;
+  int first_, last_, substeps_;
+  bool use_pose_;
+  SegmentNuisances nuisances_;
+  int offset_block_ = -1, delay_block_ = -1;  // parameter block indices, -1 when absent
+  double length_m_;
+  RowLoss loss_;
+  // Per (step, substep) cache of the last solution; a residual block is evaluated by one
+  // thread at a time, so the cache needs no lock.
+  mutable std::vector<Eigen::Vector4d> warm_start_;
+};
+
+}  // namespace slideid

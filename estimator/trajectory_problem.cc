@@ -1,0 +1,431 @@
+#include "estimator/trajectory_problem.h"
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+#include "estimator/parallel_for.h"
+
+namespace slideid {
+namespace {
+
+using Vector6 = Eigen::Matrix<double, 6, 1>;
+using Matrix66 = Eigen::Matrix<double, 6, 6>;
+
+// Rows of poses a segment's start velocity is seeded from (least-squares line): one
+// difference of noisy poses would make the seed ~ sqrt(2) sigma / h off.
+constexpr int kVelocitySeedRows = 5;
+// Fewest rows a segment may have: 3 rows = 9 residuals against 6 state parameters.
+constexpr int kMinSegmentRows = 3;
+// Stop when an iteration lowers the cost by less than kStatisticalTolerance / N relative,
+// N the number of residuals: with cost ~ N s^2 / 2, a parameter off by d standard errors
+// raises the cost by ~ d^2 s^2 / 2, so this stops within 0.01 standard errors of the
+// optimum. Noiseless fits (the cost falls to rounding quadratically) still reach the 1e-6
+// relative accuracy the tests demand.
+constexpr double kStatisticalTolerance = 1e-4;
+constexpr double kMinFunctionTolerance = 1e-12;
+constexpr double kParameterTolerance = 1e-10;
+// No gradient test (issue 5, docs/stability.md): Ceres' gradient tolerance is absolute,
+// and on a log whose poses barely feel a parameter the gradient fell below 1e-14 with the
+// parameter still off by more than its interval. The tolerances above end every fit.
+constexpr double kGradientTolerance = 0.0;
+// SettledCallback: a free global parameter whose iteration step is below this fraction of
+// its standard error has settled (its estimate would not move its interval visibly)...
+constexpr double kSettledFraction = 0.02;
+// ... and the standard errors are first computed once every log-friction step is below
+// this (0.1%), and nuisances' steps below this fraction of their own size plus ...
+constexpr double kSettleCheck = 1e-3;
+// ... this floor in their units (N or s): an offset of 1 mN or a delay of 1 ms.
+constexpr double kNuisanceSettleFloor = 1e-3;
+// A segment whose own information has a relative eigenvalue below this leaves part of its
+// state undetermined (typically the start velocity of a segment that begins stuck).
+constexpr double kRankDeficientSegment = 1e-12;
+
+std::vector<std::pair<int, int>> CutSegments(int rows, int segment_steps) {
+  std::vector<std::pair<int, int>> segments;
+  for (int first = 0; first < rows; first += segment_steps + 1) {
+    const int last = std::min(first + segment_steps, rows - 1);
+    if (last - first + 1 < std::max(kMinSegmentRows, segment_steps / 2) && !segments.empty()) {
+      segments.back().second = last;  // fold a short tail into the last segment
+      break;
+    }
+    if (last - first + 1 < kMinSegmentRows) break;
+    segments.emplace_back(first, last);
+  }
+  return segments;
+}
+
+Vector6 SeedState(const Trajectory& log, int row, int last_row) {
+  const TrajectorySample& a = log.samples[row];
+  Vector6 s;
+  s << a.state.x, a.state.y, a.state.theta, a.state.vx, a.state.vy, a.state.wz;
+  if (log.columns.velocity) return s;
+  // Slope of a least-squares line through the first rows' poses.
+  const int n = std::min(kVelocitySeedRows, last_row - row + 1);
+  double t_mean = 0;
+  for (int i = 0; i < n; ++i) t_mean += log.samples[row + i].t_s / n;
+  double stt = 0;
+  Eigen::Vector3d stq = Eigen::Vector3d::Zero();
+  for (int i = 0; i < n; ++i) {
+    const TrajectorySample& b = log.samples[row + i];
+    const double dt = b.t_s - t_mean;
+    stt += dt * dt;
+    stq += dt * Eigen::Vector3d(b.state.x, b.state.y, b.state.theta);
+  }
+  s.tail<3>() = stq / stt;  // n >= 3 distinct times: stt > 0
+  return s;
+}
+
+// One segment's share of FitInformation, in its own global columns (`columns`).
+struct SegmentShare {
+  bool ok = false;
+  bool state_determined = true;
+  std::vector<int> columns;
+  Eigen::MatrixXd h;
+  Eigen::VectorXd score;
+  double sum_squares = 0;
+  int residuals = 0;
+};
+
+}  // namespace
+
+int TrajectorySegmentSteps(int rows, const TrajectoryOptions& options) {
+  if (options.segment_steps > 0) return options.segment_steps;
+  return std::clamp(rows / kTargetSegments, kMinAutoSegmentSteps, kMaxAutoSegmentSteps);
+}
+
+TrajectoryProblem::TrajectoryProblem(const std::vector<const Trajectory*>& logs,
+                                     const IdentifyOptions& options)
+    : logs_(logs), options_(options) {
+  const TrajectoryOptions& t = options.trajectory;
+  const int n = static_cast<int>(logs.size());
+  global_ = {0.0, 0.0, 0.0};
+  global_log_ = {-1, -1, -1};
+  offset_index_.assign(n, -1);
+  delay_index_.assign(n, -1);
+  if (t.fit_force_bias) {
+    for (int k = 0; k < n; ++k) {
+      offset_index_[k] = num_global();
+      global_.insert(global_.end(), {0.0, 0.0});
+      global_log_.insert(global_log_.end(), {k, k});
+    }
+  }
+  if (t.fit_delay == DelayFit::kShared) {
+    delay_index_.assign(n, num_global());
+    global_.push_back(0.0);
+    global_log_.push_back(-1);
+  } else if (t.fit_delay == DelayFit::kPerLog) {
+    for (int k = 0; k < n; ++k) {
+      delay_index_[k] = num_global();
+      global_.push_back(0.0);
+      global_log_.push_back(k);
+    }
+  }
+  const SegmentNuisances nuisances{t.fit_force_bias, t.fit_delay != DelayFit::kNone};
+  for (int k = 0; k < n; ++k) {
+    const Trajectory& log = *logs[k];
+    const int rows = static_cast<int>(log.samples.size());
+    for (const auto& [first, last] : CutSegments(rows, TrajectorySegmentSteps(rows, t))) {
+      TrajectorySegment seg;
+      seg.log = k;
+      seg.first_row = first;
+      seg.last_row = last;
+      seg.state = SeedState(log, first, last);
+      seg.cost = std::make_unique<SegmentCost>(log, first, last, t.substeps, log.columns.pose,
+                                               nuisances);
+      segments_.push_back(std::move(seg));
+    }
+  }
+  if (segments_.empty()) {
+    int rows = 0;
+    for (const Trajectory* log : logs) rows = std::max(rows, int(log->samples.size()));
+    throw std::invalid_argument("log too short for the trajectory method: " +
+                                std::to_string(rows) + " rows");
+  }
+}
+
+std::string TrajectoryProblem::GlobalName(int i) const {
+  if (i < 3) return ParameterName(i);
+  const int k = global_log_[i];
+  if (k >= 0 && offset_index_[k] == i) return "force_bias_x_N";
+  if (k >= 0 && offset_index_[k] + 1 == i) return "force_bias_y_N";
+  return "delay_s";
+}
+
+void TrajectoryProblem::SetFriction(const std::array<double, 3>& abc) {
+  for (int i = 0; i < 3; ++i) {
+    global_[i] =
+        std::log(std::clamp(abc[i], kFrictionLowerBound[i], kFrictionUpperBound[i]));
+  }
+}
+
+std::array<double, 3> TrajectoryProblem::Friction() const {
+  return {std::exp(global_[0]), std::exp(global_[1]), std::exp(global_[2])};
+}
+
+int TrajectoryProblem::Rows() const {
+  int n = 0;
+  for (const TrajectorySegment& seg : segments_) n += seg.last_row - seg.first_row + 1;
+  return n;
+}
+
+int TrajectoryProblem::StateParameters() const {
+  int n = 0;
+  for (const TrajectorySegment& seg : segments_) n += use_pose(seg.log) ? 6 : 3;
+  return n;
+}
+
+std::vector<double*> TrajectoryProblem::BlocksOf(TrajectorySegment& seg) {
+  std::vector<double*> blocks{seg.state.data(), &global_[0], &global_[1], &global_[2]};
+  if (offset_index_[seg.log] >= 0) blocks.push_back(&global_[offset_index_[seg.log]]);
+  if (delay_index_[seg.log] >= 0) blocks.push_back(&global_[delay_index_[seg.log]]);
+  return blocks;
+}
+
+void TrajectoryProblem::SetRowLoss(const RowLoss& loss) {
+  for (TrajectorySegment& seg : segments_) seg.cost->SetRowLoss(loss);
+}
+
+std::vector<double> TrajectoryProblem::Residuals(bool raw) const {
+  std::vector<int> offsets(segments_.size() + 1, 0);
+  for (size_t k = 0; k < segments_.size(); ++k) {
+    offsets[k + 1] = offsets[k] + segments_[k].cost->num_residuals();
+  }
+  std::vector<double> all(offsets.back(), 0.0);
+  auto* self = const_cast<TrajectoryProblem*>(this);  // BlocksOf hands out pointers only
+  ParallelFor(static_cast<int>(segments_.size()), options_.threads, [&](int k) {
+    const std::vector<double*> blocks = self->BlocksOf(self->segments_[k]);
+    std::vector<const double*> params(blocks.begin(), blocks.end());
+    double* out = all.data() + offsets[k];
+    if (!segments_[k].cost->Residuals(params.data(), out, !raw)) {
+      std::fill(out, out + segments_[k].cost->num_residuals(),
+                std::numeric_limits<double>::infinity());
+    }
+  });
+  return all;
+}
+
+double TrajectoryProblem::RawCost() const {
+  double cost = 0;
+  for (double r : Residuals(true)) cost += r * r;
+  return std::isfinite(cost) ? cost : std::numeric_limits<double>::infinity();
+}
+
+namespace {
+
+// Stops a solve once the free global parameters have settled: two successive successful
+// iterations each moved every one by less than kSettledFraction of its standard error.
+// The segment states may still creep along the kinks that stick-slip switching puts in the
+// cost (on the 10k-row benchmark log, 50 more iterations that moved a, b, c by less than
+// 0.01 of a standard error); nothing the estimate reports depends on them. The standard
+// errors are computed once, when the steps first fall below kSettleCheck (one pass).
+class SettledCallback final : public ceres::IterationCallback {
+ public:
+  SettledCallback(TrajectoryProblem* problem, const std::vector<bool>& free)
+      : problem_(problem), free_(free), last_(free.size()) {
+    for (size_t i = 0; i < free.size(); ++i) last_[i] = problem->global(int(i));
+  }
+
+  ceres::CallbackReturnType operator()(const ceres::IterationSummary& it) override {
+    if (!it.step_is_successful || it.iteration == 0) return ceres::SOLVER_CONTINUE;
+    std::vector<double> moved(free_.size(), 0.0);
+    bool small = true;
+    for (size_t i = 0; i < free_.size(); ++i) {
+      const double now = problem_->global(int(i));
+      moved[i] = std::abs(now - last_[i]);
+      last_[i] = now;
+      if (!free_[i]) continue;
+      const double check = problem_->IsFriction(int(i))
+                               ? kSettleCheck
+                               : kSettleCheck * std::abs(now) + kNuisanceSettleFloor;
+      small = small && moved[i] <= check;
+    }
+    if (!small) {
+      settled_ = 0;
+      return ceres::SOLVER_CONTINUE;
+    }
+    if (stderr_.empty()) stderr_ = problem_->StandardErrors(free_);
+    bool settled = true;
+    for (size_t i = 0; i < free_.size(); ++i) {
+      if (free_[i] && !(moved[i] <= kSettledFraction * stderr_[i])) settled = false;
+    }
+    settled_ = settled ? settled_ + 1 : 0;
+    return settled_ >= 2 ? ceres::SOLVER_TERMINATE_SUCCESSFULLY : ceres::SOLVER_CONTINUE;
+  }
+
+ private:
+  TrajectoryProblem* problem_;
+  std::vector<bool> free_;
+  std::vector<double> last_;
+  std::vector<double> stderr_;
+  int settled_ = 0;
+};
+
+}  // namespace
+
+ceres::Solver::Summary TrajectoryProblem::Solve(const std::vector<bool>& free) {
+  ceres::Problem::Options problem_options;
+  problem_options.cost_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+  ceres::Problem problem(problem_options);
+  auto* ordering = new ceres::ParameterBlockOrdering;
+  for (TrajectorySegment& seg : segments_) {
+    problem.AddResidualBlock(seg.cost.get(), nullptr, BlocksOf(seg));
+    ordering->AddElementToGroup(seg.state.data(), 0);
+    if (!use_pose(seg.log)) {
+      // Velocity residuals do not see the pose: only the velocity part is a parameter.
+      problem.SetManifold(seg.state.data(), new ceres::SubsetManifold(6, {0, 1, 2}));
+    }
+  }
+  for (int i = 0; i < num_global(); ++i) {
+    double* block = &global_[i];
+    if (!problem.HasParameterBlock(block)) continue;  // o_y, or a log without segments
+    ordering->AddElementToGroup(block, 1);
+    const bool is_offset_x = !IsFriction(i) && GlobalName(i) == "force_bias_x_N";
+    if (IsFriction(i)) {
+      problem.SetParameterLowerBound(block, 0, std::log(kFrictionLowerBound[i]));
+      problem.SetParameterUpperBound(block, 0, std::log(kFrictionUpperBound[i]));
+      if (!free[i]) problem.SetParameterBlockConstant(block);
+    } else if (is_offset_x) {
+      if (!free[i] && !free[i + 1]) {
+        problem.SetParameterBlockConstant(block);
+      } else if (!free[i] || !free[i + 1]) {
+        problem.SetManifold(block, new ceres::SubsetManifold(2, {free[i] ? 1 : 0}));
+      }
+    } else {  // a delay
+      problem.SetParameterLowerBound(block, 0, -options_.trajectory.max_delay_s);
+      problem.SetParameterUpperBound(block, 0, options_.trajectory.max_delay_s);
+      if (!free[i]) problem.SetParameterBlockConstant(block);
+    }
+  }
+  ceres::Solver::Options solver;
+  solver.linear_solver_type = ceres::DENSE_SCHUR;
+  solver.linear_solver_ordering.reset(ordering);
+  solver.max_num_iterations = options_.trajectory.max_iterations;
+  solver.num_threads = options_.threads;
+  solver.function_tolerance =
+      std::max(kMinFunctionTolerance, kStatisticalTolerance / (3.0 * Rows()));
+  solver.parameter_tolerance = kParameterTolerance;
+  solver.gradient_tolerance = kGradientTolerance;
+  solver.logging_type = ceres::SILENT;
+  SettledCallback settled(this, free);
+  solver.update_state_every_iteration = true;
+  solver.callbacks.push_back(&settled);
+  ceres::Solver::Summary summary;
+  ceres::Solve(solver, &problem, &summary);
+  return summary;
+}
+
+FitInformation TrajectoryProblem::Information() {
+  const int G = num_global();
+  std::vector<SegmentShare> shares(segments_.size());
+  ParallelFor(static_cast<int>(segments_.size()), options_.threads, [&](int k) {
+    TrajectorySegment& seg = segments_[k];
+    SegmentShare& share = shares[k];
+    const SegmentCost& cost = *seg.cost;
+    const int n = cost.num_residuals();
+    const std::vector<int32_t>& sizes = cost.parameter_block_sizes();
+    std::vector<double*> blocks = BlocksOf(seg);
+    std::vector<const double*> params(blocks.begin(), blocks.end());
+    std::vector<std::vector<double>> jac_storage(sizes.size());
+    std::vector<double*> jac(sizes.size());
+    for (size_t b = 0; b < sizes.size(); ++b) {
+      jac_storage[b].resize(static_cast<size_t>(n) * sizes[b]);
+      jac[b] = jac_storage[b].data();
+    }
+    std::vector<double> r(n);
+    if (!cost.Evaluate(params.data(), r.data(), jac.data())) return;
+    // Columns of the global parameters this segment touches, in block order.
+    for (size_t b = 1; b < blocks.size(); ++b) {
+      const int first = static_cast<int>(blocks[b] - global_.data());
+      for (int c = 0; c < sizes[b]; ++c) share.columns.push_back(first + c);
+    }
+    const int m = static_cast<int>(share.columns.size());
+    Eigen::MatrixXd Js = Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, 6, Eigen::RowMajor>>(
+        jac[0], n, 6);
+    const bool pose = use_pose(seg.log);
+    if (!pose) Js.leftCols<3>().setZero();  // poses are not parameters then
+    Eigen::MatrixXd Jg(n, m);
+    int col = 0;
+    for (size_t b = 1; b < blocks.size(); ++b) {
+      for (int c = 0; c < sizes[b]; ++c, ++col) {
+        for (int i = 0; i < n; ++i) Jg(i, col) = jac[b][i * sizes[b] + c];
+      }
+    }
+    const Matrix66 Hss = Js.transpose() * Js;
+    const int first_free = pose ? 0 : 3;
+    const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(
+        Hss.bottomRightCorner(6 - first_free, 6 - first_free));
+    share.state_determined =
+        eig.eigenvalues()(0) > kRankDeficientSegment * eig.eigenvalues().maxCoeff();
+    // Project the segment's state out of J_g: what the globals explain beyond it. A segment
+    // whose state is not determined (at rest) gives them nothing; the pseudo-inverse keeps
+    // that from poisoning the sum.
+    const Eigen::MatrixXd Jm =
+        Jg - Js * (Hss.completeOrthogonalDecomposition().pseudoInverse() * (Js.transpose() * Jg));
+    const Eigen::Map<const Eigen::VectorXd> rv(r.data(), n);
+    share.h = Jm.transpose() * Jm;
+    share.score = Jm.transpose() * rv;
+    share.sum_squares = rv.squaredNorm();
+    share.residuals = n;
+    share.ok = true;
+  });
+
+  FitInformation info;
+  info.fisher = Eigen::MatrixXd::Zero(G, G);
+  info.segment_score_outer = Eigen::MatrixXd::Zero(G, G);
+  info.log_score_outer = Eigen::MatrixXd::Zero(G, G);
+  std::vector<Eigen::VectorXd> log_score(logs_.size(), Eigen::VectorXd::Zero(G));
+  std::vector<bool> log_used(logs_.size(), false);
+  for (size_t k = 0; k < shares.size(); ++k) {
+    const SegmentShare& s = shares[k];
+    segments_[k].state_determined = s.ok && s.state_determined;
+    if (!s.ok) continue;
+    Eigen::VectorXd g = Eigen::VectorXd::Zero(G);
+    for (size_t a = 0; a < s.columns.size(); ++a) {
+      g(s.columns[a]) += s.score(a);
+      for (size_t b = 0; b < s.columns.size(); ++b) {
+        info.fisher(s.columns[a], s.columns[b]) += s.h(a, b);
+      }
+    }
+    info.segment_score_outer += g * g.transpose();
+    log_score[segments_[k].log] += g;
+    log_used[segments_[k].log] = true;
+    info.sum_squares += s.sum_squares;
+    info.residuals += s.residuals;
+    ++info.segments;
+  }
+  for (size_t k = 0; k < logs_.size(); ++k) {
+    if (!log_used[k]) continue;
+    info.log_score_outer += log_score[k] * log_score[k].transpose();
+    ++info.logs;
+  }
+  info.fisher = 0.5 * (info.fisher + info.fisher.transpose());
+  return info;
+}
+
+std::vector<double> TrajectoryProblem::StandardErrors(const std::vector<bool>& free) {
+  const FitInformation info = Information();
+  std::vector<int> idx;
+  for (int i = 0; i < num_global(); ++i) {
+    if (free[i]) idx.push_back(i);
+  }
+  std::vector<double> se(num_global(), 0.0);
+  const int n = static_cast<int>(idx.size());
+  const int dof = info.residuals - StateParameters() - n;
+  if (dof <= 0 || n == 0) return se;
+  Eigen::MatrixXd H(n, n);
+  for (int a = 0; a < n; ++a) {
+    for (int b = 0; b < n; ++b) H(a, b) = info.fisher(idx[a], idx[b]);
+  }
+  const Eigen::LDLT<Eigen::MatrixXd> ldlt(H);
+  if (ldlt.info() != Eigen::Success) return se;
+  const Eigen::MatrixXd cov = ldlt.solve(Eigen::MatrixXd::Identity(n, n));
+  for (int a = 0; a < n; ++a) {
+    se[idx[a]] = std::sqrt(std::max(0.0, cov(a, a) * info.sum_squares / dof));
+  }
+  return se;
+}
+
+}  // namespace slideid
