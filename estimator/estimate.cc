@@ -7,6 +7,7 @@ const char* ToString(EstimatorMethod method) {
     case EstimatorMethod::kClosedForm: return "closed-form";
     case EstimatorMethod::kEquationError: return "equation-error";
     case EstimatorMethod::kTrajectory: return "trajectory";
+    case EstimatorMethod::kQuasiStatic: return "quasi-static";
   }
   return "?";
 }

@@ -11,10 +11,16 @@
 
 namespace slideid {
 
-enum class EstimatorMethod { kClosedForm, kEquationError, kTrajectory };
+enum class EstimatorMethod {
+  kClosedForm,
+  kEquationError,
+  kTrajectory,
+  kQuasiStatic,  ///< wrench-twist pairs, not a push log (estimator/quasi_static_fit.h)
+};
 enum class RobustLoss { kNone, kHuber, kCauchy };
 
-const char* ToString(EstimatorMethod method);  ///< "closed-form", "equation-error", "trajectory"
+/// "closed-form", "equation-error", "trajectory", "quasi-static"
+const char* ToString(EstimatorMethod method);
 const char* ToString(RobustLoss loss);         ///< "none", "huber", "cauchy"
 
 /// Index of a parameter in EstimateResult::parameters.

@@ -44,6 +44,9 @@ EstimateResult Identify(const Trajectory& log, const EstimatorOptions& options) 
     case EstimatorMethod::kClosedForm: return EstimateClosedForm(log, options);
     case EstimatorMethod::kEquationError: return EstimateEquationError(log, options);
     case EstimatorMethod::kTrajectory: return EstimateTrajectory(log, options);
+    case EstimatorMethod::kQuasiStatic:
+      throw std::invalid_argument("the quasi-static method fits wrench-twist pairs "
+                                  "(EstimateQuasiStatic), not a push log");
   }
   throw std::invalid_argument("unknown estimator method");
 }

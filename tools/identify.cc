@@ -9,7 +9,9 @@
 #include <stdexcept>
 
 #include "estimator/identify.h"
+#include "estimator/quasi_static_fit.h"
 #include "forward_model/push_log.h"
+#include "io/wrench_twist_csv.h"
 #include "tools/tool_support.h"
 
 namespace po = boost::program_options;
@@ -48,6 +50,9 @@ void RejectOptionsTheMethodIgnores(const po::variables_map& vm, EstimatorMethod 
   if (method == EstimatorMethod::kClosedForm) {
     unused.insert(unused.end(), {"loss", "max-iterations"});
   }
+  if (method == EstimatorMethod::kQuasiStatic) {
+    unused.insert(unused.end(), {"max-gap-ratio", "com-height"});
+  }
   for (const char* option : unused) {
     if (Given(vm, option)) {
       throw po::error(std::string("--") + option + " does not apply to --method " +
@@ -61,7 +66,8 @@ EstimatorOptions ParseEstimatorOptions(const po::variables_map& vm) {
   o.method = Choose<EstimatorMethod>(vm, "method",
                                      {{"closed-form", EstimatorMethod::kClosedForm},
                                       {"equation-error", EstimatorMethod::kEquationError},
-                                      {"trajectory", EstimatorMethod::kTrajectory}});
+                                      {"trajectory", EstimatorMethod::kTrajectory},
+                                      {"quasi-static", EstimatorMethod::kQuasiStatic}});
   o.loss = Choose<RobustLoss>(vm, "loss", {{"huber", RobustLoss::kHuber},
                                            {"cauchy", RobustLoss::kCauchy},
                                            {"none", RobustLoss::kNone}});
@@ -117,6 +123,47 @@ int NonFiniteEstimate(const EstimateResult& result) {
   return -1;
 }
 
+/// The other methods: the --log file is a push log.
+EstimateResult IdentifyPushLog(const std::string& path, const LogReadOptions& log_options,
+                               const EstimatorOptions& options, bool verbose,
+                               std::optional<ReducedFriction>* truth) {
+  LogReadReport read_report;
+  const Trajectory log = ReadPushLog(path, log_options, &read_report);
+  for (const std::string& warning : read_report.warnings) {
+    std::cerr << "identify: warning: " << warning << "\n";
+  }
+  if (verbose) {
+    for (const std::string& note : read_report.notes) {
+      std::cerr << "identify: note: " << path << ": " << note << "\n";
+    }
+  }
+  if (log.true_friction) *truth = ReducedFriction::From(*log.true_friction);
+  try {
+    return Identify(log, options);
+  } catch (const std::invalid_argument& e) {  // the log cannot identify anything
+    throw tools::BadInput(path + ": " + e.what());
+  }
+}
+
+/// --method quasi-static: the --log file holds wrench-twist pairs (io/wrench_twist_csv.h).
+EstimateResult IdentifyQuasiStatic(const std::string& path, const LogReadOptions& log_options,
+                                   const EstimatorOptions& options, bool verbose,
+                                   std::optional<ReducedFriction>* truth) {
+  WrenchTwistReadReport report;
+  const WrenchTwistData data = ReadWrenchTwistCsv(path, log_options.overrides, &report);
+  if (verbose) {
+    for (const std::string& note : report.notes) {
+      std::cerr << "identify: note: " << path << ": " << note << "\n";
+    }
+  }
+  if (data.true_friction) *truth = ReducedFriction::From(*data.true_friction);
+  try {
+    return EstimateQuasiStatic(data.Pairs(), QuasiStaticOptionsFor(data, options));
+  } catch (const std::invalid_argument& e) {  // too few pairs
+    throw tools::BadInput(path + ": " + e.what());
+  }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -129,7 +176,8 @@ int main(int argc, char** argv) {
     opts.add_options()
         ("help,h", "print this help and exit")
         ("version", "print the version and exit")
-        ("log", po::value<std::string>()->value_name("FILE"), "push log (CSV, log format)")
+        ("log", po::value<std::string>()->value_name("FILE"),
+         "push log (CSV, log format); with --method quasi-static, wrench-twist pairs (CSV)")
         ("mass", po::value<double>()->value_name("KG"), "slider mass; overrides the log's")
         ("inertia", po::value<double>()->value_name("KG_M2"),
          "moment of inertia about the vertical axis through the CM; overrides the log's")
@@ -137,7 +185,8 @@ int main(int argc, char** argv) {
         ("gravity", po::value<double>()->value_name("M_S2"), "gravity; overrides the log's (9.81)")
         ("method", po::value<std::string>()->default_value("trajectory"),
          "closed-form (Appendix A per step, median), equation-error (Ceres fit of the "
-         "friction impulses) or trajectory (Ceres fit of the simulated trajectory)")
+         "friction impulses), trajectory (Ceres fit of the simulated trajectory) or "
+         "quasi-static (Ceres fit of the limit surface to wrench-twist pairs)")
         ("loss", po::value<std::string>()->default_value("huber"),
          "robust loss: huber, cauchy, none (not closed-form)")
         ("segment", po::value<int>()->default_value(50)->value_name("N"),
@@ -180,24 +229,11 @@ int main(int argc, char** argv) {
     const LogReadOptions log_options = ParseLogOptions(vm);
 
     const std::string path = vm["log"].as<std::string>();
-    LogReadReport read_report;
-    const Trajectory log = ReadPushLog(path, log_options, &read_report);
-    for (const std::string& warning : read_report.warnings) {
-      std::cerr << "identify: warning: " << warning << "\n";
-    }
-    if (vm.count("verbose")) {
-      for (const std::string& note : read_report.notes) {
-        std::cerr << "identify: note: " << path << ": " << note << "\n";
-      }
-    }
-    EstimateResult result;
-    try {
-      result = Identify(log, options);
-    } catch (const std::invalid_argument& e) {  // the log cannot identify anything
-      throw tools::BadInput(path + ": " + e.what());
-    }
     std::optional<ReducedFriction> truth;
-    if (log.true_friction) truth = ReducedFriction::From(*log.true_friction);
+    const EstimateResult result =
+        options.method == EstimatorMethod::kQuasiStatic
+            ? IdentifyQuasiStatic(path, log_options, options, vm.count("verbose"), &truth)
+            : IdentifyPushLog(path, log_options, options, vm.count("verbose"), &truth);
     std::cout << (vm.count("json") ? FormatJson(result) + "\n" : FormatReport(result, truth));
     if (!result.converged) {
       std::cerr << "identify: error: " << path << ": the " << ToString(options.method)
