@@ -76,7 +76,7 @@ std::array<double, 3> Seed(const std::vector<WrenchTwistPair>& pairs, double wei
   }
   std::vector<double> a;
   for (const WrenchTwistPair& p : pairs) {
-    a.push_back(std::sqrt(p.fx * p.fx + p.fy * p.fy + p.mz * p.mz / (c * c)) / (weight_n - p.fz));
+    a.push_back(std::hypot(p.fx, p.fy, p.mz / c) / (weight_n - p.fz));
   }
   return {Median(a), 1.0, c};
 }

@@ -15,6 +15,7 @@
 
 #include <ceres/ceres.h>
 
+#include <algorithm>
 #include <cmath>
 #include <vector>
 
@@ -51,7 +52,16 @@ constexpr double kMinQuasiStaticSigma = 1e-9;
 struct LimitSurfaceMagnitudeResidual {
   LimitSurfaceMagnitudeResidual(const WrenchTwistPair& p, double normal_force_n,
                                 const double* weight)
-      : fx(p.fx), fy(p.fy), mz(p.mz), log_n(std::log(normal_force_n)), w(weight) {}
+      : w(weight) {
+    // The wrench over its largest component, so that squares neither overflow nor
+    // underflow at any magnitude; the scale goes into log N.
+    const double scale = std::max({std::abs(p.fx), std::abs(p.fy), std::abs(p.mz)});
+    const double s = scale > 0.0 ? scale : 1.0;
+    fx = p.fx / s;
+    fy = p.fy / s;
+    mz = p.mz / s;
+    log_n = std::log(normal_force_n) - std::log(s);
+  }
 
   template <typename T>
   bool operator()(const T* log_a, const T* log_b, const T* log_c, T* residual) const {
@@ -70,8 +80,8 @@ struct LimitSurfaceMagnitudeResidual {
         new LimitSurfaceMagnitudeResidual(p, normal_force_n, weight));
   }
 
-  double fx, fy, mz;  ///< applied wrench [N, N, N m]
-  double log_n;       ///< log of the normal force [log N]
+  double fx, fy, mz;  ///< applied wrench over its largest component [1, 1, m]
+  double log_n;       ///< log of the normal force over that component
   const double* w;    ///< weight, 1 / the magnitude residuals' scale
 };
 
@@ -82,8 +92,16 @@ struct LimitSurfaceMagnitudeResidual {
 /// the angle up to pi. Returns false, never throws.
 struct TwistDirectionResidual {
   TwistDirectionResidual(const WrenchTwistPair& p, double length_scale_m, const double* weight)
-      : fx(p.fx), fy(p.fy), lmz(length_scale_m * p.mz), w(weight) {
-    const double xi[3] = {p.vx, p.vy, length_scale_m * p.wz};
+      : w(weight) {
+    // Both vectors over their largest component first: no overflow or underflow in squares.
+    const double f_scale = std::max({std::abs(p.fx), std::abs(p.fy), std::abs(p.mz)});
+    const double fs = f_scale > 0.0 ? f_scale : 1.0;
+    fx = p.fx / fs;
+    fy = p.fy / fs;
+    lmz = length_scale_m * (p.mz / fs);
+    double xi[3] = {p.vx, p.vy, length_scale_m * p.wz};
+    const double v_scale = std::max({std::abs(xi[0]), std::abs(xi[1]), std::abs(xi[2])});
+    for (double& x : xi) x /= v_scale > 0.0 ? v_scale : 1.0;
     const double norm = std::sqrt(xi[0] * xi[0] + xi[1] * xi[1] + xi[2] * xi[2]);
     // EstimateQuasiStatic refuses zero twists and L is > 0; 0 keeps a misuse finite.
     for (int k = 0; k < 3; ++k) xi_hat[k] = norm > 0.0 ? xi[k] / norm : 0.0;
@@ -107,7 +125,7 @@ struct TwistDirectionResidual {
         new TwistDirectionResidual(p, length_scale_m, weight));
   }
 
-  double fx, fy, lmz;  ///< applied force [N], L m_z [N m^2]
+  double fx, fy, lmz;  ///< applied force and L m_z, over the wrench's largest component
   double xi_hat[3];    ///< unit measured twist in L-scaled coordinates
   const double* w;     ///< weight, 1 / the direction residuals' scale
 };

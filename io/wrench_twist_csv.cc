@@ -227,6 +227,10 @@ class Reader {
     data.mass_kg = *mass;
     data.gravity_mps2 =
         Property(meta, "gravity", overrides_.gravity_mps2, false).value_or(kDefaultGravity_mps2);
+    if (!std::isfinite(data.WeightN())) {
+      Fail(0, "", "the weight m g overflows: mass = " + ShortNumber(data.mass_kg) +
+                      " kg, gravity = " + ShortNumber(data.gravity_mps2) + " m/s^2");
+    }
     data.inertia_kgm2 = Property(meta, "inertia", overrides_.inertia_kgm2, false);
     data.com_height_m = Property(meta, "com_height", overrides_.com_height_m, true);
     if (const auto it = meta.texts.find("supports"); it != meta.texts.end()) {

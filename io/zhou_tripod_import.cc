@@ -19,6 +19,11 @@ constexpr double kDegPerRad = 180.0 / kPi;
 /// Quaternions in the logs are unit to their printed precision (the tool's 3 decimals leave
 /// |q| - 1 up to 7e-4); one off by more than 1% is not a rotation that was meant.
 constexpr double kQuaternionNormTolerance = 0.01;
+/// Magnitudes no pushing experiment reaches (as the push-log reader's, forward_model/
+/// push_log.cc): a push holding one is rejected before any arithmetic can overflow.
+constexpr double kAbsurdForce_N = 1e5;
+constexpr double kAbsurdPosition_mm = 1e7;  // 10 km
+constexpr double kAbsurdTime_s = 1e12;      // 30,000 years of Unix time
 /// MAD of Gaussian data times this estimates its standard deviation.
 constexpr double kMadToSigma = 1.4826;
 
@@ -149,6 +154,25 @@ void CheckPush(const TripodPush& push, const TripodImportOptions& options) {
   }
   if (push.robot.size() < 2) {
     throw Rejected{"line " + std::to_string(push.robot_count_line) + ": fewer than 2 robot poses"};
+  }
+  auto absurd = [](int line, const std::string& what, double value, double limit) {
+    if (std::abs(value) > limit) {
+      throw Rejected{"line " + std::to_string(line) + ": " + what + " " +
+                     text::ShortNumber(value) + " is beyond " + text::ShortNumber(limit) +
+                     " (absurd for a pushing experiment: a unit error?)"};
+    }
+  };
+  for (const TripodForceSample& f : push.forces) {
+    absurd(f.line, "time", f.t_s, kAbsurdTime_s);
+    absurd(f.line, "force [N]", std::hypot(f.fx_n, f.fy_n), kAbsurdForce_N);
+  }
+  for (const TripodRobotSample& r : push.robot) {
+    absurd(r.line, "time", r.t_s, kAbsurdTime_s);
+    absurd(r.line, "tool position [mm]", std::hypot(r.pose.x_mm, r.pose.y_mm), kAbsurdPosition_mm);
+  }
+  for (const auto& [pose, line] : {std::pair{push.pre, push.line}, {push.post, push.line + 1}}) {
+    absurd(line, "object position [mm]", std::hypot(pose.x_mm, pose.y_mm, pose.z_mm),
+           kAbsurdPosition_mm);
   }
   CheckQuaternion(push.pre, push.line, "pre-push object");
   CheckQuaternion(push.post, push.line + 1, "post-push object");
@@ -322,6 +346,10 @@ void ImportPush(const TripodPush& push, const Eigen::Vector2d& median_offset,
                    " deg from the inward normal of the pushed edge): a sign or frame error"};
   }
   if (d.isZero(0.0) && dtheta == 0.0) throw Rejected{"the object did not move"};
+  if (!(std::isfinite(m_sum) && f_mean.allFinite() && std::isfinite(duration) &&
+        duration > 0.0 && twist_unit.allFinite())) {
+    throw Rejected{"the wrench or the twist is not a finite number (values too large?)"};
+  }
 
   WrenchTwistRow& row = out.row;
   row.pair = {
@@ -531,6 +559,8 @@ WrenchTwistData ImportZhouTripod(const TripodLog& log, const std::string& source
     rep.push_reports.push_back(result.report);
   }
   if (rep.accepted == 0) rep.notes.push_back("no push could be used");
+  data.extra_metadata.emplace_back("pushes_in_source", std::to_string(rep.pushes));
+  data.extra_metadata.emplace_back("pushes_accepted", std::to_string(rep.accepted));
   return data;
 }
 

@@ -87,30 +87,34 @@ struct TripodImportOptions {
   /// The first samples of each trace (before any contact, ~0.25 s at 100 Hz) estimate the
   /// sensor's noise: sigma = 1.4826 MAD of the sample-to-sample change / sqrt(2).
   int noise_samples = 25;
-  /// Contact: |f| above max(onset_sigmas sigma, min_contact_force_n). The noise is ~0.003 to
-  /// 0.02 N on these logs and contact forces are 1.5 to 9 N; 10 sigma is far above the noise
-  /// (no false onsets) and far below any push.
+  /// Contact: the longest run of samples with |f| above max(onset_sigmas sigma,
+  /// min_contact_force_n). The noise is 0.002 to 0.08 N on these logs and contact forces are
+  /// 1.5 to 9 N; 10 sigma is far above the noise (no false onsets) and far below any push.
   double onset_sigmas = 10.0;
-  double min_contact_force_n = 0.05;  ///< [N]: floor under the onset threshold
+  /// Floor under the onset threshold [N]: above the slow drift of up to 0.03 N that some
+  /// traces show before contact.
+  double min_contact_force_n = 0.05;
   /// Sliding part of the contact: the samples with |f| at least this fraction of the
   /// contact's median |f|, from the first such sample to the last (samples below it in
   /// between are dropped). Leaves out most of the loading ramp, in which the block sticks
   /// while the finger loads it (the force inside the limit surface), and any unloading. Not
   /// higher: the sliding force itself drifts along a push as the line of action moves (by
   /// 40% over the first 0.6 s of one synthetic push), and a higher cut would drop sliding
-  /// samples. What stays of the ramp is short on these logs (0.02 to 0.14 s to reach half
+  /// samples. What stays of the ramp is short on these logs (0.01 to 0.19 s to reach half
   /// the force, median 0.05 s, of ~5 s): it lowers the mean force by a few tenths of a
   /// percent at most.
   double sliding_fraction = 0.5;
   /// The trace must be at rest this long before contact [s]: the offset is the first sample,
-  /// and a trace that starts in contact would subtract contact force.
+  /// and a trace that starts in contact would subtract contact force; also the noise
+  /// samples (0.25 s) must precede contact. 0.3 s is that window plus a margin.
   double min_rest_s = 0.3;
   /// A push whose first sample differs from the file's median first sample by more than this
   /// fraction of the push's median contact force is rejected: the offset, and every force of
   /// the push, would be off by that much (contact or a sensor jump before the trace).
   double max_offset_error_fraction = 0.05;
   /// Largest distance of the tool point from the block's nearest edge during the sliding
-  /// part [m]; the logs stay within ~1.7 mm (the finger's radius and Vicon error).
+  /// part [m]; the logs stay within 2.6 mm, 1.0 mm median (the finger's radius, Vicon error
+  /// and the interpolated pose).
   double max_edge_distance_m = 0.005;
   int min_samples = 20;  ///< fewest force samples a push's sliding part must keep
 

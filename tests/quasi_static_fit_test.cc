@@ -26,7 +26,7 @@ constexpr double kExactRelTol = 1e-6;
 // Pairs from simulated pushes average the wrench and take one twist over a push of ~10 mm
 // and up to 0.12 rad, while the body twist changes along it (the contact point and the
 // finger's direction turn with the slider); the mean wrench then sits slightly inside the
-// limit surface and the mean normal slightly off the mean twist. Measured: 0.2 to 0.4%.
+// limit surface and the mean normal slightly off the mean twist. Measured: 0.03 to 0.3%.
 constexpr double kQuasiStaticModelRelTol = 0.01;
 // The same pairs in another frame: an isotropic model (b = 1) is exactly invariant, but
 // the fitted b is 1 only up to the model error above, so a, b, c move by a fraction of it.

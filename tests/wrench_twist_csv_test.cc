@@ -9,6 +9,7 @@
 
 #include <cmath>
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <string>
@@ -259,6 +260,34 @@ TEST(WrenchTwistCsv, AFileThatCannotBeReadIsALogErrorNamingIt) {
   const std::string nul =
       WriteFile("nul.csv", std::string(kMeta) + kHeader + std::string("1,3\0,1\n", 7));
   EXPECT_THROW(ReadWrenchTwistCsv(nul), LogError);
+}
+
+TEST(WrenchTwistCsv, FileAndMemoryReadersAgreeOnEverySeedCorpusFile) {
+  const std::string corpus = std::string(SLIDEID_SOURCE_DIR) + "/fuzz/corpus/pairs";
+  int files = 0;
+  for (const auto& entry : std::filesystem::directory_iterator(corpus)) {
+    const std::string path = entry.path().string();
+    std::ostringstream text;
+    text << std::ifstream(path, std::ios::binary).rdbuf();
+    std::string file_error, memory_error;
+    std::size_t file_rows = 0, memory_rows = 0;
+    try {
+      file_rows = ReadWrenchTwistCsv(path).rows.size();
+    } catch (const LogError& e) {
+      file_error = e.what();
+    }
+    try {
+      memory_rows = ParseWrenchTwistCsv(text.str(), path).rows.size();
+    } catch (const LogError& e) {
+      memory_error = e.what();
+    }
+    EXPECT_EQ(file_error, memory_error) << path;
+    EXPECT_EQ(file_rows, memory_rows) << path;
+    const bool bad = entry.path().filename().string().rfind("bad_", 0) == 0;
+    EXPECT_EQ(!file_error.empty(), bad) << path << ": " << file_error;
+    ++files;
+  }
+  EXPECT_GE(files, 8);
 }
 
 TEST(WrenchTwistCsv, TheWriterRefusesNonFiniteValuesAndBadMetadata) {

@@ -216,6 +216,37 @@ TEST(ZhouTripodLog, ATruncatedOrEmptyFileIsNamed) {
   EXPECT_THROW(ReadZhouTripodLog(TempDirectory() + "/missing.txt"), LogError);
 }
 
+TEST(ZhouTripodLog, FileAndMemoryReadersAgreeOnEverySeedCorpusFile) {
+  const std::string corpus = std::string(SLIDEID_SOURCE_DIR) + "/fuzz/corpus/tripod";
+  int files = 0, accepted = 0;
+  for (const auto& entry : std::filesystem::directory_iterator(corpus)) {
+    const std::string path = entry.path().string();
+    std::ostringstream text;
+    text << std::ifstream(path, std::ios::binary).rdbuf();
+    std::string file_error, memory_error;
+    std::size_t file_pushes = 0, memory_pushes = 0;
+    try {
+      file_pushes = ReadZhouTripodLog(path).pushes.size();
+    } catch (const LogError& e) {
+      file_error = e.what();
+    }
+    try {
+      memory_pushes = ParseZhouTripodLog(text.str(), path).pushes.size();
+    } catch (const LogError& e) {
+      memory_error = e.what();
+    }
+    EXPECT_EQ(file_error, memory_error) << path;
+    EXPECT_EQ(file_pushes, memory_pushes) << path;
+    // Seeds named bad_ fail; the others are read.
+    const bool bad = entry.path().filename().string().rfind("bad_", 0) == 0;
+    EXPECT_EQ(!file_error.empty(), bad) << path << ": " << file_error;
+    ++files;
+    accepted += file_error.empty();
+  }
+  EXPECT_GE(files, 8);
+  EXPECT_GE(accepted, 4);
+}
+
 TEST(ZhouTripodConventions, PosesAndForcesRoundTripThroughTheLogsFrames) {
   const Eigen::Vector3d q(0.61, -0.03, 2.4);
   const Eigen::Vector3d back = TripodObjectPose(TripodViconPose(q, 10.0));
