@@ -9,6 +9,9 @@
 namespace slideid {
 namespace {
 
+/// A force sample is due at the first step whose start u dt reaches its time k / rate; this
+/// absorbs the rounding of u dt (~1e-16 s relative), far below a step.
+constexpr double kSampleTimeSlack_s = 1e-12;
 /// After the tip stops, the slider is followed until it rests, for at most this long [s]:
 /// a stiff finger relaxes within milliseconds.
 constexpr double kMaxSettle_s = 0.5;
@@ -44,6 +47,36 @@ struct SlideSums {
   double moment = 0, peak = 0;
   int steps = 0;
 };
+
+/// The pushes' pairs from the sliding steps' sums (SimulatedPush::row and world_row).
+void FillRows(const SlideSums& sums, double dt, const Eigen::Vector2d& contact_body,
+              SimulatedPush& out) {
+  const PlanarState &start = out.start, &end = out.end;
+  const double duration = sums.steps * dt;
+  const Eigen::Vector2d moved(end.x - start.x, end.y - start.y);  // world
+  const Eigen::Vector2d d = Rotation(-start.theta) * moved;
+  const double dtheta = end.theta - start.theta;
+  const Eigen::Vector3d twist = BodyTwistFromPoseChange(d, dtheta) / duration;
+  const Eigen::Vector2d f_body = sums.force_body / sums.steps;
+  const double moment = sums.moment / sums.steps;
+  WrenchTwistRow& row = out.row;
+  row.pair = {f_body.x(), f_body.y(), 0.0, moment, twist.x(), twist.y(), twist.z()};
+  row.duration_s = duration;
+  row.dx_m = d.x();
+  row.dy_m = d.y();
+  row.dtheta_rad = dtheta;
+  row.contact_x_m = contact_body.x();
+  row.contact_y_m = contact_body.y();
+  row.peak_force_n = sums.peak;
+  row.samples = sums.steps;
+  const Eigen::Vector2d f_world = sums.force_world / sums.steps;
+  const Eigen::Vector2d v_world = moved / duration;
+  out.world_row.pair = {f_world.x(), f_world.y(),      0.0, moment, v_world.x(),
+                        v_world.y(), dtheta / duration};
+  out.world_row.duration_s = duration;
+  out.world_row.peak_force_n = sums.peak;
+  out.world_row.samples = sums.steps;
+}
 
 }  // namespace
 
@@ -103,7 +136,7 @@ SimulatedPush SimulateSpringPush(const SliderProperties& slider_in,
           t < t_stop ? Eigen::Vector2d(dir * push.speed_mps) : Eigen::Vector2d::Zero();
       f = k * (tip(t) - c.point) + damping * (tip_velocity - c.velocity);
     }
-    if (t <= t_stop && t + 1e-12 >= next_force_sample / options.force_rate_hz) {
+    if (t <= t_stop && t + kSampleTimeSlack_s >= next_force_sample / options.force_rate_hz) {
       out.force_t_s.push_back(next_force_sample / options.force_rate_hz);
       out.force_world_n.push_back(f);
       ++next_force_sample;
@@ -134,34 +167,7 @@ SimulatedPush SimulateSpringPush(const SliderProperties& slider_in,
   }
   out.end = q;
   out.end.vx = out.end.vy = out.end.wz = 0.0;
-
-  const double duration = sums.steps * dt;
-  const Eigen::Vector2d d = Rotation(-start.theta) * Eigen::Vector2d(q.x - start.x, q.y - start.y);
-  const double dtheta = q.theta - start.theta;
-  const Eigen::Vector3d twist = BodyTwistFromPoseChange(d, dtheta) / duration;
-  const Eigen::Vector2d f_mean = sums.force_body / sums.steps;
-  WrenchTwistRow& row = out.row;
-  row.pair = {f_mean.x(), f_mean.y(), 0.0,      sums.moment / sums.steps,
-              twist.x(),  twist.y(),  twist.z()};
-  row.duration_s = duration;
-  row.dx_m = d.x();
-  row.dy_m = d.y();
-  row.dtheta_rad = dtheta;
-  row.contact_x_m = push.contact_body_m.x();
-  row.contact_y_m = push.contact_body_m.y();
-  row.peak_force_n = sums.peak;
-  row.samples = sums.steps;
-  const Eigen::Vector2d f_world = sums.force_world / sums.steps;
-  out.world_row.pair = {f_world.x(),
-                        f_world.y(),
-                        0.0,
-                        row.pair.mz,
-                        (q.x - start.x) / duration,
-                        (q.y - start.y) / duration,
-                        dtheta / duration};
-  out.world_row.duration_s = duration;
-  out.world_row.peak_force_n = sums.peak;
-  out.world_row.samples = sums.steps;
+  FillRows(sums, dt, push.contact_body_m, out);
   return out;
 }
 

@@ -157,8 +157,8 @@ void CheckPush(const TripodPush& push, const TripodImportOptions& options) {
   }
   auto absurd = [](int line, const std::string& what, double value, double limit) {
     if (std::abs(value) > limit) {
-      throw Rejected{"line " + std::to_string(line) + ": " + what + " " +
-                     text::ShortNumber(value) + " is beyond " + text::ShortNumber(limit) +
+      throw Rejected{"line " + std::to_string(line) + ": " + what + " " + text::ShortNumber(value) +
+                     " is beyond " + text::ShortNumber(limit) +
                      " (absurd for a pushing experiment: a unit error?)"};
     }
   };
@@ -257,16 +257,10 @@ struct PushResult {
   TripodPushReport report;
 };
 
-void ImportPush(const TripodPush& push, const Eigen::Vector2d& median_offset,
-                const TripodImportOptions& options, PushResult& out) {
-  TripodPushReport& rep = out.report;
-  CheckPush(push, options);
-  const std::vector<TripodForceSample>& fs = push.forces;
-  std::vector<Eigen::Vector2d> force;  // on the object, tool frame, offset removed
-  const Eigen::Vector2d offset = TripodToolForce(fs[0].fx_n, fs[0].fy_n);
-  for (const TripodForceSample& s : fs) force.push_back(TripodToolForce(s.fx_n, s.fy_n) - offset);
-
-  const Phases ph = FindPhases(force, options);
+/// Phase figures into the report, and the rejections they decide.
+void JudgePhases(const std::vector<TripodForceSample>& fs, const Phases& ph,
+                 const Eigen::Vector2d& median_offset, const TripodImportOptions& options,
+                 TripodPushReport& rep) {
   const double t0 = fs[0].t_s;
   rep.noise_sigma_n = ph.sigma;
   rep.threshold_n = ph.threshold;
@@ -277,13 +271,11 @@ void ImportPush(const TripodPush& push, const Eigen::Vector2d& median_offset,
   rep.samples = static_cast<int>(ph.kept.size());
   rep.dropped_low = static_cast<int>(ph.last - ph.first + 1 - ph.kept.size());
   rep.offset_error_n = (Eigen::Vector2d(fs[0].fx_n, fs[0].fy_n) - median_offset).norm();
-
   if (rep.onset_s < options.min_rest_s) {
     throw Rejected{"line " + std::to_string(fs[ph.onset].line) + ": contact " +
                    Format("%.2f", rep.onset_s) + " s into the trace, less than " +
                    Format("%.2f", options.min_rest_s) +
-                   " s: the offset (the first sample) may "
-                   "hold contact force"};
+                   " s: the offset (the first sample) may hold contact force"};
   }
   if (rep.offset_error_n > options.max_offset_error_fraction * ph.contact_force) {
     throw Rejected{"line " + std::to_string(fs[0].line) + ": the first sample differs by " +
@@ -294,7 +286,56 @@ void ImportPush(const TripodPush& push, const Eigen::Vector2d& median_offset,
   if (rep.samples < options.min_samples) {
     throw Rejected{"only " + std::to_string(rep.samples) + " samples in the sliding part"};
   }
-  const double duration = fs[ph.last].t_s - fs[ph.first].t_s;
+}
+
+/// Means over the kept samples, in the object frame along the pose track.
+struct PushMeans {
+  Eigen::Vector2d force = Eigen::Vector2d::Zero();    ///< [N]
+  Eigen::Vector2d contact = Eigen::Vector2d::Zero();  ///< [m]
+  double moment = 0, peak = 0, max_distance = 0;
+  int edge = -1;  ///< the edge most samples touch
+};
+
+PushMeans Average(const std::vector<TripodForceSample>& fs,
+                  const std::vector<Eigen::Vector2d>& force, const Phases& ph,
+                  const PoseTrack& track, const ToolTrack& tool) {
+  const std::array<Eigen::Vector2d, 3> vertices = TripodBlockVertices();
+  const double start = fs[ph.first].t_s, duration = fs[ph.last].t_s - start;
+  PushMeans m;
+  std::array<int, 3> edge_count{};
+  for (std::size_t i : ph.kept) {
+    const double t = fs[i].t_s;
+    const Eigen::Vector3d q = track.At(std::clamp((t - start) / duration, 0.0, 1.0));
+    const Eigen::Vector3d tool_pose = tool.At(t);
+    const Eigen::Matrix2d to_object = Rotation(-q.z());
+    const Eigen::Vector2d f = to_object * Rotation(tool_pose.z()) * force[i];
+    const EdgePoint e = NearestEdge(vertices, to_object * (tool_pose.head<2>() - q.head<2>()));
+    m.force += f;
+    m.contact += e.point;
+    m.moment += e.point.x() * f.y() - e.point.y() * f.x();
+    m.peak = std::max(m.peak, f.norm());
+    m.max_distance = std::max(m.max_distance, e.distance);
+    ++edge_count[e.edge];
+  }
+  const double n = static_cast<double>(ph.kept.size());
+  m.force /= n;
+  m.contact /= n;
+  m.moment /= n;
+  m.edge =
+      static_cast<int>(std::max_element(edge_count.begin(), edge_count.end()) - edge_count.begin());
+  return m;
+}
+
+void ImportPush(const TripodPush& push, const Eigen::Vector2d& median_offset,
+                const TripodImportOptions& options, PushResult& out) {
+  TripodPushReport& rep = out.report;
+  CheckPush(push, options);
+  const std::vector<TripodForceSample>& fs = push.forces;
+  std::vector<Eigen::Vector2d> force;  // on the object, tool frame, offset removed
+  const Eigen::Vector2d offset = TripodToolForce(fs[0].fx_n, fs[0].fy_n);
+  for (const TripodForceSample& s : fs) force.push_back(TripodToolForce(s.fx_n, s.fy_n) - offset);
+  const Phases ph = FindPhases(force, options);
+  JudgePhases(fs, ph, median_offset, options, rep);
 
   // Pose change and the constant body twist that explains it.
   const Eigen::Vector3d q0 = TripodObjectPose(push.pre);
@@ -302,40 +343,17 @@ void ImportPush(const TripodPush& push, const Eigen::Vector2d& median_offset,
   const Eigen::Vector2d d = Rotation(-q0.z()) * (q1.head<2>() - q0.head<2>());
   const double dtheta = WrapAngle(q1.z() - q0.z());
   const Eigen::Vector3d twist_unit = BodyTwistFromPoseChange(d, dtheta);
-  const Eigen::Vector2d v_unit = twist_unit.head<2>();
-  const PoseTrack track{q0, twist_unit};
-  const ToolTrack tool(push.robot);
-  const std::array<Eigen::Vector2d, 3> vertices = TripodBlockVertices();
+  const PushMeans m = Average(fs, force, ph, PoseTrack{q0, twist_unit}, ToolTrack(push.robot));
 
-  Eigen::Vector2d f_sum = Eigen::Vector2d::Zero(), c_sum = Eigen::Vector2d::Zero();
-  double m_sum = 0, peak = 0, max_distance = 0;
-  std::array<int, 3> edge_count{};
-  for (std::size_t i : ph.kept) {
-    const double t = fs[i].t_s;
-    const double s = std::clamp((t - fs[ph.first].t_s) / duration, 0.0, 1.0);
-    const Eigen::Vector3d q = track.At(s);
-    const Eigen::Vector3d tool_pose = tool.At(t);
-    const Eigen::Matrix2d to_object = Rotation(-q.z());
-    const Eigen::Vector2d f = to_object * Rotation(tool_pose.z()) * force[i];
-    const EdgePoint e = NearestEdge(vertices, to_object * (tool_pose.head<2>() - q.head<2>()));
-    f_sum += f;
-    c_sum += e.point;
-    m_sum += e.point.x() * f.y() - e.point.y() * f.x();
-    peak = std::max(peak, f.norm());
-    max_distance = std::max(max_distance, e.distance);
-    ++edge_count[e.edge];
-  }
-  const double n = static_cast<double>(ph.kept.size());
-  const Eigen::Vector2d f_mean = f_sum / n;
-  rep.edge =
-      static_cast<int>(std::max_element(edge_count.begin(), edge_count.end()) - edge_count.begin());
-  rep.max_edge_distance_m = max_distance;
-  rep.force_normal_angle_deg = AngleDeg(f_mean, InwardNormal(vertices, rep.edge));
-  rep.force_twist_angle_deg = AngleDeg(f_mean, v_unit);
+  const std::array<Eigen::Vector2d, 3> vertices = TripodBlockVertices();
+  rep.edge = m.edge;
+  rep.max_edge_distance_m = m.max_distance;
+  rep.force_normal_angle_deg = AngleDeg(m.force, InwardNormal(vertices, m.edge));
+  rep.force_twist_angle_deg = AngleDeg(m.force, twist_unit.head<2>());
   rep.displacement_m = d.norm();
   rep.rotation_rad = dtheta;
-  if (max_distance > options.max_edge_distance_m) {
-    throw Rejected{"the tool point is up to " + Format("%.1f", 1000.0 * max_distance) +
+  if (m.max_distance > options.max_edge_distance_m) {
+    throw Rejected{"the tool point is up to " + Format("%.1f", 1000.0 * m.max_distance) +
                    " mm from the block's edge (limit " +
                    Format("%.1f", 1000.0 * options.max_edge_distance_m) +
                    " mm): not in contact where the poses say"};
@@ -346,22 +364,22 @@ void ImportPush(const TripodPush& push, const Eigen::Vector2d& median_offset,
                    " deg from the inward normal of the pushed edge): a sign or frame error"};
   }
   if (d.isZero(0.0) && dtheta == 0.0) throw Rejected{"the object did not move"};
-  if (!(std::isfinite(m_sum) && f_mean.allFinite() && std::isfinite(duration) &&
-        duration > 0.0 && twist_unit.allFinite())) {
+  const double duration = fs[ph.last].t_s - fs[ph.first].t_s;
+  const Eigen::Vector3d twist = twist_unit / duration;
+  if (!(std::isfinite(m.moment) && m.force.allFinite() && std::isfinite(duration) &&
+        duration > 0.0 && twist.allFinite())) {
     throw Rejected{"the wrench or the twist is not a finite number (values too large?)"};
   }
 
   WrenchTwistRow& row = out.row;
-  row.pair = {
-      f_mean.x(),       f_mean.y(), 0.0, m_sum / n, v_unit.x() / duration, v_unit.y() / duration,
-      dtheta / duration};
+  row.pair = {m.force.x(), m.force.y(), 0.0, m.moment, twist.x(), twist.y(), twist.z()};
   row.duration_s = duration;
   row.dx_m = d.x();
   row.dy_m = d.y();
   row.dtheta_rad = dtheta;
-  row.contact_x_m = c_sum.x() / n;
-  row.contact_y_m = c_sum.y() / n;
-  row.peak_force_n = peak;
+  row.contact_x_m = m.contact.x();
+  row.contact_y_m = m.contact.y();
+  row.peak_force_n = m.peak;
   row.samples = rep.samples;
 }
 
