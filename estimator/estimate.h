@@ -11,12 +11,17 @@
 
 namespace slideid {
 
-enum class EstimatorMethod { kClosedForm, kEquationError, kTrajectory, kQuasiStatic };
+enum class EstimatorMethod {
+  kClosedForm,
+  kEquationError,
+  kTrajectory,
+  kQuasiStatic,  ///< wrench-twist pairs, not a push log (estimator/quasi_static_fit.h)
+};
 enum class RobustLoss { kNone, kHuber, kCauchy };
 
-/// "closed-form", "equation-error", "trajectory", "quasi-static".
+/// "closed-form", "equation-error", "trajectory", "quasi-static"
 const char* ToString(EstimatorMethod method);
-const char* ToString(RobustLoss loss);  ///< "none", "huber", "cauchy"
+const char* ToString(RobustLoss loss);         ///< "none", "huber", "cauchy"
 
 /// Index of a parameter in EstimateResult::parameters.
 enum ParameterIndex { kA = 0, kB = 1, kC = 2 };

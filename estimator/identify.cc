@@ -4,6 +4,7 @@
 
 #include "estimator/closed_form.h"
 #include "estimator/equation_error.h"
+#include "estimator/log_diagnostics.h"
 #include "estimator/trajectory_fit.h"
 
 namespace slideid {
@@ -11,11 +12,23 @@ namespace slideid {
 EstimateResult Identify(const Trajectory& log, const IdentifyOptions& options) {
   std::string why;
   if (!options.IsValid(&why)) throw std::invalid_argument(why);
+  // A force channel that never changes while the object moves is a dead sensor, whatever
+  // the method (it would read as too little sliding, or fit nonsense).
+  if (const auto dead = DiagnoseLog(log).dead_force_channel) {
+    EstimateResult r;
+    r.method = options.method;
+    r.status = TerminationStatus::kTooLittleExcitation;
+    r.converged = false;
+    r.message = *dead;
+    return r;
+  }
   switch (options.method) {
     case EstimatorMethod::kClosedForm: return EstimateClosedForm(log, options);
     case EstimatorMethod::kEquationError: return EstimateEquationError(log, options);
     case EstimatorMethod::kTrajectory: return EstimateTrajectory(log, options);
-    case EstimatorMethod::kQuasiStatic: break;
+    case EstimatorMethod::kQuasiStatic:
+      throw std::invalid_argument("the quasi-static method fits wrench-twist pairs "
+                                  "(EstimateQuasiStatic), not a push log");
   }
   throw std::invalid_argument(std::string("method ") + ToString(options.method) +
                               " does not take push logs");

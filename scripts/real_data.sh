@@ -7,8 +7,7 @@
 # Environment: SLIDEID_REAL_DATA (the real-pushes folder), SLIDEID_BIN_DIR (build/bin),
 #              WORK (build/real-data).
 # Exits 0 with a message when the data is not there. Each section is one function: a new
-# data set (the Zhou tripod logs, when import-log reads them) is one more function and one
-# more line in `sections`.
+# data set is one more function and one more entry in `sections`.
 set -euo pipefail
 data=${SLIDEID_REAL_DATA:-"$(dirname "$0")/../../shared/data/real-pushes"}
 if [ ! -d "$data" ]; then
@@ -66,10 +65,16 @@ mit_hex() {
   identify_all mit_hex
 }
 
-# zhou_tripod() { ... import zhou_tripod --format zhou-tripod ...; }  # when import-log reads it
+# The tripod logs: one wrench-twist file per configuration, fitted by the quasi-static
+# method (scripts/real_data_tripod.sh prints the section's markdown).
+zhou_tripod() {
+  [ -d "$data/zhou_icra2016_tripod" ] || { echo "real_data: zhou_tripod: no files; skipped"; return 0; }
+  BIN=$bin DATA=$data WORK=$work bash scripts/real_data_tripod.sh > "$work/zhou_tripod.md"
+  echo "real_data: zhou_tripod: $(grep -c '^| ' "$work/zhou_tripod.md" || true) table rows"
+}
 
 shopt -s nullglob
-sections=(mit_rect1 mit_hex)
+sections=(mit_rect1 mit_hex zhou_tripod)
 for section in "${sections[@]}"; do "$section"; done
 /usr/bin/python3 scripts/real_data_report.py --work "$work" --doc docs/real-data.md \
   --sections "${sections[@]}"

@@ -212,9 +212,20 @@ def mit_section(title):
     return section
 
 
+def markdown_section(title, file_name):
+    def section(work, name):
+        path = os.path.join(work, file_name)
+        if not os.path.exists(path):
+            return ["### " + title, "", "Not run (no files)."]
+        return ["### " + title, ""] + open(path).read().rstrip("\n").split("\n")
+    return section
+
+
 SECTIONS = {
     "mit_rect1": mit_section("MIT push dataset: rect1 on plywood, 100 mm/s"),
     "mit_hex": mit_section("MIT push dataset: hex on plywood, 150 mm/s"),
+    "zhou_tripod": markdown_section("Zhou et al. ICRA 2016 tripod logs: quasi-static pairs",
+                                    "zhou_tripod.md"),
 }
 
 

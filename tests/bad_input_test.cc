@@ -446,8 +446,10 @@ TEST(IdentifyOptions, UsageErrorsExitTwoNamingTheOption) {
   const std::vector<std::pair<std::string, std::string>> cases = {
       {"--bogus", "--bogus"},
       {"--log", "'--log' is missing"},
-      {"--log " + log + " --log " + log, "more than once"},
-      {log, "'--log' is required"},
+      {"--log " + log + " --fit-delay sometimes", "--fit-delay"},
+      {"--logs /nonexistent/dir", "--logs"},
+      {"--log " + log + " --method closed-form --fit-force-bias", "--fit-force-bias does not apply"},
+      {log, "'--log' (or '--logs') is required"},
       {"--log " + log + " --mass", "'--mass' is missing"},
       {"--log " + log + " --mass heavy", "--mass"},
       {"--log " + log + " --mass nan", "--mass"},

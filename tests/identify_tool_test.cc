@@ -10,7 +10,9 @@
 #include <fstream>
 #include <sstream>
 
+#include "datasets/quasi_static_synth.h"
 #include "io/push_log.h"
+#include "io/wrench_twist_csv.h"
 #include "tests/synthetic_scenes.h"
 
 namespace slideid {
@@ -143,6 +145,47 @@ TEST(IdentifyTool, ExitCodesAndMessagesForBadInput) {
     EXPECT_EQ(o.exit_code, 1) << method << ": " << o.out;
     EXPECT_NE(o.out.find("too little sliding"), std::string::npos) << method << ": " << o.out;
   }
+}
+
+/// Exact quasi-static pairs of a 1.5 kg slider (a = 0.3, b = 1.2, c = 0.04 m), as a file.
+std::string WritePairs(const std::string& name) {
+  SliderProperties slider;
+  slider.mass_kg = 1.5;
+  slider.inertia_kgm2 = 2e-3;
+  std::vector<Eigen::Vector3d> twists;
+  for (int i = 0; i < 8; ++i) {
+    twists.emplace_back(0.002 * std::cos(i), 0.002 * std::sin(1.7 * i), 0.04 * std::cos(2.3 * i));
+  }
+  const std::string path = ::testing::TempDir() + "/" + name;
+  WriteWrenchTwistCsv(ExactQuasiStaticPairs(twists, slider, {0.3, 1.2, 0.04}), path);
+  return path;
+}
+
+TEST(IdentifyTool, QuasiStaticFitsWrenchTwistPairs) {
+  const std::string pairs = WritePairs("pairs.csv");
+  Output o = RunIdentify("--log " + pairs + " --method quasi-static");
+  ASSERT_EQ(o.exit_code, 0) << o.out;
+  EXPECT_NE(o.out.find("method: quasi-static"), std::string::npos) << o.out;
+  EXPECT_NE(o.out.find("truth"), std::string::npos) << o.out;
+  o = RunIdentify("--log " + pairs + " --method quasi-static --json");
+  ASSERT_EQ(o.exit_code, 0) << o.out;
+  EXPECT_EQ(JsonField(o.out, "method"), "\"quasi-static\"") << o.out;
+  EXPECT_NEAR(std::stod(JsonField(JsonField(o.out, "e_o_over_e_t"), "value")), 1.2, 1e-6);
+  // Options the method does not use are usage errors; a push log is not pairs.
+  EXPECT_EQ(RunIdentify("--log " + pairs + " --method quasi-static --segment 10").exit_code, 2);
+  const std::string log = WriteLog(testing::SimulateOrFail(testing::PushedSlider()), "qs.csv");
+  o = RunIdentify("--log " + log + " --method quasi-static");
+  EXPECT_EQ(o.exit_code, 1) << o.out;
+  EXPECT_NE(o.out.find("column 'mz': missing"), std::string::npos) << o.out;
+}
+
+TEST(IdentifyTool, QuasiStaticNamesTheRowOfAZeroTwist) {
+  const std::string path = ::testing::TempDir() + "/zero_twist_pairs.csv";
+  std::ofstream(path) << "# mass = 1\nfx,fy,mz,vx,vy,wz\n1,0,0,1,0,0\n2,1,0,0,0,0\n";
+  const Output o = RunIdentify("--log " + path + " --method quasi-static");
+  EXPECT_EQ(o.exit_code, 1) << o.out;
+  EXPECT_NE(o.out.find(path + ":4: column 'vx': the twist (vx, vy, wz) is zero"),
+            std::string::npos) << o.out;
 }
 
 }  // namespace

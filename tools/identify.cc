@@ -1,17 +1,15 @@
 // identify: estimate the friction parameters (a = e_t mu, b = e_o/e_t, c = e_r/e_t) of a
-// sliding object from a push log (docs: shared log-format.md; exit codes and what counts
-// as bad input: docs/robustness.md).
+// sliding object from one push log or several (docs: shared log-format.md; exit codes and
+// what counts as bad input: docs/robustness.md).
 
 #include <glog/logging.h>
 
 #include <cmath>
 #include <iostream>
-#include <stdexcept>
 
-#include "estimator/identify.h"
-#include "io/push_log.h"
 #include "io/result_json.h"
 #include "io/result_report.h"
+#include "pipeline/identify_options.h"
 #include "tools/tool_support.h"
 
 namespace po = boost::program_options;
@@ -19,105 +17,43 @@ using namespace slideid;
 
 namespace {
 
-// Beyond these the fit only gets slower, never better: more Ceres threads than any machine
-// here has cores, and forward-model steps far below any time scale of the motion.
-constexpr int kMaxThreads = 256;
-constexpr int kMaxSubsteps = 1000;
+constexpr const char* kExitCodes =
+    "\nExit codes: 0 ok (a suspect verdict is a warning); 1 bad input (a malformed or\n"
+    "physically invalid log, or one that cannot identify anything); 2 usage (unknown,\n"
+    "missing, invalid or conflicting options); 3 numerical (the fit did not converge, or\n"
+    "with --strict a suspect verdict); 4 a file could not be written. Warnings (absurd\n"
+    "magnitudes, gaps in t) always go to stderr; --verbose adds the readers' notes.\n";
 
-template <typename Enum>
-Enum Choose(const po::variables_map& vm, const char* option,
-            std::initializer_list<std::pair<const char*, Enum>> choices) {
-  const std::string given = vm[option].as<std::string>();
-  std::string names;
-  for (const auto& [name, value] : choices) {
-    if (given == name) return value;
-    names += (names.empty() ? "" : ", ") + std::string(name);
-  }
-  throw po::error(std::string("--") + option + ": unknown value '" + given + "' (one of " +
-                  names + ")");
-}
-
-/// Whether the user gave `option` (not just its default).
-bool Given(const po::variables_map& vm, const char* option) {
-  return vm.count(option) && !vm[option].defaulted();
-}
-
-/// An option that changes the estimate but that `method` does not use is an error: the user
-/// believes it did something (docs/robustness.md). --threads only changes speed: accepted.
-void RejectOptionsTheMethodIgnores(const po::variables_map& vm, EstimatorMethod method) {
-  std::vector<const char*> unused;
-  if (method != EstimatorMethod::kTrajectory) unused = {"segment", "substeps"};
-  if (method == EstimatorMethod::kClosedForm) {
-    unused.insert(unused.end(), {"loss", "max-iterations"});
-  }
-  for (const char* option : unused) {
-    if (Given(vm, option)) {
-      throw po::error(std::string("--") + option + " does not apply to --method " +
-                      ToString(method));
-    }
-  }
-}
-
-IdentifyOptions ParseEstimatorOptions(const po::variables_map& vm) {
-  IdentifyOptions o;
-  o.method = Choose<EstimatorMethod>(vm, "method",
-                                     {{"closed-form", EstimatorMethod::kClosedForm},
-                                      {"equation-error", EstimatorMethod::kEquationError},
-                                      {"trajectory", EstimatorMethod::kTrajectory}});
-  const RobustLoss loss = Choose<RobustLoss>(vm, "loss", {{"huber", RobustLoss::kHuber},
-                                                          {"cauchy", RobustLoss::kCauchy},
-                                                          {"none", RobustLoss::kNone}});
-  RejectOptionsTheMethodIgnores(vm, o.method);
-  o.equation_error.loss = o.trajectory.loss = loss;
-  o.trajectory.segment_steps = vm["segment"].as<int>();
-  o.trajectory.substeps = vm["substeps"].as<int>();
-  o.threads = vm["threads"].as<int>();
-  o.equation_error.max_iterations = o.trajectory.max_iterations = vm["max-iterations"].as<int>();
-  std::string why;
-  if (!o.IsValid(&why)) throw po::error(why);
-  if (o.threads > kMaxThreads) {
-    throw po::error("--threads must be <= " + std::to_string(kMaxThreads));
-  }
-  if (o.trajectory.substeps > kMaxSubsteps) {
-    throw po::error("--substeps must be <= " + std::to_string(kMaxSubsteps));
-  }
-  return o;
-}
-
-/// The value of a physical option, checked like the log's metadata would be.
-std::optional<double> PhysicalOption(const po::variables_map& vm, const char* option,
-                                     bool zero_allowed) {
-  if (!vm.count(option)) return std::nullopt;
-  const double value = vm[option].as<double>();
-  if (!std::isfinite(value) || value < 0.0 || (!zero_allowed && value == 0.0)) {
-    throw po::error(std::string("--") + option + " = " + std::to_string(value) +
-                    (zero_allowed ? ": must be a finite number >= 0"
-                                  : ": must be a finite number > 0"));
-  }
-  return value;
-}
-
-LogReadOptions ParseLogOptions(const po::variables_map& vm) {
-  LogReadOptions o;
-  o.overrides.mass_kg = PhysicalOption(vm, "mass", false);
-  o.overrides.inertia_kgm2 = PhysicalOption(vm, "inertia", false);
-  o.overrides.com_height_m = PhysicalOption(vm, "com-height", true);
-  o.overrides.gravity_mps2 = PhysicalOption(vm, "gravity", false);
-  o.max_gap_ratio = vm["max-gap-ratio"].as<double>();
-  if (std::isnan(o.max_gap_ratio)) throw po::error("--max-gap-ratio must be a number");
-  return o;
-}
-
-/// The first identifiable parameter whose estimate or error is not finite, or -1.
-int NonFiniteEstimate(const EstimateResult& result) {
+/// Why the result must not be used (a numerical failure), or "" when it may.
+std::string NumericalFailure(const EstimateResult& result) {
+  const std::string fit = std::string("the ") + ToString(result.method) + " fit";
+  if (!result.converged) return fit + " did not converge (" + result.message + ")";
   for (int i = 0; i < 3; ++i) {
     const ParameterEstimate& p = result.parameters[i];
     if (p.identifiable && !(std::isfinite(p.value) && std::isfinite(p.stderr_value) &&
                             std::isfinite(p.ci95_lo) && std::isfinite(p.ci95_hi))) {
-      return i;
+      return fit + " gave a non-finite " + ParameterName(i);
     }
   }
-  return -1;
+  return "";
+}
+
+/// The suspect estimates, "e_t_mu, force_bias_x_N", or "".
+std::string Suspects(const EstimateResult& result) {
+  std::string names;
+  for (int i = 0; i < 3; ++i) {
+    if (result.parameters[i].verdict == Verdict::kSuspect) {
+      names += (names.empty() ? "" : ", ") + std::string(ParameterName(i));
+    }
+  }
+  for (const NuisanceEstimate& n : result.nuisance) {
+    if (n.verdict == Verdict::kSuspect) names += (names.empty() ? "" : ", ") + n.name;
+  }
+  return names;
+}
+
+std::string Describe(const std::vector<std::string>& files) {
+  return files.size() == 1 ? files[0] : std::to_string(files.size()) + " logs";
 }
 
 }  // namespace
@@ -125,96 +61,56 @@ int NonFiniteEstimate(const EstimateResult& result) {
 int main(int argc, char** argv) {
   return tools::RunTool("identify", [&]() -> int {
     po::options_description opts(
-        "identify: estimate the friction of a sliding object from a push log.\n"
+        "identify: estimate the friction of a sliding object from push logs.\n"
         "Recovers a = e_t*mu, b = e_o/e_t and c = e_r/e_t [m] (the combinations the motion\n"
-        "depends on), says which the log cannot identify, and how sure each estimate is.\n\n"
-        "Usage: identify --log FILE.csv [options]\n\nOptions");
-    opts.add_options()
-        ("help,h", "print this help and exit")
-        ("version", "print the version and exit")
-        ("log", po::value<std::string>()->value_name("FILE"), "push log (CSV, log format)")
-        ("mass", po::value<double>()->value_name("KG"), "slider mass; overrides the log's")
-        ("inertia", po::value<double>()->value_name("KG_M2"),
-         "moment of inertia about the vertical axis through the CM; overrides the log's")
-        ("com-height", po::value<double>()->value_name("M"), "CM height; overrides the log's")
-        ("gravity", po::value<double>()->value_name("M_S2"), "gravity; overrides the log's (9.81)")
-        ("method", po::value<std::string>()->default_value("trajectory"),
-         "closed-form (Appendix A per step, median), equation-error (Ceres fit of the "
-         "friction impulses) or trajectory (Ceres fit of the simulated trajectory)")
-        ("loss", po::value<std::string>()->default_value("huber"),
-         "robust loss: huber, cauchy, none (not closed-form)")
-        ("segment", po::value<int>()->default_value(0)->value_name("N"),
-         "trajectory only: log intervals per shooting segment (>= 2; 0 adapts it to the log)")
-        ("substeps", po::value<int>()->default_value(1)->value_name("N"),
-         "trajectory only: forward-model steps per log interval (1 to 1000)")
-        ("threads", po::value<int>()->default_value(1)->value_name("N"), "Ceres threads (1 to 256)")
-        ("json", "print one JSON object instead of the table")
-        ("residuals", po::value<std::string>()->value_name("OUT.csv"),
-         "write per-step residuals (only when the fit succeeds)")
-        ("verbose,v", "also print what the reader noticed about the log (notes)");
+        "depends on), says which the logs cannot identify, how sure each estimate is, and\n"
+        "whether it is believable. Several logs are pooled: one estimate for all, each log's\n"
+        "own, and whether they agree.\n\n"
+        "Usage: identify --log FILE.csv [--log FILE2.csv ...] [options]\n\nOptions");
+    opts.add_options()("help,h", "print this help and exit")("version", "print the version and exit");
     po::options_description advanced("Advanced options");
-    advanced.add_options()
-        ("max-gap-ratio", po::value<double>()->default_value(10.0)->value_name("R"),
-         "an interval between rows longer than R times the median one is an error (the force "
-         "is held across it); 0 accepts any gap")
-        ("max-iterations", po::value<int>()->default_value(100)->value_name("N"),
-         "Ceres iterations per solve; a fit that needs more fails with exit code 3");
+    cli::AddIdentifyOptions(&opts, &advanced);
     opts.add(advanced);
     po::variables_map vm;
     po::store(po::parse_command_line(argc, argv, opts), vm);
     po::notify(vm);
     if (vm.count("help")) {
-      std::cout << opts << "\nExit codes: 0 ok; 1 bad input (a malformed or physically invalid\n"
-                           "log, or one that cannot identify anything); 2 usage (unknown, missing,\n"
-                           "invalid or conflicting options); 3 numerical (the fit did not\n"
-                           "converge); 4 a file could not be written. Warnings (absurd magnitudes,\n"
-                           "gaps in t) always go to stderr; --verbose adds the reader's notes.\n";
+      std::cout << opts << kExitCodes;
       return tools::FlushStdout("identify");
     }
     if (vm.count("version")) {
       std::cout << "identify (slideid) " << SLIDEID_VERSION << "\n";
       return tools::FlushStdout("identify");
     }
-    if (!vm.count("log")) throw po::error("the option '--log' is required");
+    const cli::IdentifyRequest request = cli::ReadIdentifyOptions(vm);
     // Ceres logs a page per residual block that evaluates to NaN at a trial point of a
     // fit; the result says how the fit ended, so keep those pages for --verbose.
-    if (!vm.count("verbose")) FLAGS_minloglevel = google::GLOG_ERROR;
-    const IdentifyOptions options = ParseEstimatorOptions(vm);
-    const LogReadOptions log_options = ParseLogOptions(vm);
+    if (!request.verbose) FLAGS_minloglevel = google::GLOG_ERROR;
 
-    const std::string path = vm["log"].as<std::string>();
-    LogReadReport read_report;
-    const Trajectory log = ReadPushLog(path, log_options, &read_report);
-    for (const std::string& warning : read_report.warnings) {
-      std::cerr << "identify: warning: " << warning << "\n";
+    const FileIdentifyResult run = IdentifyFiles(request.files, request.options);
+    for (const std::string& w : run.warnings) std::cerr << "identify: warning: " << w << "\n";
+    if (request.verbose) {
+      for (const std::string& n : run.notes) std::cerr << "identify: note: " << n << "\n";
     }
-    if (vm.count("verbose")) {
-      for (const std::string& note : read_report.notes) {
-        std::cerr << "identify: note: " << path << ": " << note << "\n";
-      }
-    }
-    const EstimateResult result = Identify(log, options);
+    const EstimateResult& result = run.result;
+    const std::string what = Describe(request.files);
     if (result.status == TerminationStatus::kTooLittleExcitation) {
-      throw tools::BadInput(path + ": " + result.message);
+      throw tools::BadInput(what + ": " + result.message);
     }
-    std::optional<ReducedFriction> truth;
-    if (log.true_friction) truth = ReducedFriction::From(*log.true_friction);
-    std::cout << (vm.count("json") ? FormatJson(result) + "\n" : FormatReport(result, truth));
-    if (!result.converged) {
-      std::cerr << "identify: error: " << path << ": the " << ToString(options.method)
-                << " fit did not converge (" << result.message
-                << "); no residuals written\n";
+    std::cout << (request.json ? FormatJson(result) + "\n" : FormatReport(result, run.truth));
+    if (const std::string failure = NumericalFailure(result); !failure.empty()) {
+      std::cerr << "identify: error: " << what << ": " << failure << "; no residuals written\n";
       return tools::kExitNumerical;
     }
-    if (const int i = NonFiniteEstimate(result); i >= 0) {
-      std::cerr << "identify: error: " << path << ": the " << ToString(options.method)
-                << " fit gave a non-finite " << ParameterName(i)
-                << " (a numerical failure); no residuals written\n";
-      return tools::kExitNumerical;
+    const std::string suspects = Suspects(result);
+    if (!suspects.empty()) {
+      std::cerr << "identify: " << (request.strict ? "error" : "warning") << ": " << what
+                << ": suspect estimates (" << suspects << "): see their reasons\n";
+      if (request.strict) return tools::kExitNumerical;
     }
-    if (vm.count("residuals")) {
+    if (!request.residuals_path.empty()) {
       try {
-        WriteResidualsCsv(result, vm["residuals"].as<std::string>());
+        WriteResidualsCsv(result, request.residuals_path);
       } catch (const std::exception& e) {
         std::cerr << "identify: error: " << e.what() << "\n";
         return tools::kExitIo;

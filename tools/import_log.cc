@@ -6,11 +6,9 @@
 #include <cmath>
 #include <filesystem>
 #include <iostream>
-#include <set>
 
-#include "io/mit_push_files.h"
-#include "io/mit_push_report.h"
 #include "io/object_table.h"
+#include "pipeline/import_files.h"
 #include "tools/tool_support.h"
 
 namespace po = boost::program_options;
@@ -45,67 +43,46 @@ MitImportOptions MitOptions(const po::variables_map& vm) {
   return o;
 }
 
-int ImportMitPushFiles(const po::variables_map& vm) {
-  const MitImportOptions options = MitOptions(vm);
+MitObjectSource Objects(const po::variables_map& vm, ObjectTable* table) {
   MitObjectSource objects;
   objects.mass_kg = Physical(vm, "mass", false);
   objects.inertia_kgm2 = Physical(vm, "inertia", false);
   objects.com_height_m = Physical(vm, "com-height", true);
   if (vm.count("patch")) objects.patch_spec = vm["patch"].as<std::string>();
-  ObjectTable table;
   if (vm.count("objects")) {
-    table = ReadObjectTable(vm["objects"].as<std::string>());
-    objects.table = &table;
+    *table = ReadObjectTable(vm["objects"].as<std::string>());
+    objects.table = table;
   } else if (!objects.mass_kg || !objects.inertia_kgm2 || !objects.com_height_m || !objects.patch_spec) {
     throw po::error("the object is not known: give --mass, --inertia, --com-height and --patch, "
                     "or an --objects table (masses are never guessed)");
   }
-  const std::string dir = vm["out"].as<std::string>();
-  std::error_code error;
-  std::filesystem::create_directories(dir, error);
-  if (error) {
-    std::cerr << "import-log: error: cannot create '" << dir << "': " << error.message() << "\n";
-    return tools::kExitIo;
+  return objects;
+}
+
+TripodImportOptions TripodOptions(const po::variables_map& vm) {
+  TripodImportOptions o;
+  o.mass_kg = Physical(vm, "mass", false);
+  o.inertia_kgm2 = Physical(vm, "inertia", false);
+  o.com_height_m = Physical(vm, "com-height", true);
+  std::string why;
+  if (!o.IsValid(&why)) throw po::error("invalid import setting: " + why);
+  return o;
+}
+
+int Report(const ImportSummary& summary, bool quiet) {
+  if (!quiet) {
+    for (const std::string& line : summary.accepted_lines) std::cout << line << "\n";
   }
-  std::vector<MitImportReport> reports;
-  std::set<std::string> used_names{"import_report.csv"};
-  try {
-    for (const std::string& file : vm["files"].as<std::vector<std::string>>()) {
-      reports.push_back(ImportMitPushFile(file, objects, options, dir, &used_names));
-      const MitImportReport& r = reports.back();
-      if (r.verdict == ImportVerdict::kAccepted) {
-        if (!vm.count("quiet")) {
-          std::cout << "accepted " << r.output << " (" << r.rows << " rows"
-                    << (r.force_flipped ? ", force flipped" : "") << ")\n";
-        }
-      } else {
-        // An unreadable file's reason starts with its name (and line, column or JSON path).
-        std::cerr << "import-log: " << ToString(r.verdict) << ": "
-                  << (r.verdict == ImportVerdict::kUnreadable ? "" : file + ": ") << r.reason << "\n";
-      }
-    }
-    WriteMitImportReport(reports, dir + "/import_report.csv");
-  } catch (const std::runtime_error& e) {
-    std::cerr << "import-log: error: " << e.what() << "\n";
-    return tools::kExitIo;
-  }
-  int accepted = 0;
-  for (const MitImportReport& r : reports) accepted += r.verdict == ImportVerdict::kAccepted;
-  std::cout << "imported " << accepted << " of " << reports.size() << " files; report "
-            << dir << "/import_report.csv\n";
+  for (const std::string& line : summary.rejections) std::cerr << "import-log: " << line << "\n";
+  std::cout << "imported " << summary.accepted << " of " << summary.files << " files; report "
+            << summary.report_path << "\n";
   if (const int code = tools::FlushStdout("import-log")) return code;
-  if (accepted < static_cast<int>(reports.size())) {
-    std::cerr << "import-log: " << reports.size() - accepted
+  if (summary.accepted < summary.files) {
+    std::cerr << "import-log: " << summary.files - summary.accepted
               << " file(s) rejected or unreadable (reasons above and in the report)\n";
     return tools::kExitBadInput;
   }
   return tools::kExitOk;
-}
-
-/// Hook for the Zhou et al. tripod logs (an importer in io/ still to come).
-int ImportZhouTripodFiles(const po::variables_map&) {
-  std::cerr << "import-log: --format zhou-tripod is not yet available\n";
-  return tools::kExitUsage;
 }
 
 }  // namespace
@@ -115,11 +92,13 @@ int main(int argc, char** argv) {
     po::options_description opts(
         "import-log: convert real push recordings into push logs (docs/real-data.md).\n\n"
         "Usage: import-log --format mit-push --out DIR [--objects FILE | --mass KG --inertia "
-        "KG_M2\n         --com-height M --patch SPEC] [options] FILE.json...\n\nOptions");
+        "KG_M2\n         --com-height M --patch SPEC] [options] FILE.json...\n"
+        "       import-log --format zhou-tripod --out DIR [--mass KG --inertia KG_M2] FILE.txt..."
+        "\n\nOptions");
     opts.add_options()
         ("help,h", "print this help and exit")
         ("version", "print the version and exit")
-        ("format", po::value<std::string>()->value_name("NAME"), "mit-push (zhou-tripod: to come)")
+        ("format", po::value<std::string>()->value_name("NAME"), "mit-push (MIT push dataset JSON: push logs) or zhou-tripod (ICRA 2016 tripod logs: wrench-twist pairs)")
         ("out", po::value<std::string>()->value_name("DIR"),
          "output directory: one DIR/<stem>.csv per accepted file and DIR/import_report.csv")
         ("objects", po::value<std::string>()->value_name("FILE"),
@@ -166,8 +145,24 @@ int main(int argc, char** argv) {
     if (!vm.count("out")) throw po::error("the option '--out' is required");
     if (!vm.count("files")) throw po::error("no input FILE given");
     const std::string format = vm["format"].as<std::string>();
-    if (format == "mit-push") return ImportMitPushFiles(vm);
-    if (format == "zhou-tripod") return ImportZhouTripodFiles(vm);
-    throw po::error("--format must be mit-push or zhou-tripod");
+    const auto files = vm["files"].as<std::vector<std::string>>();
+    const std::string dir = vm["out"].as<std::string>();
+    if (format != "mit-push" && format != "zhou-tripod") {
+      throw po::error("--format must be mit-push or zhou-tripod");
+    }
+    ObjectTable table;  // read before any import: a bad table is bad input, not I/O
+    const bool mit = format == "mit-push";
+    const MitObjectSource objects = mit ? Objects(vm, &table) : MitObjectSource{};
+    const MitImportOptions mit_options = mit ? MitOptions(vm) : MitImportOptions{};
+    const TripodImportOptions tripod_options = mit ? TripodImportOptions{} : TripodOptions(vm);
+    ImportSummary summary;
+    try {
+      summary = mit ? ImportMitFiles(files, objects, mit_options, dir)
+                    : ImportTripodFiles(files, tripod_options, dir);
+    } catch (const std::runtime_error& e) {  // an output that cannot be written
+      std::cerr << "import-log: error: " << e.what() << "\n";
+      return tools::kExitIo;
+    }
+    return Report(summary, vm.count("quiet") > 0);
   });
 }

@@ -1,0 +1,194 @@
+#include "pipeline/identify_files.h"
+
+#include <glob.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <utility>
+
+#include "estimator/identify.h"
+#include "estimator/log_diagnostics.h"
+#include "estimator/pooling.h"
+#include "estimator/quasi_static_fit.h"
+#include "io/wrench_twist_csv.h"
+
+namespace slideid {
+namespace {
+
+// Tolerance within which two files' weights m g are the same slider's [relative].
+constexpr double kSameWeight = 1e-9;
+
+std::string FileName(const std::string& path) {
+  return std::filesystem::path(path).filename().string();
+}
+
+LogResult Skipped(const std::string& path, const std::string& reason) {
+  LogResult r;
+  r.name = FileName(path);
+  r.skipped = true;
+  r.skip_reason = reason;
+  return r;
+}
+
+// The truth every input records, or none when one lacks it or they differ.
+template <typename Input>
+std::optional<ReducedFriction> CommonTruth(const std::vector<Input>& inputs) {
+  std::optional<ReducedFriction> truth;
+  for (const Input& in : inputs) {
+    if (!in.true_friction) return std::nullopt;
+    const ReducedFriction t = ReducedFriction::From(*in.true_friction);
+    if (truth && (truth->a != t.a || truth->b != t.b || truth->c != t.c)) return std::nullopt;
+    truth = t;
+  }
+  return truth;
+}
+
+// Reads every file with `read`; a file that throws is skipped (skip_bad) or fails the run.
+template <typename Input, typename Read>
+std::vector<Input> ReadAll(const std::vector<std::string>& paths, bool skip_bad, Read read,
+                           std::vector<LogResult>* skipped) {
+  std::vector<Input> inputs;
+  for (const std::string& path : paths) {
+    try {
+      inputs.push_back(read(path));
+    } catch (const std::exception& e) {
+      if (!skip_bad) throw FileError(e.what());
+      skipped->push_back(Skipped(path, e.what()));
+    }
+  }
+  if (inputs.empty()) {
+    throw FileError(paths.empty() ? "no files to identify"
+                                  : "every file was skipped: nothing left to identify");
+  }
+  return inputs;
+}
+
+void AppendSkipped(std::vector<LogResult> skipped, EstimateResult* result) {
+  result->logs.insert(result->logs.end(), std::make_move_iterator(skipped.begin()),
+                      std::make_move_iterator(skipped.end()));
+}
+
+FileIdentifyResult IdentifyPushLogs(const std::vector<std::string>& paths,
+                                    const FileIdentifyOptions& options) {
+  FileIdentifyResult out;
+  std::vector<LogResult> skipped;
+  std::vector<Trajectory> logs = ReadAll<Trajectory>(
+      paths, options.skip_bad,
+      [&](const std::string& path) {
+        LogReadReport report;
+        Trajectory log = ReadPushLog(path, options.read, &report);
+        log.source = FileName(path);
+        for (const std::string& w : report.warnings) out.warnings.push_back(w);
+        for (const std::string& n : report.notes) out.notes.push_back(path + ": " + n);
+        // A dead force channel cannot be pooled with the others: it would explain their
+        // motion with no force at all.
+        if (const auto dead = DiagnoseLog(log).dead_force_channel; dead && paths.size() > 1) {
+          throw FileError(path + ": " + *dead);
+        }
+        return log;
+      },
+      &skipped);
+  out.truth = CommonTruth(logs);
+  out.result = IdentifyLogs(logs, options.identify);
+  AppendSkipped(std::move(skipped), &out.result);
+  return out;
+}
+
+// Quasi-static: every file's pairs fitted on its own, and all pairs pooled (one slider:
+// the files must share its weight).
+FileIdentifyResult IdentifyPairFiles(const std::vector<std::string>& paths,
+                                     const FileIdentifyOptions& options) {
+  FileIdentifyResult out;
+  std::vector<LogResult> skipped;
+  std::vector<WrenchTwistData> files = ReadAll<WrenchTwistData>(
+      paths, options.skip_bad,
+      [&](const std::string& path) {
+        WrenchTwistReadReport report;
+        WrenchTwistData data = ReadWrenchTwistCsv(path, options.read.overrides, &report);
+        data.source = FileName(path);
+        for (const std::string& n : report.notes) out.notes.push_back(path + ": " + n);
+        return data;
+      },
+      &skipped);
+  out.truth = CommonTruth(files);
+  auto fit = [&](const WrenchTwistData& data) {
+    try {
+      return EstimateQuasiStatic(data.Pairs(), QuasiStaticOptionsFor(data, options.identify));
+    } catch (const std::invalid_argument& e) {  // too few pairs, a zero twist, ...
+      throw FileError(data.source + ": " + e.what());
+    }
+  };
+  if (files.size() == 1) {
+    out.result = fit(files[0]);
+  } else {
+    WrenchTwistData all = files[0];
+    std::vector<LogResult> per_file;
+    for (size_t k = 0; k < files.size(); ++k) {
+      if (std::abs(files[k].WeightN() / all.WeightN() - 1) > kSameWeight) {
+        throw FileError(files[k].source + ": its slider weighs " +
+                        std::to_string(files[k].WeightN()) + " N, " + files[0].source +
+                        "'s " + std::to_string(all.WeightN()) +
+                        " N: pooled pairs must come from one slider");
+      }
+      if (k > 0) all.rows.insert(all.rows.end(), files[k].rows.begin(), files[k].rows.end());
+      const EstimateResult own = fit(files[k]);
+      LogResult r;
+      r.name = files[k].source;
+      r.rows = static_cast<int>(files[k].rows.size());
+      r.steps_used = own.steps_used;
+      r.status = own.status;
+      r.message = own.message;
+      r.parameters = own.parameters;
+      per_file.push_back(r);
+    }
+    out.result = fit(all);
+    out.result.logs = std::move(per_file);
+    for (int i = 0; i < 3; ++i) out.result.heterogeneity[i] = TestHeterogeneity(out.result.logs, i);
+  }
+  AppendSkipped(std::move(skipped), &out.result);
+  return out;
+}
+
+}  // namespace
+
+EstimateResult IdentifyLogs(const std::vector<Trajectory>& logs, const IdentifyOptions& options) {
+  if (logs.size() == 1) return Identify(logs[0], options);
+  return Identify(logs, options);
+}
+
+FileIdentifyResult IdentifyFiles(const std::vector<std::string>& paths,
+                                 const FileIdentifyOptions& options) {
+  std::string why;
+  if (!options.identify.IsValid(&why)) throw std::invalid_argument(why);
+  if (options.identify.method == EstimatorMethod::kQuasiStatic) {
+    return IdentifyPairFiles(paths, options);
+  }
+  return IdentifyPushLogs(paths, options);
+}
+
+std::vector<std::string> ExpandFiles(const std::string& directory_or_glob,
+                                     const std::string& extension) {
+  std::vector<std::string> files;
+  std::error_code ec;
+  if (std::filesystem::is_directory(directory_or_glob, ec)) {
+    for (const auto& entry : std::filesystem::directory_iterator(directory_or_glob, ec)) {
+      if (entry.is_regular_file() && entry.path().extension() == extension) {
+        files.push_back(entry.path().string());
+      }
+    }
+    if (ec) throw FileError(directory_or_glob + ": cannot list the directory: " + ec.message());
+  } else {
+    glob_t matches{};
+    if (glob(directory_or_glob.c_str(), 0, nullptr, &matches) == 0) {
+      for (size_t i = 0; i < matches.gl_pathc; ++i) files.emplace_back(matches.gl_pathv[i]);
+    }
+    globfree(&matches);
+  }
+  std::sort(files.begin(), files.end());
+  if (files.empty()) {
+    throw FileError(directory_or_glob + ": names no " + extension + " file (a directory or a glob)");
+  }
+  return files;
+}
+
+}  // namespace slideid

@@ -1,0 +1,56 @@
+#pragma once
+// Identification of files: read each (push logs, or wrench-twist pairs for the quasi-static
+// method), skip the bad ones if asked, and identify them, pooled when there are several.
+// What `identify` and the Python module's identify() do.
+
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "estimator/estimate.h"
+#include "forward_model/slider.h"
+#include "forward_model/trajectory.h"
+#include "io/push_log.h"
+
+namespace slideid {
+
+/// How to read and identify.
+struct FileIdentifyOptions {
+  IdentifyOptions identify;
+  LogReadOptions read;  ///< slider overrides and the largest gap
+  /// A file that cannot be read, or that the method cannot use, is listed in result.logs
+  /// as skipped (with the reason) instead of failing the whole run.
+  bool skip_bad = false;
+};
+
+/// The identification and what the readers said.
+struct FileIdentifyResult {
+  EstimateResult result;
+  /// The truth the files record (simulated logs), when they all record the same.
+  std::optional<ReducedFriction> truth;
+  std::vector<std::string> warnings;  ///< likely mistakes, each naming its file
+  std::vector<std::string> notes;     ///< plain facts, each naming its file
+};
+
+/// A file that fails the whole run: its message names it (LogError and friends already do).
+class FileError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+/// Reads `paths` and identifies them. Throws FileError for a file that cannot be read
+/// (unless options.skip_bad), or when no file is left; std::invalid_argument for invalid
+/// options. What the files cannot tell is the result's status, as for Identify.
+FileIdentifyResult IdentifyFiles(const std::vector<std::string>& paths,
+                                 const FileIdentifyOptions& options);
+
+/// Identifies logs already in memory (named by their `source`), pooled when several.
+EstimateResult IdentifyLogs(const std::vector<Trajectory>& logs, const IdentifyOptions& options);
+
+/// The files named by a directory (its *.csv files, or *.json with json = true), or by a
+/// glob pattern, sorted. Throws FileError when it names none.
+std::vector<std::string> ExpandFiles(const std::string& directory_or_glob,
+                                     const std::string& extension = ".csv");
+
+}  // namespace slideid

@@ -1,0 +1,182 @@
+#include "pipeline/identify_options.h"
+
+#include <cmath>
+#include <initializer_list>
+#include <utility>
+
+namespace slideid::cli {
+namespace {
+
+namespace po = boost::program_options;
+
+// Beyond these the fit only gets slower, never better: more Ceres threads than any machine
+// here has cores, and forward-model steps far below any time scale of the motion.
+constexpr int kMaxThreads = 256;
+constexpr int kMaxSubsteps = 1000;
+
+template <typename Enum>
+Enum Choose(const po::variables_map& vm, const char* option,
+            std::initializer_list<std::pair<const char*, Enum>> choices) {
+  const std::string given = vm[option].as<std::string>();
+  std::string names;
+  for (const auto& [name, value] : choices) {
+    if (given == name) return value;
+    names += (names.empty() ? "" : ", ") + std::string(name);
+  }
+  throw po::error(std::string("--") + option + ": unknown value '" + given + "' (one of " +
+                  names + ")");
+}
+
+/// Whether the user gave `option` (not just its default).
+bool Given(const po::variables_map& vm, const char* option) {
+  return vm.count(option) && !vm[option].defaulted();
+}
+
+/// An option that changes the estimate but that `method` does not use is an error: the user
+/// believes it did something (docs/robustness.md). --threads only changes speed: accepted.
+void RejectOptionsTheMethodIgnores(const po::variables_map& vm, EstimatorMethod method) {
+  std::vector<const char*> unused;
+  if (method != EstimatorMethod::kTrajectory) {
+    unused = {"segment", "substeps", "fit-force-bias", "fit-delay"};
+  }
+  if (method == EstimatorMethod::kClosedForm) {
+    unused.insert(unused.end(), {"loss", "max-iterations"});
+  }
+  for (const char* option : unused) {
+    if (Given(vm, option)) {
+      throw po::error(std::string("--") + option + " does not apply to --method " +
+                      ToString(method));
+    }
+  }
+}
+
+IdentifyOptions ReadEstimatorOptions(const po::variables_map& vm) {
+  IdentifyOptions o;
+  o.method = Choose<EstimatorMethod>(vm, "method",
+                                     {{"closed-form", EstimatorMethod::kClosedForm},
+                                      {"equation-error", EstimatorMethod::kEquationError},
+                                      {"trajectory", EstimatorMethod::kTrajectory},
+                                      {"quasi-static", EstimatorMethod::kQuasiStatic}});
+  RejectOptionsTheMethodIgnores(vm, o.method);
+  const RobustLoss loss = Choose<RobustLoss>(vm, "loss", {{"huber", RobustLoss::kHuber},
+                                                          {"cauchy", RobustLoss::kCauchy},
+                                                          {"none", RobustLoss::kNone}});
+  const int iterations = vm["max-iterations"].as<int>();
+  for (LossOptions* l : std::initializer_list<LossOptions*>{&o.equation_error, &o.trajectory,
+                                                            &o.quasi_static}) {
+    l->loss = loss;
+    l->max_iterations = iterations;
+  }
+  o.trajectory.segment_steps = vm["segment"].as<int>();
+  o.trajectory.substeps = vm["substeps"].as<int>();
+  o.trajectory.fit_force_bias = vm.count("fit-force-bias") > 0;
+  if (vm.count("fit-delay")) {
+    o.trajectory.fit_delay = Choose<DelayFit>(
+        vm, "fit-delay", {{"shared", DelayFit::kShared}, {"per-log", DelayFit::kPerLog}});
+  }
+  o.trajectory.max_delay_s = vm["max-delay"].as<double>();
+  o.threads = vm["threads"].as<int>();
+  std::string why;
+  if (!o.IsValid(&why)) throw po::error(why);
+  if (o.threads > kMaxThreads) throw po::error("--threads must be <= " + std::to_string(kMaxThreads));
+  if (o.trajectory.substeps > kMaxSubsteps) {
+    throw po::error("--substeps must be <= " + std::to_string(kMaxSubsteps));
+  }
+  return o;
+}
+
+/// The value of a physical option, checked like the log's metadata would be.
+std::optional<double> PhysicalOption(const po::variables_map& vm, const char* option,
+                                     bool zero_allowed) {
+  if (!vm.count(option)) return std::nullopt;
+  const double value = vm[option].as<double>();
+  if (!std::isfinite(value) || value < 0.0 || (!zero_allowed && value == 0.0)) {
+    throw po::error(std::string("--") + option + " = " + std::to_string(value) +
+                    (zero_allowed ? ": must be a finite number >= 0"
+                                  : ": must be a finite number > 0"));
+  }
+  return value;
+}
+
+LogReadOptions ReadLogOptions(const po::variables_map& vm) {
+  LogReadOptions o;
+  o.overrides.mass_kg = PhysicalOption(vm, "mass", false);
+  o.overrides.inertia_kgm2 = PhysicalOption(vm, "inertia", false);
+  o.overrides.com_height_m = PhysicalOption(vm, "com-height", true);
+  o.overrides.gravity_mps2 = PhysicalOption(vm, "gravity", false);
+  o.max_gap_ratio = vm["max-gap-ratio"].as<double>();
+  if (std::isnan(o.max_gap_ratio)) throw po::error("--max-gap-ratio must be a number");
+  return o;
+}
+
+}  // namespace
+
+void AddIdentifyOptions(po::options_description* options, po::options_description* advanced) {
+  options->add_options()
+      ("log", po::value<std::vector<std::string>>()->value_name("FILE"),
+       "push log (CSV, log format); repeat it to pool several logs of one slider on one "
+       "surface. With --method quasi-static: wrench-twist pairs (CSV)")
+      ("logs", po::value<std::vector<std::string>>()->value_name("DIR|GLOB"),
+       "every *.csv file of a directory, or the files a quoted glob names (repeatable)")
+      ("mass", po::value<double>()->value_name("KG"), "slider mass; overrides the logs'")
+      ("inertia", po::value<double>()->value_name("KG_M2"),
+       "moment of inertia about the vertical axis through the CM; overrides the logs'")
+      ("com-height", po::value<double>()->value_name("M"), "CM height; overrides the logs'")
+      ("gravity", po::value<double>()->value_name("M_S2"), "gravity; overrides the logs' (9.81)")
+      ("method", po::value<std::string>()->default_value("trajectory"),
+       "closed-form (Appendix A per step, median), equation-error (Ceres fit of the friction "
+       "impulses), trajectory (Ceres fit of the simulated trajectory) or quasi-static (Ceres "
+       "fit of the limit surface to wrench-twist pairs)")
+      ("loss", po::value<std::string>()->default_value("huber"),
+       "robust loss: huber, cauchy, none (not closed-form)")
+      ("fit-force-bias", "trajectory only: fit a constant offset (x, y) of each log's force "
+                         "channel, with its interval")
+      ("fit-delay", po::value<std::string>()->implicit_value("shared")->value_name("MODE"),
+       "trajectory only: fit the delay of the force stream against the poses, one for all "
+       "logs (shared, the default) or one per log (per-log)")
+      ("threads", po::value<int>()->default_value(1)->value_name("N"), "Ceres threads (1 to 256)")
+      ("strict", "a suspect verdict is an error (exit code 3) instead of a warning")
+      ("skip-bad", "list a log that cannot be read or used as skipped, with the reason, "
+                   "instead of failing the run")
+      ("json", "print one JSON object instead of the table")
+      ("residuals", po::value<std::string>()->value_name("OUT.csv"),
+       "write per-step residuals (only when the fit succeeds)")
+      ("verbose,v", "also print what the readers noticed about the logs (notes)");
+  advanced->add_options()
+      ("segment", po::value<int>()->default_value(0)->value_name("N"),
+       "trajectory only: log intervals per shooting segment (>= 2; 0 adapts it to the log)")
+      ("substeps", po::value<int>()->default_value(1)->value_name("N"),
+       "trajectory only: forward-model steps per log interval (1 to 1000)")
+      ("max-delay", po::value<double>()->default_value(0.1)->value_name("S"),
+       "with --fit-delay: the largest delay searched [s]")
+      ("max-gap-ratio", po::value<double>()->default_value(10.0)->value_name("R"),
+       "an interval between rows longer than R times the median one is an error (the force "
+       "is held across it); 0 accepts any gap")
+      ("max-iterations", po::value<int>()->default_value(100)->value_name("N"),
+       "Ceres iterations per solve; a fit that needs more fails with exit code 3");
+}
+
+IdentifyRequest ReadIdentifyOptions(const po::variables_map& vm) {
+  IdentifyRequest r;
+  if (vm.count("log")) r.files = vm["log"].as<std::vector<std::string>>();
+  if (vm.count("logs")) {
+    for (const std::string& pattern : vm["logs"].as<std::vector<std::string>>()) {
+      try {
+        for (std::string& f : ExpandFiles(pattern)) r.files.push_back(std::move(f));
+      } catch (const FileError& e) {
+        throw po::error(std::string("--logs: ") + e.what());
+      }
+    }
+  }
+  if (r.files.empty()) throw po::error("the option '--log' (or '--logs') is required");
+  r.options.identify = ReadEstimatorOptions(vm);
+  r.options.read = ReadLogOptions(vm);
+  r.options.skip_bad = vm.count("skip-bad") > 0;
+  r.json = vm.count("json") > 0;
+  r.verbose = vm.count("verbose") > 0;
+  r.strict = vm.count("strict") > 0;
+  if (vm.count("residuals")) r.residuals_path = vm["residuals"].as<std::string>();
+  return r;
+}
+
+}  // namespace slideid::cli

@@ -1,0 +1,32 @@
+#pragma once
+// The command line of `identify`: its options declared and read with
+// Boost.Program_options. Bad values throw boost::program_options::error naming the option
+// (the tool maps that to the usage exit code). Never prints.
+
+#include <boost/program_options.hpp>
+#include <string>
+#include <vector>
+
+#include "pipeline/identify_files.h"
+
+namespace slideid::cli {
+
+/// What identify was asked to do.
+struct IdentifyRequest {
+  std::vector<std::string> files;  ///< --log (repeatable) and --logs DIR|GLOB, in order
+  FileIdentifyOptions options;
+  bool json = false;
+  bool verbose = false;
+  bool strict = false;  ///< a suspect verdict exits with the numerical code
+  std::string residuals_path;  ///< --residuals, empty when not asked
+};
+
+/// Adds every option of identify (general ones to `options`, the rest to `advanced`).
+void AddIdentifyOptions(boost::program_options::options_description* options,
+                        boost::program_options::options_description* advanced);
+
+/// The request the options make (the files required). Rejects options the method ignores,
+/// values out of range and conflicting options.
+IdentifyRequest ReadIdentifyOptions(const boost::program_options::variables_map& vm);
+
+}  // namespace slideid::cli

@@ -1,0 +1,81 @@
+#include "pipeline/import_files.h"
+
+#include <filesystem>
+#include <set>
+
+#include "io/mit_push_report.h"
+#include "io/wrench_twist_csv.h"
+
+namespace slideid {
+namespace {
+
+void CreateDirectory(const std::string& dir) {
+  std::error_code error;
+  std::filesystem::create_directories(dir, error);
+  if (error) throw std::runtime_error("cannot create '" + dir + "': " + error.message());
+}
+
+}  // namespace
+
+ImportSummary ImportMitFiles(const std::vector<std::string>& files,
+                             const MitObjectSource& objects, const MitImportOptions& options,
+                             const std::string& out_dir) {
+  CreateDirectory(out_dir);
+  ImportSummary summary;
+  std::vector<MitImportReport> reports;
+  std::set<std::string> used_names{"import_report.csv"};
+  for (const std::string& file : files) {
+    reports.push_back(ImportMitPushFile(file, objects, options, out_dir, &used_names));
+    const MitImportReport& r = reports.back();
+    ++summary.files;
+    if (r.verdict == ImportVerdict::kAccepted) {
+      ++summary.accepted;
+      summary.accepted_lines.push_back("accepted " + r.output + " (" + std::to_string(r.rows) +
+                                       " rows" + (r.force_flipped ? ", force flipped" : "") + ")");
+    } else {
+      // An unreadable file's reason starts with its name (and line, column or JSON path).
+      summary.rejections.push_back(std::string(ToString(r.verdict)) + ": " +
+                                   (r.verdict == ImportVerdict::kUnreadable ? "" : file + ": ") +
+                                   r.reason);
+    }
+  }
+  summary.report_path = out_dir + "/import_report.csv";
+  WriteMitImportReport(reports, summary.report_path);
+  return summary;
+}
+
+ImportSummary ImportTripodFiles(const std::vector<std::string>& files,
+                                const TripodImportOptions& options, const std::string& out_dir) {
+  CreateDirectory(out_dir);
+  ImportSummary summary;
+  for (const std::string& file : files) {
+    ++summary.files;
+    const std::string stem = out_dir + "/" + std::filesystem::path(file).stem().string();
+    TripodImportReport report;
+    WrenchTwistData data;
+    try {
+      data = ImportZhouTripod(file, options, &report);
+    } catch (const std::invalid_argument&) {
+      throw;  // invalid options: a usage error, not the file's
+    } catch (const std::runtime_error& e) {  // LogError: unreadable; its message names it
+      summary.rejections.push_back(std::string("unreadable: ") + e.what());
+      continue;
+    }
+    WriteTripodImportReport(report, stem + "_import_report.csv");
+    if (data.rows.empty()) {
+      summary.rejections.push_back("rejected: " + file + ": no push could be used (" +
+                                   std::to_string(report.pushes) + " pushes; see " + stem +
+                                   "_import_report.csv)");
+      continue;
+    }
+    WriteWrenchTwistCsv(data, stem + ".csv");
+    ++summary.accepted;
+    summary.accepted_lines.push_back("accepted " + stem + ".csv (" +
+                                     std::to_string(data.rows.size()) + " of " +
+                                     std::to_string(report.pushes) + " pushes)");
+  }
+  summary.report_path = out_dir + "/<file>_import_report.csv";
+  return summary;
+}
+
+}  // namespace slideid

@@ -1,0 +1,35 @@
+#pragma once
+// import-log's work on a set of files, one format at a time: each file imported into the
+// output directory, or rejected with its reason, on its own (a bad file never stops the
+// others), and the import report written beside them.
+
+#include <string>
+#include <vector>
+
+#include "io/mit_push_files.h"
+#include "io/zhou_tripod_import.h"
+
+namespace slideid {
+
+/// What happened, for the tool to print.
+struct ImportSummary {
+  int files = 0;
+  int accepted = 0;
+  std::vector<std::string> accepted_lines;  ///< "accepted DIR/x.csv (61 rows)" per file
+  std::vector<std::string> rejections;      ///< one line per rejected or unreadable file
+  std::string report_path;                  ///< where the report (or reports) went
+};
+
+/// MIT push JSON files into DIR/<stem>.csv push logs. Throws std::runtime_error naming a
+/// path that cannot be written.
+ImportSummary ImportMitFiles(const std::vector<std::string>& files,
+                             const MitObjectSource& objects, const MitImportOptions& options,
+                             const std::string& out_dir);
+
+/// Zhou tripod logs into DIR/<stem>.csv wrench-twist pairs (one row per accepted push) and
+/// DIR/<stem>_import_report.csv (one row per push). A file is rejected when it cannot be read or
+/// has no acceptable push. Throws std::runtime_error naming a path that cannot be written.
+ImportSummary ImportTripodFiles(const std::vector<std::string>& files,
+                                const TripodImportOptions& options, const std::string& out_dir);
+
+}  // namespace slideid
