@@ -22,9 +22,18 @@ struct StepSensitivity {
 /// Solves the step with (a, b, c) and fills the derivatives (those with respect to the
 /// applied wrench too when `with_wrench`). Returns false when the step failed
 /// (non-convergence, lift-off) or the Jacobian of the equations is singular.
+/// The derivatives of the scaled equations with respect to x are written out by hand
+/// (ScaledStepResidual's partials: a few dozen flops a column).
 bool SolveStepWithSensitivity(const SliderProperties& slider, const ReducedFriction& abc,
                               const PlanarState& state, const AppliedWrench& applied,
                               double dt_s, StepSensitivity* out,
                               const StepOptions& options = {}, bool with_wrench = false);
+
+/// The same derivatives of an already solved sliding step by automatic differentiation of
+/// ScaledStepResidual (ceres::Jet): an independent computation, for tests, about five
+/// times slower. `out->step` must hold the solved step.
+bool StepSensitivityByAutodiff(const SliderProperties& slider, const ReducedFriction& abc,
+                               const PlanarState& state, const AppliedWrench& applied,
+                               double dt_s, StepSensitivity* out, bool with_wrench);
 
 }  // namespace slideid

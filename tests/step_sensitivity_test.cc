@@ -89,6 +89,35 @@ TEST(StepSensitivity, ImplicitDerivativesMatchCentralDifferencesOfTheSolver) {
   EXPECT_GT(checked, 100);
 }
 
+// The hand-written partials of the scaled equations against automatic differentiation of
+// the same equations (ceres::Jet): two computations of every derivative, wrench included.
+TEST(StepSensitivity, HandWrittenPartialsEqualAutodiffIncludingTheWrench) {
+  std::mt19937_64 rng(23);
+  int sliding = 0;
+  for (int trial = 0; trial < 500; ++trial) {
+    const StepCase s = RandomSetup(rng);
+    StepSensitivity fast, slow;
+    ASSERT_TRUE(SolveStepWithSensitivity(s.slider, s.abc, s.state, s.applied, s.h, &fast, {},
+                                         /*with_wrench=*/true));
+    if (fast.step.mode == StepMode::kStick) continue;
+    ++sliding;
+    slow.step = fast.step;
+    ASSERT_TRUE(StepSensitivityByAutodiff(s.slider, s.abc, s.state, s.applied, s.h, &slow, true));
+    Eigen::Matrix<double, 3, 11> a, b;
+    a << fast.dnu_dnu, fast.dnu_dlogabc, fast.dnu_dwrench;
+    b << slow.dnu_dnu, slow.dnu_dlogabc, slow.dnu_dwrench;
+    // Both are exact up to rounding of the same 4x4 solve: 1e-10 relative to the largest.
+    EXPECT_LT((a - b).cwiseAbs().maxCoeff(), 1e-10 * (b.cwiseAbs().maxCoeff() + 1.0))
+        << "trial " << trial << "\nhand\n" << a << "\nautodiff\n" << b;
+    // Without the wrench the same step gives the same first six columns.
+    StepSensitivity plain;
+    ASSERT_TRUE(SolveStepWithSensitivity(s.slider, s.abc, s.state, s.applied, s.h, &plain));
+    EXPECT_EQ(plain.dnu_dnu, fast.dnu_dnu);
+    EXPECT_EQ(plain.dnu_dlogabc, fast.dnu_dlogabc);
+  }
+  EXPECT_GT(sliding, 200);
+}
+
 TEST(StepSensitivity, StickingStepHasZeroDerivatives) {
   const SliderProperties slider{1.0, 2e-3, 0.03, 9.81};
   StepSensitivity sens;
