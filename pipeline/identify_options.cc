@@ -141,7 +141,17 @@ void AddIdentifyOptions(po::options_description* options, po::options_descriptio
       ("json", "print one JSON object instead of the table")
       ("residuals", po::value<std::string>()->value_name("OUT.csv"),
        "write per-step residuals (only when the fit succeeds)")
-      ("verbose,v", "also print what the readers noticed about the logs (notes)");
+      ("verbose,v", "also print what the readers noticed about the logs (notes)")
+      ("batch", po::value<std::string>()->value_name("DIR|GLOB"),
+       "fit every log of a directory (or a quoted glob) on its own, writing one JSON line per "
+       "log to --out as each finishes (a failed log gives a line with its error)")
+      ("jobs", po::value<int>()->default_value(1)->value_name("N"),
+       "with --batch: logs fitted at once (threads)")
+      ("out", po::value<std::string>()->value_name("RESULTS.jsonl"),
+       "with --batch: where the JSON lines go")
+      ("shard", po::value<std::string>()->value_name("I/N"),
+       "with --batch: take only the logs whose index in the sorted list is I modulo N "
+       "(0 <= I < N), for job arrays");
   advanced->add_options()
       ("segment", po::value<int>()->default_value(0)->value_name("N"),
        "trajectory only: log intervals per shooting segment (>= 2; 0 adapts it to the log)")
@@ -156,8 +166,43 @@ void AddIdentifyOptions(po::options_description* options, po::options_descriptio
        "Ceres iterations per solve; a fit that needs more fails with exit code 3");
 }
 
+// --batch and its companions; the batch's files, sharded.
+void ReadBatchOptions(const po::variables_map& vm, IdentifyRequest* r) {
+  r->batch = true;
+  for (const char* option : {"log", "logs", "json", "residuals", "skip-bad", "strict"}) {
+    if (vm.count(option)) throw po::error(std::string("--") + option + " does not go with --batch");
+  }
+  if (!vm.count("out")) throw po::error("--batch needs --out RESULTS.jsonl");
+  r->batch_out = vm["out"].as<std::string>();
+  r->jobs = vm["jobs"].as<int>();
+  if (r->jobs < 1 || r->jobs > kMaxThreads) {
+    throw po::error("--jobs must be from 1 to " + std::to_string(kMaxThreads));
+  }
+  Shard shard;
+  if (vm.count("shard")) {
+    try {
+      shard = Shard::Parse(vm["shard"].as<std::string>());
+    } catch (const std::invalid_argument& e) {
+      throw po::error(std::string("--shard: ") + e.what());
+    }
+  }
+  try {
+    r->files = shard.Select(ExpandFiles(vm["batch"].as<std::string>()));
+  } catch (const FileError& e) {
+    throw po::error(std::string("--batch: ") + e.what());
+  }
+}
+
 IdentifyRequest ReadIdentifyOptions(const po::variables_map& vm) {
   IdentifyRequest r;
+  if (vm.count("batch")) {
+    ReadBatchOptions(vm, &r);
+  } else {
+    for (const char* option : {"out", "shard"}) {
+      if (vm.count(option)) throw po::error(std::string("--") + option + " needs --batch");
+    }
+    if (!vm["jobs"].defaulted()) throw po::error("--jobs needs --batch");
+  }
   if (vm.count("log")) r.files = vm["log"].as<std::vector<std::string>>();
   if (vm.count("logs")) {
     for (const std::string& pattern : vm["logs"].as<std::vector<std::string>>()) {
@@ -168,7 +213,9 @@ IdentifyRequest ReadIdentifyOptions(const po::variables_map& vm) {
       }
     }
   }
-  if (r.files.empty()) throw po::error("the option '--log' (or '--logs') is required");
+  if (r.files.empty() && !r.batch) {
+    throw po::error("the option '--log' (or '--logs') is required");
+  }
   r.options.identify = ReadEstimatorOptions(vm);
   r.options.read = ReadLogOptions(vm);
   r.options.skip_bad = vm.count("skip-bad") > 0;

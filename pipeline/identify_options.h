@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "pipeline/batch.h"
 #include "pipeline/identify_files.h"
 
 namespace slideid::cli {
@@ -19,6 +20,11 @@ struct IdentifyRequest {
   bool verbose = false;
   bool strict = false;  ///< a suspect verdict exits with the numerical code
   std::string residuals_path;  ///< --residuals, empty when not asked
+  /// --batch: fit each file on its own (files come from --batch DIR|GLOB, sharded) on
+  /// `jobs` threads and write JSON lines to `batch_out`.
+  bool batch = false;
+  int jobs = 1;
+  std::string batch_out;
 };
 
 /// Adds every option of identify (general ones to `options`, the rest to `advanced`).

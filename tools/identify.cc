@@ -4,7 +4,13 @@
 
 #include <glog/logging.h>
 
+#include <unistd.h>
+
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <functional>
 #include <iostream>
 
 #include "io/result_json.h"
@@ -24,32 +30,34 @@ constexpr const char* kExitCodes =
     "with --strict a suspect verdict); 4 a file could not be written. Warnings (absurd\n"
     "magnitudes, gaps in t) always go to stderr; --verbose adds the readers' notes.\n";
 
-/// Why the result must not be used (a numerical failure), or "" when it may.
-std::string NumericalFailure(const EstimateResult& result) {
-  const std::string fit = std::string("the ") + ToString(result.method) + " fit";
-  if (!result.converged) return fit + " did not converge (" + result.message + ")";
-  for (int i = 0; i < 3; ++i) {
-    const ParameterEstimate& p = result.parameters[i];
-    if (p.identifiable && !(std::isfinite(p.value) && std::isfinite(p.stderr_value) &&
-                            std::isfinite(p.ci95_lo) && std::isfinite(p.ci95_hi))) {
-      return fit + " gave a non-finite " + ParameterName(i);
-    }
+/// --batch: every file on its own, JSON lines to the output; progress on a terminal.
+int RunBatchCommand(const cli::IdentifyRequest& request) {
+  std::ofstream out(request.batch_out);
+  if (!out) {
+    std::cerr << "identify: error: " << request.batch_out << ": cannot write the results\n";
+    return tools::kExitIo;
   }
-  return "";
-}
-
-/// The suspect estimates, "e_t_mu, force_bias_x_N", or "".
-std::string Suspects(const EstimateResult& result) {
-  std::string names;
-  for (int i = 0; i < 3; ++i) {
-    if (result.parameters[i].verdict == Verdict::kSuspect) {
-      names += (names.empty() ? "" : ", ") + std::string(ParameterName(i));
-    }
+  const bool terminal = isatty(STDERR_FILENO);
+  auto progress = [&](const BatchProgress& p) {
+    const double rate = p.done / std::max(p.seconds, 1e-9);
+    std::fprintf(stderr, "\ridentify: %d/%d logs, %d failed, %.1f logs/s, %.0f s left   ",
+                 p.done, p.total, p.failed, rate, (p.total - p.done) / std::max(rate, 1e-9));
+  };
+  BatchSummary summary;
+  try {
+    summary = RunBatch(request.files, {request.options, request.jobs}, out,
+                       terminal ? std::function<void(const BatchProgress&)>(progress) : nullptr);
+  } catch (const std::runtime_error& e) {
+    std::cerr << "identify: error: " << request.batch_out << ": " << e.what() << "\n";
+    return tools::kExitIo;
   }
-  for (const NuisanceEstimate& n : result.nuisance) {
-    if (n.verdict == Verdict::kSuspect) names += (names.empty() ? "" : ", ") + n.name;
+  if (terminal) std::cerr << "\n";
+  if (summary.failed > 0) {
+    std::cerr << "identify: " << summary.failed << " of " << summary.total
+              << " logs failed (their lines in " << request.batch_out << " say why)\n";
+    return tools::kExitBadInput;
   }
-  return names;
+  return tools::kExitOk;
 }
 
 std::string Describe(const std::vector<std::string>& files) {
@@ -66,7 +74,9 @@ int main(int argc, char** argv) {
         "depends on), says which the logs cannot identify, how sure each estimate is, and\n"
         "whether it is believable. Several logs are pooled: one estimate for all, each log's\n"
         "own, and whether they agree.\n\n"
-        "Usage: identify --log FILE.csv [--log FILE2.csv ...] [options]\n\nOptions");
+        "Usage: identify --log FILE.csv [--log FILE2.csv ...] [options]\n"
+        "       identify --batch DIR|GLOB --out RESULTS.jsonl [--jobs N] [--shard I/N] [options]"
+        "\n\nOptions");
     opts.add_options()("help,h", "print this help and exit")("version", "print the version and exit");
     po::options_description advanced("Advanced options");
     cli::AddIdentifyOptions(&opts, &advanced);
@@ -86,6 +96,7 @@ int main(int argc, char** argv) {
     // Ceres logs a page per residual block that evaluates to NaN at a trial point of a
     // fit; the result says how the fit ended, so keep those pages for --verbose.
     if (!request.verbose) FLAGS_minloglevel = google::GLOG_ERROR;
+    if (request.batch) return RunBatchCommand(request);
 
     const FileIdentifyResult run = IdentifyFiles(request.files, request.options);
     for (const std::string& w : run.warnings) std::cerr << "identify: warning: " << w << "\n";
@@ -102,7 +113,7 @@ int main(int argc, char** argv) {
       std::cerr << "identify: error: " << what << ": " << failure << "; no residuals written\n";
       return tools::kExitNumerical;
     }
-    const std::string suspects = Suspects(result);
+    const std::string suspects = SuspectNames(result);
     if (!suspects.empty()) {
       std::cerr << "identify: " << (request.strict ? "error" : "warning") << ": " << what
                 << ": suspect estimates (" << suspects << "): see their reasons\n";
