@@ -2,11 +2,12 @@
 // logs with known friction, identified by the closed form, the equation error and the
 // trajectory fit at several segment lengths and substep counts.
 //
-// A log: a seeded scene (friction, initial state and push program drawn per seed) is
-// simulated at log_dt / log_every, every log_every-th row is kept with the wrench averaged
+// A log: a seeded scene (fixtures/seeded_scenes.h: friction, initial state and push program
+// drawn per seed) is simulated at log_dt / log_every and logged by make-dataset's sensor
+// model (MakeLog, datasets/sensor_model.h): every log_every-th row with the wrench averaged
 // over its interval (a 100 Hz log of a finer simulation, so that substeps > 1 have something
-// to gain), noise is added (AddNoise), and the log is written and read back with the pose
-// columns only (motion capture) or the velocity columns only (a velocity sensor). The same
+// to gain), noise, and the pose columns only (motion capture) or the velocity columns only
+// (a velocity sensor); the log is written and read back as identify reads it. The same
 // simulated scene is used at every noise level and by every estimator. The time is
 // steady_clock around Identify (wall) and the process CPU time around it.
 //
@@ -26,47 +27,27 @@
 #include <fstream>
 #include <iterator>
 #include <map>
-#include <random>
 #include <stdexcept>
 #include <string>
 #include <tuple>
 #include <vector>
 
-#include "datasets/noise.h"
+#include "datasets/sensor_model.h"
 #include "estimator/identify.h"
+#include "fixtures/seeded_scenes.h"
 #include "forward_model/simulator.h"
 #include "io/push_log.h"
 
 namespace slideid {
 namespace {
 
-// Log interval: 100 Hz, a common motion-capture rate.
-constexpr double kLogDt_s = 0.01;
+using testing::kSceneKinds;
+using testing::SceneKind;
+
 // A scene that fails to simulate (toppling, no convergence) is redrawn with another seed,
 // at most this often; redraws are counted and reported.
 constexpr int kMaxRedraws = 5;
 constexpr std::uint64_t kRedrawStride = 1000003;
-
-// The slider of tests/synthetic_scenes.h: 1 kg, 10 cm square patch, CM 3 cm high.
-constexpr double kMass_kg = 1.0;
-constexpr double kHalfSide_m = 0.05;
-constexpr double kInertia_kgm2 = kMass_kg * (0.1 * 0.1 + 0.1 * 0.1) / 12;
-constexpr double kComHeight_m = 0.03;
-constexpr double kGravity_mps2 = 9.81;
-
-enum class SceneKind { kFreeSpin, kPushedRotation, kPureTranslation, kAnisotropic };
-constexpr SceneKind kSceneKinds[] = {SceneKind::kFreeSpin, SceneKind::kPushedRotation,
-                                     SceneKind::kPureTranslation, SceneKind::kAnisotropic};
-
-const char* ToString(SceneKind k) {
-  switch (k) {
-    case SceneKind::kFreeSpin: return "free-spin";
-    case SceneKind::kPushedRotation: return "pushed-rotation";
-    case SceneKind::kPureTranslation: return "pure-translation";
-    case SceneKind::kAnisotropic: return "anisotropic";
-  }
-  return "?";
-}
 
 /// Whether the scene's motion determines parameter i: without rotation c does not matter.
 bool Determines(SceneKind k, int i) { return !(k == SceneKind::kPureTranslation && i == kC); }
@@ -117,140 +98,6 @@ std::vector<Variant> MakeVariants(int threads) {
   return v;
 }
 
-class Draw {
- public:
-  explicit Draw(std::uint64_t seed) : rng_(seed) {}
-  double U(double lo, double hi) { return std::uniform_real_distribution<double>(lo, hi)(rng_); }
-  double Sign() { return U(0, 1) < 0.5 ? -1.0 : 1.0; }
-  int Side() { return std::uniform_int_distribution<int>(0, 3)(rng_); }
-
- private:
-  std::mt19937_64 rng_;
-};
-
-Eigen::Vector2d Rotate(const Eigen::Vector2d& v, double angle) {
-  return {std::cos(angle) * v.x() - std::sin(angle) * v.y(),
-          std::sin(angle) * v.x() + std::cos(angle) * v.y()};
-}
-
-/// A push on a random side of the square patch, `offset_m` along the side from its middle,
-/// aimed into the patch within `spread_rad` of the inward normal.
-PushSpec SidePush(Draw& d, double offset_m, double spread_rad) {
-  const double side_angle = d.Side() * M_PI / 2;
-  PushSpec p;
-  p.point_body = Rotate(Eigen::Vector2d(-kHalfSide_m, offset_m), side_angle);
-  p.direction_body = Rotate(Eigen::Vector2d(1, 0), side_angle + d.U(-spread_rad, spread_rad));
-  return p;
-}
-
-/// A seeded scene of `kind` lasting `log_steps` log intervals, simulated at
-/// kLogDt_s / log_every. Friction: a = mu in [0.25, 0.4], c in [0.02, 0.04] m, b = 1 except
-/// anisotropic, b in [1.4, 1.8]. Pushes start and stop on log rows.
-Scene MakeScene(SceneKind kind, int log_steps, int log_every, std::uint64_t seed) {
-  Draw d(seed);
-  Scene s;
-  s.source = ToString(kind);
-  s.slider = {kMass_kg, kInertia_kgm2, kComHeight_m, kGravity_mps2};
-  s.patch = ContactPatch::Rectangle(2 * kHalfSide_m, 2 * kHalfSide_m);
-  s.friction = {d.U(0.25, 0.4), 1.0, 1.0, d.U(0.02, 0.04)};
-  if (kind == SceneKind::kAnisotropic) s.friction.e_o = d.U(1.4, 1.8);
-  s.dt_s = kLogDt_s / log_every;
-  s.duration_s = log_steps * kLogDt_s;
-  // Half a simulated step before a log row, so that rounding of the clock cannot move it.
-  auto on_log_grid = [&](double t) { return std::round(t / kLogDt_s) * kLogDt_s - 0.5 * s.dt_s; };
-  const double limit_N = s.friction.mu * kMass_kg * kGravity_mps2;  // sliding limit a m g
-  const double heading = d.U(-M_PI, M_PI);
-
-  if (kind == SceneKind::kFreeSpin || kind == SceneKind::kAnisotropic) {
-    // Free slide with spin, then short off-centre kicks (40 ms), each followed by free
-    // sliding to rest: most of the log is a free slide with spin, velocity off both axes.
-    const double speed = d.U(0.8, 1.4);
-    s.initial = {0, 0, 0, speed * std::cos(heading), speed * std::sin(heading),
-                 d.Sign() * d.U(8, 15)};
-    for (double t = d.U(0.5, 0.65); t < s.duration_s; t += d.U(0.5, 0.65)) {
-      PushSpec p = SidePush(d, d.Sign() * d.U(0.015, 0.035), 0.3);
-      p.height_m = kComHeight_m;
-      p.force_N = d.U(20, 30);
-      p.start_s = on_log_grid(t);
-      p.stop_s = on_log_grid(t + 0.04);
-      s.pushes.push_back(p);
-    }
-  } else if (kind == SceneKind::kPushedRotation) {
-    // Off-centre periodic pushes below the CM (tilting moments: the general step path),
-    // 0.3-0.8 s each with rests between: rotation and stick-slip.
-    const double speed = d.U(0.1, 0.3);
-    s.initial = {0, 0, 0, speed * std::cos(heading), speed * std::sin(heading), 0};
-    for (double t = 0; t < s.duration_s;) {
-      PushSpec p = SidePush(d, d.Sign() * d.U(0.005, 0.02), 0.3);
-      p.height_m = kComHeight_m * d.U(0.3, 1.0);
-      p.force_N = limit_N * d.U(1.0, 1.3);
-      p.amplitude_N = p.force_N * d.U(0.3, 0.8);
-      p.period_s = d.U(0.2, 0.4);
-      p.start_s = on_log_grid(t);
-      p.stop_s = on_log_grid(t + d.U(0.3, 0.8));
-      s.pushes.push_back(p);
-      t = p.stop_s + d.U(0.15, 0.35);
-    }
-  } else {
-    // Pure translation: pushes through the CM in random directions, the CM on the floor
-    // (no tilting either), no spin: c cannot be identified.
-    s.slider.com_height_m = 0;
-    const double speed = d.U(0.1, 0.3);
-    s.initial = {0, 0, 0, speed * std::cos(heading), speed * std::sin(heading), 0};
-    for (double t = 0; t < s.duration_s;) {
-      const double angle = d.U(-M_PI, M_PI);
-      const Eigen::Vector2d dir(std::cos(angle), std::sin(angle));
-      PushSpec p;
-      p.direction_body = dir;
-      p.point_body = -dir * (kHalfSide_m / std::max(std::abs(dir.x()), std::abs(dir.y())));
-      p.height_m = 0;
-      p.force_N = limit_N * d.U(1.1, 1.5);
-      p.amplitude_N = p.force_N * d.U(0.0, 0.4);
-      p.period_s = d.U(0.2, 0.5);
-      p.start_s = on_log_grid(t);
-      p.stop_s = on_log_grid(t + d.U(0.3, 0.8));
-      s.pushes.push_back(p);
-      t = p.stop_s + d.U(0.15, 0.35);
-    }
-  }
-  return s;
-}
-
-/// Rows 0, k, 2k, ... of a simulated trajectory, `log_steps` + 1 of them. A kept row's
-/// wrench is the mean of the simulated ones over the interval it starts (a force sensor
-/// that integrates over the interval), so the logged impulse is the applied one; the log
-/// carries total moments about the CM, not push points. Step columns are not kept.
-Trajectory Decimate(const Trajectory& sim, int log_steps, int k) {
-  Trajectory out = sim;
-  out.samples.clear();
-  out.columns.push_point = false;
-  out.columns.moments = sim.columns.force;
-  out.columns.step_info = false;
-  for (size_t u = 0; u < sim.samples.size() && static_cast<int>(out.samples.size()) <= log_steps;
-       u += k) {
-    TrajectorySample row;
-    row.t_s = sim.samples[u].t_s;
-    row.state = sim.samples[u].state;
-    row.mode = sim.samples[u].mode;
-    row.applied = sim.samples[u].applied;
-    if (u + k < sim.samples.size()) {
-      AppliedWrench mean;
-      for (int j = 0; j < k; ++j) {
-        const AppliedWrench& w = sim.samples[u + j].applied;
-        mean.fx += w.fx / k;
-        mean.fy += w.fy / k;
-        mean.fz += w.fz / k;
-        mean.tx += w.tx / k;
-        mean.ty += w.ty / k;
-        mean.tz += w.tz / k;
-      }
-      row.applied = mean;
-    }
-    out.samples.push_back(row);
-  }
-  return out;
-}
-
 /// What the simulation of one scene looked like.
 struct SceneStats {
   int redraws = 0;
@@ -258,17 +105,18 @@ struct SceneStats {
   double max_hull_signed_distance_m = 0;
 };
 
-/// Simulates a scene, redrawing it on failure. Throws std::runtime_error after kMaxRedraws.
+/// Simulates a scene, redrawing it on failure; returns the simulated trajectory (one row per
+/// simulated step). Throws std::runtime_error after kMaxRedraws.
 Trajectory SimulateScene(SceneKind kind, int log_steps, int log_every, std::uint64_t seed,
-                         Scene* scene, SceneStats* stats) {
+                         LoggedScene* scene, SceneStats* stats) {
   for (int r = 0; r <= kMaxRedraws; ++r) {
-    *scene = MakeScene(kind, log_steps, log_every, seed + r * kRedrawStride);
-    const SimulationResult sim = Simulate(*scene);
+    *scene = testing::SeededScene(kind, log_steps, log_every, seed + r * kRedrawStride);
+    SimulationResult sim = Simulate(*scene);
     if (sim.summary.ok()) {
       stats->redraws = r;
       stats->slide_fraction = double(sim.summary.slide_steps) / std::max(1, sim.summary.steps);
       stats->max_hull_signed_distance_m = sim.summary.max_hull_signed_distance_m;
-      return Decimate(sim.trajectory, log_steps, log_every);
+      return std::move(sim.trajectory);
     }
     std::fprintf(stderr, "error_vs_time: %s seed %llu: %s; redrawing\n", ToString(kind),
                  static_cast<unsigned long long>(seed + r * kRedrawStride),
@@ -277,23 +125,23 @@ Trajectory SimulateScene(SceneKind kind, int log_steps, int log_every, std::uint
   throw std::runtime_error(std::string("scene ") + ToString(kind) + " failed to simulate");
 }
 
-/// The log a sensor would give: noise added, written with only the pose (or only the
-/// velocity) columns to `path`, and read back as identify reads it.
-Trajectory SensorLog(const Trajectory& clean, const NoiseLevel& level, bool poses,
-                     std::uint64_t seed, const std::string& path) {
-  NoiseSpec noise;
+/// The log a sensor would give: the scene's log spec (MakeLog) with only the pose (or only
+/// the velocity) columns and the noise of `level`, written to `path` and read back as
+/// identify reads it.
+Trajectory SensorLog(const Trajectory& simulated, const LogSpec& scene_log,
+                     const NoiseLevel& level, bool poses, std::uint64_t seed,
+                     const std::string& path) {
+  LogSpec spec = scene_log;
+  spec.motion = poses ? LogMotion::kPoses : LogMotion::kVelocities;
   if (poses) {
-    noise.pose_m = level.pose_m;
-    noise.angle_rad = level.angle_rad;
+    spec.noise.pose_m = level.pose_m;
+    spec.noise.angle_rad = level.angle_rad;
   } else {
-    noise.velocity_mps = level.velocity_mps;
-    noise.spin_radps = level.spin_radps;
+    spec.noise.velocity_mps = level.velocity_mps;
+    spec.noise.spin_radps = level.spin_radps;
   }
-  noise.seed = seed;
-  Trajectory log = AddNoise(clean, noise);
-  log.columns.pose = poses;
-  log.columns.velocity = !poses;
-  WritePushLog(log, path);
+  spec.noise.seed = seed;
+  WritePushLog(MakeLog(simulated, spec), path);
   return ReadPushLog(path);
 }
 
@@ -586,10 +434,11 @@ void Describe(const Config& config) {
       double slide = 1, hull = -1, vmax = 0, wmax = 0;
       size_t pushes = 0;
       for (int seed = 1; seed <= config.seeds_per_length[li]; ++seed) {
-        Scene scene;
+        LoggedScene scene;
         SceneStats stats;
-        const Trajectory log = SimulateScene(kind, steps, config.log_every,
-                                             SceneSeed(kind, steps, seed), &scene, &stats);
+        const Trajectory log = MakeLog(SimulateScene(kind, steps, config.log_every,
+                                                     SceneSeed(kind, steps, seed), &scene, &stats),
+                                       scene.log);
         redraws += stats.redraws;
         slide = std::min(slide, stats.slide_fraction);
         hull = std::max(hull, stats.max_hull_signed_distance_m);
@@ -729,9 +578,9 @@ int Main(int argc, char** argv) {
       if (!config.Runs(kind)) continue;
       for (int index = 1; index <= config.seeds_per_length[li]; ++index) {
         const std::uint64_t seed = SceneSeed(kind, steps, index);
-        Scene scene;
+        LoggedScene scene;
         SceneStats stats;
-        const Trajectory clean =
+        const Trajectory simulated =
             SimulateScene(kind, steps, config.log_every, seed, &scene, &stats);
         total_redraws += stats.redraws;
         const ReducedFriction t = ReducedFriction::From(scene.friction);
@@ -744,8 +593,8 @@ int Main(int argc, char** argv) {
                     : config.logs_dir + "/" + ToString(kind) + "_" + std::to_string(steps) +
                           "_" + std::to_string(seed) + "_" + kNoiseLevels[noise].name + "_" +
                           motion + ".csv";
-            const Trajectory log = SensorLog(clean, kNoiseLevels[noise], motion == "poses",
-                                             seed * 10 + noise, path);
+            const Trajectory log = SensorLog(simulated, scene.log, kNoiseLevels[noise],
+                                             motion == "poses", seed * 10 + noise, path);
             for (size_t v = 0; v < variants.size(); ++v) {
               const Run run = IdentifyTimed(log, variants[v].options);
               cells[{int(v), motion, noise, steps, ToString(kind)}].Add(run, truth, kind);

@@ -18,6 +18,7 @@
 #include "datasets/noise.h"
 #include "estimator/identify.h"
 #include "estimator/trajectory_fit.h"
+#include "fixtures/synthetic_scenes.h"
 #include "estimator/trajectory_problem.h"
 #include "forward_model/simulator.h"
 
@@ -26,29 +27,9 @@ namespace {
 
 constexpr int kSteps = 10000;
 
-Scene LongPushScene() {
-  Scene s;
-  s.source = "benchmark";
-  s.slider = {1.0, 1.0 * (0.1 * 0.1 + 0.1 * 0.1) / 12, 0.03, 9.81};
-  s.friction = {0.35, 1.0, 1.3, 0.035};
-  s.patch = ContactPatch::Rectangle(0.1, 0.1);
-  s.initial = {0, 0, 0, 0.2, 0.1, 0.0};
-  PushSpec p;
-  p.point_body = {-0.05, -0.02};
-  p.direction_body = Eigen::Vector2d(1, 0.2).normalized();
-  p.height_m = s.slider.com_height_m;
-  p.force_N = 3.0;
-  p.amplitude_N = 2.5;
-  p.period_s = 0.37;
-  s.pushes.push_back(p);
-  s.dt_s = 0.01;
-  s.duration_s = kSteps * s.dt_s;
-  return s;
-}
-
 const Trajectory& NoisyLog() {
   static const Trajectory log = [] {
-    const SimulationResult sim = Simulate(LongPushScene());
+    const SimulationResult sim = Simulate(testing::LongPushScene(kSteps));
     if (!sim.summary.ok()) {
       std::fprintf(stderr, "benchmark scene failed: %s\n", sim.summary.message.c_str());
       std::abort();
@@ -70,7 +51,7 @@ const Trajectory& NoisyLog() {
 double ForwardPassSeconds(const Trajectory& log, bool with_derivatives) {
   const int rows = static_cast<int>(log.samples.size());
   const int steps = TrajectorySegmentSteps(rows, TrajectoryOptions{});
-  const ReducedFriction abc = ReducedFriction::From(LongPushScene().friction);
+  const ReducedFriction abc = ReducedFriction::From(testing::LongPushScene(kSteps).friction);
   const double log_abc[3] = {std::log(abc.a), std::log(abc.b), std::log(abc.c)};
   std::vector<std::unique_ptr<ceres::CostFunction>> costs;
   std::vector<std::array<double, 6>> states;
@@ -111,7 +92,7 @@ void Run(benchmark::State& state, EstimatorMethod method, int threads = 1) {
     result = Identify(log, options);
     benchmark::DoNotOptimize(result);
   }
-  const ReducedFriction truth = ReducedFriction::From(LongPushScene().friction);
+  const ReducedFriction truth = ReducedFriction::From(testing::LongPushScene(kSteps).friction);
   const double t[3] = {truth.a, truth.b, truth.c};
   const char* names[3] = {"err_a", "err_b", "err_c"};
   for (int i = 0; i < 3; ++i) {

@@ -9,9 +9,11 @@
 // with the general Newton forced, plus a free energy run (kinetic energy must never rise).
 // Boundary grid: starts whose stopping impulse lies on the friction ellipsoid, scaled by
 // 1 +- a few ulps .. 1e-4. Estimator grid: one axis at a time from a base and the corners
-// of the box; a free slide with spin and a pushed slider simulated at those parameters
-// (dynamically similar, and as in the tests), identified by the trajectory and
-// equation-error methods. Domain probes: single steps at the limits of double.
+// of the box; the tests' free slide with spin and pushed slider simulated at those
+// parameters (dynamically similar, and as in the tests: fixtures/scaled_scenes.h), logged
+// exactly by make-dataset's sensor model (MakeLog) and identified by the trajectory and
+// equation-error methods, held to the tests' tolerances (fixtures/tolerances.h). Domain
+// probes: single steps at the limits of double.
 // Prints the per-axis Markdown table, the failures and the verdicts; --csv writes one row
 // per case. Exit code 0 when nothing failed, 3 otherwise (2: usage, 4: a file not written).
 //
@@ -35,7 +37,11 @@
 
 #include <glog/logging.h>
 
+#include "datasets/sensor_model.h"
 #include "estimator/identify.h"
+#include "fixtures/scaled_scenes.h"
+#include "fixtures/synthetic_scenes.h"
+#include "fixtures/tolerances.h"
 #include "forward_model/scene.h"
 #include "forward_model/simulator.h"
 #include "forward_model/step_solver.h"
@@ -43,24 +49,21 @@
 namespace slideid {
 namespace {
 
+// The tests' plate and scenes (fixtures/); a case fails by the tests' own tolerances,
+// testing::k*Tolerance and testing::kExactRelTol (fixtures/tolerances.h).
+using testing::kGravity_mps2;
+using testing::kPlateHalfSide_m;
+using testing::SceneScaling;
+using testing::SquarePlate;
+using testing::TopplingLimit;
+
 constexpr double kEps = std::numeric_limits<double>::epsilon();
-// The solver's own tolerance (StepOptions default); a converged step must meet it.
-constexpr double kStepTolerance = 1e-12;
-// The independent paper-form residuals (each equation relative to its terms' magnitudes)
-// may exceed the scaled one by the conditioning of the unscaling; the tests demand 1e-10.
-constexpr double kIndependentTolerance = 1e-10;
 // Boundary starts this far (relative) from the ellipsoid must stick / slide as constructed;
 // closer, rounding may decide either way (both are then correct to rounding).
 constexpr double kClearOfBoundary = 1e-10;
-// Kinetic energy without push may not rise by more than this relative (issue 5).
-constexpr double kEnergyTolerance = 1e-12;
-// Noiseless identification must reach the truth to this relative error (issue 3).
-constexpr double kEstimatorTolerance = 1e-6;
 // Converged steps that took more Newton iterations than this (over all first guesses) are
 // listed apart: not failures, but where the solver works hardest.
 constexpr int kManyIterations = 40;
-constexpr double kPatchHalf = 0.05;  // half side of the square patch [m]
-constexpr double kGravity = 9.81;
 
 std::string Sci(double v) {
   char buf[32];
@@ -137,8 +140,8 @@ class Sweep {
         nonfinite |= !std::isfinite(independent);
       }
     }
-    const bool residual_bad = r.ok() && (!(r.residual <= kStepTolerance) ||
-                                         !(independent <= kIndependentTolerance));
+    const bool residual_bad = r.ok() && (!(r.residual <= testing::kStepTolerance) ||
+                                         !(independent <= testing::kIndependentTolerance));
     auto book = [&](Row& row) {
       ++row.step_cases;
       row.converged += r.ok();
@@ -213,7 +216,7 @@ class Sweep {
         nonfinite = true;
         break;
       }
-      if (e_next > e * (1 + kEnergyTolerance)) {
+      if (e_next > e * (1 + testing::kEnergyTolerance)) {
         ++violations;
         if (first_violation < 0) first_violation = done;
         worst_rise = std::max(worst_rise, e_next / e - 1);
@@ -283,7 +286,7 @@ class Sweep {
           }
           rel[i] = std::abs(p.value / t[i] - 1);
           worst = std::max(worst, std::isfinite(rel[i]) ? rel[i] : INFINITY);
-          if (rel[i] <= kEstimatorTolerance) continue;
+          if (rel[i] <= testing::kExactRelTol) continue;
           // Off the truth by more than 1e-6 but inside its own 95% interval: the log
           // determines it only that well, and the estimator says so (a verdict).
           if (t[i] >= p.ci95_lo && t[i] <= p.ci95_hi) {
@@ -367,7 +370,7 @@ class Sweep {
                          r.ecp_world.x(), r.ecp_world.y(), r.residual}) {
           finite &= std::isfinite(v);
         }
-        bad = !finite || !(r.residual <= kStepTolerance);
+        bad = !finite || !(r.residual <= testing::kStepTolerance);
         std::ostringstream o;
         o << "converged (" << ToString(r.mode) << ", " << r.iterations << " iterations, residual "
           << Sci(r.residual) << (finite ? "" : ", NON-FINITE OUTPUT") << ")";
@@ -426,15 +429,6 @@ class Sweep {
   long total_failures_ = 0;
 };
 
-SliderProperties Slider(double mass, double qz) {
-  // Uniform square plate of side 2 kPatchHalf: I = m (w^2 + l^2) / 12.
-  return {mass, mass * (2 * kPatchHalf) * (2 * kPatchHalf) / 6.0, qz, kGravity};
-}
-
-// The CM height at which the ECP can reach the patch edge: |ECP - CM| <= q_z a max(1, b)
-// without tilting moments (model.md, ECP lines with |p_t| <= a p_n, |p_o| <= a b p_n).
-double TopplingLimit(double a, double b) { return kPatchHalf / (a * std::max(1.0, b)); }
-
 struct Grids {
   std::vector<double> mu, c, b, h, mass, qz_fraction, speed, spin;
   std::vector<double> boundary;
@@ -485,7 +479,7 @@ void StepGrid(const Grids& g, Sweep* sweep) {
                 for (double spin : g.spin) {
                   const FrictionParameters f{mu, 1.0, b, c};
                   const double qz = qf * TopplingLimit(mu, b);
-                  const SliderProperties slider = Slider(mass, qz);
+                  const SliderProperties slider = SquarePlate(mass, qz);
                   const double dir = angle(rng), push_dir = angle(rng);
                   const double spin_sign = angle(rng) > 0 ? 1 : -1;
                   const PlanarState state{0.1, -0.2, 0.3, speed * std::cos(dir),
@@ -495,10 +489,10 @@ void StepGrid(const Grids& g, Sweep* sweep) {
                                   {"speed", speed}, {"spin", spin}};
                   // Push 1.5 mu m g at a patch corner-ish point, at ground level: tilting
                   // moments whenever q_z > 0.
-                  const double force = 1.5 * mu * mass * kGravity;
+                  const double force = 1.5 * mu * mass * kGravity_mps2;
                   const AppliedWrench push = WrenchFromForceAt(
                       force * std::cos(push_dir), force * std::sin(push_dir), 0.0,
-                      -kPatchHalf * std::cos(dir), 0.4 * kPatchHalf, -qz);
+                      -kPlateHalfSide_m * std::cos(dir), 0.4 * kPlateHalfSide_m, -qz);
                   for (bool general : {false, true}) {
                     sweep->Step("step", "free", general, tags, 1, slider, f, state, {}, h);
                     sweep->Step("step", "pushed", general, tags, 1, slider, f, state, push, h);
@@ -533,8 +527,8 @@ void BoundaryGrid(const Grids& g, Sweep* sweep) {
                   for (bool pushed : {false, true}) {
                     const FrictionParameters f{mu, 1.0, b, c};
                     const double qz = qf * TopplingLimit(mu, b);
-                    const SliderProperties slider = Slider(mass, qz);
-                    const double P = mu * h * mass * kGravity;
+                    const SliderProperties slider = SquarePlate(mass, qz);
+                    const double P = mu * h * mass * kGravity_mps2;
                     const double phi = angle(rng);
                     Eigen::Vector3d tau(std::cos(phi) * std::sqrt(1 - share * share),
                                         std::sin(phi) * std::sqrt(1 - share * share),
@@ -552,7 +546,7 @@ void BoundaryGrid(const Grids& g, Sweep* sweep) {
                       applied.fy = -p_stop(1) / h;
                       applied.tx = qz * applied.fy;
                       applied.ty = -qz * applied.fx;
-                      const double pn = h * mass * kGravity;
+                      const double pn = h * mass * kGravity_mps2;
                       const double k2 =
                           -p_stop(2) - (p_stop(0) * h * applied.tx + p_stop(1) * h * applied.ty) / pn;
                       applied.tz = k2 / h;
@@ -577,42 +571,6 @@ void BoundaryGrid(const Grids& g, Sweep* sweep) {
                       }
                     }
                   }
-}
-
-// The scenes of tests/synthetic_scenes.h (a free slide with spin, a pushed slider) at any
-// (mu, b, c, mass, h), inertia matched, CM height kept under the toppling limit, 40..3000
-// steps. `similar`: forces scaled with mu m g, speeds with mu g T and the push period with
-// T, so that every log is as informative as the base one; otherwise the scene's own speeds
-// and forces (a log may then say too little: a verdict, not a failure).
-Scene EstimatorScene(bool pushed, bool similar, double mu, double b, double c, double mass,
-                     double h) {
-  Scene s;
-  s.source = "stability sweep";
-  const ReducedFriction abc{mu, b, c};
-  s.slider = Slider(mass, std::min(0.03, 0.4 * TopplingLimit(mu, b)));
-  s.friction = abc.ToFrictionParameters();
-  s.patch = ContactPatch::Rectangle(2 * kPatchHalf, 2 * kPatchHalf);
-  s.dt_s = h;
-  const double base_duration = pushed ? 1.0 : 0.45;
-  const long steps = std::clamp(std::lround(base_duration / h), 40L, 3000L);
-  s.duration_s = steps * h;
-  const double time = similar ? s.duration_s / base_duration : 1.0;  // against the base
-  const double speed = similar ? (mu / 0.3) * time : 1.0;             // mu g T, likewise
-  const double force = similar ? mu * mass * kGravity / 2.943 : 1.0;  // 2.943 N at the base
-  if (!pushed) {
-    s.initial = {0, 0, 0, 1.2 * speed, 0.8 * speed, 12.0 * speed};
-  } else {
-    s.initial = {0, 0, 0, 0.2 * speed, 0.3 * speed, 0.0};
-    PushSpec p;
-    p.point_body = {-kPatchHalf, -0.02};
-    p.direction_body = {1, 0};
-    p.height_m = s.slider.com_height_m;
-    p.force_N = 2.6 * force;
-    p.amplitude_N = 2.0 * force;
-    p.period_s = 0.2 * time;
-    s.pushes.push_back(p);
-  }
-  return s;
 }
 
 void EstimatorGrid(bool quick, Sweep* sweep) {
@@ -652,14 +610,17 @@ void EstimatorGrid(bool quick, Sweep* sweep) {
     const Tags tags{{"mu", p[0]},   {"c", p[1]}, {"b", p[2]},
                     {"mass", p[3]}, {"h", p[4]}, {"estimator scene", similar ? 0.0 : 1.0}};
     for (bool pushed : {false, true}) {
-      const Scene scene = EstimatorScene(pushed, similar, p[0], p[2], p[1], p[3], p[4]);
+      const LoggedScene scene =
+          testing::ScaledScene(pushed, similar ? SceneScaling::kSimilar : SceneScaling::kAsInTests,
+                               {p[0], p[2], p[1], p[3], p[4]});
       const SimulationResult sim = Simulate(scene);
       const std::string error = sim.summary.ok() ? "" : sim.summary.message;
+      const Trajectory log = sim.summary.ok() ? MakeLog(sim.trajectory, scene.log) : Trajectory{};
       for (const char* method : {"trajectory", "equation-error"}) {
         sweep->Estimator(tags, std::string(pushed ? "pushed" : "free-spin") +
                                    (similar ? "" : " (as in tests)"),
                          method,
-                         ReducedFriction::From(scene.friction), &sim.trajectory, error);
+                         ReducedFriction::From(scene.friction), &log, error);
       }
     }
   }
@@ -667,11 +628,11 @@ void EstimatorGrid(bool quick, Sweep* sweep) {
 
 // Steps at the limits of double, far outside the grids (docs/stability.md, domain limits).
 void DomainProbes(Sweep* sweep) {
-  const SliderProperties s = Slider(1.0, 0.03);
+  const SliderProperties s = SquarePlate(1.0, 0.03);
   const FrictionParameters f{0.3, 1.0, 1.0, 0.03};
   const PlanarState moving{0, 0, 0, 0.6, 0.8, 10};
   const AppliedWrench tilt{1, 2, 0, 0.05, -0.03, 0.01};
-  auto with_mass = [](double m) { return Slider(m, 0.03); };
+  auto with_mass = [](double m) { return SquarePlate(m, 0.03); };
   auto friction = [&](double mu, double b, double c) { return FrictionParameters{mu, 1, b, c}; };
   sweep->Probe("h = 1e-300 s", s, f, moving, {}, 1e-300);
   sweep->Probe("h = 1e-200 s, tilting moments", s, f, moving, tilt, 1e-200);
@@ -701,7 +662,7 @@ void DomainProbes(Sweep* sweep) {
   sweep->Probe("force 1e300 N", s, f, moving, {1e300, 1e300, 0, 1e300, 1e300, 1e300}, 0.01);
   sweep->Probe("f_z = -1e308 N (pressed down)", s, f, moving, {0, 0, -1e308, 0, 0, 0}, 0.01);
   sweep->Probe("f_z = m g (weightless)", s, f, moving, {0, 0, 9.81, 0, 0, 0}, 0.01);
-  sweep->Probe("CM height 1e300 m", Slider(1.0, 1e300), f, moving, tilt, 0.01);
+  sweep->Probe("CM height 1e300 m", SquarePlate(1.0, 1e300), f, moving, tilt, 0.01);
   sweep->Probe("state.vx = NaN", s, f, {0, 0, 0, NAN, 0, 0}, {}, 0.01);
   sweep->Probe("state.wz = Inf", s, f, {0, 0, 0, 0, 0, INFINITY}, {}, 0.01);
   sweep->Probe("applied.fx = NaN", s, f, moving, {NAN, 0, 0, 0, 0, 0}, 0.01);

@@ -22,11 +22,11 @@
 #include <stdexcept>
 #include <string>
 #include <unsupported/Eigen/NonLinearOptimization>
-
-#include "tests/random_step_cases.h"
 #include <utility>
 #include <vector>
 
+#include "fixtures/random_step_cases.h"
+#include "fixtures/tolerances.h"
 #include "forward_model/step_equations.h"
 #include "forward_model/step_solver.h"
 
@@ -42,9 +42,9 @@ constexpr unsigned kSeed = 20240611;
 // than SolveStep's (measured: 1e-12 leaves a median ~3x ours; 1e-14 costs ~10% more time
 // for residuals below ours, and ends 20% of the cases with "tolerance too small").
 constexpr double kDoglegXtol = 1e-13;
-// A solution whose max|SlidingEquationResiduals| exceeds this counts as a failure (the
-// acceptance threshold of tests/step_solver_test.cc).
-constexpr double kAcceptedResidual = 1e-10;
+// A solution whose max|SlidingEquationResiduals| exceeds the tests' acceptance threshold
+// (fixtures/tolerances.h) counts as a failure.
+using testing::kIndependentTolerance;
 // Repetitions for the median time; the minimum time per repetition keeps the whole run
 // under about a minute.
 constexpr int kRepetitions = 10;
@@ -55,7 +55,7 @@ using testing::Case;
 /// The scenes of a benchmark, named by the path SolveStep takes on them.
 enum class Family { kGeneral, kDecoupled, kPureTranslation };
 
-// The shared random cases (tests/random_step_cases.h), with what each family's path does
+// The shared random cases (fixtures/random_step_cases.h), with what each family's path does
 // not need switched off.
 Case Make(testing::CaseGenerator& gen, Family family) {
   Case c = gen.General();
@@ -153,7 +153,7 @@ double MaxResidual(const Case& c, const Eigen::Vector4d& x) {
 struct Accuracy {
   double median_residual = 0;  ///< of max|SlidingEquationResiduals| at the solutions
   double max_residual = 0;
-  int failures = 0;            ///< not converged, or residual above kAcceptedResidual
+  int failures = 0;            ///< not converged, or residual above kIndependentTolerance
   int not_status_converged = 0;  ///< dogleg only: ended other than "relative error too small"
   double mean_work = 0;        ///< Newton iterations (SolveStep) or evaluations (dogleg)
 };
@@ -176,7 +176,7 @@ Accuracy MeasureStepSolver(const std::vector<Case>& cases, const StepOptions& op
   for (const Case& c : cases) {
     const StepResult r = Solve(c, options);
     const double residual = MaxResidual(c, Eigen::Vector4d(r.pt, r.po, r.pr, r.sigma));
-    a.failures += !r.ok() || !(residual <= kAcceptedResidual);
+    a.failures += !r.ok() || !(residual <= kIndependentTolerance);
     work += r.iterations;
     residuals.push_back(residual);
   }
@@ -192,7 +192,7 @@ Accuracy MeasureDogleg(const std::vector<Case>& cases) {
   for (const Case& c : cases) {
     const DoglegOutcome d = SolveWithDogleg(c);
     const double residual = MaxResidual(c, d.x);
-    a.failures += !(residual <= kAcceptedResidual && d.x(3) > 0);
+    a.failures += !(residual <= kIndependentTolerance && d.x(3) > 0);
     a.not_status_converged +=
         d.status != Eigen::HybridNonLinearSolverSpace::RelativeErrorTooSmall;
     work += d.evaluations;
@@ -254,7 +254,7 @@ int main(int argc, char** argv) {
   std::printf("%d sliding steps per family; residual = max|SlidingEquationResiduals| at the "
               "solution;\nfailure = not converged or residual > %.0e; dogleg: hybrd1, "
               "xtol %.0e, finite-difference Jacobian.\n",
-              kCases, kAcceptedResidual, kDoglegXtol);
+              kCases, kIndependentTolerance, kDoglegXtol);
   std::printf("%-38s %12s %12s %9s %12s %10s\n", "solver / family", "median res", "max res",
               "failures", "non-status-1", "mean work");
   const std::pair<const char*, const Accuracy*> rows[] = {

@@ -71,7 +71,12 @@ void AddLogOptions(po::options_description* o, const LogSpec* d, bool with_seed)
   o->add_options()
       ("log-every", po::value<int>()->value_name("K"),
        ("log every K-th simulated step, e.g. dt 1e-4 s and K = 100 for a 100 Hz log; a row's "
-        "force is the one applied at its time" + Default(d, d ? std::to_string(d->log_every) : "")).c_str())
+        "force is the one --wrench says" +
+        Default(d, d ? std::to_string(d->log_every) : "")).c_str())
+      ("wrench", po::value<std::string>()->value_name("WHICH"),
+       ("a row's wrench: at-row-time (the one applied at its time) or interval-mean (the mean "
+        "over its log interval; needs --push-columns moments)" +
+        Default(d, d ? ToString(d->wrench) : "")).c_str())
       ("write", po::value<std::string>()->value_name("WHAT"),
        ("motion columns: poses (motion capture), velocities or both" +
         Default(d, d ? ToString(d->motion) : "")).c_str())
@@ -101,6 +106,10 @@ void ApplyLogOptions(const po::variables_map& vm, LogSpec* spec) {
       !ParseLogPush(vm["push-columns"].as<std::string>(), &spec->push)) {
     throw po::error("--push-columns: '" + vm["push-columns"].as<std::string>() +
                     "' is not point or moments");
+  }
+  if (vm.count("wrench") && !ParseLogWrench(vm["wrench"].as<std::string>(), &spec->wrench)) {
+    throw po::error("--wrench: '" + vm["wrench"].as<std::string>() +
+                    "' is not at-row-time or interval-mean");
   }
   if (vm.count("step-info")) {
     const std::string v = vm["step-info"].as<std::string>();

@@ -15,6 +15,10 @@ bool LogSpec::IsValidFor(bool has_pushes, std::string* why) const {
     if (why) *why = "write = velocities needs push = moments: push points need the poses";
     return false;
   }
+  if (has_pushes && wrench == LogWrench::kIntervalMean && push == LogPush::kPoint) {
+    if (why) *why = "wrench = interval-mean needs push = moments: a mean wrench has no push point";
+    return false;
+  }
   return IsValid(why);
 }
 
@@ -31,6 +35,10 @@ const char* ToString(LogPush push) {
   return push == LogPush::kPoint ? "point" : "moments";
 }
 
+const char* ToString(LogWrench wrench) {
+  return wrench == LogWrench::kAtRowTime ? "at-row-time" : "interval-mean";
+}
+
 bool ParseLogMotion(const std::string& text, LogMotion* motion) {
   for (LogMotion m : {LogMotion::kPoses, LogMotion::kVelocities, LogMotion::kBoth}) {
     if (text == ToString(m)) {
@@ -45,6 +53,16 @@ bool ParseLogPush(const std::string& text, LogPush* push) {
   for (LogPush p : {LogPush::kPoint, LogPush::kMoments}) {
     if (text == ToString(p)) {
       *push = p;
+      return true;
+    }
+  }
+  return false;
+}
+
+bool ParseLogWrench(const std::string& text, LogWrench* wrench) {
+  for (LogWrench w : {LogWrench::kAtRowTime, LogWrench::kIntervalMean}) {
+    if (text == ToString(w)) {
+      *wrench = w;
       return true;
     }
   }

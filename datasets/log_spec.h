@@ -24,13 +24,23 @@ enum class LogPush {
   kMoments,  ///< fx, fy and the total moments tx, ty, tz about the CM
 };
 
+/// Which wrench a decimated log row carries (log_every > 1; with log_every = 1 both agree).
+enum class LogWrench {
+  kAtRowTime,     ///< the one applied at the row's time (a force sensor sampled at the row)
+  kIntervalMean,  ///< the mean over the log interval the row starts (a sensor that
+                  ///< integrates over the interval): the logged impulse is the applied one
+};
+
 struct LogSpec {
   /// Log every k-th simulated step (k >= 1): simulate at dt, log at dt * k. A row's force is
-  /// the one applied at the row's time, held over the next log interval (log-format.md);
-  /// when the push varies within the interval this is an approximation, as in real logs.
+  /// held over the next log interval (log-format.md); which force, `wrench` says.
   int log_every = 1;
   LogMotion motion = LogMotion::kBoth;
   LogPush push = LogPush::kPoint;
+  /// At the row's time (default): when the push varies within the interval, an
+  /// approximation, as in real logs. The interval mean has no single push point, so it
+  /// needs push = moments when the log has pushes.
+  LogWrench wrench = LogWrench::kAtRowTime;
   /// Keep the simulator's own columns (ECP, impulses, sigma, mode). Unset: kept when the
   /// noise is zero (the log is then the truth), dropped otherwise (a sensor does not see them).
   std::optional<bool> step_info;
@@ -40,14 +50,17 @@ struct LogSpec {
 
   /// False (and why) for log_every < 1 or invalid noise.
   bool IsValid(std::string* why) const;
-  /// IsValid, and for a log with pushes also: push points need the poses.
+  /// IsValid, and for a log with pushes also: push points need the poses, and the
+  /// interval-mean wrench needs push = moments.
   bool IsValidFor(bool has_pushes, std::string* why) const;
 };
 
 const char* ToString(LogMotion motion);  ///< "poses", "velocities", "both"
 const char* ToString(LogPush push);      ///< "point", "moments"
+const char* ToString(LogWrench wrench);  ///< "at-row-time", "interval-mean"
 /// Parse the names above; false for anything else.
 bool ParseLogMotion(const std::string& text, LogMotion* motion);
 bool ParseLogPush(const std::string& text, LogPush* push);
+bool ParseLogWrench(const std::string& text, LogWrench* wrench);
 
 }  // namespace slideid

@@ -17,6 +17,22 @@ std::string Format(double v) {
   return buf;
 }
 
+/// The mean of the wrenches of rows [first, first + k): what a sensor that integrates over
+/// the log interval reports, so that the logged impulse is the applied one.
+AppliedWrench IntervalMean(const std::vector<TrajectorySample>& rows, size_t first, int k) {
+  AppliedWrench mean;
+  for (size_t i = first; i < first + k; ++i) {
+    const AppliedWrench& w = rows[i].applied;
+    mean.fx += w.fx / k;
+    mean.fy += w.fy / k;
+    mean.fz += w.fz / k;
+    mean.tx += w.tx / k;
+    mean.ty += w.ty / k;
+    mean.tz += w.tz / k;
+  }
+  return mean;
+}
+
 /// Every k-th row; step columns summarise the simulated steps of each log interval.
 std::vector<TrajectorySample> Decimate(const std::vector<TrajectorySample>& rows, int k) {
   std::vector<TrajectorySample> out;
@@ -37,6 +53,18 @@ std::vector<TrajectorySample> Decimate(const std::vector<TrajectorySample>& rows
     out.push_back(kept);
   }
   return out;
+}
+
+/// Gives log row r (simulated row r k) the mean wrench of its interval, and no push point
+/// (a mean of forces at moving points has none). An interval is complete when the row that
+/// ends it was simulated; the last row (no interval after it) keeps its own wrench.
+void SetIntervalMeanWrench(const std::vector<TrajectorySample>& simulated, int k,
+                           std::vector<TrajectorySample>* log_rows) {
+  for (size_t r = 0; r < log_rows->size(); ++r) {
+    const size_t first = r * k;
+    if (first + k < simulated.size()) (*log_rows)[r].applied = IntervalMean(simulated, first, k);
+    (*log_rows)[r].push_point_world.reset();
+  }
 }
 
 double Wrap(double theta) {
@@ -66,6 +94,10 @@ Trajectory MakeLog(const Trajectory& simulated, const LogSpec& spec) {
       log.extra_metadata.emplace_back("log_dt",
                                       Format(log.samples[1].t_s - log.samples[0].t_s));
     }
+  }
+  if (spec.wrench == LogWrench::kIntervalMean) {
+    SetIntervalMeanWrench(simulated.samples, spec.log_every, &log.samples);
+    log.extra_metadata.emplace_back("log_wrench", ToString(spec.wrench));
   }
   LogColumns& c = log.columns;
   c.pose = spec.motion != LogMotion::kVelocities;

@@ -8,14 +8,18 @@
 namespace slideid {
 
 /// Applies `spec` to `simulated` (a Simulate() trajectory, one row per simulated step):
-/// - keeps rows 0, k, 2k, ... (k = log_every). Each kept row's applied wrench is the one at
-///   its own time, which the log format holds over the next log interval: exact for a push
-///   constant over the interval, an approximation when it varies within it (as in real logs).
-///   The step columns of a kept row describe the log interval ending there: impulses summed
-///   over its simulated steps, ECP and sigma of its last step, `stick` only if all stuck;
+/// - keeps rows 0, k, 2k, ... (k = log_every). The step columns of a kept row describe the
+///   log interval ending there: impulses summed over its simulated steps, ECP and sigma of
+///   its last step, `stick` only if all stuck;
+/// - gives each row the wrench the log format holds over the next log interval
+///   (spec.wrench): the one at the row's time (at-row-time: exact for a push constant over
+///   the interval, an approximation when it varies within it, as in real logs), or the mean
+///   over that interval (interval-mean: the logged impulse is the applied one; the rows then
+///   carry no push point, and the last row keeps its own wrench);
 /// - sets the columns: poses / velocities / both; push point or total moments; step info
 ///   (spec.step_info, by default only for a noiseless log);
-/// - adds the noise (ApplyNoise) and its metadata (`noise_*`), and `log_every`, `log_dt`;
+/// - adds the noise (ApplyNoise) and its metadata (`noise_*`), `log_every` and `log_dt` when
+///   k > 1, and `log_wrench = interval-mean` for the interval mean;
 /// - for a poses-only log, sets the velocities from the poses as a reader would, so that the
 ///   returned trajectory equals the written-and-read-back one;
 /// - wraps theta to (-pi, pi] when asked (after the noise).

@@ -33,6 +33,7 @@ const char* const kKnownKeys[] = {
     "push.amplitude", "push.period",    "push.start",        "push.stop",
     "sim.dt",         "sim.duration",   "sim.log_every",
     "log.write",      "log.push",       "log.step_info",     "log.wrap_theta",
+    "log.wrench",
     "noise.pose",     "noise.angle",    "noise.velocity",    "noise.spin",
     "noise.force_relative",             "noise.force",       "noise.outlier_fraction",
     "noise.outlier",  "noise.seed",
@@ -503,6 +504,13 @@ LogSpec ReadLogSpec(const Reader& r, bool has_pushes) {
   }
   if (log.motion == LogMotion::kVelocities && log.push == LogPush::kPoint && has_pushes) {
     r.Fail("log.write", "velocities only needs [log] push = moments (push points need poses)");
+  }
+  if (r.Has("log.wrench") && !ParseLogWrench(r.Text("log.wrench"), &log.wrench)) {
+    r.Fail("log.wrench", "must be at-row-time or interval-mean");
+  }
+  if (log.wrench == LogWrench::kIntervalMean && log.push == LogPush::kPoint && has_pushes) {
+    r.Fail("log.wrench", "interval-mean needs [log] push = moments (a mean wrench has no push "
+                         "point)");
   }
   if (r.Has("log.step_info")) log.step_info = r.Bool("log.step_info", true);
   log.wrap_theta = r.Bool("log.wrap_theta", false);

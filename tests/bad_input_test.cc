@@ -22,7 +22,7 @@
 
 #include "io/push_log.h"
 #include "io/scene_file.h"
-#include "tests/synthetic_scenes.h"
+#include "tests/estimator_test_support.h"
 
 namespace slideid {
 namespace {

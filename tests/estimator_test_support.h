@@ -1,6 +1,7 @@
 #pragma once
-// What the estimator tests share: scenes with names, poses-only logs through the CSV
-// reader, and the check that an estimate recovers the truth.
+// What the tests share beyond the fixtures (scenes and tolerances, fixtures/): GoogleTest
+// helpers that simulate a scene, write and read back poses-only logs, and check that an
+// estimate recovers the truth.
 
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -11,14 +12,19 @@
 #include <vector>
 
 #include "estimator/estimate.h"
+#include "fixtures/synthetic_scenes.h"
+#include "fixtures/tolerances.h"
+#include "forward_model/simulator.h"
 #include "io/push_log.h"
-#include "tests/synthetic_scenes.h"
 
 namespace slideid::testing {
 
-// Simulated logs carry exact velocities and impulses, so every estimator fits them exactly
-// up to the step solver's convergence and rounding; 1e-6 relative leaves room for both.
-constexpr double kExactRelTol = 1e-6;
+/// The simulated trajectory of `scene`, with a test failure when the simulation fails.
+inline Trajectory SimulateOrFail(const Scene& scene) {
+  const SimulationResult r = Simulate(scene);
+  EXPECT_TRUE(r.summary.ok()) << r.summary.message;
+  return r.trajectory;
+}
 
 /// A path in a directory made once per test process (ctest runs processes in parallel).
 inline std::string TempPath(const std::string& name) {
@@ -43,15 +49,15 @@ inline Trajectory PosesOnly(const Trajectory& log, const std::string& name) {
   return read;
 }
 
-/// Every parameter identifiable, within kExactRelTol of the truth, inside a positive CI.
+/// Every parameter identifiable, within `rel_tol` of the truth, inside a positive CI.
 inline void ExpectRecovers(const EstimateResult& r, const ReducedFriction& truth,
-                           const std::string& what) {
+                           const std::string& what, double rel_tol = kExactRelTol) {
   EXPECT_TRUE(r.converged) << what << ": " << r.message;
   const double expected[3] = {truth.a, truth.b, truth.c};
   for (int i = 0; i < 3; ++i) {
     const ParameterEstimate& p = r.parameters[i];
     ASSERT_TRUE(p.identifiable) << what << " " << ParameterName(i) << ": " << p.note;
-    EXPECT_NEAR(p.value / expected[i], 1.0, kExactRelTol)
+    EXPECT_NEAR(p.value / expected[i], 1.0, rel_tol)
         << what << " " << ParameterName(i) << " = " << p.value << ", truth " << expected[i];
     EXPECT_GT(p.ci95_lo, 0.0);
     EXPECT_LE(p.ci95_lo, p.value);
@@ -73,19 +79,6 @@ inline void ExpectWithinStandardErrors(const EstimateResult& r, const ReducedFri
         << what << " " << ParameterName(i) << " = " << p.value << " +- " << p.stderr_value
         << ", truth " << expected[i];
   }
-}
-
-struct NamedScene {
-  const char* name;
-  Scene scene;
-};
-
-/// The scenes: free slide with spin, pushed, tilting moments, anisotropic b != 1.
-inline std::vector<NamedScene> FullyIdentifiableScenes() {
-  return {{"FreeSlideWithSpin", FreeSlideWithSpin()},
-          {"PushedSlider", PushedSlider()},
-          {"TiltingPush", TiltingPush()},
-          {"Anisotropic", Anisotropic()}};
 }
 
 }  // namespace slideid::testing

@@ -13,7 +13,7 @@
 #include "datasets/quasi_static_synth.h"
 #include "io/push_log.h"
 #include "io/wrench_twist_csv.h"
-#include "tests/synthetic_scenes.h"
+#include "tests/estimator_test_support.h"
 
 namespace slideid {
 namespace {

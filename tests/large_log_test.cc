@@ -11,8 +11,10 @@
 #include <string>
 
 #include "estimator/identify.h"
+#include "fixtures/synthetic_scenes.h"
+#include "fixtures/tolerances.h"
+#include "forward_model/simulator.h"
 #include "io/push_log.h"
-#include "tests/synthetic_scenes.h"
 
 #if defined(__SANITIZE_ADDRESS__)
 #define SLIDEID_UNDER_SANITIZER 1
@@ -34,8 +36,8 @@ constexpr double kMaxBytesPerRow = 4096;
 // reader gone quadratic or pathologically slow, never a loaded machine.
 constexpr double kMinRowsPerSecond = 20000;
 // Noise-free simulated log: the closed form and the equation error recover the truth to
-// rounding, much better than this.
-constexpr double kRelTol = 1e-6;
+// kExactRelTol (fixtures/tolerances.h).
+using testing::kExactRelTol;
 
 double PeakResidentBytes() {
   rusage usage{};
@@ -81,9 +83,9 @@ TEST(LargeLog, HundredThousandRowsReadInBoundedMemoryAndIdentifyTheTruth) {
     std::printf("%s: %.2f s, %d steps used\n", ToString(method), r.seconds, r.steps_used);
     ASSERT_TRUE(r.parameters[kA].identifiable && r.parameters[kB].identifiable &&
                 r.parameters[kC].identifiable);
-    EXPECT_NEAR(r.parameters[kA].value, truth.a, kRelTol * truth.a);
-    EXPECT_NEAR(r.parameters[kB].value, truth.b, kRelTol * truth.b);
-    EXPECT_NEAR(r.parameters[kC].value, truth.c, kRelTol * truth.c);
+    EXPECT_NEAR(r.parameters[kA].value, truth.a, kExactRelTol * truth.a);
+    EXPECT_NEAR(r.parameters[kB].value, truth.b, kExactRelTol * truth.b);
+    EXPECT_NEAR(r.parameters[kC].value, truth.c, kExactRelTol * truth.c);
   }
 }
 

@@ -218,7 +218,7 @@ TEST(MakeDatasetTool, HelpDocumentsEveryOptionAndItsDefault) {
         "--patch", "--mu-range", "--e-t-range", "--e-o-range", "--e-r-range", "--pushes",
         "--force-range", "--amplitude-range", "--period-range", "--push-duration-range",
         "--rest-range", "--height-range", "--spread", "--max-lever", "--through-cm", "--dt",
-        "--max-redraws", "--log-every", "--write", "--push-columns", "--noise-pose",
+        "--max-redraws", "--log-every", "--wrench", "--write", "--push-columns", "--noise-pose",
         "--noise-angle", "--noise-velocity", "--noise-spin", "--noise-force-relative",
         "--noise-force", "--noise-outlier-fraction", "--noise-outlier"}) {
     EXPECT_NE(help.find(option), std::string::npos) << option;
@@ -280,10 +280,23 @@ TEST(SimulateLogOptions, SamplingAndColumnsFollowTheOptions) {
                                     " --write velocities --out " + dir + "/free.csv"),
             0);  // a free slide has no push points: velocities alone are fine
   EXPECT_EQ(RunTool("simulate", "--scene " + Scene("example1_square.ini") + " --write all"), 2);
+  EXPECT_EQ(RunTool("simulate", "--scene " + Scene("example1_square.ini") + " --wrench mean"), 2);
   EXPECT_EQ(RunTool("simulate", "--scene " + Scene("example1_square.ini") + " --log-every 0"), 2);
   EXPECT_EQ(RunTool("simulate", "--scene " + Scene("example1_square.ini") + " --seed x"), 2);
   EXPECT_EQ(RunTool("simulate", "--scene " + Scene("example1_square.ini") + " --noise-pose -1"),
             2);
+}
+
+TEST(SimulateLogOptions, IntervalMeanWrenchNeedsMomentsAndIsRecorded) {
+  const std::string dir = TempDir("sim_wrench");
+  const std::string scene = "--scene " + Scene("example3_pushed_square.ini") +
+                            " --dt 0.001 --log-every 10 --wrench interval-mean";
+  ASSERT_EQ(RunTool("simulate", scene + " --push-columns moments --out " + dir + "/mean.csv"),
+            0);
+  const std::string text = ReadText(dir + "/mean.csv");
+  EXPECT_NE(text.find("# log_wrench = interval-mean\n"), std::string::npos);
+  EXPECT_NE(text.find("\nt,x,y,theta,vx,vy,wz,fx,fy,tx,ty,tz,"), std::string::npos);
+  EXPECT_EQ(RunTool("simulate", scene + " --out " + dir + "/points.csv"), 2);  // no mean point
 }
 
 }  // namespace

@@ -11,7 +11,7 @@
 
 #include "datasets/sensor_model.h"
 #include "io/push_log.h"
-#include "synthetic_scenes.h"
+#include "tests/estimator_test_support.h"
 
 namespace slideid {
 namespace {
@@ -246,6 +246,78 @@ TEST(SensorModel, DecimationKeepsEveryKthRowWithTheForceAtItsTime) {
     EXPECT_NEAR(a.pt, pt, 1e-15);
   }
   EXPECT_TRUE(log.columns.step_info);  // noiseless: the truth columns stay
+}
+
+// Sums of about a thousand doubles of one sign: rounding stays far below this, relative.
+constexpr double kSumRounding = 1e-12;
+
+TEST(SensorModel, IntervalMeanWrenchCarriesTheAppliedImpulseOfEachInterval) {
+  Scene scene = testing::PushedSlider();  // periodic, body-fixed push: it varies within 10 ms
+  scene.dt_s = 0.001;
+  const Trajectory fine = testing::SimulateOrFail(scene);
+  LogSpec spec;
+  spec.log_every = 10;
+  spec.push = LogPush::kMoments;
+  const Trajectory at_row = MakeLog(fine, spec);
+  spec.wrench = LogWrench::kIntervalMean;
+  const Trajectory log = MakeLog(fine, spec);
+  ASSERT_EQ(log.samples.size(), at_row.samples.size());
+  ASSERT_EQ(log.samples.size(), (fine.samples.size() - 1) / 10 + 1);
+  double logged_fx = 0, logged_tz = 0, scale_fx = 0, scale_tz = 0;
+  int differs = 0;
+  for (size_t j = 0; j + 1 < log.samples.size(); ++j) {
+    const TrajectorySample& a = log.samples[j];
+    EXPECT_EQ(a.t_s, at_row.samples[j].t_s);  // only the wrench differs
+    EXPECT_EQ(a.state.x, at_row.samples[j].state.x);
+    EXPECT_EQ(a.pt, at_row.samples[j].pt);
+    EXPECT_FALSE(a.push_point_world.has_value());  // a mean wrench has no point
+    double fx = 0, tz = 0;  // the mean over the 10 simulated steps the row starts
+    for (size_t i = 10 * j; i < 10 * j + 10; ++i) {
+      fx += fine.samples[i].applied.fx / 10;
+      tz += fine.samples[i].applied.tz / 10;
+    }
+    EXPECT_NEAR(a.applied.fx, fx, kSumRounding * (std::abs(fx) + 1e-300)) << "row " << j;
+    EXPECT_NEAR(a.applied.tz, tz, kSumRounding * (std::abs(tz) + 1e-300)) << "row " << j;
+    differs += a.applied.fx != at_row.samples[j].applied.fx;
+    const double interval_s = log.samples[j + 1].t_s - a.t_s;
+    logged_fx += a.applied.fx * interval_s;
+    logged_tz += a.applied.tz * interval_s;
+  }
+  EXPECT_GT(differs, static_cast<int>(log.samples.size()) / 2);  // not the row's own value
+  // The logged impulse over the whole log is the applied one.
+  double applied_fx = 0, applied_tz = 0;
+  for (size_t i = 0; i + 1 < fine.samples.size(); ++i) {
+    const double step_s = fine.samples[i + 1].t_s - fine.samples[i].t_s;
+    applied_fx += fine.samples[i].applied.fx * step_s;
+    applied_tz += fine.samples[i].applied.tz * step_s;
+    scale_fx += std::abs(fine.samples[i].applied.fx) * step_s;
+    scale_tz += std::abs(fine.samples[i].applied.tz) * step_s;
+  }
+  EXPECT_NEAR(logged_fx, applied_fx, kSumRounding * scale_fx);
+  EXPECT_NEAR(logged_tz, applied_tz, kSumRounding * scale_tz);
+  // The last row starts no interval: it keeps its own wrench.
+  EXPECT_EQ(log.samples.back().applied.fx, fine.samples.back().applied.fx);
+  EXPECT_TRUE(log.columns.moments);
+  EXPECT_FALSE(log.columns.push_point);
+  EXPECT_NE(Written(log).find("# log_wrench = interval-mean\n"), std::string::npos);
+  EXPECT_EQ(Written(at_row).find("log_wrench"), std::string::npos);
+
+  // Logged every step, the mean is the simulated wrench itself.
+  spec.log_every = 1;
+  const Trajectory every = MakeLog(fine, spec);
+  EXPECT_EQ(every.samples[123].applied.fx, fine.samples[123].applied.fx);
+  EXPECT_FALSE(every.samples[123].push_point_world.has_value());
+
+  spec.push = LogPush::kPoint;  // a mean wrench has no push point to write
+  try {
+    MakeLog(fine, spec);
+    ADD_FAILURE() << "interval-mean with push points must throw";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("interval-mean needs push = moments"), std::string::npos)
+        << e.what();
+  }
+  // Without pushes there is nothing to average: any push columns will do.
+  EXPECT_NO_THROW(MakeLog(testing::SimulateOrFail(testing::FreeSlideWithSpin()), spec));
 }
 
 TEST(SensorModel, ColumnsFollowTheSpec) {

@@ -16,7 +16,7 @@
 #include "forward_model/simulator.h"
 #include "io/push_log.h"
 #include "io/result_json.h"
-#include "synthetic_scenes.h"
+#include "tests/estimator_test_support.h"
 
 namespace slideid {
 namespace {

@@ -16,13 +16,16 @@
 #include "datasets/quasi_static_synth.h"
 #include "io/zhou_tripod_synth.h"
 #include "io/zhou_tripod_import.h"
+#include "tests/estimator_test_support.h"
 
 namespace slideid {
 namespace {
 
+using testing::ExpectRecovers;
+
 constexpr double kPi = 3.14159265358979323846;
-// Exact pairs fit exactly up to the solver's convergence and rounding.
-constexpr double kExactRelTol = 1e-6;
+// Exact pairs fit exactly up to the solver's convergence and rounding (fixtures/tolerances.h).
+using testing::kExactRelTol;
 // Pairs from simulated pushes average the wrench and take one twist over a push of ~10 mm
 // and up to 0.12 rad, while the body twist changes along it (the contact point and the
 // finger's direction turn with the slider); the mean wrench then sits slightly inside the
@@ -63,21 +66,6 @@ EstimateResult Fit(const WrenchTwistData& data, const std::vector<WrenchTwistPai
 EstimateResult Fit(const WrenchTwistData& data) { return Fit(data, data.Pairs()); }
 
 double Value(const EstimateResult& r, int i) { return r.parameters[i].value; }
-
-void ExpectNear(const EstimateResult& r, const ReducedFriction& truth, double rel_tol,
-                const std::string& what) {
-  EXPECT_TRUE(r.converged) << what << ": " << r.message;
-  const double expected[3] = {truth.a, truth.b, truth.c};
-  for (int i = 0; i < 3; ++i) {
-    const ParameterEstimate& p = r.parameters[i];
-    ASSERT_TRUE(p.identifiable) << what << " " << ParameterName(i) << ": " << p.note;
-    EXPECT_NEAR(p.value / expected[i], 1.0, rel_tol)
-        << what << " " << ParameterName(i) << " = " << p.value << ", truth " << expected[i];
-    EXPECT_GT(p.ci95_lo, 0.0);
-    EXPECT_LE(p.ci95_lo, p.value);
-    EXPECT_GE(p.ci95_hi, p.value);
-  }
-}
 
 /// Twists spread over all directions (seeded), L-scaled spin comparable to the speed.
 std::vector<Eigen::Vector3d> RandomTwists(int n, std::uint64_t seed) {
@@ -121,7 +109,7 @@ TEST(QuasiStaticFit, ExactPairsRecoverABC) {
     const EstimateResult r = Fit(data);
     EXPECT_EQ(r.method, EstimatorMethod::kQuasiStatic);
     EXPECT_EQ(r.steps_used, 12);
-    ExpectNear(r, truth, kExactRelTol, "exact pairs");
+    ExpectRecovers(r, truth, "exact pairs");
   }
 }
 
@@ -131,14 +119,15 @@ TEST(QuasiStaticFit, PairsFromSlowSimulatedPushesRecoverABC) {
     EXPECT_LT(p.max_speed_mps, 0.005) << "not quasi-static";
     EXPECT_GT(p.slide_steps, 1000);
   }
-  ExpectNear(Fit(data), kIsotropic, kQuasiStaticModelRelTol, "simulated pushes");
+  ExpectRecovers(Fit(data), kIsotropic, "simulated pushes", kQuasiStaticModelRelTol);
 }
 
 TEST(QuasiStaticFit, WorldFramePairsRecoverAWorldFixedAnisotropy) {
   // The simulator's b is along the world axes (model.md): pairs written in the world frame
   // see it; the block turns between pushes, so body-frame pairs would not.
   const WrenchTwistData data = SimulatedPairs(kAnisotropic, 12, PairFrame::kWorld);
-  ExpectNear(Fit(data), kAnisotropic, kQuasiStaticModelRelTol, "world-frame pairs, b = 1.3");
+  ExpectRecovers(Fit(data), kAnisotropic, "world-frame pairs, b = 1.3",
+                 kQuasiStaticModelRelTol);
 }
 
 TEST(QuasiStaticFit, IsotropicExactPairsGiveTheSameABCInAnyFrame) {

@@ -20,7 +20,7 @@
 #include <sstream>
 
 #include "io/push_log.h"
-#include "tests/synthetic_scenes.h"
+#include "tests/estimator_test_support.h"
 
 namespace slideid {
 namespace {

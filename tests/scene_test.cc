@@ -286,11 +286,13 @@ TEST(Scene, LogAndNoiseSectionsSetTheLogSpec) {
   EXPECT_EQ(plain.log.log_every, 1);
   EXPECT_EQ(plain.log.motion, LogMotion::kBoth);
   EXPECT_EQ(plain.log.push, LogPush::kPoint);
+  EXPECT_EQ(plain.log.wrench, LogWrench::kAtRowTime);
   EXPECT_FALSE(plain.log.step_info.has_value());
   EXPECT_TRUE(plain.log.noise.IsZero());
 
   std::string text = SceneText(
-      "[log]\nwrite = poses\npush = moments\nstep_info = yes\nwrap_theta = true\n"
+      "[log]\nwrite = poses\npush = moments\nwrench = interval-mean\nstep_info = yes\n"
+      "wrap_theta = true\n"
       "[noise]\npose = 3e-4\nangle = 3e-3\nvelocity = 0.01\nspin = 0.1\n"
       "force_relative = 0.02\nforce = 0.05\noutlier_fraction = 0.01\noutlier = 0.02\n"
       "seed = 18446744073709551615\n");
@@ -299,6 +301,7 @@ TEST(Scene, LogAndNoiseSectionsSetTheLogSpec) {
   EXPECT_EQ(s.log.log_every, 10);
   EXPECT_EQ(s.log.motion, LogMotion::kPoses);
   EXPECT_EQ(s.log.push, LogPush::kMoments);
+  EXPECT_EQ(s.log.wrench, LogWrench::kIntervalMean);
   EXPECT_EQ(s.log.step_info, std::optional<bool>(true));
   EXPECT_TRUE(s.log.wrap_theta);
   EXPECT_EQ(s.log.noise.pose_m, 3e-4);
@@ -319,6 +322,13 @@ TEST(Scene, BadLogAndNoiseValuesNameFileKeyAndValue) {
   ExpectError(SceneText("[log]\nwrite = velocities\n[push]\npoint = 0 0\nforce = 1\n"),
               "[log] write", "push = moments");
   EXPECT_EQ(ErrorOf(SceneText("[log]\nwrite = velocities\n")), "");  // no push, no points
+  ExpectError(SceneText("[log]\nwrench = average\n"), "[log] wrench = average",
+              "at-row-time or interval-mean");
+  ExpectError(SceneText("[log]\nwrench = interval-mean\n[push]\npoint = 0 0\nforce = 1\n"),
+              "[log] wrench = interval-mean", "push = moments");
+  EXPECT_EQ(ErrorOf(SceneText("[log]\nwrench = interval-mean\npush = moments\n[push]\n"
+                              "point = 0 0\nforce = 1\n")),
+            "");
   ExpectError(SceneText("[log]\nstep_info = maybe\n"), "[log] step_info", "true or false");
   ExpectError(SceneText("[noise]\npose = -1e-3\n"), "[noise] pose = -1e-3", "must be >= 0");
   ExpectError(SceneText("[noise]\nangle = 3 mrad\n"), "[noise] angle", "not a number");

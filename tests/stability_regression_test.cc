@@ -12,28 +12,27 @@
 
 #include "estimator/equation_error.h"
 #include "estimator/trajectory_fit.h"
+#include "fixtures/scaled_scenes.h"
+#include "fixtures/tolerances.h"
 #include "forward_model/simulator.h"
 #include "forward_model/step_solver.h"
-#include "tests/synthetic_scenes.h"
+#include "tests/estimator_test_support.h"
 
 namespace slideid {
 namespace {
 
-constexpr double kEps = std::numeric_limits<double>::epsilon();
-// The solver's tolerance (StepOptions default): a converged step meets it.
-constexpr double kStepTolerance = 1e-12;
-// The paper-form residuals of SlidingEquationResiduals, as in step_solver_test.cc.
-constexpr double kIndependentTolerance = 1e-10;
-// Kinetic energy without push never rises by more than this relative (issue 5).
-constexpr double kEnergyTolerance = 1e-12;
-// Noiseless identification reaches the truth to this relative error (issue 3).
-constexpr double kNoiselessTolerance = 1e-6;
-constexpr double kGravity = 9.81;
+// The sweep's tolerances and plate (fixtures/): a converged step, its paper-form residuals,
+// the energy without push, noiseless identification; a uniform plate on a 0.1 m square.
+using testing::kEnergyTolerance;
+using testing::kExactRelTol;
+using testing::kGravity_mps2;
+using testing::kIndependentTolerance;
+using testing::kPlateHalfSide_m;
+using testing::kStepTolerance;
+using testing::SquarePlate;
+using testing::TopplingLimit;
 
-// A uniform 0.1 m square plate: I = m (w^2 + l^2) / 12, as in the sweep.
-SliderProperties Plate(double mass_kg, double com_height_m) {
-  return {mass_kg, mass_kg * 0.01 / 6.0, com_height_m, kGravity};
-}
+constexpr double kEps = std::numeric_limits<double>::epsilon();
 
 FrictionParameters Friction(double mu, double b, double c) { return {mu, 1.0, b, c}; }
 
@@ -71,8 +70,8 @@ StepResult SolveAndCheck(const Case& c, bool special_cases = true) {
 // moments when q_z > 0). As the sweep's boundary grid builds them.
 Case BoundaryStart(double factor, double mu, double b, double c, double h, double mass,
                    double qz, bool pushed, double r, double phi) {
-  Case k{Plate(mass, qz), Friction(mu, b, c), {}, {}, h};
-  const double P = mu * h * mass * kGravity;
+  Case k{SquarePlate(mass, qz), Friction(mu, b, c), {}, {}, h};
+  const double P = mu * h * mass * kGravity_mps2;
   const double t = std::sqrt(1 - r * r);
   const Eigen::Vector3d p = factor * P * Eigen::Vector3d(t * std::cos(phi), b * t * std::sin(phi), c * r);
   if (!pushed) {
@@ -84,7 +83,7 @@ Case BoundaryStart(double factor, double mu, double b, double c, double h, doubl
     k.applied.fy = -p(1) / h;
     k.applied.tx = qz * k.applied.fy;
     k.applied.ty = -qz * k.applied.fx;
-    const double pn = h * mass * kGravity;
+    const double pn = h * mass * kGravity_mps2;
     k.applied.tz = (-p(2) - (p(0) * h * k.applied.tx + p(1) * h * k.applied.ty) / pn) / h;
   }
   return k;
@@ -117,7 +116,7 @@ TEST(StabilityRegression, FarEcpWithFastSpinConverges) {
   // Failure 1: CM 5 m up (the toppling limit for a = 1e-3, b = 10), pushed at ground level,
   // spin 1e3 rad/s, c = 1e-4 m: the ECP sits 7.5 mm off the CM and the spin about it, not
   // V = 0.1 m/s, sets the slip speed (s = 56 m/s). Newton failed from every guess.
-  const Case c{Plate(1e-3, 5.0), Friction(1e-3, 10, 1e-4),
+  const Case c{SquarePlate(1e-3, 5.0), Friction(1e-3, 10, 1e-4),
                {0.1, -0.2, 0.3, 7.347628968172119e-09, -6.7832402689332716e-09, -1000},
                {-1.4712062683975429e-05, 2.940009911168796e-07, 0, 1.4700049555843979e-06,
                 7.3560313419877149e-05, 2.8344020268450013e-07},
@@ -173,7 +172,7 @@ TEST(StabilityRegression, TinyTranslationUnderFastSpinIsSolvedComponentwise) {
   // Failure 4: spin 1e3 rad/s with c = 0.5 m makes V = 500 m/s; the translation (1e-8 m/s)
   // was accepted from the first guess with a 17% error in its own equation, which the
   // residual relative to V (1e-13) could not see.
-  const Case c{Plate(1e-3, 50.0), Friction(1e-3, 0.1, 0.5),
+  const Case c{SquarePlate(1e-3, 50.0), Friction(1e-3, 0.1, 0.5),
                {0.1, -0.2, 0.3, -9.7339279261791446e-09, 2.2914290580224769e-09, 1000},
                {},
                1e-5};
@@ -200,7 +199,7 @@ TEST(StabilityRegression, SpinDominatedSlideDecaysToSubnormalTranslationWithoutF
   // Failure 6 (of an intermediate fix): spin-dominated friction decays the translation
   // geometrically to subnormal speeds (1e-313 m/s) while the slider keeps spinning; a
   // residual measured against subnormal terms lost its digits.
-  const Case c{Plate(1e-3, 0.0), Friction(2, 10, 1e-4),
+  const Case c{SquarePlate(1e-3, 0.0), Friction(2, 10, 1e-4),
                {0, 0, 0, -9.9439694096918715e-09, 1.0571056612809814e-09, -1000}, {}, 0.1};
   ExpectEnergyNeverRises(c, 300);
 }
@@ -208,11 +207,12 @@ TEST(StabilityRegression, SpinDominatedSlideDecaysToSubnormalTranslationWithoutF
 TEST(StabilityRegression, TinyMassNeitherUnderflowsTheStickTestNorTheJacobian) {
   // Failure 7: at m = 1e-300 kg the squares in the stick test underflowed (0 <= 0: a
   // sliding slider "stuck"), and p_n I underflowed in the Jacobian (0 / 0 = NaN).
-  const Case c{Plate(1e-300, 0.03), Friction(0.3, 1, 0.03), {0, 0, 0, 0.6, 0.8, 10}, {}, 0.01};
+  const Case c{SquarePlate(1e-300, 0.03), Friction(0.3, 1, 0.03), {0, 0, 0, 0.6, 0.8, 10}, {},
+               0.01};
   const StepResult r = SolveAndCheck(c);
   EXPECT_EQ(r.mode, StepMode::kSlide);
   // The same slider with m = 1 kg: the motion is independent of the mass.
-  const Case unit{Plate(1.0, 0.03), c.friction, c.state, {}, 0.01};
+  const Case unit{SquarePlate(1.0, 0.03), c.friction, c.state, {}, 0.01};
   const StepResult u = SolveAndCheck(unit);
   EXPECT_NEAR(r.state.vx, u.state.vx, 1e-12);
   EXPECT_NEAR(r.state.wz, u.state.wz, 1e-10);
@@ -220,7 +220,7 @@ TEST(StabilityRegression, TinyMassNeitherUnderflowsTheStickTestNorTheJacobian) {
 
 TEST(StabilityRegression, HugeSpeedDoesNotOverflowTheVelocityScale) {
   // Failure 8: V = sqrt(sum of squares) overflowed at 1e200 m/s and the step failed.
-  const Case c{Plate(1.0, 0.03), Friction(0.3, 1, 0.03), {0, 0, 0, 1e200, 1e200, 1e200}, {},
+  const Case c{SquarePlate(1.0, 0.03), Friction(0.3, 1, 0.03), {0, 0, 0, 1e200, 1e200, 1e200}, {},
                0.01};
   const StepResult r = SolveAndCheck(c);
   EXPECT_EQ(r.mode, StepMode::kSlide);
@@ -230,7 +230,7 @@ TEST(StabilityRegression, DomainLimitsAreNamedNeverSilent) {
   // Failure 9: non-finite input went through as "did not converge (relative residual
   // nan)", and scales beyond double as a NaN residual. Now: bad input throws naming the
   // field; a scale outside the normal range of double is a status that names it.
-  const SliderProperties s = Plate(1.0, 0.03);
+  const SliderProperties s = SquarePlate(1.0, 0.03);
   const FrictionParameters f = Friction(0.3, 1, 0.03);
   const PlanarState moving{0, 0, 0, 0.6, 0.8, 10};
   try {
@@ -242,7 +242,7 @@ TEST(StabilityRegression, DomainLimitsAreNamedNeverSilent) {
   EXPECT_THROW(SolveStep(s, f, moving, {INFINITY, 0, 0, 0, 0, 0}, 0.01), std::invalid_argument);
   // p_n subnormal, then zero: a status naming p_n.
   for (double h : {1e-10, 1e-30}) {
-    const StepResult r = SolveStep(Plate(1e-300, 0.03), f, moving, {}, h);
+    const StepResult r = SolveStep(SquarePlate(1e-300, 0.03), f, moving, {}, h);
     EXPECT_EQ(r.status, StepStatus::kNoConvergence);
     EXPECT_NE(r.message.find("p_n"), std::string::npos) << r.message;
     EXPECT_NE(r.message.find("range of double"), std::string::npos) << r.message;
@@ -262,7 +262,7 @@ TEST(StabilityRegression, TrajectoryFitRecoversSpinParameterFeltOnlyWeakly) {
   // 2 mrad/s): Ceres' absolute gradient tolerance stopped the fit with c 2.7e-5 off and
   // its 95% interval excluding the truth.
   Scene scene = testing::PushedSlider();
-  scene.slider = Plate(1000.0, 0.03);
+  scene.slider = SquarePlate(1000.0, 0.03);
   scene.pushes[0].height_m = 0.03;
   const Trajectory log = testing::SimulateOrFail(scene);
   IdentifyOptions options;
@@ -271,7 +271,7 @@ TEST(StabilityRegression, TrajectoryFitRecoversSpinParameterFeltOnlyWeakly) {
   const double t[] = {truth.a, truth.b, truth.c};
   for (int i = 0; i < 3; ++i) {
     ASSERT_TRUE(r.parameters[i].identifiable) << ParameterName(i);
-    EXPECT_NEAR(r.parameters[i].value / t[i], 1.0, kNoiselessTolerance) << ParameterName(i);
+    EXPECT_NEAR(r.parameters[i].value / t[i], 1.0, kExactRelTol) << ParameterName(i);
   }
 }
 
@@ -279,11 +279,11 @@ TEST(StabilityRegression, TrajectoryFitRecoversSpinParameterFeltOnlyWeakly) {
 // way: c 5.5e-5 off with an interval that excluded the truth.
 TEST(StabilityRegression, EquationErrorRecoversSpinParameterFeltOnlyWeakly) {
   Scene scene = testing::PushedSlider();
-  scene.slider = Plate(1000.0, 0.03);
+  scene.slider = SquarePlate(1000.0, 0.03);
   scene.pushes[0].height_m = 0.03;
   const Trajectory log = testing::SimulateOrFail(scene);
   const EstimateResult r = EstimateEquationError(log, IdentifyOptions{});
-  EXPECT_NEAR(r.parameters[kC].value / scene.friction.e_r, 1.0, kNoiselessTolerance);
+  EXPECT_NEAR(r.parameters[kC].value / scene.friction.e_r, 1.0, kExactRelTol);
 }
 
 // ---------------------------------------------------------------------------------------
@@ -306,11 +306,12 @@ TEST(StabilityExtremes, GeneralStepsAtTheEndsOfEveryAxis) {
   for (double v : {1e-5, 0.1}) cases.push_back({"h", 1, base.mu, base.b, base.c, v, 1, 10});
   for (double v : {1e-8, 1e2}) cases.push_back({"speed", 1, base.mu, base.b, base.c, base.h, v, 10});
   for (const Axis& a : cases) {
-    const double qz = 0.05 / (a.mu * std::max(1.0, a.b));  // at the toppling limit
-    Case c{Plate(a.mass, qz), Friction(a.mu, a.b, a.c),
+    const double qz = TopplingLimit(a.mu, a.b);
+    Case c{SquarePlate(a.mass, qz), Friction(a.mu, a.b, a.c),
            {0.1, -0.2, 0.3, 0.6 * a.speed, -0.8 * a.speed, a.spin}, {}, a.h};
-    const double force = 1.5 * a.mu * a.mass * kGravity;
-    const AppliedWrench push = WrenchFromForceAt(0.8 * force, 0.6 * force, 0, -0.05, 0.02, -qz);
+    const double force = 1.5 * a.mu * a.mass * kGravity_mps2;
+    const AppliedWrench push =
+        WrenchFromForceAt(0.8 * force, 0.6 * force, 0, -kPlateHalfSide_m, 0.02, -qz);
     for (bool pushed : {false, true}) {
       c.applied = pushed ? push : AppliedWrench{};
       for (bool special : {true, false}) {
@@ -328,7 +329,7 @@ TEST(StabilityExtremes, GeneralStepsAtTheEndsOfEveryAxis) {
 
 TEST(StabilityExtremes, StepFarLongerThanTheTimeToStopSticksAtOnce) {
   // h = 0.1 s, speed 1e-8 m/s: the stopping impulse is 1e-7 of the ellipsoid.
-  const Case c{Plate(1.0, 0.03), Friction(0.3, 1, 0.03), {0, 0, 0, 1e-8, 0, 1e-3}, {}, 0.1};
+  const Case c{SquarePlate(1.0, 0.03), Friction(0.3, 1, 0.03), {0, 0, 0, 1e-8, 0, 1e-3}, {}, 0.1};
   const StepResult r = SolveAndCheck(c);
   EXPECT_EQ(r.mode, StepMode::kStick);
   EXPECT_EQ(r.state.vx, 0.0);
@@ -361,13 +362,8 @@ TEST(StabilityExtremes, IdentificationAtTheCornersOfTheParameterBox) {
     double mu, b, c, mass, h;
   };
   for (const Corner& k : {Corner{1e-3, 0.1, 1e-4, 1e-3, 1e-4}, Corner{2, 10, 0.5, 1e3, 0.01}}) {
-    Scene scene = testing::FreeSlideWithSpin();
-    scene.slider = Plate(k.mass, std::min(0.03, 0.4 * 0.05 / (k.mu * std::max(1.0, k.b))));
-    scene.friction = Friction(k.mu, k.b, k.c);
-    scene.dt_s = k.h;
-    scene.duration_s = std::clamp(std::round(0.45 / k.h), 40.0, 3000.0) * k.h;
-    const double speed = (k.mu / 0.3) * (scene.duration_s / 0.45);
-    scene.initial = {0, 0, 0, 1.2 * speed, 0.8 * speed, 12.0 * speed};
+    const Scene scene = testing::ScaledScene(/*pushed=*/false, testing::SceneScaling::kSimilar,
+                                             {k.mu, k.b, k.c, k.mass, k.h});
     const Trajectory log = testing::SimulateOrFail(scene);
     const double t[] = {k.mu, k.b, k.c};
     for (EstimatorMethod method : {EstimatorMethod::kTrajectory, EstimatorMethod::kEquationError}) {
@@ -380,7 +376,7 @@ TEST(StabilityExtremes, IdentificationAtTheCornersOfTheParameterBox) {
         SCOPED_TRACE(::testing::Message() << ToString(method) << " mu " << k.mu << " "
                                           << ParameterName(i));
         ASSERT_TRUE(r.parameters[i].identifiable) << r.parameters[i].note;
-        EXPECT_NEAR(r.parameters[i].value / t[i], 1.0, kNoiselessTolerance);
+        EXPECT_NEAR(r.parameters[i].value / t[i], 1.0, kExactRelTol);
       }
     }
   }

@@ -11,7 +11,8 @@
 #include <unsupported/Eigen/NonLinearOptimization>
 
 #include "forward_model/quasi_static.h"
-#include "tests/random_step_cases.h"
+#include "fixtures/random_step_cases.h"
+#include "fixtures/tolerances.h"
 
 namespace slideid {
 namespace {
@@ -22,6 +23,9 @@ constexpr int kRandomCases = 3000;
 
 using testing::Case;
 using testing::CaseGenerator;
+using testing::kEnergyTolerance;
+using testing::kIndependentTolerance;
+using testing::kStepTolerance;
 
 StepResult Solve(const Case& c, bool special_cases = true) {
   StepOptions options;
@@ -46,13 +50,13 @@ TEST(StepSolver, ResidualOfTheFourEquationsIsTinyOverRandomGeneralCases) {
     const Case c = gen.General();
     const StepResult r = Solve(c);
     ASSERT_TRUE(r.ok()) << r.message << " case " << i;
-    EXPECT_LE(r.residual, 1e-12);
+    EXPECT_LE(r.residual, kStepTolerance);
     if (r.mode == StepMode::kStick) continue;
     ++slides;
     EXPECT_GT(r.sigma, 0.0);
     const Eigen::Vector4d res = SlidingEquationResiduals(c.slider, c.friction, c.state,
                                                          c.applied, c.dt_s, Unknowns(r));
-    EXPECT_LT(res.cwiseAbs().maxCoeff(), 1e-10) << "case " << i << " residuals "
+    EXPECT_LT(res.cwiseAbs().maxCoeff(), kIndependentTolerance) << "case " << i << " residuals "
                                                 << res.transpose();
   }
   EXPECT_GT(slides, kRandomCases / 2);  // the sample exercises sliding, not only sticking
@@ -71,7 +75,7 @@ TEST(StepSolver, GeneralSolverAgreesWithDecoupledRootWhenCmOnPlaneAndNoTilt) {
     ASSERT_EQ(fast.path, StepPath::kDecoupled);
     ASSERT_EQ(general.path, StepPath::kGeneral);
     EXPECT_LT(MaxRelativeDifference(fast, general), kAgreement) << "case " << i;
-    EXPECT_LT(fast.residual, 1e-12);
+    EXPECT_LT(fast.residual, kStepTolerance);
     ++compared;
   }
   EXPECT_GT(compared, 100);
@@ -238,7 +242,7 @@ TEST(StepSolver, KineticEnergyNeverIncreasesWithoutPush) {
       s = r.state;
       const double e = 0.5 * c.slider.mass_kg * (s.vx * s.vx + s.vy * s.vy) +
                        0.5 * c.slider.inertia_kgm2 * s.wz * s.wz;
-      EXPECT_LE(e, energy * (1 + 1e-12)) << "trial " << trial << " step " << i;
+      EXPECT_LE(e, energy * (1 + kEnergyTolerance)) << "trial " << trial << " step " << i;
       energy = e;
     }
   }

@@ -12,15 +12,15 @@
 #include "datasets/sensor_model.h"
 #include "estimator/closed_form.h"
 #include "io/scene_file.h"
-#include "tests/synthetic_scenes.h"
+#include "tests/estimator_test_support.h"
 
 namespace slideid {
 namespace {
 
 using testing::SimulateOrFail;
 
-// Noiseless logs: the fit must reach the truth to 1e-6 relative (issue 3).
-constexpr double kNoiselessTolerance = 1e-6;
+// Noiseless logs: the fit must reach the truth to kExactRelTol (fixtures/tolerances.h).
+using testing::kExactRelTol;
 
 std::array<double, 3> Truth(const Scene& scene) {
   const ReducedFriction r = ReducedFriction::From(scene.friction);
@@ -39,7 +39,7 @@ void ExpectRecovers(const Scene& scene, const Trajectory& log, const IdentifyOpt
   const auto truth = Truth(scene);
   for (int i = 0; i < 3; ++i) {
     ASSERT_TRUE(r.parameters[i].identifiable) << ParameterName(i) << ": " << r.parameters[i].note;
-    EXPECT_NEAR(r.parameters[i].value / truth[i], 1.0, kNoiselessTolerance) << ParameterName(i);
+    EXPECT_NEAR(r.parameters[i].value / truth[i], 1.0, kExactRelTol) << ParameterName(i);
   }
 }
 
@@ -77,7 +77,7 @@ TEST(TrajectoryFit, PureTranslationReportsSpinParameterNotIdentifiableAndRecover
   EXPECT_FALSE(r.parameters[kC].identifiable);
   EXPECT_TRUE(std::isnan(r.parameters[kC].value));
   ASSERT_TRUE(r.parameters[kA].identifiable);
-  EXPECT_NEAR(r.parameters[kA].value / Truth(scene)[0], 1.0, kNoiselessTolerance);
+  EXPECT_NEAR(r.parameters[kA].value / Truth(scene)[0], 1.0, kExactRelTol);
 }
 
 TEST(TrajectoryFit, MotionAlongOneAxisReportsBAndCNotIdentifiable) {
@@ -86,7 +86,7 @@ TEST(TrajectoryFit, MotionAlongOneAxisReportsBAndCNotIdentifiable) {
   EXPECT_FALSE(r.parameters[kB].identifiable);
   EXPECT_FALSE(r.parameters[kC].identifiable);
   ASSERT_TRUE(r.parameters[kA].identifiable);
-  EXPECT_NEAR(r.parameters[kA].value / Truth(scene)[0], 1.0, kNoiselessTolerance);
+  EXPECT_NEAR(r.parameters[kA].value / Truth(scene)[0], 1.0, kExactRelTol);
 }
 
 // Typical motion capture: 0.3 mm on position, 3 mrad on yaw; poses only.
