@@ -8,6 +8,8 @@
 namespace slideid {
 
 /// Applies `spec` to `simulated` (a Simulate() trajectory, one row per simulated step):
+/// - delays the push stream by spec.noise.force_delay_s, on the simulated rows: each row's
+///   wrench and push point become those in force at its time minus the delay;
 /// - keeps rows 0, k, 2k, ... (k = log_every). Each kept row's applied wrench is the one at
 ///   its own time, which the log format holds over the next log interval: exact for a push
 ///   constant over the interval, an approximation when it varies within it (as in real logs).
@@ -15,7 +17,9 @@ namespace slideid {
 ///   over its simulated steps, ECP and sigma of its last step, `stick` only if all stuck;
 /// - sets the columns: poses / velocities / both; push point or total moments; step info
 ///   (spec.step_info, by default only for a noiseless log);
-/// - adds the noise (ApplyNoise) and its metadata (`noise_*`), and `log_every`, `log_dt`;
+/// - adds the noise (ApplyNoise), then the force offset spec.noise.force_bias_* to every
+///   row (at its push point, lever from the noisy pose, as a reader computes it), and their
+///   metadata (`noise_*`), and `log_every`, `log_dt`;
 /// - for a poses-only log, sets the velocities from the poses as a reader would, so that the
 ///   returned trajectory equals the written-and-read-back one;
 /// - wraps theta to (-pi, pi] when asked (after the noise).
