@@ -25,12 +25,17 @@ std::vector<std::pair<const char*, double>> Fields(const NoiseSpec& n) {
           {"outlier_m", n.outlier_m}};
 }
 
-/// The defects that are set, with their metadata names (without the noise_ prefix).
+/// The push stream's defects with their metadata names (without the noise_ prefix).
+std::vector<std::pair<const char*, double>> AllDefects(const NoiseSpec& n) {
+  return {{"force_bias_x_N", n.force_bias_x_N},
+          {"force_bias_y_N", n.force_bias_y_N},
+          {"force_delay_s", n.force_delay_s}};
+}
+
+/// The defects that are set.
 std::vector<std::pair<const char*, double>> Defects(const NoiseSpec& n) {
   std::vector<std::pair<const char*, double>> out;
-  for (const auto& [name, value] : {std::pair<const char*, double>{"force_bias_x_N", n.force_bias_x_N},
-                                    {"force_bias_y_N", n.force_bias_y_N},
-                                    {"force_delay_s", n.force_delay_s}}) {
+  for (const auto& [name, value] : AllDefects(n)) {
     if (value != 0.0) out.emplace_back(name, value);
   }
   return out;
@@ -54,9 +59,7 @@ bool NoiseSpec::IsValid(std::string* why) const {
       return false;
     }
   }
-  for (const auto& [name, value] : {std::pair<const char*, double>{"force_bias_x_N", force_bias_x_N},
-                                    {"force_bias_y_N", force_bias_y_N},
-                                    {"force_delay_s", force_delay_s}}) {
+  for (const auto& [name, value] : AllDefects(*this)) {
     if (!std::isfinite(value)) {
       if (why) *why = std::string("noise ") + name + " = " + Format(value) + ": must be finite";
       return false;
@@ -87,7 +90,9 @@ std::string NoiseSpec::Describe() const {
     out += std::string(name) + "=" + Format(value) + " ";
   }
   out += "seed=" + std::to_string(seed);
-  for (const auto& [name, value] : Defects(*this)) out += std::string(" ") + name + "=" + Format(value);
+  for (const auto& [name, value] : Defects(*this)) {
+    out += std::string(" ") + name + "=" + Format(value);
+  }
   return out;
 }
 
