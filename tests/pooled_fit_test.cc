@@ -255,10 +255,15 @@ TEST(PooledIdentifyTool, SkipBadListsTheUnreadableLogWithItsReasonInTableAndJson
     EXPECT_NE(log.skip_reason.find("b.csv:6: column 'x'"), std::string::npos) << log.skip_reason;
   }
   EXPECT_EQ(skipped, 1);
-  // --logs DIR reads the same three files.
+  // --logs DIR reads the same three files, and not the manifests make-dataset and
+  // import-log write beside their logs.
+  std::ofstream(dir + "/truth.csv") << "file,mass\nlog_0000.csv,0.8\n";
+  std::ofstream(dir + "/import_report.csv") << "file,status\n";
   o = RunIdentify("--logs " + dir + " --skip-bad");
   EXPECT_EQ(o.exit_code, 0) << o.out;
   EXPECT_NE(o.out.find("b.csv: skipped ("), std::string::npos) << o.out;
+  EXPECT_EQ(o.out.find("truth.csv"), std::string::npos) << o.out;
+  EXPECT_EQ(o.out.find("import_report.csv"), std::string::npos) << o.out;
 }
 
 TEST(PooledIdentifyTool, WithoutSkipBadAnUnreadableLogFailsTheRunNamingIt) {
