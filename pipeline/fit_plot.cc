@@ -72,6 +72,20 @@ double NiceStep(double span) {
   return 10.0 * decade;
 }
 
+/// Tick marks 1, 2 and 5 times the powers of ten within [x0, x1] (a log axis), as a gnuplot
+/// tic list: gnuplot's own give one label a decade, often none in a panel.
+std::string LogTicks(double x0, double x1) {
+  std::string out;
+  for (double decade = std::pow(10.0, std::floor(std::log10(x0))); decade <= x1; decade *= 10) {
+    for (double m : {1.0, 2.0, 5.0}) {
+      const double x = m * decade;
+      if (x < x0 || x > x1) continue;
+      out += (out.empty() ? "" : ", ") + std::string("\"") + Num(x) + "\" " + Num(x);
+    }
+  }
+  return "(" + out + ")";
+}
+
 std::string ShortName(const std::string& name) {
   return name.size() <= kMaxNameChars ? name : "..." + name.substr(name.size() - kMaxNameChars + 3);
 }
@@ -238,7 +252,7 @@ std::string FitPlotScript(const EstimateResult& r, const FitPlotOptions& o,
       << (j == 0 ? ytics : "unset ytics\nset ytics 1 format '' scale 0.5\n")
       << (log_axis ? "set logscale x\n" : "unset logscale x\n")
       << "set xrange [" << Num(x0) << ":" << Num(x1) << "]\n"
-      << (log_axis ? "set xtics autofreq\n" : "set xtics " + Num(NiceStep(x1 - x0)) + "\n")
+      << "set xtics " << (log_axis ? LogTicks(x0, x1) : Num(NiceStep(x1 - x0))) << "\n"
       << "set xlabel " << Quote(std::string(ParameterName(i)) + "   (" + kLongNames[i] + ")")
       << "\nset title " << Quote(AgreementText(r, i)) << " textcolor rgb '"
       << (r.heterogeneity[i].tested && !r.heterogeneity[i].consistent ? kDisagreeColour
