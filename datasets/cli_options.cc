@@ -37,6 +37,13 @@ const NoiseOption kNoiseOptions[] = {
     {"noise-outlier-fraction", &NoiseSpec::outlier_fraction,
      "fraction of rows whose pose jumps (motion-capture glitch)"},
     {"noise-outlier", &NoiseSpec::outlier_m, "size of such a jump [m]"},
+    {"force-bias-x", &NoiseSpec::force_bias_x_N,
+     "constant offset of the force channel's fx, also at rest [N] (any sign)"},
+    {"force-bias-y", &NoiseSpec::force_bias_y_N,
+     "constant offset of the force channel's fy, also at rest [N] (any sign)"},
+    {"force-delay", &NoiseSpec::force_delay_s,
+     "delay of the push stream against the poses: the force logged at t is the one at "
+     "t - S [s] (negative: it leads)"},
 };
 
 ValueRange RangeOption(const po::variables_map& vm, const char* name) {

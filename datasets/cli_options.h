@@ -11,7 +11,8 @@
 
 namespace slideid::cli {
 
-/// Adds --log-every, --wrench, --write, --push-columns, --step-info, --wrap-theta, --noise-* and,
+/// Adds --log-every, --wrench, --write, --push-columns, --step-info, --wrap-theta, --noise-*,
+/// the push stream's defects --force-bias-x, --force-bias-y, --force-delay and,
 /// when `with_seed`, --seed (the noise seed). `defaults`, when given, are quoted in the
 /// help text; an option not given leaves the value it overrides unchanged.
 void AddLogOptions(boost::program_options::options_description* options,

@@ -8,6 +8,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <sstream>
 #include <stdexcept>
 
@@ -256,14 +257,12 @@ std::string PlotScript(const Trajectory& log, const Trajectory* fit, const PlotO
   return s.str();
 }
 
-void PlotLog(const Trajectory& log, const Trajectory* fit, const PlotOptions& options,
-             const std::string& fit_label) {
-  std::string why;
-  if (!options.IsValid(&why)) throw std::invalid_argument(why);
-  if (log.samples.size() < 2) throw std::invalid_argument("plot: the log has fewer than 2 rows");
-  std::string dir = options.work_dir;
+void RunGnuplot(const std::string& gnuplot, const std::string& work_dir,
+                const std::string& out_png,
+                const std::function<std::string(const std::string& dir)>& write_data) {
+  std::string dir = work_dir;
   if (dir.empty()) {
-    std::string pattern = std::filesystem::temp_directory_path().string() + "/plot-log-XXXXXX";
+    std::string pattern = std::filesystem::temp_directory_path().string() + "/plot-XXXXXX";
     if (mkdtemp(pattern.data()) == nullptr) {
       throw std::runtime_error("plot: cannot create a temporary directory");
     }
@@ -277,25 +276,24 @@ void PlotLog(const Trajectory& log, const Trajectory* fit, const PlotOptions& op
     ~Cleanup() {
       if (!dir.empty()) std::filesystem::remove_all(dir);
     }
-  } cleanup{options.work_dir.empty() ? dir : ""};
+  } cleanup{work_dir.empty() ? dir : ""};
 
-  WritePlotData(log, fit, options, dir);
-  WriteFile(dir + "/plot.gp", PlotScript(log, fit, options, dir, fit_label));
+  WriteFile(dir + "/plot.gp", write_data(dir));
   // Quote() is also the shell's quoting for text without single quotes; refuse the rest
   // rather than pass it to the shell.
-  for (const std::string* s : std::initializer_list<const std::string*>{&options.gnuplot, &dir}) {
+  for (const std::string* s : std::initializer_list<const std::string*>{&gnuplot, &dir}) {
     if (s->find('\'') != std::string::npos) {
       throw std::invalid_argument("plot: quote characters in '" + *s + "' are not supported");
     }
   }
   const std::string errors = dir + "/gnuplot.err";
   const std::string command =
-      Quote(options.gnuplot) + " " + Quote(dir + "/plot.gp") + " 2> " + Quote(errors);
+      Quote(gnuplot) + " " + Quote(dir + "/plot.gp") + " 2> " + Quote(errors);
   const int status = std::system(command.c_str());
   std::ifstream err_in(errors);
   std::string message((std::istreambuf_iterator<char>(err_in)), std::istreambuf_iterator<char>());
   if (status == -1 || !WIFEXITED(status) || WEXITSTATUS(status) == 127) {
-    throw std::runtime_error("plot: cannot run '" + options.gnuplot +
+    throw std::runtime_error("plot: cannot run '" + gnuplot +
                              "': is gnuplot installed? (Debian: apt-get install gnuplot-nox, "
                              "or scripts/setup.sh)");
   }
@@ -303,9 +301,20 @@ void PlotLog(const Trajectory& log, const Trajectory* fit, const PlotOptions& op
     throw std::runtime_error("plot: gnuplot failed (exit " + std::to_string(WEXITSTATUS(status)) +
                              "): " + message);
   }
-  if (!std::filesystem::exists(options.out_png)) {
-    throw std::runtime_error("plot: gnuplot wrote no " + options.out_png + ": " + message);
+  if (!std::filesystem::exists(out_png)) {
+    throw std::runtime_error("plot: gnuplot wrote no " + out_png + ": " + message);
   }
+}
+
+void PlotLog(const Trajectory& log, const Trajectory* fit, const PlotOptions& options,
+             const std::string& fit_label) {
+  std::string why;
+  if (!options.IsValid(&why)) throw std::invalid_argument(why);
+  if (log.samples.size() < 2) throw std::invalid_argument("plot: the log has fewer than 2 rows");
+  RunGnuplot(options.gnuplot, options.work_dir, options.out_png, [&](const std::string& dir) {
+    WritePlotData(log, fit, options, dir);
+    return PlotScript(log, fit, options, dir, fit_label);
+  });
 }
 
 }  // namespace slideid

@@ -4,6 +4,7 @@
 // against time; optionally overlaid with the trajectory replayed from identified parameters.
 // Drawn by gnuplot (Debian: gnuplot-nox), run on a generated script.
 
+#include <functional>
 #include <optional>
 #include <string>
 
@@ -37,6 +38,15 @@ std::string PlotScript(const Trajectory& log, const Trajectory* fit, const PlotO
 /// Writes path.dat, patch.dat, ecp.dat, push.dat (and fit.dat) into `data_dir`.
 void WritePlotData(const Trajectory& log, const Trajectory* fit, const PlotOptions& options,
                    const std::string& data_dir);
+
+/// Runs `gnuplot` on the script `write_data(dir)` returns, after it has written its data
+/// files into `dir`: `work_dir` (created if missing, and kept), or a temporary directory
+/// removed afterwards. Throws std::runtime_error when gnuplot cannot be run (naming the
+/// program and how to install it), fails (with its message) or writes no `out_png`.
+/// Shared by every picture the tools draw.
+void RunGnuplot(const std::string& gnuplot, const std::string& work_dir,
+                const std::string& out_png,
+                const std::function<std::string(const std::string& dir)>& write_data);
 
 /// Draws `log` (and `fit`) to options.out_png. Throws std::runtime_error when gnuplot cannot
 /// be run (naming the program and how to install it) or fails (with its message), or when a

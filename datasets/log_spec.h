@@ -42,7 +42,8 @@ struct LogSpec {
   /// needs push = moments when the log has pushes.
   LogWrench wrench = LogWrench::kAtRowTime;
   /// Keep the simulator's own columns (ECP, impulses, sigma, mode). Unset: kept when the
-  /// noise is zero (the log is then the truth), dropped otherwise (a sensor does not see them).
+  /// noise is zero and the push stream has no defect (the log is then the truth), dropped
+  /// otherwise (a sensor does not see them).
   std::optional<bool> step_info;
   /// Write theta wrapped to (-pi, pi] (as many trackers report it); noise is added first.
   bool wrap_theta = false;

@@ -25,7 +25,27 @@ std::vector<std::pair<const char*, double>> Fields(const NoiseSpec& n) {
           {"outlier_m", n.outlier_m}};
 }
 
+/// The push stream's defects with their metadata names (without the noise_ prefix).
+std::vector<std::pair<const char*, double>> AllDefects(const NoiseSpec& n) {
+  return {{"force_bias_x_N", n.force_bias_x_N},
+          {"force_bias_y_N", n.force_bias_y_N},
+          {"force_delay_s", n.force_delay_s}};
+}
+
+/// The defects that are set.
+std::vector<std::pair<const char*, double>> Defects(const NoiseSpec& n) {
+  std::vector<std::pair<const char*, double>> out;
+  for (const auto& [name, value] : AllDefects(n)) {
+    if (value != 0.0) out.emplace_back(name, value);
+  }
+  return out;
+}
+
 }  // namespace
+
+bool NoiseSpec::HasDefects() const {
+  return force_bias_x_N != 0 || force_bias_y_N != 0 || force_delay_s != 0;
+}
 
 bool NoiseSpec::IsZero() const {
   return pose_m == 0 && angle_rad == 0 && velocity_mps == 0 && spin_radps == 0 &&
@@ -36,6 +56,12 @@ bool NoiseSpec::IsValid(std::string* why) const {
   for (const auto& [name, value] : Fields(*this)) {
     if (!(std::isfinite(value) && value >= 0.0)) {
       if (why) *why = std::string("noise ") + name + " = " + Format(value) + ": must be >= 0";
+      return false;
+    }
+  }
+  for (const auto& [name, value] : AllDefects(*this)) {
+    if (!std::isfinite(value)) {
+      if (why) *why = std::string("noise ") + name + " = " + Format(value) + ": must be finite";
       return false;
     }
   }
@@ -52,6 +78,9 @@ std::vector<std::pair<std::string, std::string>> NoiseSpec::Metadata() const {
     out.emplace_back(std::string("noise_") + name, Format(value));
   }
   out.emplace_back("noise_seed", std::to_string(seed));
+  for (const auto& [name, value] : Defects(*this)) {
+    out.emplace_back(std::string("noise_") + name, Format(value));
+  }
   return out;
 }
 
@@ -60,7 +89,11 @@ std::string NoiseSpec::Describe() const {
   for (const auto& [name, value] : Fields(*this)) {
     out += std::string(name) + "=" + Format(value) + " ";
   }
-  return out + "seed=" + std::to_string(seed);
+  out += "seed=" + std::to_string(seed);
+  for (const auto& [name, value] : Defects(*this)) {
+    out += std::string(" ") + name + "=" + Format(value);
+  }
+  return out;
 }
 
 }  // namespace slideid

@@ -1,6 +1,7 @@
 #pragma once
-// What noise a synthetic log carries: plain data, part of a LogSpec (datasets/log_spec.h).
-// Applied by datasets/noise.h and datasets/sensor_model.h.
+// What noise a synthetic log carries, and the sensor defects of its push stream (a constant
+// force offset, a delay against the poses): plain data, part of a LogSpec
+// (datasets/log_spec.h). Applied by datasets/noise.h and datasets/sensor_model.h.
 
 #include <cstdint>
 #include <string>
@@ -10,7 +11,10 @@
 namespace slideid {
 
 /// Standard deviations of zero-mean Gaussian noise added to the written signals, and
-/// motion-capture outliers. All >= 0; outlier_fraction in [0, 1].
+/// motion-capture outliers. All >= 0; outlier_fraction in [0, 1]. Also the deterministic
+/// defects of the push stream, with the sign conventions of the trajectory fit's nuisances
+/// (estimator/segment_cost.h), so that a fit with --fit-force-bias / --fit-delay recovers
+/// them: any finite value, 0 by default.
 struct NoiseSpec {
   double pose_m = 0.0;          ///< on x, y [m]
   double angle_rad = 0.0;       ///< on theta [rad] (added to the unwrapped angle)
@@ -22,14 +26,28 @@ struct NoiseSpec {
   double outlier_fraction = 0.0;  ///< fraction of rows whose pose jumps
   double outlier_m = 0.0;         ///< size of such a jump [m] (and outlier_m / 0.05 rad)
   std::uint64_t seed = 1;         ///< one seed, one noise stream
+  /// Force offset [N]: what the force channel reads with no force on the object. Every row's
+  /// logged (fx, fy) is the true one plus (x, y), rows without a push included; the offset
+  /// acts at the row's push point (its moment about the CM follows), at the CM without one.
+  double force_bias_x_N = 0.0;
+  double force_bias_y_N = 0.0;  ///< see force_bias_x_N [N]
+  /// Delay of the push stream against the poses [s]: the wrench logged at t (force, push
+  /// point and moments about the CM) is the true one at t - delay; before the first
+  /// simulated row the first row's, after the last the last row's. Negative: it leads.
+  double force_delay_s = 0.0;
 
-  /// True when no noise is added (the seed does not matter then).
+  /// True when no noise is added (the seed does not matter then). Defects are not noise.
   bool IsZero() const;
-  /// False (and why) when a value is negative, not finite, or the fraction exceeds 1.
+  /// True when a force offset or a delay is set.
+  bool HasDefects() const;
+  /// False (and why) when a value is negative or not finite, the fraction exceeds 1, or a
+  /// defect is not finite.
   bool IsValid(std::string* why) const;
-  /// `# noise_* = value` metadata entries describing this noise.
+  /// `# noise_* = value` metadata entries describing this noise, then the defects that are
+  /// set (`noise_force_bias_x_N`, `noise_force_bias_y_N`, `noise_force_delay_s`).
   std::vector<std::pair<std::string, std::string>> Metadata() const;
-  /// One line without commas, "pose_m=0.0003 angle_rad=0.003 ... seed=7" (manifests).
+  /// One line without commas, "pose_m=0.0003 angle_rad=0.003 ... seed=7" (manifests), then
+  /// " force_bias_x_N=... force_delay_s=..." for the defects that are set.
   std::string Describe() const;
 };
 

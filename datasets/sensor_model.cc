@@ -10,6 +10,10 @@ namespace slideid {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
+// A delayed time t - d that lies within this fraction of a simulated step after a row's
+// time counts as that row's: t - d computed in floating point lands a few ulps short of the
+// row when d is a whole number of steps, and would otherwise pick the row before.
+constexpr double kRowTimeSlack = 1e-9;
 
 std::string Format(double v) {
   char buf[40];
@@ -72,6 +76,47 @@ double Wrap(double theta) {
   return wrapped <= -kPi ? wrapped + 2.0 * kPi : wrapped;
 }
 
+/// The push stream delayed by `delay_s` (NoiseSpec::force_delay_s): each row's wrench and
+/// push point are those of the row in force at t - delay (the simulated wrench is held
+/// over each step), clamped to the first and the last row.
+void DelayPushStream(Trajectory* log, double delay_s) {
+  std::vector<TrajectorySample>& rows = log->samples;
+  const int n = static_cast<int>(rows.size());
+  if (n < 2) return;
+  const double slack = kRowTimeSlack * (rows[1].t_s - rows[0].t_s);
+  std::vector<AppliedWrench> applied(n);
+  std::vector<std::optional<Eigen::Vector3d>> point(n);
+  int j = 0;
+  for (int i = 0; i < n; ++i) {
+    const double t = rows[i].t_s - delay_s + slack;
+    while (j > 0 && rows[j].t_s > t) --j;
+    while (j + 1 < n && rows[j + 1].t_s <= t) ++j;
+    applied[i] = rows[j].applied;
+    point[i] = rows[j].push_point_world;
+  }
+  for (int i = 0; i < n; ++i) {
+    rows[i].applied = applied[i];
+    rows[i].push_point_world = point[i];
+  }
+}
+
+/// Adds the force offset (NoiseSpec::force_bias_*) to every row: at the row's push point,
+/// whose lever is taken from the logged (noisy) pose as a reader takes it, else at the CM.
+void AddForceBias(Trajectory* log, double bias_x_N, double bias_y_N) {
+  for (TrajectorySample& s : log->samples) {
+    Eigen::Vector3d r = Eigen::Vector3d::Zero();
+    if (s.push_point_world) {
+      r = *s.push_point_world - Eigen::Vector3d(s.state.x, s.state.y, log->slider.com_height_m);
+    }
+    const AppliedWrench o = WrenchFromForceAt(bias_x_N, bias_y_N, 0.0, r.x(), r.y(), r.z());
+    s.applied.fx += o.fx;
+    s.applied.fy += o.fy;
+    s.applied.tx += o.tx;
+    s.applied.ty += o.ty;
+    s.applied.tz += o.tz;
+  }
+}
+
 bool AnyForce(const Trajectory& t) {
   for (const TrajectorySample& s : t.samples) {
     if (!s.applied.IsZero() || s.push_point_world) return true;
@@ -87,8 +132,9 @@ Trajectory MakeLog(const Trajectory& simulated, const LogSpec& spec) {
     throw std::invalid_argument("MakeLog: " + why);
   }
   Trajectory log = simulated;
+  if (spec.noise.force_delay_s != 0.0) DelayPushStream(&log, spec.noise.force_delay_s);
   if (spec.log_every > 1) {
-    log.samples = Decimate(simulated.samples, spec.log_every);
+    log.samples = Decimate(log.samples, spec.log_every);
     log.extra_metadata.emplace_back("log_every", std::to_string(spec.log_every));
     if (log.samples.size() >= 2) {
       log.extra_metadata.emplace_back("log_dt",
@@ -106,9 +152,13 @@ Trajectory MakeLog(const Trajectory& simulated, const LogSpec& spec) {
   c.force = c.force || pushed;
   c.push_point = pushed && spec.push == LogPush::kPoint;
   c.moments = pushed && spec.push == LogPush::kMoments;
-  c.step_info = spec.step_info.value_or(spec.noise.IsZero());
-  if (!spec.noise.IsZero()) {
-    ApplyNoise(&log, spec.noise);
+  c.step_info = spec.step_info.value_or(spec.noise.IsZero() && !spec.noise.HasDefects());
+  if (!spec.noise.IsZero()) ApplyNoise(&log, spec.noise);
+  if (spec.noise.force_bias_x_N != 0.0 || spec.noise.force_bias_y_N != 0.0) {
+    AddForceBias(&log, spec.noise.force_bias_x_N, spec.noise.force_bias_y_N);
+    c.force = true;
+  }
+  if (!spec.noise.IsZero() || spec.noise.HasDefects()) {
     for (const auto& entry : spec.noise.Metadata()) log.extra_metadata.push_back(entry);
   }
   if (!c.step_info) {

@@ -8,6 +8,8 @@
 namespace slideid {
 
 /// Applies `spec` to `simulated` (a Simulate() trajectory, one row per simulated step):
+/// - delays the push stream by spec.noise.force_delay_s, on the simulated rows: each row's
+///   wrench and push point become those in force at its time minus the delay;
 /// - keeps rows 0, k, 2k, ... (k = log_every). The step columns of a kept row describe the
 ///   log interval ending there: impulses summed over its simulated steps, ECP and sigma of
 ///   its last step, `stick` only if all stuck;
@@ -18,8 +20,10 @@ namespace slideid {
 ///   carry no push point, and the last row keeps its own wrench);
 /// - sets the columns: poses / velocities / both; push point or total moments; step info
 ///   (spec.step_info, by default only for a noiseless log);
-/// - adds the noise (ApplyNoise) and its metadata (`noise_*`), `log_every` and `log_dt` when
-///   k > 1, and `log_wrench = interval-mean` for the interval mean;
+/// - adds the noise (ApplyNoise), then the force offset spec.noise.force_bias_* to every
+///   row (at its push point, lever from the noisy pose, as a reader computes it), and their
+///   metadata (`noise_*`), `log_every` and `log_dt` when k > 1, and
+///   `log_wrench = interval-mean` for the interval mean;
 /// - for a poses-only log, sets the velocities from the poses as a reader would, so that the
 ///   returned trajectory equals the written-and-read-back one;
 /// - wraps theta to (-pi, pi] when asked (after the noise).

@@ -35,8 +35,21 @@ void Remove(std::vector<int>* set, int position) { set->erase(set->begin() + pos
 std::vector<ParameterIdentifiability> AssessIdentifiability(const Eigen::MatrixXd& fisher_log,
                                                            double residual_variance,
                                                            const std::vector<bool>& active,
-                                                           const std::vector<double>& max_stderr) {
+                                                           const std::vector<double>& max_stderr,
+                                                           const std::vector<int>& priority) {
   const int n = static_cast<int>(fisher_log.rows());
+  // The one to give up among candidates: the lowest priority, then the largest `score`.
+  auto pick = [&](const std::vector<int>& set, const Eigen::VectorXd& score,
+                  const std::vector<bool>& candidate) {
+    int best = -1;
+    for (int k = 0; k < static_cast<int>(set.size()); ++k) {
+      if (!candidate[k]) continue;
+      const int pk = priority.empty() ? 0 : priority[set[k]];
+      const int pb = best < 0 || priority.empty() ? 0 : priority[set[best]];
+      if (best < 0 || pk < pb || (pk == pb && score(k) > score(best))) best = k;
+    }
+    return best;
+  };
   if (fisher_log.cols() != n || static_cast<int>(active.size()) != n ||
       static_cast<int>(max_stderr.size()) != n) {
     throw std::invalid_argument("AssessIdentifiability: sizes of H, active and max_stderr differ");
@@ -79,8 +92,14 @@ std::vector<ParameterIdentifiability> AssessIdentifiability(const Eigen::MatrixX
     const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(hn);
     const double lambda_min = eig.eigenvalues()(0);  // ascending
     if (!(lambda_min < kCollinearEigenvalue)) break;
-    int worst = 0;
-    eig.eigenvectors().col(0).cwiseAbs().maxCoeff(&worst);
+    // Of the parameters the near-null direction involves (a component at least kInvolved of
+    // the largest), the one of lowest priority goes (a sensor nuisance before friction).
+    const Eigen::VectorXd component = eig.eigenvectors().col(0).cwiseAbs();
+    std::vector<bool> involved(set.size());
+    for (size_t k = 0; k < set.size(); ++k) {
+      involved[k] = component(k) >= kInvolvedComponent * component.maxCoeff();
+    }
+    const int worst = pick(set, component, involved);
     out[set[worst]].note = Format(
         "only a combination with other parameters is determined (smallest eigenvalue of the "
         "normalised information %.3g, below %.0e)",
@@ -104,10 +123,10 @@ std::vector<ParameterIdentifiability> AssessIdentifiability(const Eigen::MatrixX
     // The worst is the one furthest beyond its own threshold.
     Eigen::VectorXd excess(set.size());
     for (int k = 0; k < static_cast<int>(set.size()); ++k) excess(k) = se(k) / max_stderr[set[k]];
-    int worst = 0;
-    const double largest_excess = excess.maxCoeff(&worst);
-    const double largest_se = se(worst);
-    if (largest_excess <= 1.0) {
+    std::vector<bool> over(set.size());
+    for (size_t k = 0; k < set.size(); ++k) over[k] = excess(k) > 1.0;
+    const int worst = pick(set, excess, over);
+    if (worst < 0) {
       for (int k = 0; k < static_cast<int>(set.size()); ++k) {
         out[set[k]].identifiable = true;
         out[set[k]].stderr_log = se(k);
@@ -115,7 +134,7 @@ std::vector<ParameterIdentifiability> AssessIdentifiability(const Eigen::MatrixX
       break;
     }
     out[set[worst]].note = Format(
-        "the log does not constrain it: its standard error %.3g exceeds %.3g", largest_se,
+        "the log does not constrain it: its standard error %.3g exceeds %.3g", se(worst),
         max_stderr[set[worst]]);
     Remove(&set, worst);
   }
@@ -127,7 +146,7 @@ std::array<ParameterIdentifiability, 3> AssessIdentifiability(const Eigen::Matri
                                                               const std::array<bool, 3>& active) {
   const std::vector<ParameterIdentifiability> v = AssessIdentifiability(
       Eigen::MatrixXd(fisher_log), residual_variance, {active[0], active[1], active[2]},
-      {kMaxLogStdErr, kMaxLogStdErr, kMaxLogStdErr});
+      {kMaxLogStdErr, kMaxLogStdErr, kMaxLogStdErr}, {});
   return {v[0], v[1], v[2]};
 }
 

@@ -50,6 +50,11 @@ constexpr double kCollinearEigenvalue = 1e-10;
 /// (log standard errors of 0.001 to 0.1 in the tests and benchmarks).
 constexpr double kMaxLogStdErr = 0.5;
 
+/// (ii): the parameters a near-null direction involves are those whose eigenvector
+/// component is at least this fraction of the largest (a direction that is a fixed mixture
+/// of two parameters has components of comparable size; noise in the others is far below).
+constexpr double kInvolvedComponent = 0.3;
+
 /// The verdict on one parameter.
 struct ParameterIdentifiability {
   bool identifiable = false;
@@ -61,13 +66,17 @@ struct ParameterIdentifiability {
 
 /// Rules (i)-(iii) for any number of parameters (a, b, c in log form and sensor nuisances
 /// in their own units), parameter i undetermined under (iii) when its standard error
-/// exceeds max_stderr[i]. `fisher` is n x n symmetric; `active` and `max_stderr` have n
+/// exceeds max_stderr[i]. Where (ii) or (iii) must give one up, the one of lowest
+/// `priority` goes first (then the largest eigenvector component, or the furthest beyond
+/// its threshold): a sensor nuisance confounded with a, say, is held rather than a. `fisher`
+/// is n x n symmetric; `active`, `max_stderr` and `priority` (empty: all equal) have n
 /// entries. Throws std::invalid_argument for a non-finite H, a negative variance or
 /// mismatched sizes.
 std::vector<ParameterIdentifiability> AssessIdentifiability(const Eigen::MatrixXd& fisher,
                                                            double residual_variance,
                                                            const std::vector<bool>& active,
-                                                           const std::vector<double>& max_stderr);
+                                                           const std::vector<double>& max_stderr,
+                                                           const std::vector<int>& priority = {});
 
 /// Applies rules (i)-(iii) to `fisher_log` (3x3 symmetric, in order log a, log b, log c)
 /// with residual variance `residual_variance` (>= 0). Parameters with active[i] == false

@@ -67,26 +67,40 @@ void EvaluateLoss(const RowLoss& loss, double s, double rho[3]) {
 
 }  // namespace
 
-void DelayedWrench(const Trajectory& log, int row, double delay_s, AppliedWrench* wrench,
-                   AppliedWrench* d_wrench_d_delay) {
+namespace {
+
+// The mean over [t_row + d, t_row+1 + d) of a piecewise-constant per-row wrench
+// (value(j) over [t_j, t_j+1), the first row's before the log, the last row's after it),
+// and its derivative with respect to d.
+template <typename RowValue>
+void DelayedMean(const Trajectory& log, int row, double delay_s, RowValue value,
+                 AppliedWrench* mean, AppliedWrench* d_mean_d_delay) {
   const int n = static_cast<int>(log.samples.size());
   const double t0 = log.samples[row].t_s + delay_s;
   const double t1 = log.samples[std::min(row + 1, n - 1)].t_s + delay_s;
   const double h = t1 - t0;
-  *wrench = AppliedWrench{};
+  *mean = AppliedWrench{};
   // Integrate the piecewise-constant rows over [t0, t1).
   int j = RowAt(log, t0, row);
   double t = t0;
   while (t < t1) {
     const double end = j + 1 < n ? std::min(t1, std::max(t, log.samples[j + 1].t_s)) : t1;
-    AddScaled(wrench, (end - t) / h, log.samples[j].applied);
+    AddScaled(mean, (end - t) / h, value(j));
     t = end;
     if (j + 1 < n) ++j;
   }
   // d/dd of the mean over [t0 + d, t1 + d): (W(t1) - W(t0)) / h.
-  *d_wrench_d_delay = AppliedWrench{};
-  AddScaled(d_wrench_d_delay, 1.0 / h, log.samples[RowAt(log, t1, row + 1)].applied);
-  AddScaled(d_wrench_d_delay, -1.0 / h, log.samples[RowAt(log, t0, row)].applied);
+  *d_mean_d_delay = AppliedWrench{};
+  AddScaled(d_mean_d_delay, 1.0 / h, value(RowAt(log, t1, row + 1)));
+  AddScaled(d_mean_d_delay, -1.0 / h, value(RowAt(log, t0, row)));
+}
+
+}  // namespace
+
+void DelayedWrench(const Trajectory& log, int row, double delay_s, AppliedWrench* wrench,
+                   AppliedWrench* d_wrench_d_delay) {
+  DelayedMean(log, row, delay_s, [&](int j) { return log.samples[j].applied; }, wrench,
+              d_wrench_d_delay);
 }
 
 void OffsetWrenchJacobian(const Trajectory& log, int row, AppliedWrench* d_wrench_d_ox,
@@ -99,6 +113,21 @@ void OffsetWrenchJacobian(const Trajectory& log, int row, AppliedWrench* d_wrenc
   }
   *d_wrench_d_ox = WrenchFromForceAt(-1, 0, 0, r.x(), r.y(), r.z());
   *d_wrench_d_oy = WrenchFromForceAt(0, -1, 0, r.x(), r.y(), r.z());
+}
+
+void DelayedOffsetWrenchJacobian(const Trajectory& log, int row, double delay_s,
+                                 AppliedWrench* d_wrench_d_ox, AppliedWrench* d_wrench_d_oy,
+                                 AppliedWrench* d2_wrench_d_ox_d_delay,
+                                 AppliedWrench* d2_wrench_d_oy_d_delay) {
+  auto along = [&](bool x) {
+    return [&log, x](int j) {
+      AppliedWrench dx, dy;
+      OffsetWrenchJacobian(log, j, &dx, &dy);
+      return x ? dx : dy;
+    };
+  };
+  DelayedMean(log, row, delay_s, along(true), d_wrench_d_ox, d2_wrench_d_ox_d_delay);
+  DelayedMean(log, row, delay_s, along(false), d_wrench_d_oy, d2_wrench_d_oy_d_delay);
 }
 
 SegmentCost::SegmentCost(const Trajectory& log, int first_row, int last_row, int substeps,
@@ -204,7 +233,18 @@ bool SegmentCost::Simulate(double const* const* params, double* residuals,
     }
     if (offset_block_ >= 0) {
       AppliedWrench dx, dy;
-      OffsetWrenchJacobian(log_, row, &dx, &dy);
+      if (delay_block_ >= 0) {
+        // The offset is part of the delayed stream: its moment arm is that of the rows the
+        // delay reads, and it moves the delay's derivative.
+        AppliedWrench dx_dd, dy_dd;
+        DelayedOffsetWrenchJacobian(log_, row, delay, &dx, &dy, &dx_dd, &dy_dd);
+        AppliedWrench d_delay = AppliedWrench{};
+        AddScaled(&d_delay, offset_x, dx_dd);
+        AddScaled(&d_delay, offset_y, dy_dd);
+        dw_dnuis.col(2) += Components(d_delay);
+      } else {
+        OffsetWrenchJacobian(log_, row, &dx, &dy);
+      }
       AddScaled(&applied, offset_x, dx);
       AddScaled(&applied, offset_y, dy);
       dw_dnuis.col(0) = Components(dx);

@@ -40,6 +40,15 @@ void DelayedWrench(const Trajectory& log, int row, double delay_s, AppliedWrench
 void OffsetWrenchJacobian(const Trajectory& log, int row, AppliedWrench* d_wrench_d_ox,
                           AppliedWrench* d_wrench_d_oy);
 
+/// The same when the stream lags by `delay_s`: the offset is read with the stream, so its
+/// moment arm is that of the rows the delayed interval reads (OffsetWrenchJacobian averaged
+/// as DelayedWrench averages the wrench); also the derivatives of those with respect to
+/// the delay [per s].
+void DelayedOffsetWrenchJacobian(const Trajectory& log, int row, double delay_s,
+                                 AppliedWrench* d_wrench_d_ox, AppliedWrench* d_wrench_d_oy,
+                                 AppliedWrench* d2_wrench_d_ox_d_delay,
+                                 AppliedWrench* d2_wrench_d_oy_d_delay);
+
 /// A robust loss rho(s) applied to each row's squared residual norm s, inside the cost: the
 /// row's residuals are scaled to sqrt(rho(s) / s) r, so that their squared norm is rho(s)
 /// (Ceres' own loss would act on the whole segment's norm at once). The Jacobian is that

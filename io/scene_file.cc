@@ -36,7 +36,8 @@ const char* const kKnownKeys[] = {
     "log.wrench",
     "noise.pose",     "noise.angle",    "noise.velocity",    "noise.spin",
     "noise.force_relative",             "noise.force",       "noise.outlier_fraction",
-    "noise.outlier",  "noise.seed",
+    "noise.outlier",  "noise.seed",     "noise.force_bias_x", "noise.force_bias_y",
+    "noise.force_delay",
     "program.random", "program.seed",   "program.force",     "program.amplitude_fraction",
     "program.period", "program.duration",                    "program.rest",
     "program.height", "program.spread", "program.through_cm", "program.start",
@@ -487,6 +488,9 @@ NoiseSpec ReadNoise(const Reader& r) {
   if (!(n.outlier_fraction <= 1.0)) r.Fail("noise.outlier_fraction", "must be <= 1");
   n.outlier_m = r.Number("noise.outlier", 0.0, C::kNonNegative);
   n.seed = r.Integer("noise.seed", n.seed, 0);
+  n.force_bias_x_N = r.Number("noise.force_bias_x", 0.0, C::kFinite);
+  n.force_bias_y_N = r.Number("noise.force_bias_y", 0.0, C::kFinite);
+  n.force_delay_s = r.Number("noise.force_delay", 0.0, C::kFinite);
   return n;
 }
 

@@ -18,6 +18,11 @@ namespace {
 
 // Tolerance within which two files' weights m g are the same slider's [relative].
 constexpr double kSameWeight = 1e-9;
+// What make-dataset (truth.csv) and import-log (import_report.csv) write beside their logs.
+const char* const kManifestNames[] = {"truth.csv", "import_report.csv"};
+
+std::vector<std::string> ExpandAllFiles(const std::string& directory_or_glob,
+                                        const std::string& extension);
 
 std::string FileName(const std::string& path) {
   return std::filesystem::path(path).filename().string();
@@ -195,6 +200,27 @@ FileIdentifyResult IdentifyFiles(const std::vector<std::string>& paths,
 
 std::vector<std::string> ExpandFiles(const std::string& directory_or_glob,
                                      const std::string& extension) {
+  std::vector<std::string> files = ExpandAllFiles(directory_or_glob, extension);
+  // The manifests our own tools write beside their logs are not logs.
+  files.erase(std::remove_if(files.begin(), files.end(),
+                             [](const std::string& f) {
+                               const std::string name = FileName(f);
+                               return std::find(std::begin(kManifestNames),
+                                                std::end(kManifestNames),
+                                                name) != std::end(kManifestNames);
+                             }),
+              files.end());
+  if (files.empty()) {
+    throw FileError(directory_or_glob + ": names no " + extension +
+                    " file other than manifests (a directory or a glob)");
+  }
+  return files;
+}
+
+namespace {
+
+std::vector<std::string> ExpandAllFiles(const std::string& directory_or_glob,
+                                        const std::string& extension) {
   std::vector<std::string> files;
   std::error_code ec;
   if (std::filesystem::is_directory(directory_or_glob, ec)) {
@@ -217,5 +243,7 @@ std::vector<std::string> ExpandFiles(const std::string& directory_or_glob,
   }
   return files;
 }
+
+}  // namespace
 
 }  // namespace slideid

@@ -55,8 +55,9 @@ std::string SuspectNames(const EstimateResult& result);
 /// Identifies logs already in memory (named by their `source`), pooled when several.
 EstimateResult IdentifyLogs(const std::vector<Trajectory>& logs, const IdentifyOptions& options);
 
-/// The files named by a directory (its *.csv files, or *.json with json = true), or by a
-/// glob pattern, sorted. Throws FileError when it names none.
+/// The files named by a directory (its files ending in `extension`), or by a glob pattern,
+/// sorted; without the manifests our tools write beside their logs (truth.csv of
+/// make-dataset, import_report.csv of import-log). Throws FileError when it names none.
 std::vector<std::string> ExpandFiles(const std::string& directory_or_glob,
                                      const std::string& extension = ".csv");
 

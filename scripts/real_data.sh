@@ -65,6 +65,31 @@ mit_hex() {
   identify_all mit_hex
 }
 
+# The rect1 pushes pooled: one estimate from all, as they are and with the sensor nuisances
+# (each log's force offset; one delay for all), and the forest plot of the plain fit.
+mit_rect1_pooled() {
+  [ -d "$work/mit_rect1" ] || { echo "real_data: mit_rect1_pooled: no imported logs; skipped"; return 0; }
+  local variant args code
+  for variant in plain bias delay bias_delay; do
+    case $variant in
+      plain) args=() ;;
+      bias) args=(--fit-force-bias) ;;
+      delay) args=(--fit-delay shared) ;;
+      bias_delay) args=(--fit-force-bias --fit-delay shared) ;;
+    esac
+    code=0
+    "$bin/identify" --logs "$work/mit_rect1" --skip-bad --json "${args[@]}" \
+      > "$work/mit_rect1.pooled.$variant.json" 2> "$work/mit_rect1.pooled.$variant.err" || code=$?
+    echo "$code" > "$work/mit_rect1.pooled.$variant.exit"
+    echo "real_data: mit_rect1_pooled: $variant: exit $code"
+  done
+  if [ -x "$bin/plot-fit" ] && [ -s "$work/mit_rect1.pooled.plain.json" ]; then
+    "$bin/plot-fit" "$work/mit_rect1.pooled.plain.json" --out docs/real-data-rect1-pooled.png \
+      --title "MIT rect1 on plywood, 100 mm/s: every accepted push, pooled" > /dev/null \
+      || echo "real_data: mit_rect1_pooled: plot-fit failed (gnuplot missing?); no picture"
+  fi
+}
+
 # The tripod logs: one wrench-twist file per configuration, fitted by the quasi-static
 # method (scripts/real_data_tripod.sh prints the section's markdown).
 zhou_tripod() {
@@ -74,7 +99,7 @@ zhou_tripod() {
 }
 
 shopt -s nullglob
-sections=(mit_rect1 mit_hex zhou_tripod)
+sections=(mit_rect1 mit_rect1_pooled mit_hex zhou_tripod)
 for section in "${sections[@]}"; do "$section"; done
 /usr/bin/python3 scripts/real_data_report.py --work "$work" --doc docs/real-data.md \
   --sections "${sections[@]}"

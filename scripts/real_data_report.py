@@ -212,6 +212,117 @@ def mit_section(title):
     return section
 
 
+POOLED_VARIANTS = [
+    ("plain", "as they are"),
+    ("bias", "`--fit-force-bias` (each log's force offset)"),
+    ("delay", "`--fit-delay shared` (one delay for all)"),
+    ("bias_delay", "`--fit-force-bias --fit-delay shared`"),
+]
+
+
+def interval_cell(p, scale, unit):
+    if not p or not p.get("identifiable") or p.get("value") is None:
+        return "not identifiable"
+    lo, hi = p["ci95"]
+    return "{}{} [{}, {}]".format(fmt(p["value"] * scale), unit, fmt(lo * scale), fmt(hi * scale))
+
+
+def agreement_cell(h):
+    if not h or not h.get("tested"):
+        return "not tested"
+    return "{} (Q = {} on {} logs, p = {}, I2 = {:.0f}%, tau = {:.0f}%)".format(
+        "agree" if h["consistent"] else "DISAGREE", fmt(h["q"]), h["logs"], fmt(h["p_value"], 2),
+        100 * h["i2"], 100 * h["tau_log"])
+
+
+def nuisance_summary(result):
+    nuisance = result.get("nuisance") or {}
+    out = []
+    delays = nuisance.get("delay_s") or []
+    for d in delays:
+        if d.get("identifiable"):
+            lo, hi = d["ci95"]
+            out.append("delay {} ms [{}, {}]{}".format(fmt(d["value"] * 1e3), fmt(lo * 1e3), fmt(hi * 1e3),
+                                                       "" if not d.get("log") else " (" + d["log"] + ")"))
+        else:
+            out.append("delay not identifiable")
+    offsets = {}
+    for axis in ("force_bias_x_N", "force_bias_y_N"):
+        for o in nuisance.get(axis) or []:
+            offsets.setdefault(o.get("log", ""), {})[axis] = o
+    if offsets:
+        both = [v for v in offsets.values() if all(a in v and v[a].get("identifiable")
+                                                   for a in ("force_bias_x_N", "force_bias_y_N"))]
+        sizes = [(v["force_bias_x_N"]["value"] ** 2 + v["force_bias_y_N"]["value"] ** 2) ** 0.5 for v in both]
+        out.append("force offsets identifiable (both axes) in {} of {} logs, their size {} N".format(
+            len(both), len(offsets), spread(sizes)))
+    return "; ".join(out) if out else "-"
+
+
+def pooled_section(title):
+    def section(work, name):
+        out = ["### " + title, ""]
+        results = {}
+        for variant, _ in POOLED_VARIANTS:
+            path = os.path.join(work, "mit_rect1.pooled.{}.json".format(variant))
+            exit_path = os.path.join(work, "mit_rect1.pooled.{}.exit".format(variant))
+            if not os.path.exists(exit_path):
+                continue
+            code = int(open(exit_path).read().strip())
+            try:
+                results[variant] = (json.load(open(path)), code)
+            except (OSError, json.JSONDecodeError):
+                results[variant] = (None, code)
+        if not results:
+            return out + ["Not run (no imported rect1 logs)."]
+        plain = results.get("plain", (None, None))[0] or {}
+        logs = plain.get("logs") or []
+        used = [l for l in logs if not l.get("skipped")]
+        out += ["`identify --logs build/real-data/mit_rect1 --skip-bad` over the {} imported rect1 "
+                "pushes ({} skipped), a, b, c shared by all, each log with its own segment states; "
+                "the interval is the widest of the white-noise and the cluster-robust ones (over "
+                "segments, and over logs with Student's t on G - 1), README \"Several logs\".".format(
+                    len(used), len(logs) - len(used)), ""]
+        out += ["| fit | a | b | c [mm] | residuals / log noise | nuisances | time |",
+                "|---|---|---|---|---|---|---|"]
+        for variant, label in POOLED_VARIANTS:
+            if variant not in results:
+                continue
+            result, code = results[variant]
+            if not result:
+                out.append("| {} | identify exit {} | | | | | |".format(label, code))
+                continue
+            cells = [interval_cell(result.get(key), scale, "") for key, _, scale, _ in PARAMETERS]
+            ratio = (result["residual_rms"] / result["log_noise"]
+                     if result.get("residual_rms") and result.get("log_noise") else None)
+            out.append("| {} | {} | {} | {} | {} | {} | {} s |".format(
+                label, cells[0], cells[1], cells[2], fmt(ratio), nuisance_summary(result),
+                fmt(result.get("seconds"), 2)))
+        out += ["", "Do the pushes agree (Cochran's Q of each push's own estimate, DerSimonian-Laird "
+                "tau = between-push spread of the log-parameter)?", ""]
+        out += ["| fit | a | b | c |", "|---|---|---|---|"]
+        for variant, label in POOLED_VARIANTS:
+            result = results.get(variant, (None, None))[0]
+            if not result:
+                continue
+            h = result.get("heterogeneity") or {}
+            out.append("| {} | {} |".format(label, " | ".join(agreement_cell(h.get(key))
+                                                               for key, _, _, _ in PARAMETERS)))
+        out += ["", "Sign conventions (estimator/segment_cost.h): a delay d > 0 means the force stream "
+                "lags the poses (the force logged at t acted at t - d); d < 0 means the poses lag the "
+                "force, as motion capture does. A force offset is what the channel reads with no "
+                "force on the object; the importer has already removed the offset it measured before "
+                "and after each push (import report above), so a fitted offset is what remains, or "
+                "what the fit prefers to call one: an imported push runs in one direction without a "
+                "rest, where an offset along it and friction act alike (README, \"Sensor "
+                "nuisances\")."]
+        if os.path.exists("docs/real-data-rect1-pooled.png"):
+            out += ["", "![rect1 pooled: each push's estimate and interval, and the pooled one]"
+                    "(real-data-rect1-pooled.png)"]
+        return out
+    return section
+
+
 def markdown_section(title, file_name):
     def section(work, name):
         path = os.path.join(work, file_name)
@@ -223,6 +334,7 @@ def markdown_section(title, file_name):
 
 SECTIONS = {
     "mit_rect1": mit_section("MIT push dataset: rect1 on plywood, 100 mm/s"),
+    "mit_rect1_pooled": pooled_section("MIT rect1 on plywood: every push pooled"),
     "mit_hex": mit_section("MIT push dataset: hex on plywood, 150 mm/s"),
     "zhou_tripod": markdown_section("Zhou et al. ICRA 2016 tripod logs: quasi-static pairs",
                                     "zhou_tripod.md"),

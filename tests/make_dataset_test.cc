@@ -299,5 +299,30 @@ TEST(SimulateLogOptions, IntervalMeanWrenchNeedsMomentsAndIsRecorded) {
   EXPECT_EQ(RunTool("simulate", scene + " --out " + dir + "/points.csv"), 2);  // no mean point
 }
 
+TEST(SimulateLogOptions, ForceBiasAndDelayOptionsReachTheLogAndItsMetadata) {
+  const std::string dir = TempDir("sim_defects");
+  const std::string scene = "--scene " + Scene("example3_pushed_square.ini") + " --write poses";
+  ASSERT_EQ(RunTool("simulate", scene + " --out " + dir + "/plain.csv"), 0);
+  ASSERT_EQ(RunTool("simulate", scene + " --force-bias-x 0.5 --force-bias-y -0.25 "
+                                        "--force-delay 0.02 --out " + dir + "/defects.csv"),
+            0);
+  const Trajectory plain = ReadPushLog(dir + "/plain.csv");
+  const Trajectory defects = ReadPushLog(dir + "/defects.csv");
+  ASSERT_EQ(plain.samples.size(), defects.samples.size());
+  const double dt = plain.samples[1].t_s - plain.samples[0].t_s;
+  const size_t lag = static_cast<size_t>(std::lround(0.02 / dt));
+  ASSERT_GE(lag, 1u);
+  for (size_t u = lag; u < plain.samples.size(); ++u) {
+    EXPECT_NEAR(defects.samples[u].applied.fx, plain.samples[u - lag].applied.fx + 0.5, 1e-9)
+        << u;
+    EXPECT_NEAR(defects.samples[u].applied.fy, plain.samples[u - lag].applied.fy - 0.25, 1e-9)
+        << u;
+  }
+  const std::string text = ReadText(dir + "/defects.csv");
+  EXPECT_NE(text.find("# noise_force_bias_x_N = 0.5\n"), std::string::npos);
+  EXPECT_NE(text.find("# noise_force_delay_s = 0.02\n"), std::string::npos);
+  EXPECT_EQ(RunTool("simulate", scene + " --force-delay nan"), 2);
+}
+
 }  // namespace
 }  // namespace slideid

@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 #include <sstream>
@@ -373,6 +374,104 @@ TEST(SensorModel, ThetaNoiseIsAddedBeforeWrapping) {
   WritePushLog(wrapped, path);
   const Trajectory back = ReadPushLog(path);
   EXPECT_NEAR(back.samples.back().state.theta, unwrapped.samples.back().state.theta, 1e-9);
+}
+
+// ---- sensor defects: a force offset and a delay of the push stream ----
+
+TEST(SensorModel, ForceBiasIsAddedToEveryRowWithItsMomentAtThePushPoint) {
+  Scene scene = testing::TiltingPush();
+  scene.pushes[0].stop_s = 0.7;  // then the pusher leaves: rows without a push point
+  const Trajectory fine = testing::SimulateOrFail(scene);
+  LogSpec spec;
+  spec.motion = LogMotion::kPoses;
+  spec.noise.pose_m = 1e-4;
+  spec.noise.force_N = 0.05;
+  const Trajectory clean = MakeLog(fine, spec);
+  spec.noise.force_bias_x_N = 0.3;
+  spec.noise.force_bias_y_N = -0.2;
+  const Trajectory biased = MakeLog(fine, spec);
+  ASSERT_EQ(biased.samples.size(), clean.samples.size());
+  int rows_at_rest = 0;
+  for (size_t u = 0; u < clean.samples.size(); ++u) {
+    const TrajectorySample& a = clean.samples[u];
+    const TrajectorySample& b = biased.samples[u];
+    EXPECT_EQ(b.state.x, a.state.x) << u;  // the same noise stream
+    EXPECT_NEAR(b.applied.fx - a.applied.fx, 0.3, 1e-12) << u;
+    EXPECT_NEAR(b.applied.fy - a.applied.fy, -0.2, 1e-12) << u;
+    Eigen::Vector3d r = Eigen::Vector3d::Zero();
+    if (a.push_point_world) {
+      r = *a.push_point_world - Eigen::Vector3d(a.state.x, a.state.y, fine.slider.com_height_m);
+    } else {
+      ++rows_at_rest;
+    }
+    const AppliedWrench o = WrenchFromForceAt(0.3, -0.2, 0.0, r.x(), r.y(), r.z());
+    EXPECT_NEAR(b.applied.tz - a.applied.tz, o.tz, 1e-12) << u;
+    EXPECT_NEAR(b.applied.tx - a.applied.tx, o.tx, 1e-12) << u;
+  }
+  EXPECT_GT(rows_at_rest, 0) << "the scene should have rows without a push";
+  // Written and read back, a reader sees the same wrench, and the metadata says what it is.
+  const std::string path = ::testing::TempDir() + "/biased.csv";
+  WritePushLog(biased, path);
+  const Trajectory back = ReadPushLog(path);
+  for (size_t u = 0; u < back.samples.size(); ++u) {
+    EXPECT_NEAR(back.samples[u].applied.fx, biased.samples[u].applied.fx, 1e-12) << u;
+    EXPECT_NEAR(back.samples[u].applied.tz, biased.samples[u].applied.tz, 1e-12) << u;
+  }
+  const std::string text = Written(biased);
+  EXPECT_NE(text.find("# noise_force_bias_x_N = 0.29999999999999999\n"), std::string::npos);
+  EXPECT_NE(text.find("# noise_force_bias_y_N = -0.20000000000000001\n"), std::string::npos);
+  EXPECT_EQ(text.find("noise_force_delay_s"), std::string::npos);  // not set, not written
+  EXPECT_EQ(Written(clean).find("force_bias"), std::string::npos);
+}
+
+TEST(SensorModel, DelayShiftsThePushStreamAgainstThePoses) {
+  Scene scene = testing::PushedSlider();
+  scene.dt_s = 0.001;
+  const Trajectory fine = testing::SimulateOrFail(scene);
+  LogSpec spec;
+  spec.log_every = 10;
+  spec.step_info = true;
+  const Trajectory plain = MakeLog(fine, spec);
+  for (const double delay : {0.02, 0.0137, -0.03}) {
+    spec.noise.force_delay_s = delay;
+    const Trajectory delayed = MakeLog(fine, spec);
+    ASSERT_EQ(delayed.samples.size(), plain.samples.size());
+    for (size_t u = 0; u < delayed.samples.size(); ++u) {
+      // The simulated row in force at t - delay (1 ms rows), clamped to the simulation.
+      const double t = delayed.samples[u].t_s - delay;
+      const long row = std::clamp<long>(std::lround(std::floor(t / scene.dt_s + 1e-6)), 0,
+                                        static_cast<long>(fine.samples.size()) - 1);
+      const TrajectorySample& source = fine.samples[row];
+      EXPECT_EQ(delayed.samples[u].applied.fx, source.applied.fx) << delay << " row " << u;
+      EXPECT_EQ(delayed.samples[u].applied.tz, source.applied.tz) << delay << " row " << u;
+      EXPECT_EQ(delayed.samples[u].push_point_world, source.push_point_world) << u;
+      EXPECT_EQ(delayed.samples[u].state.x, plain.samples[u].state.x) << u;  // poses as they were
+    }
+    EXPECT_NE(Written(delayed).find("# noise_force_delay_s = "), std::string::npos);
+  }
+  // A whole number of log intervals: row u logs what row u - 2 logged without the delay.
+  spec.noise.force_delay_s = 0.02;
+  const Trajectory two_rows = MakeLog(fine, spec);
+  for (size_t u = 2; u < two_rows.samples.size(); ++u) {
+    EXPECT_EQ(two_rows.samples[u].applied.fy, plain.samples[u - 2].applied.fy) << u;
+  }
+}
+
+TEST(SensorModel, DefectsMustBeFinite) {
+  NoiseSpec n;
+  n.force_bias_x_N = -2.0;  // any sign
+  n.force_delay_s = -0.01;
+  std::string why;
+  EXPECT_TRUE(n.IsValid(&why)) << why;
+  EXPECT_TRUE(n.IsZero());  // defects are not noise
+  EXPECT_TRUE(n.HasDefects());
+  n.force_delay_s = std::nan("");
+  EXPECT_FALSE(n.IsValid(&why));
+  EXPECT_NE(why.find("force_delay_s"), std::string::npos) << why;
+  n.force_delay_s = 0;
+  n.force_bias_y_N = HUGE_VAL;
+  EXPECT_FALSE(n.IsValid(&why));
+  EXPECT_NE(why.find("force_bias_y_N"), std::string::npos) << why;
 }
 
 }  // namespace

@@ -313,6 +313,15 @@ TEST(Scene, LogAndNoiseSectionsSetTheLogSpec) {
   EXPECT_EQ(s.log.noise.outlier_fraction, 0.01);
   EXPECT_EQ(s.log.noise.outlier_m, 0.02);
   EXPECT_EQ(s.log.noise.seed, 18446744073709551615ull);  // the whole 64-bit range
+  EXPECT_FALSE(s.log.noise.HasDefects());
+
+  const LoggedScene d = ParseScene(
+      SceneText("[noise]\nforce_bias_x = 0.25\nforce_bias_y = -0.1\nforce_delay = 0.012\n"),
+      "scene.ini");
+  EXPECT_EQ(d.log.noise.force_bias_x_N, 0.25);
+  EXPECT_EQ(d.log.noise.force_bias_y_N, -0.1);
+  EXPECT_EQ(d.log.noise.force_delay_s, 0.012);
+  EXPECT_TRUE(d.log.noise.IsZero());
 }
 
 TEST(Scene, BadLogAndNoiseValuesNameFileKeyAndValue) {
@@ -339,6 +348,8 @@ TEST(Scene, BadLogAndNoiseValuesNameFileKeyAndValue) {
   ExpectError(SceneText("[noise]\nseed = 99999999999999999999999\n"), "[noise] seed",
               "too large");
   ExpectError(SceneText("[noise]\nsigma = 1\n"), "unknown key 'noise.sigma'", "line 19");
+  ExpectError(SceneText("[noise]\nforce_delay = 10 ms\n"), "[noise] force_delay", "not a number");
+  ExpectError(SceneText("[noise]\nforce_bias_x = inf\n"), "[noise] force_bias_x", "finite");
   std::string text = SceneText("");
   text.replace(text.find("dt = 0.01"), 9, "dt = 0.01\nlog_every = 0");
   ExpectError(text, "[sim] log_every = 0", "must be >= 1");

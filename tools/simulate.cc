@@ -100,7 +100,9 @@ int main(int argc, char** argv) {
       std::printf("log         %zu rows every %d steps, %s, push as %s, noise %s\n",
                   log.samples.size(), scene.log.log_every, ToString(scene.log.motion),
                   ToString(scene.log.push),
-                  scene.log.noise.IsZero() ? "none" : scene.log.noise.Describe().c_str());
+                  scene.log.noise.IsZero() && !scene.log.noise.HasDefects()
+                      ? "none"
+                      : scene.log.noise.Describe().c_str());
       try {
         WritePushLog(log, vm["out"].as<std::string>());
       } catch (const std::exception& e) {
