@@ -156,6 +156,14 @@ void AddIdentifyOptions(po::options_description* options, po::options_descriptio
        "Ceres iterations per solve; a fit that needs more fails with exit code 3");
 }
 
+FileIdentifyOptions ReadFileIdentifyOptions(const po::variables_map& vm) {
+  FileIdentifyOptions o;
+  o.identify = ReadEstimatorOptions(vm);
+  o.read = ReadLogOptions(vm);
+  o.skip_bad = vm.count("skip-bad") > 0;
+  return o;
+}
+
 IdentifyRequest ReadIdentifyOptions(const po::variables_map& vm) {
   IdentifyRequest r;
   if (vm.count("log")) r.files = vm["log"].as<std::vector<std::string>>();
@@ -169,9 +177,7 @@ IdentifyRequest ReadIdentifyOptions(const po::variables_map& vm) {
     }
   }
   if (r.files.empty()) throw po::error("the option '--log' (or '--logs') is required");
-  r.options.identify = ReadEstimatorOptions(vm);
-  r.options.read = ReadLogOptions(vm);
-  r.options.skip_bad = vm.count("skip-bad") > 0;
+  r.options = ReadFileIdentifyOptions(vm);
   r.json = vm.count("json") > 0;
   r.verbose = vm.count("verbose") > 0;
   r.strict = vm.count("strict") > 0;

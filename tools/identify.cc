@@ -4,12 +4,12 @@
 
 #include <glog/logging.h>
 
-#include <cmath>
 #include <iostream>
 
 #include "io/result_json.h"
 #include "io/result_report.h"
 #include "pipeline/identify_options.h"
+#include "pipeline/identify_outcome.h"
 #include "tools/tool_support.h"
 
 namespace po = boost::program_options;
@@ -23,34 +23,6 @@ constexpr const char* kExitCodes =
     "missing, invalid or conflicting options); 3 numerical (the fit did not converge, or\n"
     "with --strict a suspect verdict); 4 a file could not be written. Warnings (absurd\n"
     "magnitudes, gaps in t) always go to stderr; --verbose adds the readers' notes.\n";
-
-/// Why the result must not be used (a numerical failure), or "" when it may.
-std::string NumericalFailure(const EstimateResult& result) {
-  const std::string fit = std::string("the ") + ToString(result.method) + " fit";
-  if (!result.converged) return fit + " did not converge (" + result.message + ")";
-  for (int i = 0; i < 3; ++i) {
-    const ParameterEstimate& p = result.parameters[i];
-    if (p.identifiable && !(std::isfinite(p.value) && std::isfinite(p.stderr_value) &&
-                            std::isfinite(p.ci95_lo) && std::isfinite(p.ci95_hi))) {
-      return fit + " gave a non-finite " + ParameterName(i);
-    }
-  }
-  return "";
-}
-
-/// The suspect estimates, "e_t_mu, force_bias_x_N", or "".
-std::string Suspects(const EstimateResult& result) {
-  std::string names;
-  for (int i = 0; i < 3; ++i) {
-    if (result.parameters[i].verdict == Verdict::kSuspect) {
-      names += (names.empty() ? "" : ", ") + std::string(ParameterName(i));
-    }
-  }
-  for (const NuisanceEstimate& n : result.nuisance) {
-    if (n.verdict == Verdict::kSuspect) names += (names.empty() ? "" : ", ") + n.name;
-  }
-  return names;
-}
 
 std::string Describe(const std::vector<std::string>& files) {
   return files.size() == 1 ? files[0] : std::to_string(files.size()) + " logs";
@@ -102,7 +74,7 @@ int main(int argc, char** argv) {
       std::cerr << "identify: error: " << what << ": " << failure << "; no residuals written\n";
       return tools::kExitNumerical;
     }
-    const std::string suspects = Suspects(result);
+    const std::string suspects = SuspectEstimates(result);
     if (!suspects.empty()) {
       std::cerr << "identify: " << (request.strict ? "error" : "warning") << ": " << what
                 << ": suspect estimates (" << suspects << "): see their reasons\n";
