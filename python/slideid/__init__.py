@@ -17,7 +17,16 @@ estimates) are issued as slideid.SlideidWarning.
     print(result.e_t_mu.value, result.e_t_mu.ci95)
 """
 
-from ._core import NumericalError, OptionError, __version__
+import sys
+
+try:
+    import numpy  # noqa: F401
+    from ._core import NumericalError, OptionError, __version__
+except ImportError as error:  # most likely another interpreter than the one it was built for
+    raise ImportError(
+        f"slideid did not load in {sys.executable} ({error}). It is built for one interpreter, "
+        "Debian's /usr/bin/python3 unless configured otherwise, which needs python3-numpy "
+        "(README, \"Python\")") from error
 from ._identify import Record, Result, identify, identify_file
 from ._log import (
     Log,

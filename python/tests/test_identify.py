@@ -1,6 +1,7 @@
 """identify from Python: known parameters recovered from arrays, and results equal to the
 identify tool's JSON on the same logs and options."""
 
+import concurrent.futures
 import json
 import pickle
 
@@ -8,7 +9,7 @@ import numpy as np
 import pytest
 
 import slideid
-from conftest import CORPUS, DEFAULT_LOG, cli_json, without_seconds
+from conftest import CORPUS, DEFAULT_LOG, cli_json, run_tool, without_seconds
 
 TRUTH = {"e_t_mu": 0.35, "e_o_over_e_t": 1.25, "e_r_over_e_t": 0.035}
 
@@ -170,3 +171,20 @@ def test_identify_file_gives_one_plain_dict_per_file(tmp_path):
         slideid.identify_file(DEFAULT_LOG, segment=1)
     with pytest.raises(TypeError):
         slideid.identify_file(DEFAULT_LOG, segmnt=20)
+
+
+def test_fits_in_threads_give_the_results_of_fits_one_after_the_other(tmp_path):
+    # The GIL is released during a fit, so fits run at once in threads; they must not
+    # disturb each other.
+    entries = slideid.make_dataset(count=4, seed=3, pushes=2, noise_pose=3e-4)
+    logs = [entry["log"] for entry in entries]
+    one_by_one = [without_seconds(slideid.identify(log).to_dict()) for log in logs]
+    with concurrent.futures.ThreadPoolExecutor(max_workers=4) as pool:
+        at_once = list(pool.map(lambda log: without_seconds(slideid.identify(log).to_dict()),
+                                logs))
+    assert at_once == one_by_one
+
+
+def test_the_version_is_the_tools_version():
+    code, out, _ = run_tool("identify", "--version")
+    assert code == 0 and out == f"identify (slideid) {slideid.__version__}\n"
