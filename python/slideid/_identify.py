@@ -139,7 +139,7 @@ def identify(logs, method="trajectory", *, strict=False, **options):
     run = _core.identify(_inputs(logs), method=method, **options)
     data = json.loads(run["json"])
     result = Result(data, run["residuals"], run["truth"], run["warnings"], run["notes"])
-    for message in run["warnings"]:
+    for message in run["fresh_warnings"]:  # read_log has issued those of its logs
         warnings.warn(message, SlideidWarning, stacklevel=2)
     what = run["what"]
     if run["too_little_excitation"]:

@@ -100,26 +100,37 @@ py::dict IdentifyInputs(const py::list& inputs, const py::kwargs& keywords) {
   }
   FileIdentifyResult run;
   std::string what;
+  // The readers' warnings, and those of them not yet issued (read_log issued its own).
+  std::vector<std::string> warnings, fresh_warnings, notes;
   if (handles.empty()) {
     what = paths.size() == 1 ? paths[0] : std::to_string(paths.size()) + " logs";
-    py::gil_scoped_release release;
-    run = IdentifyFiles(paths, options);
-  } else {
-    std::vector<Trajectory> logs;
-    for (const LogPtr& h : handles) {
-      logs.push_back(ChangesReading(vm) ? Reread(h->log, options.read, &run) : h->log);
-      if (!ChangesReading(vm)) run.warnings.insert(run.warnings.end(), h->warnings.begin(),
-                                                   h->warnings.end());
-    }
-    what = logs.size() == 1 ? (logs[0].source.empty() ? "the log" : logs[0].source)
-                            : std::to_string(logs.size()) + " logs";
-    std::vector<std::string> warnings = std::move(run.warnings), notes = std::move(run.notes);
     {
       py::gil_scoped_release release;
-      run = IdentifyReadLogs(std::move(logs), options);
+      run = IdentifyFiles(paths, options);
     }
-    run.warnings.insert(run.warnings.begin(), warnings.begin(), warnings.end());
-    run.notes.insert(run.notes.begin(), notes.begin(), notes.end());
+    warnings = fresh_warnings = run.warnings;
+    notes = run.notes;
+  } else {
+    const bool reread = ChangesReading(vm);
+    std::vector<Trajectory> logs;
+    for (const LogPtr& h : handles) {
+      if (reread) {
+        FileIdentifyResult reading;
+        logs.push_back(Reread(h->log, options.read, &reading));
+        fresh_warnings.insert(fresh_warnings.end(), reading.warnings.begin(),
+                              reading.warnings.end());
+        notes.insert(notes.end(), reading.notes.begin(), reading.notes.end());
+        continue;
+      }
+      logs.push_back(h->log);
+      warnings.insert(warnings.end(), h->warnings.begin(), h->warnings.end());
+      for (const std::string& n : h->notes) notes.push_back(h->log.source + ": " + n);
+    }
+    warnings.insert(warnings.end(), fresh_warnings.begin(), fresh_warnings.end());
+    what = logs.size() == 1 ? (logs[0].source.empty() ? "the log" : logs[0].source)
+                            : std::to_string(logs.size()) + " logs";
+    py::gil_scoped_release release;
+    run = IdentifyReadLogs(std::move(logs), options);
   }
   const EstimateResult& result = run.result;
   py::dict out;
@@ -130,8 +141,9 @@ py::dict IdentifyInputs(const py::list& inputs, const py::kwargs& keywords) {
   out["suspects"] = SuspectEstimates(result);
   out["residuals"] = Residuals(result);
   out["truth"] = Truth(run.truth);
-  out["warnings"] = run.warnings;
-  out["notes"] = run.notes;
+  out["warnings"] = warnings;
+  out["fresh_warnings"] = fresh_warnings;
+  out["notes"] = notes;
   return out;
 }
 

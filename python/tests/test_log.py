@@ -2,6 +2,7 @@
 simulated, pickled; datasets and imports as the tools make them."""
 
 import pickle
+import warnings
 
 import numpy as np
 import pytest
@@ -150,3 +151,27 @@ def test_import_tripod_logs_into_pairs_as_import_log_does(tmp_path):
     assert summary["accepted"] == 1 and summary["rejections"] == []
     for path in sorted((tmp_path / "cli").iterdir()):
         assert (tmp_path / "py" / path.name).read_text() == path.read_text(), path.name
+
+
+def test_reader_warnings_are_issued_once_and_kept_in_the_result(tmp_path):
+    log = slideid.read_log(DEFAULT_LOG)
+    t = np.array(log.t)
+    t[300:] += 0.04  # a gap of 5 intervals: a warning (an error from 10)
+    with pytest.warns(slideid.SlideidWarning, match="intervals longer than 3 times") as record:
+        gappy = log.replace(t=t)
+    assert len(record) == 1
+    assert str(record[0].message).startswith("default_push.csv row 300: column 't': ")
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        result = slideid.identify(gappy)
+    assert not [w for w in caught if "intervals longer" in str(w.message)]
+    assert [w for w in result.warnings if "intervals longer" in w]
+    # From a file, the warning is identify's, as the tool prints it.
+    path = tmp_path / "gappy.csv"
+    slideid.write_log(gappy, path)
+    _, _, err = run_tool("identify", "--log", path)
+    cli_warnings = [line[len("identify: warning: "):] for line in err.splitlines()
+                    if line.startswith("identify: warning: ")]
+    with pytest.warns(slideid.SlideidWarning, match="intervals longer"):
+        result = slideid.identify(path)
+    assert result.warnings == cli_warnings != []
