@@ -45,6 +45,13 @@ class FileError : public std::runtime_error {
 FileIdentifyResult IdentifyFiles(const std::vector<std::string>& paths,
                                  const FileIdentifyOptions& options);
 
+/// Why `result` must not be used (a numerical failure: no convergence, a non-finite
+/// estimate), or "" when it may.
+std::string NumericalFailure(const EstimateResult& result);
+
+/// The names of the suspect estimates ("e_t_mu, force_bias_x_N"), or "".
+std::string SuspectNames(const EstimateResult& result);
+
 /// Identifies logs already in memory (named by their `source`), pooled when several.
 EstimateResult IdentifyLogs(const std::vector<Trajectory>& logs, const IdentifyOptions& options);
 

@@ -111,6 +111,14 @@ LogReadOptions ReadLogOptions(const po::variables_map& vm) {
 
 }  // namespace
 
+FileIdentifyOptions ReadFileIdentifyOptions(const po::variables_map& vm) {
+  FileIdentifyOptions o;
+  o.identify = ReadEstimatorOptions(vm);
+  o.read = ReadLogOptions(vm);
+  o.skip_bad = vm.count("skip-bad") > 0;
+  return o;
+}
+
 void AddIdentifyOptions(po::options_description* options, po::options_description* advanced) {
   options->add_options()
       ("log", po::value<std::vector<std::string>>()->value_name("FILE"),
@@ -156,14 +164,6 @@ void AddIdentifyOptions(po::options_description* options, po::options_descriptio
        "Ceres iterations per solve; a fit that needs more fails with exit code 3");
 }
 
-FileIdentifyOptions ReadFileIdentifyOptions(const po::variables_map& vm) {
-  FileIdentifyOptions o;
-  o.identify = ReadEstimatorOptions(vm);
-  o.read = ReadLogOptions(vm);
-  o.skip_bad = vm.count("skip-bad") > 0;
-  return o;
-}
-
 IdentifyRequest ReadIdentifyOptions(const po::variables_map& vm) {
   IdentifyRequest r;
   if (vm.count("log")) r.files = vm["log"].as<std::vector<std::string>>();
@@ -177,7 +177,9 @@ IdentifyRequest ReadIdentifyOptions(const po::variables_map& vm) {
     }
   }
   if (r.files.empty()) throw po::error("the option '--log' (or '--logs') is required");
-  r.options = ReadFileIdentifyOptions(vm);
+  r.options.identify = ReadEstimatorOptions(vm);
+  r.options.read = ReadLogOptions(vm);
+  r.options.skip_bad = vm.count("skip-bad") > 0;
   r.json = vm.count("json") > 0;
   r.verbose = vm.count("verbose") > 0;
   r.strict = vm.count("strict") > 0;

@@ -4,12 +4,12 @@
 
 #include <glog/logging.h>
 
+#include <cmath>
 #include <iostream>
 
 #include "io/result_json.h"
 #include "io/result_report.h"
 #include "pipeline/identify_options.h"
-#include "pipeline/identify_outcome.h"
 #include "tools/tool_support.h"
 
 namespace po = boost::program_options;
@@ -74,7 +74,7 @@ int main(int argc, char** argv) {
       std::cerr << "identify: error: " << what << ": " << failure << "; no residuals written\n";
       return tools::kExitNumerical;
     }
-    const std::string suspects = SuspectEstimates(result);
+    const std::string suspects = SuspectNames(result);
     if (!suspects.empty()) {
       std::cerr << "identify: " << (request.strict ? "error" : "warning") << ": " << what
                 << ": suspect estimates (" << suspects << "): see their reasons\n";

@@ -9,7 +9,6 @@
 #include "core.h"
 #include "io/result_json.h"
 #include "pipeline/identify_options.h"
-#include "pipeline/identify_outcome.h"
 
 namespace slideid::python {
 namespace po = boost::program_options;
@@ -17,9 +16,10 @@ namespace po = boost::program_options;
 namespace {
 
 /// identify's options that are not about the fit: the files come as arguments, the output
-/// is the result, and --strict is the Python layer's.
-const std::vector<std::string> kNotKeywords = {"log", "logs", "json", "residuals", "verbose",
-                                               "strict"};
+/// is the result, --strict is the Python layer's, and a batch is a map of identify_file.
+const std::vector<std::string> kNotKeywords = {"log",     "logs",  "json", "residuals",
+                                               "verbose", "strict", "batch", "jobs",
+                                               "out",     "shard"};
 
 /// Whether the keywords ask for a log to be read differently from how it was.
 bool ChangesReading(const po::variables_map& vm) {
@@ -138,7 +138,7 @@ py::dict IdentifyInputs(const py::list& inputs, const py::kwargs& keywords) {
   out["what"] = what;
   out["too_little_excitation"] = result.status == TerminationStatus::kTooLittleExcitation;
   out["failure"] = NumericalFailure(result);
-  out["suspects"] = SuspectEstimates(result);
+  out["suspects"] = SuspectNames(result);
   out["residuals"] = Residuals(result);
   out["truth"] = Truth(run.truth);
   out["warnings"] = warnings;
