@@ -888,46 +888,51 @@ void WriteMetadata(const Trajectory& tr, std::ostream& out) {
   }
 }
 
+/// The numeric columns written, in file order (the mode column, if any, comes last).
+std::vector<const char*> WrittenNames(const LogColumns& c) {
+  std::vector<const char*> names = {"t"};
+  auto add = [&](std::initializer_list<const char*> group) {
+    names.insert(names.end(), group.begin(), group.end());
+  };
+  if (c.pose) add({"x", "y", "theta"});
+  if (c.velocity) add({"vx", "vy", "wz"});
+  if (c.force) add({"fx", "fy"});
+  if (c.fz) add({"fz"});
+  if (c.push_point) add({"px", "py", "pz"});
+  if (c.moments) add({"tx", "ty", "tz"});
+  if (c.step_info) add({"ax", "ay", "pt", "po", "pr", "sigma"});
+  return names;
+}
+
 std::string HeaderLine(const LogColumns& c) {
-  std::string h = "t";
-  if (c.pose) h += ",x,y,theta";
-  if (c.velocity) h += ",vx,vy,wz";
-  if (c.force) h += ",fx,fy";
-  if (c.fz) h += ",fz";
-  if (c.push_point) h += ",px,py,pz";
-  if (c.moments) h += ",tx,ty,tz";
-  if (c.step_info) h += ",ax,ay,pt,po,pr,sigma,mode";
+  std::string h;
+  for (const char* name : WrittenNames(c)) h += (h.empty() ? "" : ",") + std::string(name);
+  if (c.step_info) h += std::string(",") + kModeColumn;
   return h;
 }
 
-void Append(std::string& line, std::initializer_list<double> values) {
-  for (double v : values) {
-    line += ',';
-    line += FormatNumber(v);
-  }
-}
-
-std::string RowLine(const TrajectorySample& s, const LogColumns& c, double com_height_m) {
-  std::string line = FormatNumber(s.t_s);
+/// The numbers of a row, in the order of WrittenNames (`values` is cleared first).
+void RowValues(const TrajectorySample& s, const LogColumns& c, double com_height_m,
+               std::vector<double>& values) {
+  values.clear();
+  auto add = [&](std::initializer_list<double> group) {
+    values.insert(values.end(), group.begin(), group.end());
+  };
   const PlanarState& q = s.state;
-  if (c.pose) Append(line, {q.x, q.y, q.theta});
-  if (c.velocity) Append(line, {q.vx, q.vy, q.wz});
-  if (c.force) Append(line, {s.applied.fx, s.applied.fy});
-  if (c.fz) Append(line, {s.applied.fz});
+  add({s.t_s});
+  if (c.pose) add({q.x, q.y, q.theta});
+  if (c.velocity) add({q.vx, q.vy, q.wz});
+  if (c.force) add({s.applied.fx, s.applied.fy});
+  if (c.fz) add({s.applied.fz});
   if (c.push_point) {
     const Eigen::Vector3d p = WrittenPushPoint(s, com_height_m);
-    Append(line, {p.x(), p.y(), p.z()});
+    add({p.x(), p.y(), p.z()});
   }
   if (c.moments) {
     const Eigen::Vector3d m = WrittenMoments(s, c.push_point, com_height_m);
-    Append(line, {m.x(), m.y(), m.z()});
+    add({m.x(), m.y(), m.z()});
   }
-  if (c.step_info) {
-    Append(line, {s.ecp_world.x(), s.ecp_world.y(), s.pt, s.po, s.pr, s.sigma});
-    line += ',';
-    line += ModeName(s.mode);
-  }
-  return line;
+  if (c.step_info) add({s.ecp_world.x(), s.ecp_world.y(), s.pt, s.po, s.pr, s.sigma});
 }
 
 /// Writes without checking the stream; callers check and name their target.
@@ -936,8 +941,17 @@ void WriteUnchecked(const Trajectory& tr, std::ostream& out) {
   WriteMetadata(tr, out);
   const LogColumns columns = WrittenColumns(tr);
   out << HeaderLine(columns) << '\n';
+  std::vector<double> values;
+  std::string line;
   for (const TrajectorySample& s : tr.samples) {
-    out << RowLine(s, columns, tr.slider.com_height_m) << '\n';
+    RowValues(s, columns, tr.slider.com_height_m, values);
+    line.clear();
+    for (std::size_t i = 0; i < values.size(); ++i) {
+      if (i > 0) line += ',';
+      line += FormatNumber(values[i]);
+    }
+    if (columns.step_info) line += std::string(",") + ModeName(s.mode);
+    out << line << '\n';
   }
 }
 
@@ -1140,6 +1154,95 @@ void WritePushLog(const Trajectory& trajectory, const std::string& path) {
     std::remove(tmp.c_str());
     throw std::runtime_error("cannot write push log '" + path + "': " + e.what());
   }
+}
+
+PushLogColumns ColumnsOf(const Trajectory& trajectory) {
+  const LogColumns written = WrittenColumns(trajectory);
+  PushLogColumns columns;
+  for (const char* name : WrittenNames(written)) columns.names.emplace_back(name);
+  columns.values.assign(columns.names.size(), {});
+  for (auto& column : columns.values) column.reserve(trajectory.samples.size());
+  std::vector<double> values;
+  for (const TrajectorySample& s : trajectory.samples) {
+    RowValues(s, written, trajectory.slider.com_height_m, values);
+    for (std::size_t i = 0; i < values.size(); ++i) columns.values[i].push_back(values[i]);
+    if (written.step_info) columns.mode.emplace_back(ModeName(s.mode));
+  }
+  return columns;
+}
+
+namespace {
+
+/// Whether `text` fits in one CSV cell or metadata value of a log (no line break, no
+/// comma when `cell`, no NUL).
+bool FitsOneLine(std::string_view text, bool cell) {
+  return text.find_first_of(cell ? std::string_view("\n\r,\0", 4)
+                                 : std::string_view("\n\r\0", 3)) == std::string_view::npos;
+}
+
+/// The text of the file that `columns` and `metadata` make (line numbers as documented).
+std::string ColumnsText(const PushLogColumns& columns,
+                        const std::vector<std::pair<std::string, std::string>>& metadata,
+                        const std::string& source) {
+  const int header_line = static_cast<int>(metadata.size()) + 1;
+  std::string text;
+  for (std::size_t i = 0; i < metadata.size(); ++i) {
+    const auto& [key, value] = metadata[i];
+    if (!IsIdentifier(key) || !FitsOneLine(value, false)) {
+      throw LogError(source, static_cast<int>(i) + 1, "",
+                     "metadata '" + key + "': keys must be identifiers, values one line");
+    }
+    text += "# " + key + " = " + value + "\n";
+  }
+  if (columns.values.size() != columns.names.size()) {
+    throw LogError(source, header_line, "", "one column of values per name is needed");
+  }
+  const bool with_mode = !columns.mode.empty();
+  const std::size_t rows = columns.values.empty() ? columns.mode.size() : columns.values[0].size();
+  std::string header;
+  for (std::size_t c = 0; c < columns.names.size(); ++c) {
+    const std::string& name = columns.names[c];
+    if (!IsIdentifier(name)) throw LogError(source, header_line, name, "not a column name");
+    if (columns.values[c].size() != rows) {
+      throw LogError(source, header_line, name,
+                     "has " + std::to_string(columns.values[c].size()) + " values, '" +
+                         columns.names[0] + "' " + std::to_string(rows));
+    }
+    header += (c > 0 ? "," : "") + name;
+  }
+  if (with_mode) {
+    if (columns.mode.size() != rows) {
+      throw LogError(source, header_line, kModeColumn,
+                     "has " + std::to_string(columns.mode.size()) + " values, the others " +
+                         std::to_string(rows));
+    }
+    header += std::string(header.empty() ? "" : ",") + kModeColumn;
+  }
+  text += header + "\n";
+  for (std::size_t r = 0; r < rows; ++r) {
+    for (std::size_t c = 0; c < columns.values.size(); ++c) {
+      if (c > 0) text += ',';
+      text += ShortNumber(columns.values[c][r]);  // "nan", "inf": the reader names them
+    }
+    if (with_mode) {
+      if (!FitsOneLine(columns.mode[r], true)) {
+        throw LogError(source, header_line + 1 + static_cast<int>(r), kModeColumn,
+                       "is not start, slide or stick");
+      }
+      text += (columns.values.empty() ? "" : ",") + columns.mode[r];
+    }
+    text += '\n';
+  }
+  return text;
+}
+
+}  // namespace
+
+Trajectory ParsePushLogColumns(const PushLogColumns& columns,
+                               const std::vector<std::pair<std::string, std::string>>& metadata,
+                               const std::string& source, const LogReadOptions& options,
+                               LogReadReport* report) {
+  return ParsePushLog(ColumnsText(columns, metadata, source), source, options, report);
 }
 
 }  // namespace slideid

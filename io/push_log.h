@@ -8,6 +8,7 @@
 #include <stdexcept>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include "forward_model/trajectory.h"
@@ -70,5 +71,26 @@ Trajectory ParsePushLog(std::string_view text, const std::string& source,
 /// so a failed write never leaves a complete-looking file.
 void WritePushLog(const Trajectory& trajectory, const std::string& path);
 void WritePushLog(const Trajectory& trajectory, std::ostream& out);
+
+/// A push log as named columns: what WritePushLog writes, without the text (the Python
+/// module's arrays). Numbers as written; theta unwrapped; moments are the residual ones when
+/// push points are written (log-format.md).
+struct PushLogColumns {
+  std::vector<std::string> names;            ///< "t", "x", ... in file order, without "mode"
+  std::vector<std::vector<double>> values;   ///< one per name, one value per row
+  std::vector<std::string> mode;             ///< the mode column ("start", "slide", "stick"), or empty
+};
+
+/// The columns WritePushLog would write for `trajectory` (metadata aside).
+PushLogColumns ColumnsOf(const Trajectory& trajectory);
+
+/// Reads a log given as columns and `# key = value` metadata exactly as ReadPushLog reads
+/// the file they make (same checks, same messages): `source` names it, the metadata are lines
+/// 1 to N, the header line N + 1 and row i (from 0) line N + 2 + i. Throws LogError, also for
+/// columns of unequal length and for names or text that the file could not hold.
+Trajectory ParsePushLogColumns(const PushLogColumns& columns,
+                               const std::vector<std::pair<std::string, std::string>>& metadata,
+                               const std::string& source, const LogReadOptions& options = {},
+                               LogReadReport* report = nullptr);
 
 }  // namespace slideid

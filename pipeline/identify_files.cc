@@ -49,6 +49,12 @@ std::optional<ReducedFriction> CommonTruth(const std::vector<Input>& inputs) {
   return truth;
 }
 
+// A dead force channel cannot be pooled with the others: it would explain their motion with
+// no force at all. Throws FileError naming the log `name`.
+void CheckPoolable(const Trajectory& log, const std::string& name) {
+  if (const auto dead = DiagnoseLog(log).dead_force_channel) throw FileError(name + ": " + *dead);
+}
+
 // Reads every file with `read`; a file that throws is skipped (skip_bad) or fails the run.
 template <typename Input, typename Read>
 std::vector<Input> ReadAll(const std::vector<std::string>& paths, bool skip_bad, Read read,
@@ -86,11 +92,7 @@ FileIdentifyResult IdentifyPushLogs(const std::vector<std::string>& paths,
         log.source = FileName(path);
         for (const std::string& w : report.warnings) out.warnings.push_back(w);
         for (const std::string& n : report.notes) out.notes.push_back(path + ": " + n);
-        // A dead force channel cannot be pooled with the others: it would explain their
-        // motion with no force at all.
-        if (const auto dead = DiagnoseLog(log).dead_force_channel; dead && paths.size() > 1) {
-          throw FileError(path + ": " + *dead);
-        }
+        if (paths.size() > 1) CheckPoolable(log, path);
         return log;
       },
       &skipped);
@@ -186,6 +188,38 @@ std::string SuspectNames(const EstimateResult& result) {
 EstimateResult IdentifyLogs(const std::vector<Trajectory>& logs, const IdentifyOptions& options) {
   if (logs.size() == 1) return Identify(logs[0], options);
   return Identify(logs, options);
+}
+
+FileIdentifyResult IdentifyReadLogs(std::vector<Trajectory> logs,
+                                    const FileIdentifyOptions& options) {
+  std::string why;
+  if (!options.identify.IsValid(&why)) throw std::invalid_argument(why);
+  if (options.identify.method == EstimatorMethod::kQuasiStatic) {
+    throw std::invalid_argument("the quasi-static method fits wrench-twist pairs, read from "
+                                "files: give their paths, not push logs");
+  }
+  FileIdentifyResult out;
+  std::vector<LogResult> skipped;
+  std::vector<Trajectory> kept;
+  for (size_t k = 0; k < logs.size(); ++k) {
+    const std::string name =
+        logs[k].source.empty() ? "log " + std::to_string(k + 1) : logs[k].source;
+    try {
+      if (logs.size() > 1) CheckPoolable(logs[k], name);
+      kept.push_back(std::move(logs[k]));
+    } catch (const FileError& e) {
+      if (!options.skip_bad) throw;
+      skipped.push_back(Skipped(name, e.what()));
+    }
+  }
+  if (kept.empty()) {
+    throw FileError(logs.empty() ? "no logs to identify"
+                                 : "every log was skipped: nothing left to identify");
+  }
+  out.truth = CommonTruth(kept);
+  out.result = IdentifyLogs(kept, options.identify);
+  AppendSkipped(std::move(skipped), &out.result);
+  return out;
 }
 
 FileIdentifyResult IdentifyFiles(const std::vector<std::string>& paths,

@@ -55,6 +55,13 @@ std::string SuspectNames(const EstimateResult& result);
 /// Identifies logs already in memory (named by their `source`), pooled when several.
 EstimateResult IdentifyLogs(const std::vector<Trajectory>& logs, const IdentifyOptions& options);
 
+/// What IdentifyFiles does once push logs are read, for logs already in memory (the Python
+/// module's): a log that cannot be pooled with the others (a dead force channel) is listed
+/// as skipped (options.skip_bad) or fails the run with a FileError naming its source.
+/// options.read is not used. Throws std::invalid_argument for invalid options or the
+/// quasi-static method (it fits wrench-twist pairs, read from files).
+FileIdentifyResult IdentifyReadLogs(std::vector<Trajectory> logs, const FileIdentifyOptions& options);
+
 /// The files named by a directory (its files ending in `extension`), or by a glob pattern,
 /// sorted; without the manifests our tools write beside their logs (truth.csv of
 /// make-dataset, import_report.csv of import-log). Throws FileError when it names none.

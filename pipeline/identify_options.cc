@@ -111,6 +111,14 @@ LogReadOptions ReadLogOptions(const po::variables_map& vm) {
 
 }  // namespace
 
+FileIdentifyOptions ReadFileIdentifyOptions(const po::variables_map& vm) {
+  FileIdentifyOptions o;
+  o.identify = ReadEstimatorOptions(vm);
+  o.read = ReadLogOptions(vm);
+  o.skip_bad = vm.count("skip-bad") > 0;
+  return o;
+}
+
 void AddIdentifyOptions(po::options_description* options, po::options_description* advanced) {
   options->add_options()
       ("log", po::value<std::vector<std::string>>()->value_name("FILE"),

@@ -31,6 +31,10 @@ struct IdentifyRequest {
 void AddIdentifyOptions(boost::program_options::options_description* options,
                         boost::program_options::options_description* advanced);
 
+/// How to read and identify, from the options (all but the files and the output ones).
+/// Rejects options the method ignores, values out of range and conflicting options.
+FileIdentifyOptions ReadFileIdentifyOptions(const boost::program_options::variables_map& vm);
+
 /// The request the options make (the files required). Rejects options the method ignores,
 /// values out of range and conflicting options.
 IdentifyRequest ReadIdentifyOptions(const boost::program_options::variables_map& vm);

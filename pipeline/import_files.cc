@@ -78,4 +78,17 @@ ImportSummary ImportTripodFiles(const std::vector<std::string>& files,
   return summary;
 }
 
+ImportSummary ImportFiles(const ImportRequest& request) {
+  if (request.format == "mit-push") {
+    MitObjectSource objects = request.objects;
+    objects.table = request.table.get();
+    return ImportMitFiles(request.files, objects, request.mit, request.out_dir);
+  }
+  if (request.format == "zhou-tripod") {
+    return ImportTripodFiles(request.files, request.tripod, request.out_dir);
+  }
+  throw std::invalid_argument("unknown import format '" + request.format +
+                              "' (mit-push or zhou-tripod)");
+}
+
 }  // namespace slideid

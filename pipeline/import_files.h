@@ -3,10 +3,12 @@
 // output directory, or rejected with its reason, on its own (a bad file never stops the
 // others), and the import report written beside them.
 
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "io/mit_push_files.h"
+#include "io/object_table.h"
 #include "io/zhou_tripod_import.h"
 
 namespace slideid {
@@ -31,5 +33,21 @@ ImportSummary ImportMitFiles(const std::vector<std::string>& files,
 /// has no acceptable push. Throws std::runtime_error naming a path that cannot be written.
 ImportSummary ImportTripodFiles(const std::vector<std::string>& files,
                                 const TripodImportOptions& options, const std::string& out_dir);
+
+/// One import: the format, the files, where to and how (import-log's options, or the
+/// Python module's import_log).
+struct ImportRequest {
+  std::string format;  ///< "mit-push" or "zhou-tripod"
+  std::vector<std::string> files;
+  std::string out_dir;
+  std::shared_ptr<const ObjectTable> table;  ///< mit-push: the --objects table, if any
+  MitObjectSource objects;                   ///< mit-push; its table pointer is set from `table`
+  MitImportOptions mit;
+  TripodImportOptions tripod;
+};
+
+/// Runs ImportMitFiles or ImportTripodFiles. Throws std::invalid_argument for an unknown
+/// format, std::runtime_error naming a path that cannot be written.
+ImportSummary ImportFiles(const ImportRequest& request);
 
 }  // namespace slideid

@@ -13,6 +13,8 @@ packages=(
   libgtest-dev           # unit and recovery tests
   libbenchmark-dev       # step and estimator benchmarks
   gnuplot-nox            # plot-log
+  pybind11-dev python3-dev python3-numpy  # the Python module, for Debian's /usr/bin/python3
+  python3-pytest         # the Python module's tests
   clang libclang-rt-14-dev  # fuzz targets: libFuzzer and clang's sanitizer runtimes (scripts/fuzz.sh)
 )
 

@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
 # Quick start, second command: install what is missing, build, run every test (what CI
-# runs). Then the robustness passes of docs/robustness.md: each fuzzer for 30 s
-# (scripts/fuzz.sh) and the whole suite under ASan + UBSan (scripts/sanitizers.sh).
+# runs): ctest runs the GoogleTest suites, pytest on the Python module (python/tests, with
+# /usr/bin/python3) and the CMake package test (tests/consumer against a fresh install).
+# Then the robustness passes of docs/robustness.md: each fuzzer for 30 s (scripts/fuzz.sh)
+# and the whole suite under ASan + UBSan (scripts/sanitizers.sh).
 # SLIDEID_QUICK=1 skips the robustness passes.
 set -euo pipefail
 cd "$(dirname "$0")/.."

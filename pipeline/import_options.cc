@@ -1,0 +1,116 @@
+#include "pipeline/import_options.h"
+
+#include <cmath>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace slideid::cli {
+namespace {
+
+namespace po = boost::program_options;
+
+std::optional<double> Physical(const po::variables_map& vm, const char* option, bool zero_ok) {
+  if (!vm.count(option)) return std::nullopt;
+  const double value = vm[option].as<double>();
+  if (!std::isfinite(value) || value < 0.0 || (!zero_ok && value == 0.0)) {
+    throw po::error(std::string("--") + option + " must be a finite number " + (zero_ok ? ">= 0" : "> 0"));
+  }
+  return value;
+}
+
+MitImportOptions MitOptions(const po::variables_map& vm) {
+  MitImportOptions o;
+  o.tip_radius_m = vm["tip-radius"].as<double>();
+  o.rate_hz = vm["rate"].as<double>();
+  o.margin_s = vm["margin"].as<double>();
+  o.max_offset_drift_N = vm["max-offset-drift"].as<double>();
+  o.max_pose_gap_s = vm["max-pose-gap"].as<double>();
+  o.min_push_duration_s = vm["min-push-duration"].as<double>();
+  const std::string sign = vm["force-sign"].as<std::string>();
+  if (sign == "auto") o.force_sign = ForceSign::kAuto;
+  else if (sign == "applied") o.force_sign = ForceSign::kApplied;
+  else if (sign == "reaction") o.force_sign = ForceSign::kReaction;
+  else throw po::error("--force-sign must be auto, applied or reaction");
+  std::string why;
+  if (!o.IsValid(&why)) throw po::error("invalid import setting: " + why);
+  return o;
+}
+
+MitObjectSource Objects(const po::variables_map& vm, std::shared_ptr<const ObjectTable>* table) {
+  MitObjectSource objects;
+  objects.mass_kg = Physical(vm, "mass", false);
+  objects.inertia_kgm2 = Physical(vm, "inertia", false);
+  objects.com_height_m = Physical(vm, "com-height", true);
+  if (vm.count("patch")) objects.patch_spec = vm["patch"].as<std::string>();
+  if (vm.count("objects")) {
+    *table = std::make_shared<const ObjectTable>(ReadObjectTable(vm["objects"].as<std::string>()));
+  } else if (!objects.mass_kg || !objects.inertia_kgm2 || !objects.com_height_m || !objects.patch_spec) {
+    throw po::error("the object is not known: give --mass, --inertia, --com-height and --patch, "
+                    "or an --objects table (masses are never guessed)");
+  }
+  return objects;
+}
+
+TripodImportOptions TripodOptions(const po::variables_map& vm) {
+  TripodImportOptions o;
+  o.mass_kg = Physical(vm, "mass", false);
+  o.inertia_kgm2 = Physical(vm, "inertia", false);
+  o.com_height_m = Physical(vm, "com-height", true);
+  std::string why;
+  if (!o.IsValid(&why)) throw po::error("invalid import setting: " + why);
+  return o;
+}
+
+}  // namespace
+
+void AddImportOptions(po::options_description* options, po::options_description* hidden) {
+  options->add_options()
+      ("format", po::value<std::string>()->value_name("NAME"), "mit-push (MIT push dataset JSON: push logs) or zhou-tripod (ICRA 2016 tripod logs: wrench-twist pairs)")
+      ("out", po::value<std::string>()->value_name("DIR"),
+       "output directory: one DIR/<stem>.csv per accepted file and DIR/import_report.csv")
+      ("objects", po::value<std::string>()->value_name("FILE"),
+       "CSV table name,mass,inertia,com_height[,patch,source] by object name (shape=NAME)")
+      ("mass", po::value<double>()->value_name("KG"), "object mass (overrides the table)")
+      ("inertia", po::value<double>()->value_name("KG_M2"),
+       "moment of inertia about the vertical axis through the CM (overrides the table)")
+      ("com-height", po::value<double>()->value_name("M"), "CM height (overrides the table)")
+      ("patch", po::value<std::string>()->value_name("SPEC"),
+       "object outline = contact patch, e.g. \"rectangle 0.09 0.09\" (overrides the table)")
+      ("tip-radius", po::value<double>()->default_value(0.00475)->value_name("M"), "pusher radius")
+      ("rate", po::value<double>()->default_value(100.0)->value_name("HZ"), "rows per second")
+      ("margin", po::value<double>()->default_value(0.05)->value_name("S"),
+       "kept before and after the push")
+      ("max-offset-drift", po::value<double>()->default_value(0.5)->value_name("N"),
+       "reject a file whose force offsets before and after the push differ by more")
+      ("max-pose-gap", po::value<double>()->default_value(0.05)->value_name("S"),
+       "reject a file with a longer gap between object poses inside the push")
+      ("min-push-duration", po::value<double>()->default_value(0.2)->value_name("S"),
+       "reject a shorter push")
+      ("force-sign", po::value<std::string>()->default_value("auto"),
+       "auto (per file, from the contact normal), applied or reaction (stored = -force)");
+  hidden->add_options()("files", po::value<std::vector<std::string>>());
+}
+
+ImportRequest ReadImportOptions(const po::variables_map& vm) {
+  if (!vm.count("format")) throw po::error("the option '--format' is required");
+  if (!vm.count("out")) throw po::error("the option '--out' is required");
+  if (!vm.count("files")) throw po::error("no input FILE given");
+  ImportRequest r;
+  r.format = vm["format"].as<std::string>();
+  r.files = vm["files"].as<std::vector<std::string>>();
+  r.out_dir = vm["out"].as<std::string>();
+  if (r.format != "mit-push" && r.format != "zhou-tripod") {
+    throw po::error("--format must be mit-push or zhou-tripod");
+  }
+  // The table is read before any import: a bad table is bad input, not I/O.
+  if (r.format == "mit-push") {
+    r.objects = Objects(vm, &r.table);
+    r.mit = MitOptions(vm);
+  } else {
+    r.tripod = TripodOptions(vm);
+  }
+  return r;
+}
+
+}  // namespace slideid::cli

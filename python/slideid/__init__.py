@@ -1,0 +1,58 @@
+"""slideid: the friction of a sliding object, identified from pushing logs.
+
+Python interface to the slideid libraries (README, "Python"). Arrays are numpy arrays;
+results are plain Python objects whose ``to_dict()`` is exactly the JSON of
+``identify --json``. Options are the command-line options of the tools, with ``_`` for ``-``
+(``fit_force_bias=True`` is ``--fit-force-bias``), checked as the tools check them.
+
+Errors: bad input raises ValueError with the tools' message (file, line and column; a bad
+option value raises its subclass slideid.OptionError, naming the option);
+a fit or a simulation that does not converge raises slideid.NumericalError; a file that
+cannot be written raises OSError. Warnings (absurd magnitudes, gaps in t, suspect
+estimates) are issued as slideid.SlideidWarning.
+
+    import slideid
+    log = slideid.read_log("datasets/logs/default_push.csv")
+    result = slideid.identify(log)
+    print(result.e_t_mu.value, result.e_t_mu.ci95)
+"""
+
+import sys
+
+try:
+    import numpy  # noqa: F401
+    from ._core import NumericalError, OptionError, __version__
+except ImportError as error:  # most likely another interpreter than the one it was built for
+    raise ImportError(
+        f"slideid did not load in {sys.executable} ({error}). It is built for one interpreter, "
+        "Debian's /usr/bin/python3 unless configured otherwise, which needs python3-numpy "
+        "(README, \"Python\")") from error
+from ._identify import Record, Result, identify, identify_file
+from ._log import (
+    Log,
+    SlideidWarning,
+    import_log,
+    make_dataset,
+    make_log,
+    read_log,
+    simulate,
+    write_log,
+)
+
+__all__ = [
+    "Log",
+    "NumericalError",
+    "OptionError",
+    "Record",
+    "Result",
+    "SlideidWarning",
+    "__version__",
+    "identify",
+    "identify_file",
+    "import_log",
+    "make_dataset",
+    "make_log",
+    "read_log",
+    "simulate",
+    "write_log",
+]

@@ -1,0 +1,156 @@
+// identify: push logs (files or slideid.Log objects) or wrench-twist pair files, with the
+// options of the identify tool, to the identify JSON and what goes with it.
+
+#include <pybind11/numpy.h>
+#include <pybind11/stl.h>
+
+#include <sstream>
+
+#include "core.h"
+#include "io/result_json.h"
+#include "pipeline/identify_options.h"
+
+namespace slideid::python {
+namespace po = boost::program_options;
+
+namespace {
+
+/// identify's options that are not about the fit: the files come as arguments, the output
+/// is the result, --strict is the Python layer's, and a batch is a map of identify_file.
+const std::vector<std::string> kNotKeywords = {"log",     "logs",  "json", "residuals",
+                                               "verbose", "strict", "batch", "jobs",
+                                               "out",     "shard"};
+
+/// Whether the keywords ask for a log to be read differently from how it was.
+bool ChangesReading(const po::variables_map& vm) {
+  for (const char* option : {"mass", "inertia", "com-height", "gravity"}) {
+    if (vm.count(option)) return true;
+  }
+  return !vm["max-gap-ratio"].defaulted();
+}
+
+/// `log` read again from its text with `options` (slider overrides, largest gap), as the
+/// file it makes would be read with them.
+Trajectory Reread(const Trajectory& log, const LogReadOptions& options, FileIdentifyResult* run) {
+  std::ostringstream text;
+  WritePushLog(log, text);
+  LogReadReport report;
+  Trajectory again = ParsePushLog(text.str(), log.source, options, &report);
+  again.source = log.source;
+  run->warnings.insert(run->warnings.end(), report.warnings.begin(), report.warnings.end());
+  for (const std::string& n : report.notes) run->notes.push_back(log.source + ": " + n);
+  return again;
+}
+
+py::dict Residuals(const EstimateResult& result) {
+  const size_t n = result.residuals.size();
+  py::array_t<int> log(n), row(n);
+  py::array_t<double> t(n), r0(n), r1(n), r2(n);
+  py::array_t<bool> used(n);
+  for (size_t k = 0; k < n; ++k) {
+    const StepResidual& r = result.residuals[k];
+    log.mutable_at(k) = r.log;
+    row.mutable_at(k) = r.row;
+    t.mutable_at(k) = r.t_s;
+    r0.mutable_at(k) = r.value[0];
+    r1.mutable_at(k) = r.value[1];
+    r2.mutable_at(k) = r.value[2];
+    used.mutable_at(k) = r.used;
+  }
+  py::dict out;
+  out["log"] = log;
+  out["row"] = row;
+  out["t"] = t;
+  out[py::str(result.residual_names[0])] = r0;
+  out[py::str(result.residual_names[1])] = r1;
+  out[py::str(result.residual_names[2])] = r2;
+  out["used"] = used;
+  return out;
+}
+
+py::object Truth(const std::optional<ReducedFriction>& truth) {
+  if (!truth) return py::none();
+  py::dict d;
+  d["e_t_mu"] = truth->a;
+  d["e_o_over_e_t"] = truth->b;
+  d["e_r_over_e_t"] = truth->c;
+  return d;
+}
+
+/// Identifies `inputs`: all paths (as the identify tool does) or all LogHandles.
+py::dict IdentifyInputs(const py::list& inputs, const py::kwargs& keywords) {
+  po::options_description general, advanced;
+  cli::AddIdentifyOptions(&general, &advanced);
+  general.add(advanced);
+  const po::variables_map vm = ParseKeywords("identify", general, keywords, kNotKeywords);
+  const FileIdentifyOptions options = cli::ReadFileIdentifyOptions(vm);
+
+  std::vector<std::string> paths;
+  std::vector<LogPtr> handles;
+  for (py::handle item : inputs) {
+    if (py::isinstance<LogHandle>(item)) {
+      handles.push_back(item.cast<LogPtr>());
+    } else {
+      paths.push_back(item.cast<std::string>());
+    }
+  }
+  if (!paths.empty() && !handles.empty()) {
+    throw std::invalid_argument("identify: give paths or Log objects, not both (read the "
+                                "paths with read_log)");
+  }
+  FileIdentifyResult run;
+  std::string what;
+  // The readers' warnings, and those of them not yet issued (read_log issued its own).
+  std::vector<std::string> warnings, fresh_warnings, notes;
+  if (handles.empty()) {
+    what = paths.size() == 1 ? paths[0] : std::to_string(paths.size()) + " logs";
+    {
+      py::gil_scoped_release release;
+      run = IdentifyFiles(paths, options);
+    }
+    warnings = fresh_warnings = run.warnings;
+    notes = run.notes;
+  } else {
+    const bool reread = ChangesReading(vm);
+    std::vector<Trajectory> logs;
+    for (const LogPtr& h : handles) {
+      if (reread) {
+        FileIdentifyResult reading;
+        logs.push_back(Reread(h->log, options.read, &reading));
+        fresh_warnings.insert(fresh_warnings.end(), reading.warnings.begin(),
+                              reading.warnings.end());
+        notes.insert(notes.end(), reading.notes.begin(), reading.notes.end());
+        continue;
+      }
+      logs.push_back(h->log);
+      warnings.insert(warnings.end(), h->warnings.begin(), h->warnings.end());
+      for (const std::string& n : h->notes) notes.push_back(h->log.source + ": " + n);
+    }
+    warnings.insert(warnings.end(), fresh_warnings.begin(), fresh_warnings.end());
+    what = logs.size() == 1 ? (logs[0].source.empty() ? "the log" : logs[0].source)
+                            : std::to_string(logs.size()) + " logs";
+    py::gil_scoped_release release;
+    run = IdentifyReadLogs(std::move(logs), options);
+  }
+  const EstimateResult& result = run.result;
+  py::dict out;
+  out["json"] = FormatJson(result);
+  out["what"] = what;
+  out["too_little_excitation"] = result.status == TerminationStatus::kTooLittleExcitation;
+  out["failure"] = NumericalFailure(result);
+  out["suspects"] = SuspectNames(result);
+  out["residuals"] = Residuals(result);
+  out["truth"] = Truth(run.truth);
+  out["warnings"] = warnings;
+  out["fresh_warnings"] = fresh_warnings;
+  out["notes"] = notes;
+  return out;
+}
+
+}  // namespace
+
+void BindIdentify(py::module_& m) {
+  m.def("identify", &IdentifyInputs, py::arg("inputs"));
+}
+
+}  // namespace slideid::python

@@ -1,0 +1,74 @@
+// slideid._core: the compiled part of the slideid Python package (python/slideid/). Errors
+// become Python exceptions as the tools' errors become exit codes: bad input ValueError
+// (the tools' messages), a numerical failure slideid.NumericalError, a file that cannot be
+// written OSError; a bad input never ends the interpreter.
+
+#include <glog/logging.h>
+
+#include <new>
+
+#include "core.h"
+
+namespace slideid::python {
+namespace {
+
+// The Python types of the exceptions below; set once, when the module is imported.
+PyObject* numerical_error_type = nullptr;
+PyObject* option_error_type = nullptr;
+
+void TranslateExceptions() {
+  py::register_exception_translator([](std::exception_ptr p) {
+    try {
+      if (p) std::rethrow_exception(p);
+    } catch (const py::error_already_set&) {
+      throw;
+    } catch (const py::builtin_exception&) {
+      throw;  // pybind11's own (type_error, ...)
+    } catch (const std::bad_alloc&) {
+      throw;  // MemoryError
+    } catch (const NumericalError& e) {
+      PyErr_SetString(numerical_error_type, e.what());
+    } catch (const boost::program_options::error& e) {
+      PyErr_SetString(option_error_type, e.what());
+    } catch (const WriteFailure& e) {
+      PyErr_SetString(PyExc_OSError, e.what());
+    } catch (const std::exception& e) {
+      // LogError, SceneError, FileError, option errors, std::invalid_argument, ...: the
+      // tools call all of them bad input (exit code 1 or 2).
+      PyErr_SetString(PyExc_ValueError, e.what());
+    }
+  });
+}
+
+}  // namespace
+
+void RegisterExceptions(py::module_& m) {
+  // Never freed: the exception types live as long as the interpreter, and a static object's
+  // destructor would run after the interpreter is gone.
+  auto* numerical = new py::exception<NumericalError>(m, "NumericalError", PyExc_RuntimeError);
+  numerical->attr("__doc__") =
+      "A fit or a simulation did not converge, or the slider would tip (the tools' exit code 3).";
+  auto* option = new py::exception<boost::program_options::error>(m, "OptionError",
+                                                                    PyExc_ValueError);
+  option->attr("__doc__") =
+      "A bad option value (the tools' usage error, exit code 2); a ValueError.";
+  numerical_error_type = numerical->ptr();
+  option_error_type = option->ptr();
+  TranslateExceptions();
+}
+
+}  // namespace slideid::python
+
+PYBIND11_MODULE(_core, m) {
+  namespace sp = slideid::python;
+  m.doc() = "slideid's compiled core; use the slideid package.";
+  m.attr("__version__") = SLIDEID_VERSION;
+  // Ceres logs a page per residual block that evaluates to NaN at a trial point of a fit;
+  // the result says how the fit ended (as identify without --verbose).
+  FLAGS_minloglevel = google::GLOG_ERROR;
+  sp::RegisterExceptions(m);
+  sp::BindLog(m);
+  sp::BindIdentify(m);
+  sp::BindSimulate(m);
+  sp::BindImport(m);
+}
