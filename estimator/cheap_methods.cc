@@ -1,0 +1,95 @@
+#include "estimator/cheap_methods.h"
+
+#include <cmath>
+#include <cstdio>
+#include <limits>
+
+#include "estimator/closed_form.h"
+#include "estimator/identifiability.h"
+#include "estimator/log_diagnostics.h"
+#include "estimator/robust_statistics.h"
+#include "estimator/step_covariance.h"
+
+namespace slideid {
+
+LogSteps ReadLogSteps(const Trajectory& log) {
+  LogSteps s;
+  s.log = &log;
+  s.steps = ExtractStepObservations(log);
+  s.noise = ReadStepNoise(log);
+  s.max_push_N = DiagnoseLog(log).max_push_N;
+  s.radius_m = std::sqrt(log.slider.inertia_kgm2 / log.slider.mass_kg);
+  s.lag = s.noise.differentiated ? kDifferentiatedVelocityLag : kMeasuredVelocityLag;
+  return s;
+}
+
+double ImpulseSnr(const LogSteps& s, const std::vector<int>& used, bool rotation) {
+  if (used.empty()) return std::numeric_limits<double>::quiet_NaN();
+  const SliderProperties& slider = s.log->slider;
+  const double noise = rotation ? slider.inertia_kgm2 * s.noise.delta_spin_radps
+                                : slider.mass_kg * s.noise.delta_velocity_mps;
+  if (!(noise > 0)) return std::numeric_limits<double>::infinity();
+  std::vector<double> ratio;
+  ratio.reserve(used.size());
+  for (int k : used) {
+    const Eigen::Vector3d& p = s.steps[k].friction_impulse;
+    ratio.push_back((rotation ? std::abs(p(2)) : std::hypot(p(0), p(1))) / noise);
+  }
+  return Median(ratio);
+}
+
+std::string LowSnrReason(double snr, bool differentiated, bool rotation) {
+  char buf[400];
+  std::snprintf(buf, sizeof buf,
+                "the %s of a step is only %.2g times its noise (need %.3g): the per-step "
+                "estimates are biased, not just noisy%s",
+                rotation ? "rotational friction impulse" : "friction impulse", snr,
+                kMinImpulseSnr,
+                differentiated ? " (velocities differentiated from noisy poses; use the "
+                                 "trajectory method)"
+                               : "");
+  return buf;
+}
+
+PlausibilityContext CheapContext(const std::vector<LogSteps>& logs) {
+  PlausibilityContext c;
+  for (const LogSteps& s : logs) {
+    const SliderProperties& slider = s.log->slider;
+    c.logs.push_back({slider.mass_kg * slider.gravity_mps2, s.max_push_N});
+  }
+  return c;
+}
+
+std::string LogName(const Trajectory& log, int index) {
+  return log.source.empty() ? "log " + std::to_string(index) : log.source;
+}
+
+LogResult AsLogResult(const EstimateResult& r, const Trajectory& log, int index) {
+  LogResult lr;
+  lr.name = LogName(log, index);
+  lr.rows = static_cast<int>(log.samples.size());
+  lr.steps_used = r.steps_used;
+  lr.status = r.status;
+  lr.message = r.message;
+  lr.parameters = r.parameters;
+  return lr;
+}
+
+ParameterEstimate FromLogEstimate(const LogEstimate& e) {
+  if (e.noise_bias_bound_log > kMaxNoiseBiasStderrs * e.stderr_log) {
+    char buf[400];
+    std::snprintf(buf, sizeof buf,
+                  "the log's noise may bias it by up to %.2g%%, %.2g times its standard error "
+                  "%.2g%% (errors in variables: ratios and directions of noisy velocities); "
+                  "the equation-error fit (measured velocities) or the trajectory method do "
+                  "better",
+                  100 * e.noise_bias_bound_log, e.noise_bias_bound_log / e.stderr_log,
+                  100 * e.stderr_log);
+    return NotIdentifiable(std::exp(e.log_value), buf);
+  }
+  ParameterEstimate p = EstimateFromLog(e.log_value, e.stderr_log, e.quantile);
+  p.note = e.note;
+  return p;
+}
+
+}  // namespace slideid

@@ -1,0 +1,74 @@
+#pragma once
+// What the closed form and the equation error share beyond the steps themselves
+// (estimator/step_observations.h): the impulse signal-to-noise check, the context of the
+// plausibility verdicts, and per-log results of a pooled estimate.
+
+#include <array>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "estimator/estimate.h"
+#include "estimator/plausibility.h"
+#include "estimator/step_observations.h"
+#include "forward_model/trajectory.h"
+
+namespace slideid {
+
+/// One log's steps as the cheap methods see them.
+struct LogSteps {
+  const Trajectory* log = nullptr;
+  std::vector<StepObservation> steps;
+  StepNoise noise;
+  double radius_m = 0;  ///< L = sqrt(I_z / m)
+  int lag = 0;          ///< steps over which scores are correlated (step_covariance.h)
+  double max_push_N = 0;  ///< largest applied horizontal force (LogDiagnostics)
+};
+
+/// Extracts the steps and reads the noise of `log`.
+LogSteps ReadLogSteps(const Trajectory& log);
+
+/// Friction impulse over its noise on the used steps `used` (indices into s.steps): the
+/// median of |(p_t, p_o)| / (m s_dv) (translation) or |p_r| / (I_z s_dw) (rotation),
+/// s_dv, s_dw the noise of v' - v, w' - w (StepNoise). Infinite on a log without noise,
+/// NaN without steps.
+double ImpulseSnr(const LogSteps& s, const std::vector<int>& used, bool rotation);
+
+/// The reason a parameter is not identifiable when every log's impulses are swamped by
+/// noise (snr below kMinImpulseSnr).
+std::string LowSnrReason(double snr, bool differentiated, bool rotation);
+
+/// The plausibility context of the logs: their weights and largest pushes.
+PlausibilityContext CheapContext(const std::vector<LogSteps>& logs);
+
+/// A log's name for pooled results: its source, or "log K".
+std::string LogName(const Trajectory& log, int index);
+
+/// One log's own result as a pooled result's entry.
+LogResult AsLogResult(const EstimateResult& r, const Trajectory& log, int index);
+
+/// An estimate of log(parameter) with its interval exp(log_value +- quantile stderr_log).
+struct LogEstimate {
+  double log_value = std::numeric_limits<double>::quiet_NaN();
+  double stderr_log = std::numeric_limits<double>::quiet_NaN();
+  double quantile = kZ95;
+  /// How far the log's noise may have moved the estimate (errors in variables) [in
+  /// log(parameter)]; 0 when not assessed.
+  double noise_bias_bound_log = 0;
+  std::string note;
+};
+
+/// A noise-bias bound above this many standard errors makes a parameter not identifiable
+/// by a cheap method: an interval of +-1.96 standard errors around an estimate that may be
+/// off by more than half a standard error covers the truth too rarely (below 92%).
+constexpr double kMaxNoiseBiasStderrs = 0.5;
+
+/// The parameter of `e` (EstimateFromLog, with e's note); not identifiable, held at its
+/// value and with the reason, when its noise-bias bound exceeds kMaxNoiseBiasStderrs
+/// standard errors.
+ParameterEstimate FromLogEstimate(const LogEstimate& e);
+
+/// Fewest logs for the cluster-robust (between-log) interval of a pooled estimate.
+constexpr int kMinLogClusters = 2;
+
+}  // namespace slideid
