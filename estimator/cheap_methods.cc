@@ -75,6 +75,20 @@ LogResult AsLogResult(const EstimateResult& r, const Trajectory& log, int index)
   return lr;
 }
 
+double BiasAwareHalfWidth(double sd, double bias) {
+  // Coverage of +-h around an estimate N(b, sd^2) at the truth; increasing in h.
+  auto coverage = [&](double h) {
+    return 0.5 * (std::erfc(-(h - bias) / (sd * std::sqrt(2.0))) -
+                  std::erfc(-(-h - bias) / (sd * std::sqrt(2.0))));
+  };
+  double lo = kZ95 * sd, hi = kZ95 * sd + bias;
+  for (int k = 0; k < kHalfWidthBisections; ++k) {
+    const double mid = 0.5 * (lo + hi);
+    (coverage(mid) < 0.95 ? lo : hi) = mid;
+  }
+  return hi;
+}
+
 ParameterEstimate FromLogEstimate(const LogEstimate& e) {
   if (e.noise_bias_bound_log > kMaxNoiseBiasStderrs * e.stderr_log) {
     char buf[400];
@@ -89,6 +103,18 @@ ParameterEstimate FromLogEstimate(const LogEstimate& e) {
   }
   ParameterEstimate p = EstimateFromLog(e.log_value, e.stderr_log, e.quantile);
   p.note = e.note;
+  const double shift = e.force_hold_shift_log;
+  if (shift > 0 && e.stderr_log > 0) {
+    const double half = BiasAwareHalfWidth(e.quantile * e.stderr_log / kZ95, shift);
+    p.ci95_lo = std::exp(e.log_value - half);
+    p.ci95_hi = std::exp(e.log_value + half);
+    char buf[300];
+    std::snprintf(buf, sizeof buf,
+                  "interval widened %.2fx: forces that vary within the log's rows instead of "
+                  "being held over them would move the estimate by %.2g%%",
+                  half / (e.quantile * e.stderr_log), 100 * shift);
+    p.note += (p.note.empty() ? "" : "; ") + std::string(buf);
+  }
   return p;
 }
 

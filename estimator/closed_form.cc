@@ -200,7 +200,7 @@ LogEstimate RobustMeanEstimate(const Samples& s, const std::vector<int>& lag_of_
   const int n = static_cast<int>(s.x.size());
   const Location l = HuberLocation(s.x);
   std::string note = Format("robust mean of %.0f per-step estimates", n);
-  if (!(l.scale > 0) || !(l.slope > 0)) return {l.centre, 0.0, kZ95, 0.0, note};
+  if (!(l.scale > 0) || !(l.slope > 0)) return {l.centre, 0.0, kZ95, 0.0, 0.0, note};
   // Sandwich: the centre moves by scale sum(psi) / sum(psi'). Neighbouring steps share a
   // velocity sample and their psi are correlated: the variance of sum(psi) is the
   // block-level long-run variance (step_covariance.h), and over several logs also the
@@ -237,7 +237,7 @@ LogEstimate RobustMeanEstimate(const Samples& s, const std::vector<int>& lag_of_
   // Errors in variables: each step's estimate is half a sum of logs of noisy factors
   // (closed_form.h), and E[log(x + e)] = log x - var(e) / (2 x^2): its bias is at most its
   // own variance, which the steps' spread (scale^2) bounds.
-  return {l.centre, stderr_log, quantile, l.scale * l.scale, note};
+  return {l.centre, stderr_log, quantile, l.scale * l.scale, 0.0, note};
 }
 
 /// Every log's per-step estimates (exclusions counted in `result`).

@@ -37,7 +37,22 @@ struct FitStep {
   int log = 0;
   int row = 0;
   std::unique_ptr<ceres::CostFunction> cost;
+  /// The change of the step's residuals if its force were the mean of its row's and the
+  /// next row's (varying within the interval) instead of its row's held over it; zero at a
+  /// force switch (kForceSwitchFraction), where holding is right.
+  Eigen::Vector3d force_hold_shift = Eigen::Vector3d::Zero();
 };
+
+Eigen::Vector3d ForceHoldShift(const LogSteps& s, const StepObservation& o) {
+  const AppliedWrench& now = s.log->samples[o.row].applied;
+  const AppliedWrench& next = s.log->samples[o.row + 1].applied;
+  const double dfx = next.fx - now.fx, dfy = next.fy - now.fy, dtz = next.tz - now.tz;
+  if (std::hypot(dfx, dfy) > kForceSwitchFraction * s.max_push_N) return Eigen::Vector3d::Zero();
+  // p = M (nu' - nu) - h f: a mean force larger by df / 2 takes h df / 2 off the impulse.
+  const double half_h = 0.5 * o.h_s;
+  return Eigen::Vector3d(-half_h * dfx / o.pn, -half_h * dfy / o.pn,
+                         -half_h * dtz / (o.pn * s.radius_m));
+}
 
 /// Residuals and Jacobians of every step at theta (3 residuals x 3 log-parameters each).
 struct Linearisation {
@@ -80,6 +95,7 @@ struct Sandwich {
   Eigen::MatrixXd blocks;  ///< blocks of steps (step_covariance.h)
   Eigen::MatrixXd logs;    ///< logs as clusters
   Eigen::MatrixXd white;   ///< independent steps
+  Eigen::VectorXd force_hold_shift;  ///< of the free log-parameters (FitStep)
   int block_count = 0;
   int log_clusters = 0;
   bool ok = false;
@@ -93,6 +109,7 @@ Sandwich RobustSandwich(const std::vector<FitStep>& steps, const Linearisation& 
   const int n = static_cast<int>(steps.size());
   Eigen::MatrixXd bread = Eigen::MatrixXd::Zero(p, p);
   Eigen::MatrixXd scores(n, p);
+  Eigen::VectorXd shift_score = Eigen::VectorXd::Zero(p);
   std::vector<int> log(n), row(n);
   for (int i = 0; i < n; ++i) {
     Eigen::MatrixXd j(3, p);
@@ -101,6 +118,7 @@ Sandwich RobustSandwich(const std::vector<FitStep>& steps, const Linearisation& 
     if (loss) loss->Evaluate(l.residual[i].squaredNorm(), rho);
     bread += rho[1] * j.transpose() * j;
     scores.row(i) = (rho[1] * j.transpose() * l.residual[i]).transpose();
+    shift_score += rho[1] * j.transpose() * steps[i].force_hold_shift;
     log[i] = steps[i].log;
     row[i] = steps[i].row;
   }
@@ -111,6 +129,7 @@ Sandwich RobustSandwich(const std::vector<FitStep>& steps, const Linearisation& 
     return Eigen::MatrixXd(inverse * meat * inverse);
   };
   out.white = sandwich(scores.transpose() * scores);
+  out.force_hold_shift = -(inverse * shift_score);
   const StepBlocks blocks = BlocksOfSteps(log, row, lag_of_log);
   out.block_count = blocks.count;
   out.blocks = sandwich(BlockScoreCovariance(scores, blocks));
@@ -124,6 +143,7 @@ Sandwich RobustSandwich(const std::vector<FitStep>& steps, const Linearisation& 
 LogEstimate ChooseInterval(const Sandwich& s, int a) {
   LogEstimate iv;
   if (!s.ok) return iv;
+  iv.force_hold_shift_log = std::abs(s.force_hold_shift(a));
   if (s.block_count >= kMinBlocks && s.blocks(a, a) > 0) {
     iv.stderr_log = std::sqrt(s.blocks(a, a));
     iv.quantile = StudentT95(s.block_count - 1);
@@ -207,7 +227,8 @@ StepSet SelectSteps(const std::vector<const Trajectory*>& logs, EstimateResult* 
     for (int j : used) {
       set.fit.push_back({static_cast<int>(k), s.steps[j].row,
                          std::unique_ptr<ceres::CostFunction>(
-                             EquationErrorResidual::Create(s.steps[j], s.radius_m))});
+                             EquationErrorResidual::Create(s.steps[j], s.radius_m)),
+                         ForceHoldShift(s, s.steps[j])});
     }
     set.used_of_log[k] = std::move(used);
   }
@@ -323,7 +344,8 @@ std::array<double, 3> RefitCopies(const std::vector<const Trajectory*>& copies,
     for (int j : original.used_of_log[k]) {
       steps.push_back({static_cast<int>(k), observed[j].row,
                        std::unique_ptr<ceres::CostFunction>(
-                           EquationErrorResidual::Create(observed[j], radius))});
+                           EquationErrorResidual::Create(observed[j], radius)),
+                       Eigen::Vector3d::Zero()});
     }
   }
   std::array<double, 3> theta = fit.theta;

@@ -7,6 +7,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <string>
 #include <vector>
 
@@ -295,6 +297,103 @@ TEST(CheapMethods, EquationErrorIntervalsAreCalibratedOnNoisyVelocities) {
   forces.log.noise.outlier_fraction = 0.01;
   forces.log.noise.outlier_m = 0.01;
   ExpectCalibrated(forces, "3% force noise and outliers, simulated finer than logged");
+}
+
+
+// ---- the full Monte Carlo (README "Which estimator"; run on demand) ---------------------
+
+/// One condition of the coverage table.
+struct Condition {
+  std::string name;
+  DatasetSpec spec;
+};
+
+std::vector<Condition> CoverageConditions() {
+  DatasetSpec velocities = VelocityLogs(2e-3, 11);  // 1 ms simulation logged at 100 Hz
+  velocities.log.noise.pose_m = 3e-4;               // moves the push point's moment arm
+  velocities.log.noise.angle_rad = 3e-3;
+  std::vector<Condition> out{{"velocities 2 mm/s", velocities}};
+  auto with = [&](const std::string& name, auto change) {
+    DatasetSpec s = velocities;
+    change(&s);
+    out.push_back({name, s});
+  };
+  with("+ force noise 1%", [](DatasetSpec* s) { s->log.noise.force_relative = 0.01; });
+  with("+ force noise 3%", [](DatasetSpec* s) { s->log.noise.force_relative = 0.03; });
+  with("300 rows", [](DatasetSpec* s) { s->program.count = 4; });
+  with("3000 rows", [](DatasetSpec* s) { s->program.count = 40; });
+  with("logged at the simulation rate", [](DatasetSpec* s) {
+    s->dt_s = 0.01;
+    s->log.log_every = 1;
+  });
+  with("+ outliers 1% of 1 cm", [](DatasetSpec* s) {
+    s->log.noise.outlier_fraction = 0.01;
+    s->log.noise.outlier_m = 0.01;
+  });
+  with("rests of 1-2 s", [](DatasetSpec* s) { s->program.rest_s = {1.0, 2.0}; });
+  DatasetSpec poses = velocities;
+  poses.log.motion = LogMotion::kPoses;
+  poses.log.noise.velocity_mps = poses.log.noise.spin_radps = 0;
+  out.push_back({"poses 0.3 mm, 3 mrad", poses});
+  poses.log.noise.pose_m = 2e-5;
+  poses.log.noise.angle_rad = 2e-4;
+  out.push_back({"poses 0.02 mm, 0.2 mrad", poses});
+  poses.log.noise.outlier_fraction = 0.01;
+  poses.log.noise.outlier_m = 5e-3;
+  out.push_back({"poses 0.02 mm + outliers", poses});
+  return out;
+}
+
+// SLIDEID_COVERAGE_LOGS=100 build/bin/slideid_tests --gtest_filter='*FullMonteCarlo*'
+// prints, per condition, method and parameter: how many logs it was reported for (and how
+// many of those suspect), how many of their 95% intervals hold the truth, the mean relative
+// error, and the median relative standard error. Skipped unless asked (minutes, not seconds).
+TEST(CheapMethodsCoverage, FullMonteCarlo) {
+  const char* logs_env = std::getenv("SLIDEID_COVERAGE_LOGS");
+  if (!logs_env) GTEST_SKIP() << "set SLIDEID_COVERAGE_LOGS to run";
+  const int logs = std::atoi(logs_env);
+  std::printf("| condition | method | parameter | reported | suspect | coverage | bias | "
+              "median rel. stderr |\n|---|---|---|---|---|---|---|---|\n");
+  for (const Condition& c : CoverageConditions()) {
+    std::array<std::array<std::vector<double>, 3>, 2> error, stderr_rel;
+    std::array<std::array<int, 3>, 2> covered{}, suspect{};
+    for (int index = 0; index < logs; ++index) {
+      Trajectory log;
+      const auto truth = Truth(DrawDatasetLog(c.spec, index, &log));
+      const EstimateResult cf = EstimateClosedForm(log, {});
+      const EstimateResult ee = EstimateEquationError(log, {}, &cf);
+      const EstimateResult* results[2] = {&cf, &ee};
+      for (int m = 0; m < 2; ++m) {
+        for (int i = 0; i < 3; ++i) {
+          const ParameterEstimate& p = results[m]->parameters[i];
+          if (!p.identifiable) continue;
+          error[m][i].push_back(p.value / truth[i] - 1);
+          stderr_rel[m][i].push_back(p.stderr_value / p.value);
+          covered[m][i] += p.ci95_lo <= truth[i] && truth[i] <= p.ci95_hi;
+          suspect[m][i] += p.verdict == Verdict::kSuspect;
+        }
+      }
+    }
+    for (int m = 0; m < 2; ++m) {
+      for (int i = 0; i < 3; ++i) {
+        const int n = static_cast<int>(error[m][i].size());
+        std::printf("| %s | %s | %s | %d/%d | %d |", c.name.c_str(),
+                    m == 0 ? "closed-form" : "equation-error", ParameterName(i), n, logs,
+                    suspect[m][i]);
+        if (n == 0) {
+          std::printf(" - | - | - |\n");
+          continue;
+        }
+        double bias = 0;
+        for (double e : error[m][i]) bias += e / n;
+        std::vector<double>& se = stderr_rel[m][i];
+        std::nth_element(se.begin(), se.begin() + n / 2, se.end());
+        std::printf(" %.0f%% | %+.2f%% | %.2f%% |\n", 100.0 * covered[m][i] / n, 100 * bias,
+                    100 * se[n / 2]);
+      }
+    }
+    std::fflush(stdout);
+  }
 }
 
 }  // namespace
