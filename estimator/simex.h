@@ -1,17 +1,17 @@
 #pragma once
 // Errors in variables, corrected by simulation and extrapolation (SIMEX; Cook & Stefanski,
-// JASA 1994), for the cheap estimators.
+// JASA 1994), for the equation error (estimator/equation_error.h).
 //
-// The closed form and the equation error read the friction off each step's measured
-// velocities: the same noisy sample is both in the impulse m (v' - v) and in the direction
-// of sliding v', and a ratio or a direction of noisy quantities is biased, not just noisy
-// (the closed form's b by -1% and the equation error's a by -0.3% at 2 mm/s, which is one to
-// two of their standard errors on a 450-row log and more on longer ones). To first order
-// that bias grows with the noise variance. SIMEX measures it: it adds as much noise again
-// (lambda = 1, from the noise the log itself shows, StepNoise) to kSimexReplicates copies,
-// re-estimates, and takes the mean change as the bias of the estimate at the log's own
-// noise; the corrected estimate is the estimate less that bias (linear extrapolation to no
-// noise).
+// The equation error reads the friction off each step's measured velocities: the same noisy
+// sample is both in the impulse m (v' - v) and in the direction of sliding v', and a
+// direction of noisy quantities is biased, not just noisy (a by -0.3% at 2 mm/s on the
+// datasets' logs, one to two of its standard errors on a 450-row log, more on longer ones).
+// To first order that bias grows with the noise variance. SIMEX measures it: it adds as much
+// noise again (lambda = 1, from the noise the log itself shows) to kSimexReplicates copies,
+// re-estimates on the same steps, and takes the mean change as the bias of the estimate at
+// the log's own noise; the corrected estimate is the estimate less that bias (linear
+// extrapolation to no noise). (The closed form's robust mean over per-step ratios is not
+// smooth enough for it: its corrections were noisier than its bias.)
 
 #include <array>
 #include <cstdint>
@@ -51,9 +51,9 @@ using LogEstimator =
     std::function<std::array<double, 3>(const std::vector<const Trajectory*>& logs)>;
 
 /// SIMEX with lambda = 1 around `at_log_noise` (the estimate on `logs` themselves): adds to
-/// each log Gaussian noise of the standard deviation it shows (StepNoise: on vx, vy, wz when
-/// the log has velocities, on x, y, theta otherwise), kSimexReplicates times with fixed
-/// seeds, and re-estimates. A log that shows no noise is left as it is.
+/// each log Gaussian noise of the standard deviation it shows (DiagnoseLog: on vx, vy, wz
+/// when the log has velocities, on x, y, theta otherwise), kSimexReplicates times with fixed
+/// seeds, and re-estimates with `estimate`. A log that shows no noise is left as it is.
 SimexBias EstimateSimexBias(const std::vector<const Trajectory*>& logs,
                             const std::array<double, 3>& at_log_noise,
                             const LogEstimator& estimate);
