@@ -38,6 +38,27 @@ double ImpulseSnr(const LogSteps& s, const std::vector<int>& used, bool rotation
   return Median(ratio);
 }
 
+Eigen::Vector3d ForceHoldImpulseShift(const LogSteps& s, const StepObservation& o) {
+  const AppliedWrench& now = s.log->samples[o.row].applied;
+  const AppliedWrench& next = s.log->samples[o.row + 1].applied;
+  const double dfx = next.fx - now.fx, dfy = next.fy - now.fy, dtz = next.tz - now.tz;
+  if (std::hypot(dfx, dfy) > kForceSwitchFraction * s.max_push_N) return Eigen::Vector3d::Zero();
+  // p = M (nu' - nu) - h f: a mean force larger by df / 2 takes h df / 2 off the impulse.
+  const double half_h = 0.5 * o.h_s;
+  return Eigen::Vector3d(-half_h * dfx, -half_h * dfy, -half_h * dtz);
+}
+
+StepObservation MidInterval(const StepObservation& o) {
+  StepObservation mid = o;
+  const double w_end = o.end.wz, w_mid = 0.5 * (o.start.wz + o.end.wz);
+  // ecp_velocity = (v_x - w r_y, v_y + w r_x, w): the offset from the end values.
+  const double minus_ry = w_end != 0 ? (o.ecp_velocity(0) - o.end.vx) / w_end : 0.0;
+  const double rx = w_end != 0 ? (o.ecp_velocity(1) - o.end.vy) / w_end : 0.0;
+  mid.ecp_velocity << 0.5 * (o.start.vx + o.end.vx) + w_mid * minus_ry,
+      0.5 * (o.start.vy + o.end.vy) + w_mid * rx, w_mid;
+  return mid;
+}
+
 std::string LowSnrReason(double snr, bool differentiated, bool rotation) {
   char buf[400];
   std::snprintf(buf, sizeof buf,

@@ -34,6 +34,17 @@ LogSteps ReadLogSteps(const Trajectory& log);
 /// NaN without steps.
 double ImpulseSnr(const LogSteps& s, const std::vector<int>& used, bool rotation);
 
+/// The change of a step's friction impulse (p_t, p_o, p_r) if its force were the mean of
+/// its row's and the next row's (varying within the interval) instead of its row's held
+/// over it: -h df / 2. Zero at a force switch (kForceSwitchFraction), where holding is
+/// right.
+Eigen::Vector3d ForceHoldImpulseShift(const LogSteps& s, const StepObservation& o);
+
+/// The step with its ECP velocity taken at the middle of the interval (the mean of its
+/// start and end CM velocities and spins, same ECP offset) instead of its end: what a motion
+/// that changes within the interval, rather than the model's backward-Euler step, gives.
+StepObservation MidInterval(const StepObservation& o);
+
 /// The reason a parameter is not identifiable when every log's impulses are swamped by
 /// noise (snr below kMinImpulseSnr).
 std::string LowSnrReason(double snr, bool differentiated, bool rotation);

@@ -29,6 +29,9 @@ constexpr double kHuberLocationK = 1.345;
 /// converges linearly from the median in a few iterations.
 constexpr double kLocationTolerance = 1e-10;
 constexpr int kMaxLocationIterations = 100;
+/// Steps whose spread is below this fraction of their spread under another reading of the
+/// log rule that reading out (noisy logs: about 1; exact logs: 1e-10 and less).
+constexpr double kMinReadingScale = 0.5;
 
 const char* const kSymbol[3] = {"a", "b", "c"};
 
@@ -103,7 +106,16 @@ std::array<double, 3> StepEstimates(const StepObservation& o, const LogSteps& s,
 struct Samples {
   std::vector<double> x;
   std::vector<int> log, row;
+  /// The same steps' log-estimates under the other readings of the log (FromLogEstimate):
+  /// forces varying within rows, and the direction of sliding at mid-interval.
+  std::vector<double> x_force_varying, x_mid_interval;
 };
+
+/// 1/2 log of the squared estimate `i` of `o`, or `fallback` where it is not positive.
+double HalfLogOr(const StepObservation& o, int i, double fallback) {
+  const double squared = SquaredEstimates(o)[i];
+  return squared > 0 && std::isfinite(squared) ? 0.5 * std::log(squared) : fallback;
+}
 
 /// What the steps of all logs gave.
 struct Collected {
@@ -144,7 +156,12 @@ void CollectLog(const LogSteps& s, int k, double fraction, Collected* c,
       continue;
     }
     for (int j : used[i]) {
-      c->samples[i].x.push_back(std::log(estimates[j][i]));
+      const double x = std::log(estimates[j][i]);
+      StepObservation varying = s.steps[j];
+      varying.friction_impulse += ForceHoldImpulseShift(s, s.steps[j]);
+      c->samples[i].x.push_back(x);
+      c->samples[i].x_force_varying.push_back(HalfLogOr(varying, i, x));
+      c->samples[i].x_mid_interval.push_back(HalfLogOr(MidInterval(s.steps[j]), i, x));
       c->samples[i].log.push_back(k);
       c->samples[i].row.push_back(s.steps[j].row);
     }
@@ -196,7 +213,8 @@ Location HuberLocation(const std::vector<double>& x) {
 }
 
 /// The robust mean of per-step log-estimates and its interval (closed_form.h).
-LogEstimate RobustMeanEstimate(const Samples& s, const std::vector<int>& lag_of_log) {
+LogEstimate RobustMeanEstimate(const Samples& s, const std::vector<int>& lag_of_log,
+                               bool spin) {
   const int n = static_cast<int>(s.x.size());
   const Location l = HuberLocation(s.x);
   std::string note = Format("robust mean of %.0f per-step estimates", n);
@@ -237,7 +255,18 @@ LogEstimate RobustMeanEstimate(const Samples& s, const std::vector<int>& lag_of_
   // Errors in variables: each step's estimate is half a sum of logs of noisy factors
   // (closed_form.h), and E[log(x + e)] = log x - var(e) / (2 x^2): its bias is at most its
   // own variance, which the steps' spread (scale^2) bounds.
-  return {l.centre, stderr_log, quantile, l.scale * l.scale, 0.0, note};
+  // The other readings of the log (as the equation error's; the mid-interval one for c),
+  // unless the steps rule a reading out: when they agree far better as read than under it
+  // (an exact log), the reading is not the log's.
+  double shift = 0;
+  for (const std::vector<double>* other : {&s.x_force_varying, &s.x_mid_interval}) {
+    if (other == &s.x_mid_interval && !spin) continue;
+    const Location alternative = HuberLocation(*other);
+    if (l.scale >= kMinReadingScale * alternative.scale) {
+      shift += std::abs(alternative.centre - l.centre);
+    }
+  }
+  return {l.centre, stderr_log, quantile, l.scale * l.scale, shift, note};
 }
 
 /// Every log's per-step estimates (exclusions counted in `result`).
@@ -296,7 +325,7 @@ EstimateResult ClosedFormOf(const std::vector<const Trajectory*>& logs,
                           std::to_string(kMinStepsPerParameter) + ")");
       continue;
     }
-    estimate[i] = RobustMeanEstimate(c.samples[i], lag_of_log);
+    estimate[i] = RobustMeanEstimate(c.samples[i], lag_of_log, i == kC);
     log_centre[i] = estimate[i].log_value;
   }
   std::array<double, 3> centre{{kNaN, kNaN, kNaN}};

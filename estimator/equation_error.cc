@@ -47,31 +47,11 @@ struct FitStep {
   std::unique_ptr<ceres::CostFunction> mid_interval_cost;
 };
 
-/// The step's ECP velocity at the middle of its interval (same ECP offset).
-StepObservation MidInterval(const StepObservation& o) {
-  StepObservation mid = o;
-  const Eigen::Vector3d end_cm(o.end.vx, o.end.vy, o.end.wz);
-  const Eigen::Vector3d mean_cm(0.5 * (o.start.vx + o.end.vx), 0.5 * (o.start.vy + o.end.vy),
-                                0.5 * (o.start.wz + o.end.wz));
-  // ecp_velocity = (v_x - w r_y, v_y + w r_x, w): recover the offset from the end values.
-  const double w_end = end_cm(2), w_mid = mean_cm(2);
-  const double minus_ry = w_end != 0 ? (o.ecp_velocity(0) - end_cm(0)) / w_end : 0.0;
-  const double rx = w_end != 0 ? (o.ecp_velocity(1) - end_cm(1)) / w_end : 0.0;
-  mid.ecp_velocity << mean_cm(0) + w_mid * minus_ry, mean_cm(1) + w_mid * rx, w_mid;
-  return mid;
-}
 
 Eigen::Vector3d ForceHoldShift(const LogSteps& s, const StepObservation& o) {
-  const AppliedWrench& now = s.log->samples[o.row].applied;
-  const AppliedWrench& next = s.log->samples[o.row + 1].applied;
-  const double dfx = next.fx - now.fx, dfy = next.fy - now.fy, dtz = next.tz - now.tz;
-  if (std::hypot(dfx, dfy) > kForceSwitchFraction * s.max_push_N) return Eigen::Vector3d::Zero();
-  // p = M (nu' - nu) - h f: a mean force larger by df / 2 takes h df / 2 off the impulse.
-  const double half_h = 0.5 * o.h_s;
-  return Eigen::Vector3d(-half_h * dfx / o.pn, -half_h * dfy / o.pn,
-                         -half_h * dtz / (o.pn * s.radius_m));
+  const Eigen::Vector3d dp = ForceHoldImpulseShift(s, o);
+  return Eigen::Vector3d(dp(0) / o.pn, dp(1) / o.pn, dp(2) / (o.pn * s.radius_m));
 }
-
 /// Residuals and Jacobians of every step at theta (3 residuals x 3 log-parameters each).
 struct Linearisation {
   std::vector<Eigen::Vector3d> residual;

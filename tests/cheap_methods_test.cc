@@ -331,6 +331,10 @@ std::vector<Condition> CoverageConditions() {
     s->log.noise.outlier_m = 0.01;
   });
   with("rests of 1-2 s", [](DatasetSpec* s) { s->program.rest_s = {1.0, 2.0}; });
+  with("velocities 0.2 mm/s", [](DatasetSpec* s) {
+    s->log.noise.velocity_mps = 2e-4;
+    s->log.noise.spin_radps = 2e-3;
+  });
   DatasetSpec poses = velocities;
   poses.log.motion = LogMotion::kPoses;
   poses.log.noise.velocity_mps = poses.log.noise.spin_radps = 0;
