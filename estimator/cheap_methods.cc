@@ -131,8 +131,9 @@ ParameterEstimate FromLogEstimate(const LogEstimate& e) {
     p.ci95_hi = std::exp(e.log_value + half);
     char buf[300];
     std::snprintf(buf, sizeof buf,
-                  "interval widened %.2fx: forces that vary within the log's rows instead of "
-                  "being held over them would move the estimate by %.2g%%",
+                  "interval widened %.2fx: another reading of the log (forces varying within "
+                  "its rows rather than held; for c also the direction of sliding at "
+                  "mid-interval) would move the estimate by %.2g%%",
                   half / (e.quantile * e.stderr_log), 100 * shift);
     p.note += (p.note.empty() ? "" : "; ") + std::string(buf);
   }
