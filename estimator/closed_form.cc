@@ -3,28 +3,48 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
+#include "estimator/cheap_methods.h"
 #include "estimator/identifiability.h"
+#include "estimator/plausibility.h"
+#include "estimator/pooling.h"
 #include "estimator/robust_statistics.h"
-#include "estimator/step_observations.h"
+#include "estimator/simex.h"  // LogEstimate
+#include "estimator/step_covariance.h"
 
 namespace slideid {
 namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-/// sqrt(pi / 2): asymptotic standard error of the median over that of the mean (Gaussian).
-constexpr double kMedianOverMeanStdErr = 1.2533;
+/// Huber's clip in units of the scale: 95% of the mean's efficiency on Gaussian steps,
+/// while a step far off (a ratio whose divisor noise nearly cancelled) counts no more than
+/// 1.345 scales.
+constexpr double kHuberLocationK = 1.345;
+/// The location iteration stops when a step moves it by less than this many scales; it
+/// converges linearly from the median in a few iterations.
+constexpr double kLocationTolerance = 1e-10;
+constexpr int kMaxLocationIterations = 100;
+/// Steps whose spread is below this fraction of their spread under another reading of the
+/// log rule that reading out (noisy logs: about 1; exact logs: 1e-10 and less).
+constexpr double kMinReadingScale = 0.5;
 
 const char* const kSymbol[3] = {"a", "b", "c"};
 
+std::string Format(const char* fmt, double x, double y = 0, double z = 0) {
+  char buf[300];
+  std::snprintf(buf, sizeof buf, fmt, x, y, z);
+  return buf;
+}
 
-/// |x| is nonzero and at least `fraction` of `scale`.
-bool ClearOfZero(double x, double scale, double fraction) {
-  return std::abs(x) > 0 && std::abs(x) >= fraction * scale;
+/// |x| is nonzero, at least `fraction` of `scale` and kDivisorSigmas of `noise`.
+bool ClearOfZero(double x, double scale, double fraction, double noise) {
+  return std::abs(x) > 0 && std::abs(x) >= fraction * scale &&
+         std::abs(x) >= kDivisorSigmas * noise;
 }
 
 std::string ExclusionSummary(const EstimateResult& r) {
@@ -35,121 +55,321 @@ std::string ExclusionSummary(const EstimateResult& r) {
   return s.empty() ? "none" : s;
 }
 
-}  // namespace
+/// a^2, b^2, c^2 of one step by model.md, Appendix A, corrected (no checks).
+std::array<double, 3> SquaredEstimates(const StepObservation& o) {
+  const double vt = o.ecp_velocity(0), vo = o.ecp_velocity(1), vr = o.ecp_velocity(2);
+  const double pt = o.friction_impulse(0), po = o.friction_impulse(1),
+               pr = o.friction_impulse(2);
+  const double pn = o.pn;
+  return {{(pt / pn) * (pt / pn) + pt * po * vo / (pn * pn * vt) + pt * pr * vr / (pn * pn * vt),
+           po * vt / (pt * vo), pr * vt / (pt * vr)}};
+}
 
-EstimateResult EstimateClosedForm(const Trajectory& log, const IdentifyOptions& options) {
+/// One sliding step's estimates of a, b, c; NaN where a divisor is near zero or the
+/// estimate is not positive, with the reason recorded.
+std::array<double, 3> StepEstimates(const StepObservation& o, const LogSteps& s,
+                                    double fraction, EstimateResult* result) {
+  const double radius = s.radius_m;
+  const double vt = o.ecp_velocity(0), vo = o.ecp_velocity(1), vr = o.ecp_velocity(2);
+  const double pt = o.friction_impulse(0), po = o.friction_impulse(1),
+               pr = o.friction_impulse(2);
+  const double v_scale = std::sqrt(vt * vt + vo * vo + radius * radius * vr * vr);
+  const double p_scale = std::sqrt(pt * pt + po * po + pr * pr / (radius * radius));
+  const double sv = s.noise.velocity_mps, sw = s.noise.spin_radps;
+  const double sp = s.log->slider.mass_kg * s.noise.delta_velocity_mps;
+
+  // Each check names the first divisor that fails.
+  std::array<std::string, 3> reason;
+  if (!ClearOfZero(vt, v_scale, fraction, sv)) reason[kA] = "v_t near zero";
+  if (!ClearOfZero(pt, p_scale, fraction, sp)) {
+    reason[kB] = reason[kC] = "p_t near zero";
+  } else {
+    if (!ClearOfZero(vo, v_scale, fraction, sv)) reason[kB] = "v_o near zero";
+    if (!ClearOfZero(radius * vr, v_scale, fraction, radius * sw)) reason[kC] = "v_r near zero";
+  }
+  const std::array<double, 3> squared = SquaredEstimates(o);
+  std::array<double, 3> estimate{{kNaN, kNaN, kNaN}};
+  for (int i = 0; i < 3; ++i) {
+    if (reason[i].empty() && !(squared[i] > 0 && std::isfinite(squared[i]))) {
+      reason[i] = "non-positive estimate";
+    }
+    if (!reason[i].empty()) {
+      result->Exclude(std::string(kSymbol[i]) + ": " + reason[i]);
+    } else {
+      estimate[i] = std::sqrt(squared[i]);
+    }
+  }
+  return estimate;
+}
+
+/// Per-step log-estimates of one parameter over every log, with where each came from.
+struct Samples {
+  std::vector<double> x;
+  std::vector<int> log, row;
+  /// The same steps' log-estimates under the other readings of the log (FromLogEstimate):
+  /// forces varying within rows, and the direction of sliding at mid-interval.
+  std::vector<double> x_force_varying, x_mid_interval;
+};
+
+/// 1/2 log of the squared estimate `i` of `o`, or `fallback` where it is not positive.
+double HalfLogOr(const StepObservation& o, int i, double fallback) {
+  const double squared = SquaredEstimates(o)[i];
+  return squared > 0 && std::isfinite(squared) ? 0.5 * std::log(squared) : fallback;
+}
+
+/// What the steps of all logs gave.
+struct Collected {
+  std::array<Samples, 3> samples;
+  std::array<std::string, 3> snr_reason;  ///< set when a log was left out for its noise
+  int steps_with_a = 0;                   ///< before the noise check
+  std::vector<StepResidual> residuals;    ///< value: the estimates themselves, for now
+};
+
+void CollectLog(const LogSteps& s, int k, double fraction, Collected* c,
+                EstimateResult* result) {
+  std::vector<std::array<double, 3>> estimates(s.steps.size(), {{kNaN, kNaN, kNaN}});
+  std::array<std::vector<int>, 3> used;
+  std::vector<int> sliding;
+  for (size_t j = 0; j < s.steps.size(); ++j) {
+    if (!SlidingStep(s.steps[j], s.noise, s.radius_m, result)) continue;
+    sliding.push_back(static_cast<int>(j));
+    estimates[j] = StepEstimates(s.steps[j], s, fraction, result);
+    for (int i = 0; i < 3; ++i) {
+      if (!std::isnan(estimates[j][i])) used[i].push_back(static_cast<int>(j));
+    }
+  }
+  c->steps_with_a += static_cast<int>(used[kA].size());
+  // Every estimate divides translational impulses; c's also rotational ones. A log whose
+  // sliding steps' impulses do not stand out of their noise gives biased estimates.
+  const double translation = ImpulseSnr(s, sliding, false);
+  const double rotation = ImpulseSnr(s, sliding, true);
+  std::array<bool, 3> kept{};
+  for (int i = 0; i < 3; ++i) {
+    const bool low_translation = translation < kMinImpulseSnr;
+    kept[i] = !low_translation && !(i == kC && rotation < kMinImpulseSnr);
+    if (!kept[i]) {
+      result->Exclude(std::string(kSymbol[i]) + ": impulse noise swamps the friction",
+                      static_cast<int>(used[i].size()));
+      c->snr_reason[i] = low_translation
+                             ? LowSnrReason(translation, s.noise.differentiated, false)
+                             : LowSnrReason(rotation, s.noise.differentiated, true);
+      continue;
+    }
+    for (int j : used[i]) {
+      const double x = std::log(estimates[j][i]);
+      StepObservation varying = s.steps[j];
+      varying.friction_impulse += ForceHoldImpulseShift(s, s.steps[j]);
+      c->samples[i].x.push_back(x);
+      c->samples[i].x_force_varying.push_back(HalfLogOr(varying, i, x));
+      c->samples[i].x_mid_interval.push_back(HalfLogOr(MidInterval(s.steps[j]), i, x));
+      c->samples[i].log.push_back(k);
+      c->samples[i].row.push_back(s.steps[j].row);
+    }
+  }
+  for (size_t j = 0; j < s.steps.size(); ++j) {
+    StepResidual r;
+    r.log = k;
+    r.row = s.steps[j].row;
+    r.t_s = s.log->samples[s.steps[j].row].t_s;
+    for (int i = 0; i < 3; ++i) r.value[i] = kept[i] ? estimates[j][i] : kNaN;
+    r.used = !std::isnan(r.value[kA]);
+    c->residuals.push_back(r);
+  }
+}
+
+/// Huber's M-estimate of location of per-step log-estimates (closed_form.h): the centre m
+/// with sum psi((x - m) / s) = 0, s = 1.4826 MAD, psi clipped at kHuberLocationK; started
+/// from the median.
+struct Location {
+  double centre = kNaN;
+  double scale = 0;
+  std::vector<double> psi;  ///< psi((x - centre) / scale) per step
+  double slope = 0;         ///< sum psi' (steps within the clip)
+};
+
+Location HuberLocation(const std::vector<double>& x) {
+  Location l;
+  l.centre = Median(x);
+  std::vector<double> deviation(x.size());
+  for (size_t j = 0; j < x.size(); ++j) deviation[j] = std::abs(x[j] - l.centre);
+  l.scale = kMadToSigma * Median(deviation);
+  l.psi.assign(x.size(), 0.0);
+  if (!(l.scale > 0)) return l;  // exact data: every step agrees with the median
+  for (int iteration = 0; iteration < kMaxLocationIterations; ++iteration) {
+    double sum = 0, slope = 0;
+    for (size_t j = 0; j < x.size(); ++j) {
+      const double u = (x[j] - l.centre) / l.scale;
+      l.psi[j] = std::clamp(u, -kHuberLocationK, kHuberLocationK);
+      sum += l.psi[j];
+      slope += std::abs(u) <= kHuberLocationK ? 1.0 : 0.0;
+    }
+    l.slope = slope;
+    if (!(slope > 0)) break;
+    const double step = l.scale * sum / slope;
+    l.centre += step;
+    if (std::abs(step) <= kLocationTolerance * l.scale) break;
+  }
+  return l;
+}
+
+/// The robust mean of per-step log-estimates and its interval (closed_form.h).
+LogEstimate RobustMeanEstimate(const Samples& s, const std::vector<int>& lag_of_log,
+                               bool spin) {
+  const int n = static_cast<int>(s.x.size());
+  const Location l = HuberLocation(s.x);
+  std::string note = Format("robust mean of %.0f per-step estimates", n);
+  if (!(l.scale > 0) || !(l.slope > 0)) return {l.centre, 0.0, kZ95, 0.0, 0.0, note};
+  // Sandwich: the centre moves by scale sum(psi) / sum(psi'). Neighbouring steps share a
+  // velocity sample and their psi are correlated: the variance of sum(psi) is the
+  // block-level long-run variance (step_covariance.h), and over several logs also the
+  // cluster-robust one over the logs, where wider.
+  Eigen::MatrixXd psi = Eigen::Map<const Eigen::VectorXd>(l.psi.data(), n);
+  const double scale = l.scale / l.slope;
+  const StepBlocks blocks = BlocksOfSteps(s.log, s.row, lag_of_log);
+  const double block_var = BlockScoreCovariance(psi, blocks)(0, 0);
+  double stderr_log, quantile;
+  if (blocks.count >= kMinBlocks && block_var > 0) {
+    stderr_log = scale * std::sqrt(block_var);
+    quantile = StudentT95(blocks.count - 1);
+    note += Format(" in %.0f blocks", blocks.count);
+  } else {
+    stderr_log = scale * std::sqrt(psi.squaredNorm());
+    quantile = kZ95;
+    note += Format("; only %.0f blocks of %.0f steps: interval from independent steps",
+                   blocks.count, kBlockSteps);
+  }
+  int logs = 0;
+  const double log_var = ClusterScoreCovariance(psi, s.log, &logs)(0, 0);
+  if (logs >= kMinLogClusters) {
+    note += Format(" of %.0f logs", logs);
+    const double stderr_between = scale * std::sqrt(log_var);
+    const double t = StudentT95(logs - 1);
+    if (t * stderr_between > quantile * stderr_log) {
+      note += Format("; interval widened %.2fx: the logs differ by more than their noise "
+                     "(cluster-robust over %.0f logs, t quantile %.2f)",
+                     t * stderr_between / (quantile * stderr_log), logs, t);
+      stderr_log = stderr_between;
+      quantile = t;
+    }
+  }
+  // Errors in variables: each step's estimate is half a sum of logs of noisy factors
+  // (closed_form.h), and E[log(x + e)] = log x - var(e) / (2 x^2): its bias is at most its
+  // own variance, which the steps' spread (scale^2) bounds.
+  // The other readings of the log (as the equation error's; the mid-interval one for c),
+  // unless the steps rule a reading out: when they agree far better as read than under it
+  // (an exact log), the reading is not the log's.
+  double shift = 0;
+  for (const std::vector<double>* other : {&s.x_force_varying, &s.x_mid_interval}) {
+    if (other == &s.x_mid_interval && !spin) continue;
+    const Location alternative = HuberLocation(*other);
+    if (l.scale >= kMinReadingScale * alternative.scale) {
+      shift += std::abs(alternative.centre - l.centre);
+    }
+  }
+  return {l.centre, stderr_log, quantile, l.scale * l.scale, shift, note};
+}
+
+/// Every log's per-step estimates (exclusions counted in `result`).
+Collected CollectAll(const std::vector<const Trajectory*>& logs, double fraction,
+                     std::vector<LogSteps>* log_steps, EstimateResult* result) {
+  Collected c;
+  for (size_t k = 0; k < logs.size(); ++k) {
+    log_steps->push_back(ReadLogSteps(*logs[k]));
+    result->steps_total += static_cast<int>(log_steps->back().steps.size());
+    CollectLog(log_steps->back(), static_cast<int>(k), fraction, &c, result);
+  }
+  return c;
+}
+
+std::vector<int> Lags(const std::vector<LogSteps>& log_steps) {
+  std::vector<int> lags;
+  for (const LogSteps& s : log_steps) lags.push_back(s.lag);
+  return lags;
+}
+
+
+EstimateResult ClosedFormOf(const std::vector<const Trajectory*>& logs,
+                            const IdentifyOptions& options) {
   const auto start_time = std::chrono::steady_clock::now();
   std::string why;
   if (!options.closed_form.IsValid(&why)) {
     throw std::invalid_argument("EstimateClosedForm: " + why);
   }
-  const double fraction = options.closed_form.divisor_fraction;
-  const std::vector<StepObservation> steps = ExtractStepObservations(log);
-  const double radius = std::sqrt(log.slider.inertia_kgm2 / log.slider.mass_kg);  // L [m]
-
   EstimateResult result;
   result.method = EstimatorMethod::kClosedForm;
-  result.steps_total = static_cast<int>(steps.size());
   result.residual_names = {{"a_step_rel", "b_step_rel", "c_step_rel"}};
-
-  // Per-step estimates of a, b, c (NaN where the step gives none).
-  std::vector<std::array<double, 3>> per_step(steps.size(), {{kNaN, kNaN, kNaN}});
-  std::array<std::vector<double>, 3> usable;
-  for (size_t k = 0; k < steps.size(); ++k) {
-    const StepObservation& o = steps[k];
-    if (!InformativeStep(o, &result)) continue;
-    const double vt = o.ecp_velocity(0), vo = o.ecp_velocity(1), vr = o.ecp_velocity(2);
-    const double pt = o.friction_impulse(0), po = o.friction_impulse(1),
-                 pr = o.friction_impulse(2);
-    const double pn = o.pn;
-    const double v_scale = std::sqrt(vt * vt + vo * vo + radius * radius * vr * vr);
-    const double p_scale = std::sqrt(pt * pt + po * po + pr * pr / (radius * radius));
-
-    // Appendix A, corrected (model.md). Each check names the first divisor that fails.
-    std::array<double, 3> squared{{kNaN, kNaN, kNaN}};
-    std::array<std::string, 3> reason;
-    if (!ClearOfZero(vt, v_scale, fraction)) {
-      reason[kA] = "v_t near zero";
-    } else {
-      squared[kA] = (pt / pn) * (pt / pn) + pt * po * vo / (pn * pn * vt) +
-                    pt * pr * vr / (pn * pn * vt);
-    }
-    if (!ClearOfZero(pt, p_scale, fraction)) {
-      reason[kB] = reason[kC] = "p_t near zero";
-    } else {
-      if (!ClearOfZero(vo, v_scale, fraction)) {
-        reason[kB] = "v_o near zero";
-      } else {
-        squared[kB] = po * vt / (pt * vo);
-      }
-      if (!ClearOfZero(radius * vr, v_scale, fraction)) {
-        reason[kC] = "v_r near zero";
-      } else {
-        squared[kC] = pr * vt / (pt * vr);
-      }
-    }
-    for (int i = 0; i < 3; ++i) {
-      if (reason[i].empty() && !(squared[i] > 0 && std::isfinite(squared[i]))) {
-        reason[i] = "non-positive estimate";
-      }
-      if (!reason[i].empty()) {
-        result.Exclude(std::string(kSymbol[i]) + ": " + reason[i]);
-        continue;
-      }
-      per_step[k][i] = std::sqrt(squared[i]);
-      usable[i].push_back(per_step[k][i]);
-    }
-  }
-
-  result.steps_used = static_cast<int>(usable[kA].size());
-  if (result.steps_used < kMinStepsPerParameter) {
+  const double fraction = options.closed_form.divisor_fraction;
+  std::vector<LogSteps> log_steps;
+  Collected c = CollectAll(logs, fraction, &log_steps, &result);
+  const std::vector<int> lag_of_log = Lags(log_steps);
+  result.steps_used = static_cast<int>(c.samples[kA].x.size());
+  if (c.steps_with_a < kMinStepsPerParameter) {
     result.status = TerminationStatus::kTooLittleExcitation;
     result.converged = false;
     result.message =
-        "too little sliding to identify anything: " + std::to_string(result.steps_used) +
-        " of " + std::to_string(steps.size()) + " steps give an estimate of a = e_t mu (need " +
+        "too little sliding to identify anything: " + std::to_string(c.steps_with_a) + " of " +
+        std::to_string(result.steps_total) + " steps give an estimate of a = e_t mu (need " +
         std::to_string(kMinStepsPerParameter) + "); excluded: " + ExclusionSummary(result);
     return result;
   }
 
-  std::array<double, 3> median{{kNaN, kNaN, kNaN}};
+  std::array<LogEstimate, 3> estimate;
+  std::array<double, 3> log_centre{{kNaN, kNaN, kNaN}};
   for (int i = 0; i < 3; ++i) {
-    const int n = static_cast<int>(usable[i].size());
+    const int n = static_cast<int>(c.samples[i].x.size());
     if (n < kMinStepsPerParameter) {
       result.parameters[i] = NotIdentifiable(
-          kNaN, "only " + std::to_string(n) + " steps give an estimate (need " +
-                    std::to_string(kMinStepsPerParameter) + ")");
+          kNaN, !c.snr_reason[i].empty()
+                    ? c.snr_reason[i]
+                    : "only " + std::to_string(n) + " steps give an estimate (need " +
+                          std::to_string(kMinStepsPerParameter) + ")");
       continue;
     }
-    median[i] = Median(usable[i]);
-    std::vector<double> deviation(usable[i].size());
-    for (int j = 0; j < n; ++j) deviation[j] = std::abs(usable[i][j] - median[i]);
-    const double mad = Median(deviation);
-    ParameterEstimate& p = result.parameters[i];
-    p.identifiable = true;
-    p.value = median[i];
-    p.stderr_value = kMedianOverMeanStdErr * kMadToSigma * mad / std::sqrt(double(n));
-    p.ci95_lo = std::max(p.value - kZ95 * p.stderr_value, std::numeric_limits<double>::min());
-    p.ci95_hi = p.value + kZ95 * p.stderr_value;
-    p.note = "median of " + std::to_string(n) +
-             " per-step estimates; interval value +- 1.96 standard errors of the median";
+    estimate[i] = RobustMeanEstimate(c.samples[i], lag_of_log, i == kC);
+    log_centre[i] = estimate[i].log_value;
   }
+  std::array<double, 3> centre{{kNaN, kNaN, kNaN}};
+  for (int i = 0; i < 3; ++i) {
+    if (std::isnan(log_centre[i])) continue;
+    centre[i] = std::exp(log_centre[i]);
+    result.parameters[i] = FromLogEstimate(estimate[i]);
+  }
+  JudgeEstimates(CheapContext(log_steps), &result.parameters);
 
-  result.residuals.reserve(steps.size());
-  for (size_t k = 0; k < steps.size(); ++k) {
-    StepResidual r;
-    r.row = steps[k].row;
-    r.t_s = log.samples[steps[k].row].t_s;
-    for (int i = 0; i < 3; ++i) r.value[i] = per_step[k][i] / median[i] - 1.0;
-    r.used = !std::isnan(per_step[k][kA]);
-    result.residuals.push_back(r);
+  for (StepResidual& r : c.residuals) {
+    for (int i = 0; i < 3; ++i) r.value[i] = r.value[i] / centre[i] - 1.0;
   }
-  result.message = "closed form: medians of per-step estimates (a " +
-                   std::to_string(usable[kA].size()) + ", b " +
-                   std::to_string(usable[kB].size()) + ", c " +
-                   std::to_string(usable[kC].size()) + " steps)";
-  for (ParameterEstimate& p : result.parameters) p.verdict = p.identifiable ? Verdict::kOk : Verdict::kNotIdentifiable;
+  result.residuals = std::move(c.residuals);
+  result.message = "closed form: robust means of per-step estimates (a " +
+                   std::to_string(c.samples[kA].x.size()) + ", b " +
+                   std::to_string(c.samples[kB].x.size()) + ", c " +
+                   std::to_string(c.samples[kC].x.size()) + " steps)";
   result.Conclude(true);
+  result.seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start_time).count();
+  return result;
+}
+
+}  // namespace
+
+EstimateResult EstimateClosedForm(const Trajectory& log, const IdentifyOptions& options) {
+  return ClosedFormOf({&log}, options);
+}
+
+EstimateResult EstimateClosedForm(const std::vector<Trajectory>& logs,
+                                  const IdentifyOptions& options) {
+  if (logs.empty()) throw std::invalid_argument("EstimateClosedForm: no logs");
+  if (logs.size() == 1) return EstimateClosedForm(logs[0], options);
+  const auto start_time = std::chrono::steady_clock::now();
+  std::vector<const Trajectory*> pointers;
+  std::vector<LogResult> own;
+  for (size_t k = 0; k < logs.size(); ++k) {
+    pointers.push_back(&logs[k]);
+    own.push_back(AsLogResult(EstimateClosedForm(logs[k], options), logs[k], int(k)));
+  }
+  EstimateResult result = ClosedFormOf(pointers, options);
+  result.logs = std::move(own);
+  for (int i = 0; i < 3; ++i) result.heterogeneity[i] = TestHeterogeneity(result.logs, i);
   result.seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start_time).count();
   return result;

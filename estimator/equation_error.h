@@ -6,18 +6,14 @@
 #include <ceres/ceres.h>
 
 #include <cmath>
+#include <limits>
+#include <vector>
 
 #include "estimator/estimate.h"
 #include "estimator/step_observations.h"
 #include "forward_model/trajectory.h"
 
 namespace slideid {
-
-/// Steps whose ECP speed |v|_w = sqrt(v_t^2 + v_o^2 + (L v_r)^2) is below this fraction of
-/// the median over the candidate steps are left out ("ECP speed near zero"): the model's
-/// direction v / |v|_D is undefined at 0. The functor is exact at any positive speed, so
-/// this only keeps clear of 0 and of denormal speeds; it is not a noise threshold.
-constexpr double kEcpSpeedFloorFraction = 1e-9;
 
 /// Robust-loss scale floor (dimensionless, residuals are impulses over p_n): when the
 /// residuals at the seed are at rounding level (exact logs), a loss scale of that size
@@ -28,7 +24,7 @@ constexpr double kMinLossSigma = 1e-9;
 /// Residuals of one step (3, dimensionless) for parameter blocks log a, log b, log c:
 /// ((p_t - m_t) / p_n, (p_o - m_o) / p_n, (p_r - m_r) / (p_n L)) with
 /// m = -a p_n (v_t, b^2 v_o, c^2 v_r) / sqrt(v_t^2 + b^2 v_o^2 + c^2 v_r^2).
-/// Returns false (never throws) where the model's speed is not positive.
+/// Returns false (never throws) where the model's speed is not positive or not finite.
 struct EquationErrorResidual {
   EquationErrorResidual(const StepObservation& o, double radius_m)
       : vt(o.ecp_velocity(0)), vo(o.ecp_velocity(1)), vr(o.ecp_velocity(2)),
@@ -43,7 +39,8 @@ struct EquationErrorResidual {
     const T b2 = exp(T(2) * log_b[0]);
     const T c2 = exp(T(2) * log_c[0]);
     const T speed2 = vt * vt + b2 * vo * vo + c2 * vr * vr;
-    if (!(speed2 > T(0))) return false;
+    // Not positive, or overflowed at a trial point far out: no residual there.
+    if (!(speed2 > T(0)) || !(speed2 < T(std::numeric_limits<double>::max()))) return false;
     const T k = a / sqrt(speed2);  // a / |v|_D
     residual[0] = qt + k * vt;
     residual[1] = qo + k * b2 * vo;
@@ -61,20 +58,44 @@ struct EquationErrorResidual {
   double radius;      ///< L = sqrt(I_z / m) [m]
 };
 
-/// Fits (log a, log b, log c) by Ceres (DENSE_QR, options.loss at
-/// options.loss_scale_sigmas * 1.4826 MAD of the residuals at the seed), seeded by
-/// EstimateClosedForm (b = 1, c = L where it gives none). Parameters that
-/// AssessIdentifiability rejects are held at their seed and the rest refitted; standard
-/// errors from ceres::Covariance scaled by s^2 = sum r^2 / (N - n_free) (raw residuals).
-/// s^2 treats the residuals as independent; with velocity noise, consecutive impulses
-/// m (v' - v) share a sample, their noise partly cancels in the fit, and the reported errors
-/// are conservative (~4x the observed spread on the synthetic scenes). Outliers (e.g. sticking
-/// steps a noisy log cannot flag) also inflate s^2, since it uses the raw residuals.
+/// Fits (log a, log b, log c) by Ceres (DENSE_QR, within kFrictionLowerBound..UpperBound,
+/// options.loss at options.loss_scale_sigmas times the residuals' robust scale at the seed)
+/// to the sliding steps of the log (SlidingStep: rest phases, sticking, the first step of
+/// each sliding phase and, for differentiated velocities, steps next to a force switch
+/// excluded), seeded by EstimateClosedForm (a = 0.3, b = 1, c = L where it gives none). A
+/// log whose friction impulses are below kMinImpulseSnr times their noise (velocities
+/// differentiated from noisy poses) is left out, with the reason; c is not identifiable when
+/// the rotational impulses are. Parameters that AssessIdentifiability rejects (with the
+/// residuals' robust scale, 1.4826 MAD) are held at their seed and the rest refitted.
+///
+/// Errors in variables are corrected by SIMEX (estimator/simex.h) when the residuals show
+/// the noise the log's velocities carry; a correction beyond kMaxSimexBiasLog makes the
+/// parameter not identifiable.
+///
+/// Intervals: exp(theta +- q stderr), stderr from the robust sandwich B^-1 S B^-1,
+/// B = sum rho' J^T J, S the block-level long-run covariance of the scores rho' J^T r
+/// (estimator/step_covariance.h: neighbouring steps share a velocity sample, which makes
+/// their noise cancel in the fit; the white-noise covariance overstated the error 4x), q
+/// Student's t with (blocks - 1) degrees of freedom; with fewer than kMinBlocks blocks, the
+/// white-noise sandwich (wider). The robust weights rho' keep outliers (rows no noisy log can
+/// flag) from inflating it. The interval also holds the estimate the fit would give if the
+/// forces varied linearly within the rows instead of being held over them (the log cannot
+/// tell; BiasAwareHalfWidth), with a note. Over several logs the cluster-robust sandwich
+/// with the logs as clusters (G / (G - 1), t with G - 1 degrees of freedom) is used where
+/// wider, with a note. Verdicts: JudgeEstimates (estimator/plausibility.h), with the
+/// residuals' scale against the one the log's velocity noise implies (model mismatch).
 /// Residuals: per step, names "t", "o", "r", NaN for unused steps.
 /// `closed_form`, when given, is EstimateClosedForm's result on the same log (so that an
 /// identification runs it once). Throws std::invalid_argument for invalid options; too
 /// little sliding is the status kTooLittleExcitation.
 EstimateResult EstimateEquationError(const Trajectory& log, const IdentifyOptions& options,
                                      const EstimateResult* closed_form = nullptr);
+
+/// The same over several logs of one slider on one surface: one fit over the steps of all
+/// of them, each log with its own slider properties; result.logs has each log fitted on its
+/// own and result.heterogeneity whether they agree. Throws std::invalid_argument for an
+/// empty list.
+EstimateResult EstimateEquationError(const std::vector<Trajectory>& logs,
+                                     const IdentifyOptions& options);
 
 }  // namespace slideid

@@ -129,7 +129,8 @@ struct EstimateResult {
   /// Reasons steps were left out, with counts ("sticking", "v_t near zero", ...).
   std::vector<std::pair<std::string, int>> steps_excluded;
   /// The noise the log itself shows (from its high-frequency content), and the RMS of the
-  /// fit's residuals in the same channels [m or m/s]; NaN where not computed.
+  /// fit's residuals in the same channels [m or m/s; the equation error: impulses over p_n,
+  /// dimensionless]; NaN where not computed.
   double log_noise = std::numeric_limits<double>::quiet_NaN();
   double residual_rms = std::numeric_limits<double>::quiet_NaN();
   double final_cost = 0;
@@ -166,7 +167,11 @@ struct LossOptions {
 };
 
 /// Options of the equation-error fit (estimator/equation_error.h).
-struct EquationErrorOptions : LossOptions {};
+struct EquationErrorOptions : LossOptions {
+  /// Correct the fit for the bias the log's noise gives it (estimator/simex.h):
+  /// kSimexReplicates Gauss-Newton steps on noisier copies (about 3x the fit's time).
+  bool correct_noise_bias = true;
+};
 
 /// How the trajectory fit treats the delay of the force stream against the poses.
 enum class DelayFit { kNone, kPerLog, kShared };

@@ -38,9 +38,27 @@ EstimateResult Identify(const std::vector<Trajectory>& logs, const IdentifyOptio
   if (logs.size() == 1) return Identify(logs[0], options);
   std::string why;
   if (!options.IsValid(&why)) throw std::invalid_argument(why);
-  if (options.method == EstimatorMethod::kTrajectory) return EstimateTrajectory(logs, options);
+  if (options.method != EstimatorMethod::kTrajectory) {  // the trajectory fit checks its own
+    for (size_t k = 0; k < logs.size(); ++k) {
+      if (const auto dead = DiagnoseLog(logs[k]).dead_force_channel) {
+        EstimateResult r;
+        r.method = options.method;
+        r.status = TerminationStatus::kTooLittleExcitation;
+        r.converged = false;
+        r.message = (logs[k].source.empty() ? "log " + std::to_string(k) : logs[k].source) +
+                    ": " + *dead;
+        return r;
+      }
+    }
+  }
+  switch (options.method) {
+    case EstimatorMethod::kClosedForm: return EstimateClosedForm(logs, options);
+    case EstimatorMethod::kEquationError: return EstimateEquationError(logs, options);
+    case EstimatorMethod::kTrajectory: return EstimateTrajectory(logs, options);
+    case EstimatorMethod::kQuasiStatic: break;
+  }
   throw std::invalid_argument(std::string("method ") + ToString(options.method) +
-                              " does not pool several logs yet");
+                              " does not take push logs");
 }
 
 }  // namespace slideid

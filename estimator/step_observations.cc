@@ -1,8 +1,24 @@
 #include "estimator/step_observations.h"
 
+#include <algorithm>
+#include <cmath>
 #include <stdexcept>
+#include <vector>
+
+#include "estimator/log_diagnostics.h"
+#include "estimator/robust_statistics.h"
 
 namespace slideid {
+namespace {
+
+double ZeroIfNaN(double x) { return std::isfinite(x) ? x : 0.0; }
+
+/// |v|_w = sqrt(v_x^2 + v_y^2 + (L w_z)^2) [m/s].
+double Speed(const PlanarState& s, double radius_m) {
+  return std::sqrt(s.vx * s.vx + s.vy * s.vy + radius_m * radius_m * s.wz * s.wz);
+}
+
+}  // namespace
 
 std::vector<StepObservation> ExtractStepObservations(const Trajectory& logged) {
   // A poses-only log means kinematic-map velocities, whatever the samples carry.
@@ -18,6 +34,16 @@ std::vector<StepObservation> ExtractStepObservations(const Trajectory& logged) {
   }
   std::vector<StepObservation> steps;
   if (log.samples.size() < 2) return steps;
+  double max_push = 0;
+  for (const TrajectorySample& sample : log.samples) {
+    max_push = std::max(max_push, std::hypot(sample.applied.fx, sample.applied.fy));
+  }
+  auto switches = [&](size_t from, size_t to) {
+    if (to >= log.samples.size()) return false;
+    const AppliedWrench& a = log.samples[from].applied;
+    const AppliedWrench& b = log.samples[to].applied;
+    return std::hypot(b.fx - a.fx, b.fy - a.fy) > kForceSwitchFraction * max_push;
+  };
   steps.reserve(log.samples.size() - 1);
   const bool has_mode = log.columns.step_info;
   for (size_t u = 0; u + 1 < log.samples.size(); ++u) {
@@ -30,6 +56,8 @@ std::vector<StepObservation> ExtractStepObservations(const Trajectory& logged) {
     o.end = b.state;
     o.applied = a.applied;
     o.start_velocity_known = log.columns.velocity || u > 0;
+    o.near_force_switch =
+        !logged.columns.velocity && ((u > 0 && switches(u - 1, u)) || switches(u, u + 1));
     const double h = o.h_s;
     o.pn = h * (s.mass_kg * s.gravity_mps2 - a.applied.fz);
     // Appendix A, corrected: friction impulses from Newton-Euler with the coupling term (*).
@@ -49,13 +77,60 @@ std::vector<StepObservation> ExtractStepObservations(const Trajectory& logged) {
   return steps;
 }
 
-bool InformativeStep(const StepObservation& step, EstimateResult* result) {
+StepNoise ReadStepNoise(const Trajectory& log) {
+  const LogDiagnostics d = DiagnoseLog(log);
+  StepNoise n;
+  n.differentiated = !log.columns.velocity;
+  if (!n.differentiated) {
+    n.velocity_mps = ZeroIfNaN(d.velocity_noise_mps);
+    n.spin_radps = ZeroIfNaN(d.spin_noise_radps);
+    n.delta_velocity_mps = std::sqrt(2.0) * n.velocity_mps;
+    n.delta_spin_radps = std::sqrt(2.0) * n.spin_radps;
+    n.delta_end_velocity_cov = n.velocity_mps * n.velocity_mps;
+    n.delta_end_spin_cov = n.spin_radps * n.spin_radps;
+    return n;
+  }
+  std::vector<double> intervals;
+  for (size_t u = 0; u + 1 < log.samples.size(); ++u) {
+    intervals.push_back(log.samples[u + 1].t_s - log.samples[u].t_s);
+  }
+  if (intervals.empty()) return n;
+  const double h = Median(intervals);
+  if (!(h > 0)) return n;
+  const double pose = ZeroIfNaN(d.pose_noise_m), angle = ZeroIfNaN(d.angle_noise_rad);
+  n.velocity_mps = std::sqrt(2.0) * pose / h;
+  n.spin_radps = std::sqrt(2.0) * angle / h;
+  n.delta_velocity_mps = std::sqrt(6.0) * pose / h;
+  n.delta_spin_radps = std::sqrt(6.0) * angle / h;
+  n.delta_end_velocity_cov = 3.0 * pose * pose / (h * h);
+  n.delta_end_spin_cov = 3.0 * angle * angle / (h * h);
+  return n;
+}
+
+bool SlidingStep(const StepObservation& step, const StepNoise& noise, double radius_m,
+                 EstimateResult* result) {
   if (step.logged_stick) {
     result->Exclude("sticking");
     return false;
   }
   if (!step.start_velocity_known) {
     result->Exclude("start velocity unknown");
+    return false;
+  }
+  if (step.near_force_switch) {
+    result->Exclude("next to a force switch");
+    return false;
+  }
+  const double rest = kRestSpeedSigmas *
+                      std::sqrt(2 * noise.velocity_mps * noise.velocity_mps +
+                                radius_m * radius_m * noise.spin_radps * noise.spin_radps);
+  // Exact logs (no noise): only an exact 0 is rest.
+  if (!(Speed(step.end, radius_m) > rest)) {
+    result->Exclude("at rest (speed within the noise)");
+    return false;
+  }
+  if (!(Speed(step.start, radius_m) > rest)) {
+    result->Exclude("start of a sliding phase");
     return false;
   }
   return true;

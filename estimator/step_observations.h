@@ -1,8 +1,10 @@
 #pragma once
-// Per-step quantities of a push log that every estimator uses: the measured friction
-// impulses and ECP velocities of model.md, "Appendix A (identification), corrected".
+// Per-step quantities of a push log that the cheap estimators use: the measured friction
+// impulses and ECP velocities of model.md, "Appendix A (identification), corrected", the
+// noise they carry, and which steps are sliding steps that can inform an estimate.
 
 #include <Eigen/Core>
+#include <string>
 #include <vector>
 
 #include "forward_model/planar_state.h"
@@ -29,15 +31,64 @@ struct StepObservation {
   /// False for the first step of a poses-only log: the kinematic map gives no velocity at
   /// the first row, so this step's start velocity is unknown.
   bool start_velocity_known = true;
+  /// Velocities differentiated from poses, and the applied force switches (by more than
+  /// kForceSwitchFraction of the log's largest push) at the row before, at, or after this
+  /// step: a differentiated velocity is the mean over the interval before its row, so the
+  /// step's change of velocity spans half an interval of the other force.
+  bool near_force_switch = false;
 };
+
+/// A change of the horizontal force between consecutive rows above this fraction of the
+/// log's largest push is a switch (a push starting or stopping), not the variation of a
+/// push within its course (a 30% oscillation over 0.15 s changes by at most 13% per 10 ms
+/// row).
+constexpr double kForceSwitchFraction = 0.25;
 
 /// All steps of a log (rows 0..N-2 start a step). Without the velocity columns, velocities
 /// come from the poses by the kinematic map (SetVelocitiesFromPoses). The slider must have mass, inertia,
 /// com_height and gravity set.
 std::vector<StepObservation> ExtractStepObservations(const Trajectory& log);
 
-/// Whether a step can inform a per-step estimate: it slid and its start velocity is known.
-/// When not, records why in `result` ("sticking", "start velocity unknown").
-bool InformativeStep(const StepObservation& step, EstimateResult* result);
+/// The noise on the velocities and their changes as the steps use them, read off the log
+/// itself (estimator/log_diagnostics.h: MAD of high differences). Measured velocities with
+/// noise s give v' - v with noise sqrt(2) s; velocities differentiated from poses with noise
+/// s_q over an interval h carry sqrt(2) s_q / h, and their changes (q' - 2 q + q_) / h
+/// sqrt(6) s_q / h. All 0 where the log shows no noise (exact logs, or too few rows).
+struct StepNoise {
+  bool differentiated = false;    ///< velocities come from the poses (no velocity columns)
+  double velocity_mps = 0;        ///< on v_x and v_y [m/s]
+  double spin_radps = 0;          ///< on w_z [rad/s]
+  double delta_velocity_mps = 0;  ///< on each component of v' - v [m/s]
+  double delta_spin_radps = 0;    ///< on w' - w [rad/s]
+  /// Covariance of the noise on v' - v with that on v' (per component) [m^2/s^2]: s_v^2
+  /// for measured velocities, 3 s_q^2 / h^2 for differentiated ones; the same for w.
+  double delta_end_velocity_cov = 0;
+  double delta_end_spin_cov = 0;
+};
+
+/// Reads the step noise of `log` (DiagnoseLog; the median log interval for differentiated
+/// velocities).
+StepNoise ReadStepNoise(const Trajectory& log);
+
+/// A step counts as at rest when its CM speed |v|_w = sqrt(v_x^2 + v_y^2 + (L w_z)^2),
+/// L = sqrt(I_z / m), is at most this many times its noise sqrt(2 s_v^2 + (L s_w)^2).
+/// A noisy log has no mode column, and its rest and sticking rows read as slow motion in
+/// random directions: their friction impulses are noise, and kept as sliding steps they
+/// pull a towards 0 (a log with long rests gave a 6x too low). At 3 times the noise a
+/// resting row passes for sliding with probability below 0.3% (one Gaussian channel), and
+/// a sliding step is lost only while slower than that.
+constexpr double kRestSpeedSigmas = 3.0;
+
+/// Whether a step can inform a per-step estimate: the log says it slid over the whole
+/// interval. When not, records why in `result`:
+///  - "sticking": the mode column says so, or (without one) the end velocity is exactly 0;
+///  - "start velocity unknown": the first step of a poses-only log;
+///  - "at rest (speed within the noise)": its end speed is within kRestSpeedSigmas of the
+///    noise (noisy rest and sticking rows, which no mode column flags);
+///  - "start of a sliding phase": it starts from rest (speed within the noise, or exactly
+///    0), so it may have stuck for part of the interval, which the log cannot show;
+///  - "next to a force switch": near_force_switch (velocities differentiated from poses).
+bool SlidingStep(const StepObservation& step, const StepNoise& noise, double radius_m,
+                 EstimateResult* result);
 
 }  // namespace slideid

@@ -110,31 +110,75 @@ TEST(ClosedForm, SliderAtRestIsTooLittleSliding) {
   EXPECT_NE(r.message.find("too little sliding"), std::string::npos) << r.message;
 }
 
-// Noise: velocity 0.002 m/s and spin 0.02 rad/s (a good motion-capture rig after
-// differentiation). Per step, p = m (v' - v) carries sqrt(2) m 0.002 = 0.0028 N s of noise
-// against p_n = 0.098 N s, i.e. ~10% of a = 0.3; the median of ~45 steps then has a standard
-// error of ~1.25 * 10% / sqrt(45) ~ 2%. Each estimate must lie within kNoiseSigmas of its own
-// reported standard errors of the truth, and that standard error must be small enough
-// (kMaxNoisyRelStdErr) for the check to mean something.
+// Noise: velocity 0.002 m/s and spin 0.02 rad/s (a good rig measuring velocities). Per
+// step, p = m (v' - v) carries sqrt(2) m 0.002 = 0.0028 N s of noise against p_n = 0.098 N s,
+// i.e. ~10% of a = 0.3, and each step's estimate is a ratio of such noisy factors: biased by
+// up to its own variance (~1%), which on these logs is more than the standard error of the
+// robust mean over ~45-100 steps. The closed form must then decline (not identifiable, with
+// the errors-in-variables reason), and the value it declines must still be close to the
+// truth (kMaxDeclinedError). At a tenth of that noise (LowNoise) it reports what it can: each
+// reported estimate lies within kNoiseSigmas of its own standard errors of the truth, and
+// that standard error is small enough (kMaxNoisyRelStdErr) for the check to mean something.
 constexpr double kNoiseSigmas = 4.0;
 constexpr double kMaxNoisyRelStdErr = 0.05;
+constexpr double kMaxDeclinedError = 0.03;
 
-NoiseSpec VelocityNoise(std::uint64_t seed) {
+NoiseSpec VelocityNoise(std::uint64_t seed, double scale = 1.0) {
   NoiseSpec noise;
-  noise.velocity_mps = 0.002;
-  noise.spin_radps = 0.02;
+  noise.velocity_mps = 0.002 * scale;
+  noise.spin_radps = 0.02 * scale;
   noise.seed = seed;
   return noise;
 }
+constexpr double kLowNoise = 0.1;
 
-TEST(ClosedForm, NoisyLogsGiveEstimatesWithinTheirStandardErrors) {
+bool DeclinedForNoiseBias(const ParameterEstimate& p) {
+  return !p.identifiable && p.reason.find("errors in variables") != std::string::npos;
+}
+
+TEST(ClosedForm, NoisyLogsGiveEstimatesWithinTheirStandardErrorsOrSayWhyNot) {
+  int reported = 0;
   for (const NamedScene& s : FullyIdentifiableScenes()) {
     const ReducedFriction truth = ReducedFriction::From(s.scene.friction);
+    const double expected[3] = {truth.a, truth.b, truth.c};
     const Trajectory clean = SimulateOrFail(s.scene);
     for (int seed = 1; seed <= 10; ++seed) {
+      const EstimateResult r =
+          EstimateClosedForm(AddNoise(clean, VelocityNoise(seed, kLowNoise)), {});
+      for (int i = 0; i < 3; ++i) {
+        const ParameterEstimate& p = r.parameters[i];
+        SCOPED_TRACE(std::string(s.name) + " seed " + std::to_string(seed) + " " +
+                     ParameterName(i));
+        if (!p.identifiable) {
+          EXPECT_TRUE(DeclinedForNoiseBias(p)) << p.reason;
+          EXPECT_NEAR(p.held_at / expected[i], 1.0, kMaxDeclinedError);
+          continue;
+        }
+        ++reported;
+        EXPECT_LE(p.stderr_value / expected[i], kMaxNoisyRelStdErr);
+        EXPECT_LE(std::abs(p.value - expected[i]), kNoiseSigmas * p.stderr_value)
+            << p.value << " +- " << p.stderr_value << ", truth " << expected[i];
+      }
+    }
+  }
+  // Most estimates are reported at this noise (observed: 93 of 120).
+  EXPECT_GE(reported, 80);
+}
+
+TEST(ClosedForm, DeclinesWhatTheNoiseMayBiasBeyondItsStandardError) {
+  // The pushed logs: 100 steps, whose robust mean's standard error falls below the bias
+  // the noise may give each step (the 45-step free slides sit near the threshold).
+  for (const NamedScene& s : FullyIdentifiableScenes()) {
+    if (s.scene.pushes.empty()) continue;
+    const ReducedFriction truth = ReducedFriction::From(s.scene.friction);
+    const Trajectory clean = SimulateOrFail(s.scene);
+    for (int seed = 1; seed <= 5; ++seed) {
       const EstimateResult r = EstimateClosedForm(AddNoise(clean, VelocityNoise(seed)), {});
-      ExpectWithinStandardErrors(r, truth, kMaxNoisyRelStdErr, kNoiseSigmas,
-                                 std::string(s.name) + " seed " + std::to_string(seed));
+      const ParameterEstimate& a = r.parameters[kA];
+      SCOPED_TRACE(std::string(s.name) + " seed " + std::to_string(seed));
+      ASSERT_TRUE(DeclinedForNoiseBias(a)) << a.reason;
+      EXPECT_NEAR(a.held_at / truth.a, 1.0, kMaxDeclinedError);
+      EXPECT_TRUE(std::isnan(a.ci95_lo));
     }
   }
 }
@@ -143,10 +187,16 @@ TEST(ClosedForm, NoisyStraightLineStillCannotIdentifyBOrC) {
   // Velocity noise puts v_o and v_r at noise level, below kDivisorFraction of the speed.
   const Trajectory clean = SimulateOrFail(testing::AlongOneAxis());
   for (int seed = 1; seed <= 5; ++seed) {
-    const EstimateResult r = EstimateClosedForm(AddNoise(clean, VelocityNoise(seed)), {});
-    EXPECT_TRUE(r.parameters[kA].identifiable);
+    const EstimateResult r =
+        EstimateClosedForm(AddNoise(clean, VelocityNoise(seed, kLowNoise)), {});
+    EXPECT_TRUE(r.parameters[kA].identifiable || DeclinedForNoiseBias(r.parameters[kA]))
+        << r.parameters[kA].reason;
+    EXPECT_NEAR(r.parameters[kA].identifiable ? r.parameters[kA].value
+                                              : r.parameters[kA].held_at,
+                0.3, kMaxDeclinedError * 0.3);
     EXPECT_FALSE(r.parameters[kB].identifiable) << r.parameters[kB].value;
     EXPECT_FALSE(r.parameters[kC].identifiable) << r.parameters[kC].value;
+    EXPECT_TRUE(std::isnan(r.parameters[kB].held_at));
   }
 }
 

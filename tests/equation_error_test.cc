@@ -110,40 +110,51 @@ NoiseSpec VelocityNoise(std::uint64_t seed) {
   return noise;
 }
 
-// Per step the impulse noise is ~10% of a (closed_form_test); a least-squares fit over ~45
-// steps with independent residuals predicts ~1.5% standard error, which is what the fit
-// reports. Each estimate must lie within kNoiseSigmas of its reported standard errors, which
-// must be below kMaxNoisyRelStdErr. That cap is 15%, not 5%, for TiltingPush's c: its spin is
-// small (c weakly excited), and its 4 sticking steps cannot be recognised in a noisy log (the
-// mode column is dropped), so they enter as outliers that inflate s^2 (raw residuals).
+// Per step the impulse noise is ~10% of a (closed_form_test). Each estimate must lie within
+// kNoiseSigmas of its reported standard errors, which must be below kMaxNoisyRelStdErr.
+// TiltingPush spins slowly: its rotational impulses are about 3 times their noise, too few
+// for c (the per-step directions are then biased, not just noisy), which the fit must say.
 constexpr double kNoiseSigmas = 4.0;
-constexpr double kMaxNoisyRelStdErr = 0.15;
+constexpr double kMaxNoisyRelStdErr = 0.05;
 // The 95% intervals must cover the truth for at least this fraction of seeds (a nominal
 // 95% interval would miss the mark 80% of 50 seeds with probability < 1e-4).
 constexpr double kMinCoverage = 0.8;
 // Errors-in-variables: the measured v of a step shares its noise with p = m (v' - v). On
-// FreeSlideWithSpin this biases a by ~ -0.1% (50 seeds); bound the mean error well below the
-// reported standard error.
+// FreeSlideWithSpin this biases a by ~ -0.1% (50 seeds) before the SIMEX correction; bound
+// the mean error well below the reported standard error.
 constexpr double kMaxMeanRelError = 0.005;
 
 TEST(EquationError, NoisyLogsGiveEstimatesWithinTheirStandardErrors) {
   for (const NamedScene& s : FullyIdentifiableScenes()) {
     const ReducedFriction truth = ReducedFriction::From(s.scene.friction);
     const Trajectory clean = SimulateOrFail(s.scene);
+    const bool slow_spin = std::string(s.name) == "TiltingPush";
     for (int seed = 1; seed <= 10; ++seed) {
+      const std::string what = std::string(s.name) + " seed " + std::to_string(seed);
       const EstimateResult r = EstimateEquationError(AddNoise(clean, VelocityNoise(seed)), {});
-      EXPECT_TRUE(r.converged) << s.name << " seed " << seed << ": " << r.message;
-      ExpectWithinStandardErrors(r, truth, kMaxNoisyRelStdErr, kNoiseSigmas,
-                                 std::string(s.name) + " seed " + std::to_string(seed));
+      EXPECT_TRUE(r.converged) << what << ": " << r.message;
+      ReducedFriction checked = truth;
+      if (slow_spin) {
+        const ParameterEstimate& c = r.parameters[kC];
+        EXPECT_FALSE(c.identifiable) << what;
+        EXPECT_NE(c.reason.find("rotational friction impulse"), std::string::npos) << c.reason;
+        EstimateResult ab = r;
+        ab.parameters[kC] = r.parameters[kA];  // check a and b below, c was declined
+        checked.c = truth.a;
+        ExpectWithinStandardErrors(ab, checked, kMaxNoisyRelStdErr, kNoiseSigmas, what);
+        continue;
+      }
+      ExpectWithinStandardErrors(r, truth, kMaxNoisyRelStdErr, kNoiseSigmas, what);
     }
   }
 }
 
 TEST(EquationError, NoisyIntervalsCoverTheTruthForMostSeeds) {
-  // Observed: the intervals cover the truth for all 50 seeds and the actual spread of the
-  // estimates is ~4x smaller than the reported standard error. The residuals are not
-  // independent: consecutive impulses m (v' - v) share a velocity sample, so their noise is
-  // negatively correlated and largely cancels in the fit. The intervals are conservative.
+  // Observed: the intervals cover the truth for 50 of 50 seeds. This log is one sliding
+  // phase of 45 steps, too few blocks for the block covariance (step_covariance.h), so the
+  // interval is the white-noise one: consecutive impulses m (v' - v) share a velocity
+  // sample, their noise largely cancels in the fit, and that interval is conservative
+  // (tests/cheap_methods_test.cc checks the calibrated intervals of longer logs).
   const Scene scene = testing::FreeSlideWithSpin();
   const ReducedFriction truth = ReducedFriction::From(scene.friction);
   const double expected[3] = {truth.a, truth.b, truth.c};

@@ -1,0 +1,143 @@
+#include "estimator/cheap_methods.h"
+
+#include <cmath>
+#include <cstdio>
+#include <limits>
+
+#include "estimator/closed_form.h"
+#include "estimator/identifiability.h"
+#include "estimator/log_diagnostics.h"
+#include "estimator/robust_statistics.h"
+#include "estimator/step_covariance.h"
+
+namespace slideid {
+
+LogSteps ReadLogSteps(const Trajectory& log) {
+  LogSteps s;
+  s.log = &log;
+  s.steps = ExtractStepObservations(log);
+  s.noise = ReadStepNoise(log);
+  s.max_push_N = DiagnoseLog(log).max_push_N;
+  s.radius_m = std::sqrt(log.slider.inertia_kgm2 / log.slider.mass_kg);
+  s.lag = s.noise.differentiated ? kDifferentiatedVelocityLag : kMeasuredVelocityLag;
+  return s;
+}
+
+double ImpulseSnr(const LogSteps& s, const std::vector<int>& used, bool rotation) {
+  if (used.empty()) return std::numeric_limits<double>::quiet_NaN();
+  const SliderProperties& slider = s.log->slider;
+  const double noise = rotation ? slider.inertia_kgm2 * s.noise.delta_spin_radps
+                                : slider.mass_kg * s.noise.delta_velocity_mps;
+  if (!(noise > 0)) return std::numeric_limits<double>::infinity();
+  std::vector<double> ratio;
+  ratio.reserve(used.size());
+  for (int k : used) {
+    const Eigen::Vector3d& p = s.steps[k].friction_impulse;
+    ratio.push_back((rotation ? std::abs(p(2)) : std::hypot(p(0), p(1))) / noise);
+  }
+  return Median(ratio);
+}
+
+Eigen::Vector3d ForceHoldImpulseShift(const LogSteps& s, const StepObservation& o) {
+  const AppliedWrench& now = s.log->samples[o.row].applied;
+  const AppliedWrench& next = s.log->samples[o.row + 1].applied;
+  const double dfx = next.fx - now.fx, dfy = next.fy - now.fy, dtz = next.tz - now.tz;
+  if (std::hypot(dfx, dfy) > kForceSwitchFraction * s.max_push_N) return Eigen::Vector3d::Zero();
+  // p = M (nu' - nu) - h f: a mean force larger by df / 2 takes h df / 2 off the impulse.
+  const double half_h = 0.5 * o.h_s;
+  return Eigen::Vector3d(-half_h * dfx, -half_h * dfy, -half_h * dtz);
+}
+
+StepObservation MidInterval(const StepObservation& o) {
+  StepObservation mid = o;
+  const double w_end = o.end.wz, w_mid = 0.5 * (o.start.wz + o.end.wz);
+  // ecp_velocity = (v_x - w r_y, v_y + w r_x, w): the offset from the end values.
+  const double minus_ry = w_end != 0 ? (o.ecp_velocity(0) - o.end.vx) / w_end : 0.0;
+  const double rx = w_end != 0 ? (o.ecp_velocity(1) - o.end.vy) / w_end : 0.0;
+  mid.ecp_velocity << 0.5 * (o.start.vx + o.end.vx) + w_mid * minus_ry,
+      0.5 * (o.start.vy + o.end.vy) + w_mid * rx, w_mid;
+  return mid;
+}
+
+std::string LowSnrReason(double snr, bool differentiated, bool rotation) {
+  char buf[400];
+  std::snprintf(buf, sizeof buf,
+                "the %s of a step is only %.2g times its noise (need %.3g): the per-step "
+                "estimates are biased, not just noisy%s",
+                rotation ? "rotational friction impulse" : "friction impulse", snr,
+                kMinImpulseSnr,
+                differentiated ? " (velocities differentiated from noisy poses; use the "
+                                 "trajectory method)"
+                               : "");
+  return buf;
+}
+
+PlausibilityContext CheapContext(const std::vector<LogSteps>& logs) {
+  PlausibilityContext c;
+  for (const LogSteps& s : logs) {
+    const SliderProperties& slider = s.log->slider;
+    c.logs.push_back({slider.mass_kg * slider.gravity_mps2, s.max_push_N});
+  }
+  return c;
+}
+
+std::string LogName(const Trajectory& log, int index) {
+  return log.source.empty() ? "log " + std::to_string(index) : log.source;
+}
+
+LogResult AsLogResult(const EstimateResult& r, const Trajectory& log, int index) {
+  LogResult lr;
+  lr.name = LogName(log, index);
+  lr.rows = static_cast<int>(log.samples.size());
+  lr.steps_used = r.steps_used;
+  lr.status = r.status;
+  lr.message = r.message;
+  lr.parameters = r.parameters;
+  return lr;
+}
+
+double BiasAwareHalfWidth(double sd, double bias) {
+  // Coverage of +-h around an estimate N(b, sd^2) at the truth; increasing in h.
+  auto coverage = [&](double h) {
+    return 0.5 * (std::erfc(-(h - bias) / (sd * std::sqrt(2.0))) -
+                  std::erfc(-(-h - bias) / (sd * std::sqrt(2.0))));
+  };
+  double lo = kZ95 * sd, hi = kZ95 * sd + bias;
+  for (int k = 0; k < kHalfWidthBisections; ++k) {
+    const double mid = 0.5 * (lo + hi);
+    (coverage(mid) < 0.95 ? lo : hi) = mid;
+  }
+  return hi;
+}
+
+ParameterEstimate FromLogEstimate(const LogEstimate& e) {
+  if (e.noise_bias_bound_log > kMaxNoiseBiasStderrs * e.stderr_log) {
+    char buf[400];
+    std::snprintf(buf, sizeof buf,
+                  "the log's noise may bias it by up to %.2g%%, %.2g times its standard error "
+                  "%.2g%% (errors in variables: ratios and directions of noisy velocities); "
+                  "the equation-error fit (measured velocities) or the trajectory method do "
+                  "better",
+                  100 * e.noise_bias_bound_log, e.noise_bias_bound_log / e.stderr_log,
+                  100 * e.stderr_log);
+    return NotIdentifiable(std::exp(e.log_value), buf);
+  }
+  ParameterEstimate p = EstimateFromLog(e.log_value, e.stderr_log, e.quantile);
+  p.note = e.note;
+  const double shift = e.force_hold_shift_log;
+  if (shift > 0 && e.stderr_log > 0) {
+    const double half = BiasAwareHalfWidth(e.quantile * e.stderr_log / kZ95, shift);
+    p.ci95_lo = std::exp(e.log_value - half);
+    p.ci95_hi = std::exp(e.log_value + half);
+    char buf[300];
+    std::snprintf(buf, sizeof buf,
+                  "interval widened %.2fx: another reading of the log (forces varying within "
+                  "its rows rather than held; for c also the direction of sliding at "
+                  "mid-interval) would move the estimate by %.2g%%",
+                  half / (e.quantile * e.stderr_log), 100 * shift);
+    p.note += (p.note.empty() ? "" : "; ") + std::string(buf);
+  }
+  return p;
+}
+
+}  // namespace slideid
