@@ -34,6 +34,9 @@ constexpr double kNoiseFloor = 1e-10;
 // Levenberg-Marquardt converges in a few iterations.
 constexpr double kScanSpan = 3.0;
 constexpr int kScanPoints = 5;
+// b and c are then refined from three points a factor 1.3 apart (and a parabola's vertex):
+// within the range where the cost is close to a parabola in their logs.
+constexpr double kRefineFactor = 1.3;
 // Typical table-top friction, the default seed of a.
 constexpr double kDefaultA = 0.3;
 // The robust loss is scaled to the noise the log shows; residuals whose robust scale sits
@@ -153,6 +156,24 @@ std::array<double, 3> SeedFriction(TrajectoryProblem* problem, const SeedCandida
       at(x + 0.5 * spacing * (f_left - f_right) / curvature);
     }
   }
+  // Then b and c, one at a time from the best so far: a parabola in the log-parameter
+  // through the best and a factor kRefineFactor either side, its vertex tried once.
+  for (int i = 1; i < 3; ++i) {
+    const std::array<double, 3> centre = best;
+    const double centre_cost = best_cost;
+    double f[2];
+    for (int side = 0; side < 2; ++side) {
+      std::array<double, 3> trial = centre;
+      trial[i] *= side == 0 ? 1.0 / kRefineFactor : kRefineFactor;
+      f[side] = try_seed(trial);
+    }
+    const double curvature = f[0] - 2 * centre_cost + f[1];
+    if (curvature > 0 && std::isfinite(curvature)) {
+      std::array<double, 3> trial = centre;
+      trial[i] *= std::exp(0.5 * std::log(kRefineFactor) * (f[0] - f[1]) / curvature);
+      try_seed(trial);
+    }
+  }
   problem->SetFriction(best);
   return best;
 }
@@ -215,6 +236,20 @@ std::vector<double> ResidualRowScale(const TrajectoryProblem& problem) {
     if (!per_log[i].empty()) scale[i] = std::sqrt(Median(per_log[i]) / kChi3MedianOverMean);
   }
   return scale;
+}
+
+// Rows whose raw residual norm exceeds sigmas times their log's `noise`.
+int RowsBeyond(const TrajectoryProblem& problem, double sigmas, const std::vector<double>& noise) {
+  const std::vector<double> r = problem.Residuals(true);
+  int beyond = 0;
+  size_t k = 0;
+  for (const TrajectorySegment& seg : problem.segments()) {
+    const double limit = sigmas * noise[seg.log];
+    for (int row = seg.first_row; row <= seg.last_row; ++row, k += 3) {
+      beyond += std::sqrt(r[k] * r[k] + r[k + 1] * r[k + 1] + r[k + 2] * r[k + 2]) > limit;
+    }
+  }
+  return beyond;
 }
 
 void SetRowLosses(TrajectoryProblem* problem, RobustLoss kind, double sigmas,
@@ -437,34 +472,40 @@ FitOutcome Fit(const std::vector<const Trajectory*>& logs, const IdentifyOptions
   std::vector<bool> free(problem.num_global(), true);
   int iterations = 0;
   const bool seed_delays = !start && topt.fit_delay != DelayFit::kNone;
-  if (topt.loss != RobustLoss::kNone || seed_delays) {
-    SetRowLosses(&problem, RobustLoss::kNone, topt.loss_scale_sigmas, row_noise);
+  SetRowLosses(&problem, RobustLoss::kNone, topt.loss_scale_sigmas, row_noise);
+  ceres::Solver::Summary summary;
+  if (seed_delays) {
     std::vector<bool> stage = free;
-    for (int i = 3; i < problem.num_global() && seed_delays; ++i) {
+    for (int i = 3; i < problem.num_global(); ++i) {
       stage[i] = problem.GlobalName(i) != "delay_s";
     }
-    iterations += static_cast<int>(problem.Solve(stage).iterations.size());
-    if (seed_delays) SeedDelays(&problem, topt.max_delay_s);
+    iterations += static_cast<int>(problem.Solve(stage, /*stage=*/true).iterations.size());
+    SeedDelays(&problem, topt.max_delay_s);
   }
-  SetRowLosses(&problem, topt.loss, topt.loss_scale_sigmas, row_noise);
-  ceres::Solver::Summary summary = problem.Solve(free);
+  summary = problem.Solve(free, /*stage=*/topt.loss != RobustLoss::kNone);
   iterations += static_cast<int>(summary.iterations.size());
   std::vector<double> residual_scale = ResidualRowScale(problem);
   if (topt.loss != RobustLoss::kNone) {
-    bool rescale = false;
+    // The loss's scale: each log's own noise or, where the residuals sit well above it
+    // (model mismatch), their own scale, so that the loss does not treat most rows as
+    // outliers.
     std::vector<double> loss_noise = row_noise;
     for (size_t k = 0; k < logs.size(); ++k) {
       if (residual_scale[k] > kRescaleRatio * row_noise[k] || !(row_noise[k] > kNoiseFloor)) {
         loss_noise[k] = residual_scale[k];
-        rescale = rescale || residual_scale[k] > kNoiseFloor;
       }
     }
-    if (rescale) {
+    // Huber equals least squares for rows inside its scale: when no row lies beyond it, the
+    // least-squares solution is the robust one (with Gaussian noise a row passes 3 sigma of
+    // its three channels with probability 6e-6: the usual case).
+    // Either way the last solve settles tightly (the first one stopped in the basin).
+    if (topt.loss != RobustLoss::kHuber ||
+        RowsBeyond(problem, topt.loss_scale_sigmas, loss_noise) > 0) {
       SetRowLosses(&problem, topt.loss, topt.loss_scale_sigmas, loss_noise);
-      summary = problem.Solve(free);
-      iterations += static_cast<int>(summary.iterations.size());
-      residual_scale = ResidualRowScale(problem);
     }
+    summary = problem.Solve(free);
+    iterations += static_cast<int>(summary.iterations.size());
+    residual_scale = ResidualRowScale(problem);
   }
 
   // Identifiability over every global parameter; hold what the logs do not determine.

@@ -34,6 +34,13 @@ constexpr double kGradientTolerance = 0.0;
 // SettledCallback: a free global parameter whose iteration step is below this fraction of
 // its standard error has settled (its estimate would not move its interval visibly)...
 constexpr double kSettledFraction = 0.02;
+// A stage that only has to bring the fit into the right basin for the next one (least
+// squares before the robust loss) settles at this fraction of a standard error: the next
+// stage starts within a fraction of an interval of its optimum either way.
+constexpr double kStageSettledFraction = 0.3;
+// The standard errors are recomputed once the cost is below this fraction of what it was
+// when they were (the errors then shrank by half).
+constexpr double kStdErrRefresh = 0.25;
 // ... and the standard errors are first computed once every log-friction step is below
 // this (0.1%), and nuisances' steps below this fraction of their own size plus ...
 constexpr double kSettleCheck = 1e-3;
@@ -223,8 +230,8 @@ namespace {
 // errors are computed once, when the steps first fall below kSettleCheck (one pass).
 class SettledCallback final : public ceres::IterationCallback {
  public:
-  SettledCallback(TrajectoryProblem* problem, const std::vector<bool>& free)
-      : problem_(problem), free_(free), last_(free.size()) {
+  SettledCallback(TrajectoryProblem* problem, const std::vector<bool>& free, double fraction)
+      : problem_(problem), free_(free), last_(free.size()), fraction_(fraction) {
     for (size_t i = 0; i < free.size(); ++i) last_[i] = problem->global(int(i));
   }
 
@@ -246,10 +253,16 @@ class SettledCallback final : public ceres::IterationCallback {
       settled_ = 0;
       return ceres::SOLVER_CONTINUE;
     }
-    if (stderr_.empty()) stderr_ = problem_->StandardErrors(free_);
+    // The errors scale with the residuals: computed again once the cost has fallen by
+    // kStdErrRefresh since (on a noiseless log it falls by orders of magnitude, and errors
+    // from early on would let the fit stop far from its last digits).
+    if (stderr_.empty() || it.cost < kStdErrRefresh * cost_at_stderr_) {
+      stderr_ = problem_->StandardErrors(free_);
+      cost_at_stderr_ = it.cost;
+    }
     bool settled = true;
     for (size_t i = 0; i < free_.size(); ++i) {
-      if (free_[i] && !(moved[i] <= kSettledFraction * stderr_[i])) settled = false;
+      if (free_[i] && !(moved[i] <= fraction_ * stderr_[i])) settled = false;
     }
     settled_ = settled ? settled_ + 1 : 0;
     return settled_ >= 2 ? ceres::SOLVER_TERMINATE_SUCCESSFULLY : ceres::SOLVER_CONTINUE;
@@ -260,12 +273,14 @@ class SettledCallback final : public ceres::IterationCallback {
   std::vector<bool> free_;
   std::vector<double> last_;
   std::vector<double> stderr_;
+  double fraction_;
+  double cost_at_stderr_ = 0;
   int settled_ = 0;
 };
 
 }  // namespace
 
-ceres::Solver::Summary TrajectoryProblem::Solve(const std::vector<bool>& free) {
+ceres::Solver::Summary TrajectoryProblem::Solve(const std::vector<bool>& free, bool stage) {
   ceres::Problem::Options problem_options;
   problem_options.cost_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
   ceres::Problem problem(problem_options);
@@ -315,7 +330,7 @@ ceres::Solver::Summary TrajectoryProblem::Solve(const std::vector<bool>& free) {
   // cost alone.
   solver.line_search_interpolation_type = ceres::QUADRATIC;
   solver.logging_type = ceres::SILENT;
-  SettledCallback settled(this, free);
+  SettledCallback settled(this, free, stage ? kStageSettledFraction : kSettledFraction);
   solver.update_state_every_iteration = true;
   solver.callbacks.push_back(&settled);
   ceres::Solver::Summary summary;

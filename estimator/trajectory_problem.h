@@ -99,7 +99,8 @@ class TrajectoryProblem {
   /// Levenberg-Marquardt over the segment states and the free global parameters
   /// (free.size() == num_global()), stopping once the free ones settle (the callback in
   /// trajectory_problem.cc).
-  ceres::Solver::Summary Solve(const std::vector<bool>& free);
+  /// `stage`: an intermediate solve, settled more loosely (trajectory_problem.cc).
+  ceres::Solver::Summary Solve(const std::vector<bool>& free, bool stage = false);
 
   /// The information of every global parameter, marginalised over the states; also marks
   /// segments whose state is undetermined.

@@ -136,15 +136,15 @@ SimulationResult Simulate(const Scene& scene, const SimulationOptions& options) 
     }
     summary.max_step_residual = std::max(summary.max_step_residual, step.residual);
     summary.max_step_iterations = std::max(summary.max_step_iterations, step.iterations);
-    const double distance = scene.patch.SignedDistanceToHull(step.ecp_body);
+    const double distance = scene.patch.SignedDistanceToHull(step.EcpBody());
     summary.max_hull_signed_distance_m = std::max(summary.max_hull_signed_distance_m, distance);
     if (distance > options.hull_tolerance_m) {
       summary.failure_ecp_world = step.ecp_world;
       Fail(&summary, SimulationStatus::kToppling, t_next,
            Format("ECP (%.6g, %.6g) m world, (%.6g, %.6g) m body, left the patch hull: the "
                   "slider would tip",
-                  step.ecp_world.x(), step.ecp_world.y(), step.ecp_body.x(),
-                  step.ecp_body.y()));
+                  step.ecp_world.x(), step.ecp_world.y(), step.EcpBody().x(),
+                  step.EcpBody().y()));
       return result;
     }
   }

@@ -223,9 +223,6 @@ StepResult Finish(const PlanarState& state, double dt_s, const StepEquations& eq
   r.state.theta = state.theta + dt_s * nu(2);
   r.ecp_offset_world = eq.EcpOffset(p);
   r.ecp_world = Eigen::Vector2d(r.state.x, r.state.y) + r.ecp_offset_world;
-  const double c = std::cos(r.state.theta), s = std::sin(r.state.theta);
-  r.ecp_body << c * r.ecp_offset_world(0) + s * r.ecp_offset_world(1),
-      -s * r.ecp_offset_world(0) + c * r.ecp_offset_world(1);
   return r;
 }
 
@@ -424,6 +421,12 @@ Eigen::Vector4d SlidingEquationResiduals(const SliderProperties& slider,
   const double qt = pt / f.e_t, qo = po / f.e_o, qr = pr / f.e_r;
   r(3) = relative(k * k - qt * qt - qo * qo - qr * qr, k * k + qt * qt + qo * qo + qr * qr);
   return r;
+}
+
+Eigen::Vector2d StepResult::EcpBody() const {
+  const double c = std::cos(state.theta), s = std::sin(state.theta);
+  return {c * ecp_offset_world(0) + s * ecp_offset_world(1),
+          -s * ecp_offset_world(0) + c * ecp_offset_world(1)};
 }
 
 const char* ToString(StepMode mode) { return mode == StepMode::kStick ? "stick" : "slide"; }

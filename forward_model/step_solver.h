@@ -57,7 +57,6 @@ struct StepResult {
   double pn = 0;             ///< normal impulse h (m g - f_z) [N s]
   Eigen::Vector2d ecp_offset_world = Eigen::Vector2d::Zero();  ///< ECP - CM, world [m]
   Eigen::Vector2d ecp_world = Eigen::Vector2d::Zero();  ///< end-of-step CM + offset [m]
-  Eigen::Vector2d ecp_body = Eigen::Vector2d::Zero();   ///< offset in the body frame [m]
   StepMode mode = StepMode::kSlide;
   StepPath path = StepPath::kGeneral;
   /// The solution in the solver's scaled unknowns (tau_t, tau_o, tau_r, s) of
@@ -67,6 +66,9 @@ struct StepResult {
   int iterations = 0;        ///< Newton (or scalar root) iterations
 
   bool ok() const { return status == StepStatus::kConverged; }
+  /// The ECP offset in the body frame at the end of the step [m] (computed on demand: the
+  /// estimators never need it, and its sine and cosine cost 5% of a fit).
+  Eigen::Vector2d EcpBody() const;
 };
 
 /// Advances `state` by one step of length dt_s [s] under `applied` (held over the step),
