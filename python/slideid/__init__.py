@@ -15,6 +15,10 @@ estimates) are issued as slideid.SlideidWarning.
     log = slideid.read_log("datasets/logs/default_push.csv")
     result = slideid.identify(log)
     print(result.e_t_mu.value, result.e_t_mu.ci95)
+
+Many logs: identify_file gives one plain dict per file, result_row a flat table row of it,
+read_results reads the JSON lines of identify --batch; slideid.dask (import it, with
+python3-distributed) runs them on a Dask cluster.
 """
 
 import sys
@@ -38,11 +42,13 @@ from ._log import (
     simulate,
     write_log,
 )
+from ._results import ROW_FIELDS, read_results, result_row
 
 __all__ = [
     "Log",
     "NumericalError",
     "OptionError",
+    "ROW_FIELDS",
     "Record",
     "Result",
     "SlideidWarning",
@@ -53,6 +59,8 @@ __all__ = [
     "make_dataset",
     "make_log",
     "read_log",
+    "read_results",
+    "result_row",
     "simulate",
     "write_log",
 ]
