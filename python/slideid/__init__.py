@@ -16,9 +16,9 @@ estimates) are issued as slideid.SlideidWarning.
     result = slideid.identify(log)
     print(result.e_t_mu.value, result.e_t_mu.ci95)
 
-Many logs: identify_file gives one plain dict per file, result_row a flat table row of it,
-read_results reads the JSON lines of identify --batch; slideid.dask (import it, with
-python3-distributed) runs them on a Dask cluster.
+Many logs: log_files lists them as identify --batch does, identify_file gives one plain dict
+per file, result_row a flat table row of it, read_results reads the JSON lines of identify
+--batch; slideid.dask (import it, with python3-distributed) runs them on a Dask cluster.
 """
 
 import sys
@@ -42,7 +42,7 @@ from ._log import (
     simulate,
     write_log,
 )
-from ._results import ROW_FIELDS, read_results, result_row
+from ._results import ROW_FIELDS, log_files, read_results, result_row
 
 __all__ = [
     "Log",
@@ -56,6 +56,7 @@ __all__ = [
     "identify",
     "identify_file",
     "import_log",
+    "log_files",
     "make_dataset",
     "make_log",
     "read_log",

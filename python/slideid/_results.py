@@ -1,10 +1,11 @@
-"""Results of many logs as a table: one flat row per log, read off the per-file dicts that
+"""Many logs: the files a directory or a glob names, and their results as a table: one flat row per log, read off the per-file dicts that
 identify_file returns, that slideid.dask writes, and that ``identify --batch`` writes as
 JSON lines (the same objects, but for "error_type")."""
 
 import json
 import os
 
+from . import _core
 from ._identify import PARAMETERS
 
 #: The columns of a row, in order. Per parameter p (e_t_mu = a, e_o_over_e_t = b,
@@ -52,6 +53,14 @@ def result_row(entry):
         row["error"] = entry["error"]
         row["error_type"] = entry.get("error_type")
     return row
+
+
+def log_files(directory_or_glob):
+    """The logs a directory (its *.csv files, without the truth.csv and import_report.csv
+    that make-dataset and import-log write beside their logs) or a glob names, sorted: the
+    files of ``identify --batch`` and ``--logs``, whose shards split this list. Raises
+    ValueError when it names none."""
+    return _core.log_files(os.fspath(directory_or_glob))
 
 
 def read_results(path):

@@ -4,11 +4,12 @@ complete, into a table or written to a file line by line.
 
     import distributed, slideid.dask
     client = distributed.Client("tcp://scheduler:8786")     # or None: a local cluster
-    table = slideid.dask.identify_many(slideid.dask.log_files("pushes/"), client)
+    table = slideid.dask.identify_many(slideid.log_files("pushes/"), client)
     summary = slideid.dask.write_results("pushes/", "results.jsonl", client, segment=20)
 
 From a shell: ``python3 -m slideid.dask --batch DIR|GLOB --out results.jsonl
-[--scheduler ADDRESS | --local-workers N] [identify's options]`` (README, "Scale-out").
+[--scheduler ADDRESS | --scheduler-file FILE | --local-workers N] [identify's options]``
+(README, "Scale-out").
 
 Files are sent in tasks of several logs (a short log fits in milliseconds, less than a
 task's round trip through the scheduler), and only a few tasks per worker thread are out
@@ -32,7 +33,7 @@ import distributed
 
 from . import _core
 from ._identify import identify_file
-from ._results import ROW_FIELDS, result_row, rows_fitted
+from ._results import ROW_FIELDS, log_files, result_row, rows_fitted
 
 #: The most logs in one task by default: tasks of well under a minute even for long logs,
 #: and progress that moves.
@@ -43,14 +44,6 @@ TASKS_PER_THREAD = 8
 PENDING_PER_THREAD = 2
 #: Tasks out at once at least (while workers join, a cluster may have none).
 MIN_PENDING = 4
-
-
-def log_files(directory_or_glob):
-    """The logs a directory (its *.csv files, without the truth.csv and import_report.csv
-    that make-dataset and import-log write beside their logs) or a glob names, sorted:
-    the files of ``identify --batch`` and ``--logs``. Raises ValueError when it names
-    none."""
-    return _core.log_files(os.fspath(directory_or_glob))
 
 
 def _paths(paths):
@@ -286,7 +279,8 @@ def _output(out):
 # ---- the command line: python3 -m slideid.dask ----
 
 USAGE = """python3 -m slideid.dask --batch DIR|GLOB --out RESULTS.jsonl|RESULTS.csv
-                         [--scheduler ADDRESS | --local-workers N] [--batch-size N]
+                         [--scheduler ADDRESS | --scheduler-file FILE | --local-workers N]
+                         [--batch-size N]
                          [identify's options: --segment 20 --fit-force-bias ...]"""
 
 DESCRIPTION = """Identifies every log of a directory (or a quoted glob) on its own, on a Dask
@@ -339,6 +333,9 @@ def main(argv=None):
     where = parser.add_mutually_exclusive_group()
     where.add_argument("--scheduler", metavar="ADDRESS",
                        help="a running Dask scheduler (tcp://host:8786)")
+    where.add_argument("--scheduler-file", metavar="FILE",
+                       help="the file a running scheduler wrote its address to (dask "
+                            "scheduler --scheduler-file FILE)")
     where.add_argument("--local-workers", type=int, metavar="N",
                        help="start N worker processes on this machine (default: one per "
                             "core), loopback only")
@@ -366,10 +363,13 @@ def main(argv=None):
         try:
             if args.scheduler:
                 client = stack.enter_context(distributed.Client(args.scheduler))
+            elif args.scheduler_file:
+                client = stack.enter_context(
+                    distributed.Client(scheduler_file=args.scheduler_file))
             else:
                 client = stack.enter_context(local_client(args.local_workers))
         except (OSError, TimeoutError) as error:
-            where = args.scheduler or "a local cluster"
+            where = args.scheduler or args.scheduler_file or "a local cluster"
             sys.stderr.write(f"slideid.dask: error: cannot reach {where}: {error}\n")
             return 1
         try:

@@ -1,7 +1,6 @@
 """slideid.dask: many logs identified on a Dask cluster of worker processes on this machine
 (loopback only) give, log by log, what identify_file gives (but for "seconds", the run
-time); a log that fails gives its row with its error; identify --batch writes the same
-lines."""
+time); a log that fails gives its row with its error."""
 
 import csv
 import json
@@ -15,11 +14,11 @@ import slideid
 distributed = pytest.importorskip("distributed")
 import slideid.dask  # noqa: E402  (needs distributed)
 
-from conftest import BIN_DIR  # noqa: E402
+from conftest import without_times  # noqa: E402
 
 # Debian's tornado warns as distributed starts its event loop; nothing of ours.
 pytestmark = pytest.mark.filterwarnings("ignore:make_current is deprecated:DeprecationWarning")
-SEGMENT = 20  # an option that changes every result: it must reach the workers
+SEGMENT = 12  # not the default (20 for these logs): it must reach the workers
 
 
 @pytest.fixture(scope="module")
@@ -28,22 +27,6 @@ def client():
                                   host="127.0.0.1", dashboard_address=None) as cluster, \
             distributed.Client(cluster) as dask_client:
         yield dask_client
-
-
-@pytest.fixture(scope="module")
-def logs(tmp_path_factory):
-    """Five short simulated logs and, sorted between them, one with a word for a number."""
-    folder = tmp_path_factory.mktemp("dask_logs")
-    slideid.make_dataset(count=5, seed=11, out=folder, pushes=2, noise_pose=3e-4,
-                         noise_angle=3e-3)
-    good = (folder / "log_0001.csv").read_text().splitlines()
-    row = next(k for k, line in enumerate(good) if line and line[0].isdigit()) + 3
-    fields = good[row].split(",")
-    fields[1] = "abc"  # column x
-    good[row] = ",".join(fields)
-    bad = folder / "log_0002_bad.csv"
-    bad.write_text("\n".join(good) + "\n")
-    return folder, slideid.dask.log_files(folder), str(bad), row + 1
 
 
 def expected(path):
@@ -56,27 +39,13 @@ def expected_row(path):
     return row_without_time(slideid.result_row(slideid.identify_file(path, segment=SEGMENT)))
 
 
-def without_times(entry):
-    entry = dict(entry)
-    entry.pop("seconds", None)
-    if "result" in entry:
-        entry["result"] = {k: v for k, v in entry["result"].items() if k != "seconds"}
-    return entry
-
-
 def row_without_time(row):
     return {k: v for k, v in row.items() if k != "seconds"}
 
 
-def test_the_logs_are_the_directory_sorted_without_the_truth(logs):
-    folder, paths, bad, _ = logs
-    assert paths == sorted(str(p) for p in folder.glob("log_*.csv"))
-    assert len(paths) == 6 and bad in paths
-
-
 def test_the_table_equals_identify_file_log_by_log_and_a_bad_log_gives_its_error(client,
-                                                                                  logs):
-    _, paths, bad, line = logs
+                                                                                  batch_logs):
+    _, paths, bad, line = batch_logs
     seen = []
     rows = slideid.dask.identify_many(paths, client, batch_size=2, max_pending=1,
                                       progress=lambda *p: seen.append(p), segment=SEGMENT)
@@ -92,21 +61,24 @@ def test_the_table_equals_identify_file_log_by_log_and_a_bad_log_gives_its_error
     assert len(good) == 5
     assert all(row["e_t_mu_lo"] <= row["e_t_mu"] <= row["e_t_mu_hi"] for row in good)
     assert all(60 <= row["rows"] <= 300 for row in good)
-    # Three tasks of two logs, one out at a time: progress after each.
+    # Three tasks of two batch_logs, one out at a time: progress after each.
     assert [p[0] for p in seen] == [2, 4, 6] and seen[-1][1:3] == (1, 6)
 
 
-def test_the_map_yields_identify_file_dicts_as_tasks_complete(client, logs):
-    _, paths, _, _ = logs
+def test_the_map_yields_identify_file_dicts_as_tasks_complete(client, batch_logs):
+    _, paths, _, _ = batch_logs
     entries = list(slideid.dask.map_identify(paths, client, segment=SEGMENT))
     assert sorted(entry["file"] for entry in entries) == paths
     for entry in entries:
         assert without_times(entry) == expected(entry["file"])
         json.dumps(entry)
+    # The option reached the workers: without it, the fits differ.
+    default = {e["file"]: e for e in slideid.dask.map_identify(paths, client)}
+    assert all(default[e["file"]]["steps_used"] != e["steps_used"] for e in entries if e["ok"])
 
 
-def test_results_written_as_json_lines_or_csv_equal_identify_file(client, logs, tmp_path):
-    _, paths, bad, _ = logs
+def test_results_written_as_json_lines_or_csv_equal_identify_file(client, batch_logs, tmp_path):
+    _, paths, bad, _ = batch_logs
     out = tmp_path / "results.jsonl"
     summary = slideid.dask.write_results(paths, out, client, batch_size=4, segment=SEGMENT)
     entries = list(slideid.read_results(out))
@@ -130,30 +102,15 @@ def test_results_written_as_json_lines_or_csv_equal_identify_file(client, logs, 
             assert text == ("" if value is None else str(value)), (path, key)
 
 
-def test_identify_batch_writes_the_lines_of_identify_file(logs, tmp_path):
-    folder, paths, bad, _ = logs
-    out = tmp_path / "batch.jsonl"
-    done = subprocess.run([str(BIN_DIR / "identify"), "--batch", str(folder), "--out", str(out),
-                           "--segment", str(SEGMENT), "--jobs", "2"],
-                          capture_output=True, text=True, check=False)
-    assert done.returncode == 1, done.stderr  # a log failed
-    lines = list(slideid.read_results(out))
-    assert sorted(entry["file"] for entry in lines) == paths
-    for entry in lines:
-        python = expected(entry["file"])
-        python.pop("error_type", None)  # the tool's lines have none
-        assert without_times(entry) == python
-
-
-def test_a_failed_fit_gives_the_result_beside_the_error(client, logs):
-    _, paths, _, _ = logs
+def test_a_failed_fit_gives_the_result_beside_the_error(client, batch_logs):
+    _, paths, _, _ = batch_logs
     rows = slideid.dask.identify_many(paths[:1], client, max_iterations=1)
     assert rows[0]["ok"] is False and rows[0]["error_type"] == "NumericalError"
     assert rows[0]["status"] is not None and "did not converge" in rows[0]["error"]
 
 
-def test_bad_arguments_raise_before_any_task(client, logs):
-    _, paths, _, _ = logs
+def test_bad_arguments_raise_before_any_task(client, batch_logs):
+    _, paths, _, _ = batch_logs
     with pytest.raises(slideid.OptionError, match="--segment"):
         slideid.dask.identify_many(paths, client, segment=1)
     with pytest.raises(TypeError, match="segmnt"):
@@ -174,8 +131,8 @@ def test_default_tasks_balance_the_threads_and_stay_small():
     assert slideid.dask.default_batch_size(5, 0) == 1
 
 
-def test_the_command_line_writes_every_line_and_says_what_failed(client, logs, tmp_path):
-    folder, paths, bad, _ = logs
+def test_the_command_line_writes_every_line_and_says_what_failed(client, batch_logs, tmp_path):
+    folder, paths, bad, _ = batch_logs
     out = tmp_path / "cli.jsonl"
     done = subprocess.run([sys.executable, "-m", "slideid.dask", "--batch", str(folder),
                            "--out", str(out), "--scheduler", client.scheduler.address,
@@ -189,8 +146,8 @@ def test_the_command_line_writes_every_line_and_says_what_failed(client, logs, t
         assert without_times(entry) == expected(entry["file"])
 
 
-def test_the_command_line_exit_codes(client, logs, tmp_path, capsys):
-    folder, paths, _, _ = logs
+def test_the_command_line_exit_codes(client, batch_logs, tmp_path, capsys):
+    folder, paths, _, _ = batch_logs
     main = slideid.dask.main
     out = tmp_path / "cli.csv"
     scheduler = ["--scheduler", client.scheduler.address]
