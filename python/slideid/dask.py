@@ -97,14 +97,16 @@ def local_client(workers=None):
 
 @contextlib.contextmanager
 def _client_or_local(client):
+    """The client given, else the current one, else that of a local cluster (local_client)
+    for as long as the context lasts."""
+    if client is None:
+        try:
+            client = distributed.get_client()
+        except ValueError:  # none
+            client = None
     if client is not None:
         yield client
         return
-    try:
-        yield distributed.get_client()  # the current one, if any
-        return
-    except ValueError:
-        pass
     with local_client() as local:
         yield local
 

@@ -167,3 +167,23 @@ def test_the_command_line_exit_codes(client, batch_logs, tmp_path, capsys):
     assert main(["--batch", str(folder), "--out", str(tmp_path / "no" / "r.jsonl"),
                  *scheduler]) == 4
     assert "cannot write the results" in capsys.readouterr().err
+
+
+def test_without_a_client_it_starts_a_local_cluster_for_the_call(batch_logs, tmp_path):
+    # In a process of its own: here the module's client is the current one.
+    folder, paths, _, _ = batch_logs
+    script = tmp_path / "no_client.py"
+    script.write_text(
+        "import json, sys, distributed, slideid.dask\n"
+        "if __name__ == '__main__':\n"
+        f"    rows = slideid.dask.identify_many(sys.argv[1], segment={SEGMENT})\n"
+        "    try:\n"
+        "        distributed.get_client()\n"
+        "        print('a client is left')\n"
+        "    except ValueError:\n"
+        "        print(json.dumps(rows))\n")
+    done = subprocess.run([sys.executable, str(script), str(folder)], capture_output=True,
+                          text=True, check=False)
+    assert done.returncode == 0, done.stderr
+    rows = json.loads(done.stdout)
+    assert [row_without_time(row) for row in rows] == [expected_row(path) for path in paths]
