@@ -54,7 +54,11 @@ if [ "$(awk 'END { print NR - 1 }' "$logs/truth.csv" 2>/dev/null)" != "$count" ]
   echo "scale_benchmark: make-dataset ${dataset_args[*]} --out $logs"
   rm -rf "$logs"
   mkdir -p "$work"
+  made=$(date +%s)
   "$bin/make-dataset" "${dataset_args[@]}" --out "$logs" --quiet
+  made="made in this run in $(($(date +%s) - made)) s"
+else
+  made="made by an earlier run"
 fi
 # A quarter of them (the first), for memory against the number of logs.
 part="$work/logs_${count}_first_$quarter"
@@ -165,11 +169,11 @@ EOF
 {
   echo "Measured $(date -u +%Y-%m-%d) at commit $commit, in $seconds s in all."
   echo "Machine: $machine (nproc; CPU and memory from /proc)."
-  echo "Load average (1, 5, 15 min): $load_before before the runs, $load_after after. The"
-  echo "machine was shared with other work when the load before exceeds about 0.5: wall times"
-  echo "and speed-ups then understate what it does alone."
+  echo "Load average (1, 5, 15 min): $load_before before the runs, $load_after after. A load"
+  echo "above about 0.5 before the runs means that other work shared the cores: wall times and"
+  echo "speed-ups then understate what the machine does alone."
   echo
-  echo "Logs: $count made by \`make-dataset ${dataset_args[*]}\`: $rows_min to $rows_max rows"
+  echo "Logs: $count made by \`make-dataset ${dataset_args[*]}\` ($made): $rows_min to $rows_max rows"
   echo "(median $rows_median), $rows_total rows in all. The last two rows of the table fit the"
   echo "first $quarter of them, to compare the peak memory."
   echo
