@@ -64,7 +64,8 @@ fi
 part="$work/logs_${count}_first_$quarter"
 if [ "$(find "$part" -name 'log_*.csv' 2>/dev/null | wc -l)" != "$quarter" ]; then
   rm -rf "$part" && mkdir -p "$part"
-  find "$logs" -name 'log_*.csv' | sort | head -n "$quarter" | xargs -I{} ln -s {} "$part/"
+  # (awk reads to the end: head would end the pipe early, a failure under pipefail)
+  find "$logs" -name 'log_*.csv' | sort | awk -v q="$quarter" 'NR <= q' | xargs -I{} ln -s {} "$part/"
 fi
 read -r rows_total rows_min rows_median rows_max < <(awk -F, '
   NR == 1 { for (i = 1; i <= NF; i++) if ($i == "rows") c = i; next }
