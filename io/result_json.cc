@@ -265,9 +265,8 @@ EstimatorMethod ReadMethod(const Json& root) {
                       "' (closed-form, equation-error, trajectory, quasi-static)");
 }
 
-}  // namespace
-
-std::string FormatJson(const EstimateResult& r) {
+/// The result as FormatJson writes it, before printing.
+Json ResultDoc(const EstimateResult& r) {
   Json doc = Json::object();
   for (int i = 0; i < 3; ++i) doc[ParameterName(i)] = ParameterJson(r.parameters[i]);
   int excluded = 0;
@@ -300,6 +299,33 @@ std::string FormatJson(const EstimateResult& r) {
   Json heterogeneity = Json::object();
   for (int i = 0; i < 3; ++i) heterogeneity[ParameterName(i)] = HeterogeneityJson(r.heterogeneity[i]);
   doc["heterogeneity"] = heterogeneity;
+  return doc;
+}
+
+}  // namespace
+
+std::string FormatJson(const EstimateResult& r) {
+  std::string out;
+  Print(ResultDoc(r), &out);
+  return out;
+}
+
+std::string FormatBatchLine(const std::string& file, const EstimateResult* result,
+                            const std::string& error, const std::vector<std::string>& warnings) {
+  if (error.empty() && result == nullptr) {
+    throw std::invalid_argument("FormatBatchLine: " + file + ": neither a result nor an error");
+  }
+  Json doc = Json::object();
+  doc["file"] = file;
+  doc["ok"] = error.empty();
+  if (error.empty()) {
+    const Json body = ResultDoc(*result);
+    for (auto it = body.begin(); it != body.end(); ++it) doc[it.key()] = it.value();
+    doc["warnings"] = warnings;
+  } else {
+    doc["error"] = error;
+    if (result != nullptr) doc["result"] = ResultDoc(*result);
+  }
   std::string out;
   Print(doc, &out);
   return out;

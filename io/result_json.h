@@ -23,6 +23,7 @@
 
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include "estimator/estimate.h"
 #include "forward_model/slider.h"
@@ -40,6 +41,17 @@ class ResultJsonError : public std::invalid_argument {
 /// heterogeneity untested unless the fit pooled several logs; "nuisance" is empty unless
 /// nuisances were fitted. Residuals are not in it (identify --residuals writes them).
 std::string FormatJson(const EstimateResult& result);
+
+/// One line of a batch's JSON lines (identify --batch; slideid.identify_file gives the same
+/// object, with "error_type" added to a failure), for `file`. A file identified:
+///   {"file": ..., "ok": true, the keys of FormatJson(*result), "warnings": [...]}.
+/// A file that failed, with `error` saying why (naming the file):
+///   {"file": ..., "ok": false, "error": ..., "result": FormatJson(*result)}
+/// where "result" is there when a fit ran but must not be used (`result` not null). The
+/// order of keys as written here. Throws std::invalid_argument if there is neither a result
+/// nor an error.
+std::string FormatBatchLine(const std::string& file, const EstimateResult* result,
+                            const std::string& error, const std::vector<std::string>& warnings);
 
 /// Reads what FormatJson wrote: every key it writes is required (others are ignored).
 /// FormatJson(ParseResultJson(FormatJson(r))) == FormatJson(r), and every field it carries

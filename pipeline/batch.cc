@@ -12,26 +12,22 @@
 namespace slideid {
 namespace {
 
-std::string JsonString(const std::string& s) {
-  std::string out = "\"";
-  for (unsigned char c : s) {
-    switch (c) {
-      case '"': out += "\\\""; break;
-      case '\\': out += "\\\\"; break;
-      case '\n': out += "\\n"; break;
-      case '\t': out += "\\t"; break;
-      case '\r': out += "\\r"; break;
-      default:
-        if (c < 0x20) {
-          char buf[8];
-          std::snprintf(buf, sizeof buf, "\\u%04x", c);
-          out += buf;
-        } else {
-          out += static_cast<char>(c);
-        }
-    }
+/// Why the identification of one file must not be used ("" when it may), naming the file,
+/// as the identify tool's error for it would.
+std::string FileFailure(const std::string& file, const EstimateResult& result) {
+  if (result.status == TerminationStatus::kTooLittleExcitation) {
+    return file + ": " + result.message;
   }
-  return out + "\"";
+  const std::string failure = NumericalFailure(result);
+  return failure.empty() ? "" : file + ": " + failure;
+}
+
+/// The rows of the logs a result fitted.
+long long RowsFitted(const EstimateResult& result) {
+  if (result.logs.empty()) return result.steps_total + 1;
+  long long rows = 0;
+  for (const LogResult& log : result.logs) rows += log.rows;
+  return rows;
 }
 
 }  // namespace
@@ -60,14 +56,6 @@ std::vector<std::string> Shard::Select(const std::vector<std::string>& sorted_fi
   return mine;
 }
 
-std::string BatchLine(const std::string& file, const FileIdentifyResult* result,
-                      const std::string& error) {
-  std::string line = "{\"file\": " + JsonString(file);
-  if (!result) return line + ", \"ok\": false, \"error\": " + JsonString(error) + "}";
-  const std::string json = FormatJson(result->result);  // "{...}"
-  return line + ", \"ok\": true, " + json.substr(1);
-}
-
 BatchSummary RunBatch(const std::vector<std::string>& files, const BatchOptions& options,
                       std::ostream& out,
                       const std::function<void(const BatchProgress&)>& progress) {
@@ -84,16 +72,12 @@ BatchSummary RunBatch(const std::vector<std::string>& files, const BatchOptions&
       bool ok = false;
       try {
         const FileIdentifyResult r = IdentifyFiles({files[k]}, options.identify);
-        if (r.result.status == TerminationStatus::kTooLittleExcitation) {
-          line = BatchLine(files[k], nullptr, r.result.message);
-        } else {
-          line = BatchLine(files[k], &r, "");
-          ok = true;
-          for (const LogResult& log : r.result.logs) rows += log.rows;
-          if (r.result.logs.empty()) rows = r.result.steps_total + 1;
-        }
+        const std::string error = FileFailure(files[k], r.result);
+        line = FormatBatchLine(files[k], &r.result, error, r.warnings);
+        ok = error.empty();
+        if (ok) rows = RowsFitted(r.result);
       } catch (const std::exception& e) {
-        line = BatchLine(files[k], nullptr, e.what());
+        line = FormatBatchLine(files[k], nullptr, e.what(), {});
       }
       std::lock_guard<std::mutex> lock(write);
       out << line << '\n';

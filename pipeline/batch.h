@@ -2,7 +2,7 @@
 // Batch identification: many logs, each fitted on its own, on a few worker threads, one JSON
 // line per log written to a stream as each finishes (JSON Lines), so that memory stays
 // bounded however many logs there are. A log that fails gives a line with its error and
-// does not stop the batch. Shards split the work without shared state: shard i of n takes
+// does not stop the batch (its line says why). Shards split the work without shared state: shard i of n takes
 // the logs whose index in the sorted list is i modulo n (a Slurm job array, GNU parallel).
 
 #include <functional>
@@ -43,13 +43,11 @@ struct BatchSummary {
   long long rows = 0;  ///< rows of the logs fitted
 };
 
-/// One line of the output for `file`: {"file": ..., "ok": true, then the keys of the
-/// identify JSON (io/result_json.h)}, or {"file": ..., "ok": false, "error": "..."}.
-std::string BatchLine(const std::string& file, const FileIdentifyResult* result,
-                      const std::string& error);
-
 /// Identifies every file on options.jobs threads, writing one line per file to `out` as it
-/// finishes (flushed each time; the order is the order of completion). `progress`, when set,
+/// finishes (flushed each time; the order is the order of completion), as FormatBatchLine
+/// (io/result_json.h) writes it. A file fails when it cannot be read or identified, when it
+/// determines no parameter, or when its fit failed numerically (NumericalFailure): the
+/// identify tool's exit codes 1 and 3 for one file. `progress`, when set,
 /// is called (from one thread at a time) after each file. Throws std::runtime_error if
 /// `out` fails.
 BatchSummary RunBatch(const std::vector<std::string>& files, const BatchOptions& options,

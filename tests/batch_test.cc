@@ -77,9 +77,37 @@ TEST(Batch, WritesOneLinePerLogWithTheIdentifyKeysOrTheError) {
       EXPECT_TRUE(line.at("ok").get<bool>());
       EXPECT_EQ(line.at("method"), "trajectory");
       EXPECT_TRUE(line.at("e_t_mu").at("identifiable").get<bool>()) << file;
+      EXPECT_TRUE(line.at("warnings").is_array()) << file;
     }
   }
   EXPECT_EQ(seen.size(), 4u);
+}
+
+TEST(Batch, FitsThatFailOrIdentifyNothingGiveFailedLinesWithTheirResult) {
+  // A log at rest determines nothing (exit code 1 for one file), and a fit cut short by
+  // its iteration limit does not converge (exit code 3): both fail, with the result. (The
+  // noise-free logs above converge at once from their seeds; the bundled noisy one does not.)
+  Scene rest = testing::BaseScene();
+  rest.duration_s = 0.3;
+  const std::string at_rest = Dir() + "/at_rest.csv";
+  WritePushLog(testing::SimulateOrFail(rest), at_rest);
+  BatchOptions options;
+  options.identify.identify.trajectory.max_iterations = 1;
+  std::ostringstream out;
+  const std::string noisy = std::string(SLIDEID_SOURCE_DIR) + "/datasets/logs/default_push.csv";
+  const BatchSummary s = RunBatch({at_rest, noisy}, options, out);
+  EXPECT_EQ(s.failed, 2);
+  EXPECT_EQ(s.rows, 0);
+  for (const Json& line : Lines(out.str())) {
+    const std::string file = line.at("file");
+    EXPECT_FALSE(line.at("ok").get<bool>()) << file;
+    const std::string error = line.at("error");
+    EXPECT_EQ(error.rfind(file + ": ", 0), 0u) << error;
+    const std::string why = file == at_rest ? "too little sliding" : "did not converge";
+    EXPECT_NE(error.find(why), std::string::npos) << error;
+    EXPECT_FALSE(line.at("result").at("converged").get<bool>()) << file;
+    EXPECT_FALSE(line.contains("e_t_mu")) << file;
+  }
 }
 
 TEST(Batch, TwoJobsGiveTheSameLinesAsOneButForTimes) {

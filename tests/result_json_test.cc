@@ -183,6 +183,21 @@ TEST(ResultJson, KeepsTheDocumentedKeysOrderAndLayout) {
             "\"i2\": null, \"tau_log\": null, \"consistent\": true}}}");
 }
 
+TEST(ResultJson, BatchLinesWrapTheResultOrTheErrorWithTheFileFirst) {
+  const EstimateResult result = Simple();
+  const std::string json = FormatJson(result);
+  const std::string body = json.substr(1, json.size() - 2);
+  EXPECT_EQ(FormatBatchLine("a \"b\".csv", &result, "", {"a.csv:3: gap"}),
+            "{\"file\": \"a \\\"b\\\".csv\", \"ok\": true, " + body +
+                ", \"warnings\": [\"a.csv:3: gap\"]}");
+  EXPECT_EQ(FormatBatchLine("a.csv", nullptr, "a.csv:6: bad", {}),
+            "{\"file\": \"a.csv\", \"ok\": false, \"error\": \"a.csv:6: bad\"}");
+  EXPECT_EQ(FormatBatchLine("a.csv", &result, "a.csv: no", {"ignored"}),
+            "{\"file\": \"a.csv\", \"ok\": false, \"error\": \"a.csv: no\", \"result\": " +
+                json + "}");
+  EXPECT_THROW(FormatBatchLine("a.csv", nullptr, "", {}), std::invalid_argument);
+}
+
 TEST(ResultJson, ReadsBackPooledLogsNuisancesAndVerdicts) {
   EstimateResult r = Simple();
   r.status = TerminationStatus::kConvergedWithCaveats;

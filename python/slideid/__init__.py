@@ -15,6 +15,10 @@ estimates) are issued as slideid.SlideidWarning.
     log = slideid.read_log("datasets/logs/default_push.csv")
     result = slideid.identify(log)
     print(result.e_t_mu.value, result.e_t_mu.ci95)
+
+Many logs: log_files lists them as identify --batch does, identify_file gives one plain dict
+per file, result_row a flat table row of it, read_results reads the JSON lines of identify
+--batch; slideid.dask (import it, with python3-distributed) runs them on a Dask cluster.
 """
 
 import sys
@@ -38,11 +42,13 @@ from ._log import (
     simulate,
     write_log,
 )
+from ._results import ROW_FIELDS, log_files, read_results, result_row
 
 __all__ = [
     "Log",
     "NumericalError",
     "OptionError",
+    "ROW_FIELDS",
     "Record",
     "Result",
     "SlideidWarning",
@@ -50,9 +56,12 @@ __all__ = [
     "identify",
     "identify_file",
     "import_log",
+    "log_files",
     "make_dataset",
     "make_log",
     "read_log",
+    "read_results",
+    "result_row",
     "simulate",
     "write_log",
 ]

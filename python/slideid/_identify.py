@@ -156,11 +156,13 @@ def identify(logs, method="trajectory", *, strict=False, **options):
 
 def identify_file(path, **options):
     """One log file to one plain dict, for maps over many logs (a loop, a process pool, a
-    Dask cluster): ``{"file": path, **identify(path, **options).to_dict(), "warnings":
-    [...]}``, or, when the file cannot be identified, ``{"file": path, "error": message,
-    "error_type": "ValueError" | "NumericalError" | "OSError"}`` (with "result", the
-    result's dict, when the fit ran but failed). It raises only for bad options (TypeError
-    for an unknown one, slideid.OptionError for a bad value), which would fail every file.
+    Dask cluster: slideid.dask): ``{"file": path, "ok": True,
+    **identify(path, **options).to_dict(), "warnings": [...]}``, or, when the file cannot be
+    identified, ``{"file": path, "ok": False, "error": message, "error_type": "ValueError" |
+    "NumericalError" | "OSError"}`` (with "result", the result's dict, when the fit ran but
+    failed). These are the lines of ``identify --batch`` (io/result_json.h, FormatBatchLine),
+    which has no "error_type". It raises only for bad options (TypeError for an unknown
+    one, slideid.OptionError for a bad value), which would fail every file.
     """
     name = os.fspath(path)
     try:
@@ -170,12 +172,12 @@ def identify_file(path, **options):
     except _core.OptionError:
         raise
     except (ValueError, _core.NumericalError, OSError) as error:
-        entry = {"file": name, "error": str(error), "error_type": type(error).__name__}
+        entry = {"file": name, "ok": False, "error": str(error),
+                 "error_type": type(error).__name__}
         if getattr(error, "result", None) is not None:
             entry["result"] = error.result.to_dict()
         return entry
-    entry = {"file": name}
+    entry = {"file": name, "ok": True}
     entry.update(result.to_dict())
     entry["warnings"] = result.warnings
     return entry
-

@@ -77,12 +77,28 @@ py::object Truth(const std::optional<ReducedFriction>& truth) {
   return d;
 }
 
-/// Identifies `inputs`: all paths (as the identify tool does) or all LogHandles.
-py::dict IdentifyInputs(const py::list& inputs, const py::kwargs& keywords) {
+/// identify's keyword arguments read as its options are (TypeError, OptionError).
+po::variables_map IdentifyKeywords(const py::kwargs& keywords) {
   po::options_description general, advanced;
   cli::AddIdentifyOptions(&general, &advanced);
   general.add(advanced);
-  const po::variables_map vm = ParseKeywords("identify", general, keywords, kNotKeywords);
+  return ParseKeywords("identify", general, keywords, kNotKeywords);
+}
+
+/// Checks identify's keyword arguments without reading a log: what a map over many logs
+/// does once before sending them out, since a bad option would fail every log.
+void CheckIdentifyKeywords(const py::kwargs& keywords) {
+  cli::ReadFileIdentifyOptions(IdentifyKeywords(keywords));
+}
+
+/// The logs a directory or a glob names, sorted, as identify --logs and --batch find them.
+std::vector<std::string> LogFiles(const std::string& directory_or_glob) {
+  return ExpandFiles(directory_or_glob);
+}
+
+/// Identifies `inputs`: all paths (as the identify tool does) or all LogHandles.
+py::dict IdentifyInputs(const py::list& inputs, const py::kwargs& keywords) {
+  const po::variables_map vm = IdentifyKeywords(keywords);
   const FileIdentifyOptions options = cli::ReadFileIdentifyOptions(vm);
 
   std::vector<std::string> paths;
@@ -151,6 +167,8 @@ py::dict IdentifyInputs(const py::list& inputs, const py::kwargs& keywords) {
 
 void BindIdentify(py::module_& m) {
   m.def("identify", &IdentifyInputs, py::arg("inputs"));
+  m.def("check_identify_options", &CheckIdentifyKeywords);
+  m.def("log_files", &LogFiles, py::arg("directory_or_glob"));
 }
 
 }  // namespace slideid::python

@@ -50,6 +50,35 @@ def cli_error(tool, *args):
     return code, line
 
 
+def without_times(entry):
+    """A batch line or an identify_file dict without its run times ("seconds", also of the
+    "result" of a failed fit)."""
+    entry = dict(entry)
+    entry.pop("seconds", None)
+    if "result" in entry:
+        entry["result"] = without_times(entry["result"])
+    return entry
+
+
 @pytest.fixture
 def default_log_path():
     return DEFAULT_LOG
+
+
+@pytest.fixture(scope="session")
+def batch_logs(tmp_path_factory):
+    """Many logs, for batches: a directory of five short simulated logs (make_dataset, 2
+    pushes, motion-capture noise) and, sorted between them, one with a word for a number.
+    Returns (directory, the sorted logs, the bad log, the bad log's line)."""
+    import slideid
+    folder = tmp_path_factory.mktemp("batch_logs")
+    slideid.make_dataset(count=5, seed=11, out=folder, pushes=2, noise_pose=3e-4,
+                         noise_angle=3e-3)
+    lines = (folder / "log_0001.csv").read_text().splitlines()
+    row = next(k for k, line in enumerate(lines) if line and line[0].isdigit()) + 3
+    fields = lines[row].split(",")
+    fields[1] = "abc"  # column x
+    lines[row] = ",".join(fields)
+    bad = folder / "log_0002_bad.csv"
+    bad.write_text("\n".join(lines) + "\n")
+    return folder, slideid.log_files(folder), str(bad), row + 1

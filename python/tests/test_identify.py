@@ -157,12 +157,13 @@ def test_quasi_static_pairs_equal_the_cli():
 
 def test_identify_file_gives_one_plain_dict_per_file(tmp_path):
     entry = slideid.identify_file(DEFAULT_LOG, segment=30)
-    assert entry["file"] == str(DEFAULT_LOG)
-    assert without_seconds({k: v for k, v in entry.items() if k not in ("file", "warnings")}) \
+    assert entry["file"] == str(DEFAULT_LOG) and entry["ok"] is True
+    assert without_seconds({k: v for k, v in entry.items()
+                            if k not in ("file", "ok", "warnings")}) \
         == cli_json("--log", DEFAULT_LOG, "--segment", "30")
     json.dumps(entry)  # plain data: a line of a JSON-lines file
     missing = slideid.identify_file(tmp_path / "missing.csv")
-    assert missing["error_type"] == "ValueError"
+    assert missing["error_type"] == "ValueError" and missing["ok"] is False
     assert "missing.csv" in missing["error"] and "cannot read" in missing["error"]
     failed = slideid.identify_file(DEFAULT_LOG, max_iterations=1)
     assert failed["error_type"] == "NumericalError"
