@@ -29,6 +29,11 @@ struct LogSpec {
   /// the one applied at the row's time, held over the next log interval (log-format.md);
   /// when the push varies within the interval this is an approximation, as in real logs.
   int log_every = 1;
+  /// Log each row's wrench as the mean over its log interval (the impulse, as a logger that
+  /// averages a faster force sensor records it) instead of the wrench at the row's time;
+  /// the push point is then the mean point of contact, and the moments those of the mean
+  /// force at it. Only matters for log_every > 1.
+  bool mean_wrench = false;
   LogMotion motion = LogMotion::kBoth;
   LogPush push = LogPush::kPoint;
   /// Keep the simulator's own columns (ECP, impulses, sigma, mode). Unset: kept when the

@@ -17,12 +17,47 @@ std::string Format(double v) {
   return buf;
 }
 
+/// Sets `kept`'s wrench (and push point) to the mean over rows[first, first + k) (clipped
+/// to the rows): the impulse over the log interval starting at `kept`. With push points,
+/// the push point is the row's CM plus the mean lever arm (contact point less CM: both move
+/// over the interval), and the moments are those of the mean force there, as a reader of
+/// the log's columns computes them (r from the row's CM at `com_height_m`).
+void HoldMeanWrench(const std::vector<TrajectorySample>& rows, size_t first, int k,
+                    double com_height_m, TrajectorySample* kept) {
+  const size_t last = std::min(rows.size(), first + k);
+  AppliedWrench mean;
+  Eigen::Vector3d point = Eigen::Vector3d::Zero();
+  int points = 0;
+  const double n = static_cast<double>(last - first);
+  for (size_t i = first; i < last; ++i) {
+    const AppliedWrench& w = rows[i].applied;
+    mean.fx += w.fx / n, mean.fy += w.fy / n, mean.fz += w.fz / n;
+    mean.tx += w.tx / n, mean.ty += w.ty / n, mean.tz += w.tz / n;
+    if (rows[i].push_point_world) {
+      point += *rows[i].push_point_world - Eigen::Vector3d(rows[i].state.x, rows[i].state.y, 0);
+      ++points;
+    }
+  }
+  if (points > 0 && kept->push_point_world) {
+    const Eigen::Vector3d p = point / points + Eigen::Vector3d(kept->state.x, kept->state.y, 0);
+    kept->push_point_world = p;
+    mean = WrenchFromForceAt(mean.fx, mean.fy, mean.fz, p.x() - kept->state.x,
+                             p.y() - kept->state.y, p.z() - com_height_m);
+  }
+  kept->applied = mean;
+}
+
 /// Every k-th row; step columns summarise the simulated steps of each log interval.
-std::vector<TrajectorySample> Decimate(const std::vector<TrajectorySample>& rows, int k) {
+std::vector<TrajectorySample> Decimate(const std::vector<TrajectorySample>& rows, int k,
+                                       bool mean_wrench, double com_height_m) {
   std::vector<TrajectorySample> out;
   if (rows.empty()) return out;
   out.reserve(rows.size() / k + 1);
+  auto hold = [&](size_t first, TrajectorySample* kept) {
+    if (mean_wrench) HoldMeanWrench(rows, first, k, com_height_m, kept);
+  };
   out.push_back(rows.front());
+  hold(0, &out.back());
   for (size_t end = k; end < rows.size(); end += k) {
     TrajectorySample kept = rows[end];
     bool all_stick = true;
@@ -34,6 +69,7 @@ std::vector<TrajectorySample> Decimate(const std::vector<TrajectorySample>& rows
       all_stick = all_stick && rows[i].mode == SampleMode::kStick;
     }
     kept.mode = all_stick ? SampleMode::kStick : SampleMode::kSlide;
+    hold(end, &kept);
     out.push_back(kept);
   }
   return out;
@@ -60,8 +96,10 @@ Trajectory MakeLog(const Trajectory& simulated, const LogSpec& spec) {
   }
   Trajectory log = simulated;
   if (spec.log_every > 1) {
-    log.samples = Decimate(simulated.samples, spec.log_every);
+    log.samples = Decimate(simulated.samples, spec.log_every, spec.mean_wrench,
+                           simulated.slider.com_height_m);
     log.extra_metadata.emplace_back("log_every", std::to_string(spec.log_every));
+    if (spec.mean_wrench) log.extra_metadata.emplace_back("log_wrench", "mean");
     if (log.samples.size() >= 2) {
       log.extra_metadata.emplace_back("log_dt",
                                       Format(log.samples[1].t_s - log.samples[0].t_s));

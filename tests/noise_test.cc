@@ -199,6 +199,46 @@ TEST(Noise, PushPointMomentsFollowTheNoisyForceAndKeepTheResidualMoment) {
   }
 }
 
+TEST(Noise, PushPointNoiseHasTheSpecifiedStdAndTheMomentFollowsTheReportedPoint) {
+  NoiseSpec n;
+  n.push_point_m = 4e-4;
+  n.seed = 9;
+  const Trajectory clean = StillLog(true);
+  const Trajectory noisy = AddNoise(clean, n);
+  ExpectGaussian(Statistics(noisy, [](const TrajectorySample& s) { return s.push_point_world->x(); }),
+                 0.95, n.push_point_m, "px");
+  ExpectGaussian(Statistics(noisy, [](const TrajectorySample& s) { return s.push_point_world->y(); }),
+                 2.01, n.push_point_m, "py");
+  for (const TrajectorySample& s : noisy.samples) {
+    EXPECT_EQ(s.push_point_world->z(), 0.03);  // the height is not tracked
+    const Eigen::Vector3d& p = *s.push_point_world;
+    const AppliedWrench rxf = WrenchFromForceAt(s.applied.fx, s.applied.fy, s.applied.fz,
+                                                p.x() - s.state.x, p.y() - s.state.y,
+                                                p.z() - noisy.slider.com_height_m);
+    ASSERT_NEAR(s.applied.tz, rxf.tz, 1e-15);  // consistent with its own columns
+    ASSERT_EQ(s.applied.fx, 3.0);              // the force itself is untouched
+  }
+  bool listed = false;
+  for (const auto& [key, value] : noisy.extra_metadata) {
+    listed = listed || (key == "noise_push_point_m" && std::stod(value) == n.push_point_m);
+  }
+  EXPECT_TRUE(listed);
+}
+
+TEST(Noise, PushPointNoiseLeavesTheOtherStreamsAsTheyWere) {
+  NoiseSpec n;
+  n.pose_m = 1e-3;
+  n.force_relative = 0.02;
+  n.seed = 12;
+  const Trajectory a = AddNoise(StillLog(true), n);
+  n.push_point_m = 1e-3;
+  const Trajectory b = AddNoise(StillLog(true), n);
+  for (size_t u = 0; u < a.samples.size(); ++u) {
+    ASSERT_EQ(a.samples[u].state.x, b.samples[u].state.x) << u;
+    ASSERT_EQ(a.samples[u].applied.fx, b.samples[u].applied.fx) << u;
+  }
+}
+
 TEST(Noise, RowsWithoutForceGetNoForceNoise) {
   NoiseSpec n;
   n.force_relative = 0.1;
@@ -246,6 +286,40 @@ TEST(SensorModel, DecimationKeepsEveryKthRowWithTheForceAtItsTime) {
     EXPECT_NEAR(a.pt, pt, 1e-15);
   }
   EXPECT_TRUE(log.columns.step_info);  // noiseless: the truth columns stay
+}
+
+TEST(SensorModel, MeanWrenchLogsTheImpulseOverEachIntervalAtTheMeanLeverArm) {
+  Scene scene = testing::PushedSlider();  // a periodic push: the force varies within a row
+  scene.dt_s = 0.001;
+  const Trajectory fine = testing::SimulateOrFail(scene);
+  LogSpec spec;
+  spec.log_every = 10;
+  spec.mean_wrench = true;
+  const Trajectory log = MakeLog(fine, spec);
+  ASSERT_EQ(log.samples.size(), (fine.samples.size() - 1) / 10 + 1);
+  for (size_t j = 0; j + 1 < log.samples.size(); ++j) {
+    const TrajectorySample& a = log.samples[j];
+    double fx = 0, fy = 0;
+    Eigen::Vector2d arm = Eigen::Vector2d::Zero();
+    for (size_t i = 10 * j; i < 10 * j + 10; ++i) {
+      const TrajectorySample& f = fine.samples[i];
+      fx += f.applied.fx / 10;
+      fy += f.applied.fy / 10;
+      arm += (f.push_point_world->head<2>() - Eigen::Vector2d(f.state.x, f.state.y)) / 10;
+    }
+    EXPECT_NEAR(a.applied.fx, fx, 1e-12) << j;  // the interval's impulse over its length
+    EXPECT_NEAR(a.applied.fy, fy, 1e-12) << j;
+    const Eigen::Vector2d r = a.push_point_world->head<2>() - Eigen::Vector2d(a.state.x, a.state.y);
+    EXPECT_NEAR((r - arm).norm(), 0.0, 1e-12) << j;
+    // The moment is the one a reader computes from the log's own columns.
+    EXPECT_NEAR(a.applied.tz, r.x() * a.applied.fy - r.y() * a.applied.fx, 1e-12) << j;
+    EXPECT_EQ(a.state.x, fine.samples[10 * j].state.x);  // the poses are not averaged
+  }
+  // The push varies within the rows, so the mean differs from the sample at the row's time.
+  EXPECT_NE(log.samples[5].applied.fx, fine.samples[50].applied.fx);
+  bool said = false;
+  for (const auto& [key, value] : log.extra_metadata) said = said || (key == "log_wrench" && value == "mean");
+  EXPECT_TRUE(said);
 }
 
 TEST(SensorModel, ColumnsFollowTheSpec) {
