@@ -34,6 +34,7 @@ const NoiseOption kNoiseOptions[] = {
     {"noise-force-relative", &NoiseSpec::force_relative,
      "Gaussian std of fx, fy as a fraction of the force"},
     {"noise-force", &NoiseSpec::force_N, "Gaussian std of fx, fy [N]"},
+    {"noise-push-point", &NoiseSpec::push_point_m, "Gaussian std of px, py [m]"},
     {"noise-outlier-fraction", &NoiseSpec::outlier_fraction,
      "fraction of rows whose pose jumps (motion-capture glitch)"},
     {"noise-outlier", &NoiseSpec::outlier_m, "size of such a jump [m]"},

@@ -12,6 +12,9 @@ constexpr double kTwoPi = 6.283185307179586;
 constexpr double kOutlierLever_m = 0.05;
 // Seeds the second engine (fz and moments) from the same seed, on a separate stream.
 constexpr std::uint64_t kSecondStream = 0x9E3779B97F4A7C15ull;
+// Seeds the third engine (push-point noise), so that adding it left the first two streams,
+// and every log made before it, unchanged.
+constexpr std::uint64_t kThirdStream = 0xC2B2AE3D27D4EB4Full;
 
 // A single push's residual moment (total minus r x f) is rounding only: r recomputed from the
 // push point and the CM differs from the simulator's rotated r by a few ulps, so the residual
@@ -35,10 +38,12 @@ void ApplyNoise(Trajectory* log, const NoiseSpec& noise) {
   const bool force_noise = noise.force_relative != 0 || noise.force_N != 0;
   const bool pose_moves_r =
       log->columns.pose && (noise.pose_m != 0 || noise.outlier_fraction != 0);
+  const bool point_moves = noise.push_point_m != 0;
   const double com_height = log->slider.com_height_m;
   std::mt19937_64 rng(noise.seed);
   std::mt19937_64 rng2(noise.seed ^ kSecondStream);
-  std::normal_distribution<double> normal(0.0, 1.0), normal2(0.0, 1.0);
+  std::mt19937_64 rng3(noise.seed ^ kThirdStream);
+  std::normal_distribution<double> normal(0.0, 1.0), normal2(0.0, 1.0), normal3(0.0, 1.0);
   std::uniform_real_distribution<double> uniform(0.0, 1.0);
   for (TrajectorySample& s : log->samples) {
     // Every variate is drawn whatever the spec, in a fixed order: one seed, one stream.
@@ -48,6 +53,7 @@ void ApplyNoise(Trajectory* log, const NoiseSpec& noise) {
     const double jump = uniform(rng), jump_angle = uniform(rng) * kTwoPi;
     const double m[5] = {normal2(rng2), normal2(rng2), normal2(rng2), normal2(rng2),
                          normal2(rng2)};
+    const double point_noise[2] = {normal3(rng3), normal3(rng3)};
 
     const PlanarState truth = s.state;
     s.state.x += noise.pose_m * n[0];
@@ -72,13 +78,17 @@ void ApplyNoise(Trajectory* log, const NoiseSpec& noise) {
       if (w.fz != 0) f.fz += noise.force_relative * w.fz * m[0] + noise.force_N * m[1];
     }
     if (s.push_point_world) {
-      if (!force_noise && !pose_moves_r) continue;
-      const Eigen::Vector3d& p = *s.push_point_world;
+      if (!force_noise && !pose_moves_r && !point_moves) continue;
+      const Eigen::Vector3d p = *s.push_point_world;
       const AppliedWrench at_truth = WrenchFromForceAt(
           f_true.fx, f_true.fy, f_true.fz, p.x() - truth.x, p.y() - truth.y, p.z() - com_height);
       const PlanarState& q = log->columns.pose ? s.state : truth;
+      Eigen::Vector3d& reported = *s.push_point_world;
+      reported.x() += noise.push_point_m * point_noise[0];
+      reported.y() += noise.push_point_m * point_noise[1];
       const AppliedWrench measured =
-          WrenchFromForceAt(f.fx, f.fy, f.fz, p.x() - q.x, p.y() - q.y, p.z() - com_height);
+          WrenchFromForceAt(f.fx, f.fy, f.fz, reported.x() - q.x, reported.y() - q.y,
+                            reported.z() - com_height);
       const double scale =
           std::hypot(f_true.fx, f_true.fy, f_true.fz) *
           std::hypot(p.x() - truth.x, p.y() - truth.y, p.z() - com_height);

@@ -24,9 +24,11 @@ Trajectory AddNoise(const Trajectory& log, const NoiseSpec& noise);
 /// r x f_measured plus the row's residual moment (the part not due to f), with r from the
 /// push point to the measured CM when the log carries poses, so that a push-point log stays
 /// consistent with its own columns; without a push point, moments get relative noise.
+/// Push point (px, py += push_point_m N(0,1), rows with a push point only; the moments then
+/// follow from the reported point).
 /// The pose, velocity, fx, fy and outlier variates come from std::mt19937_64(seed) as in
-/// the first AddNoise (same stream); fz and moment variates from a second engine seeded
-/// from the same seed.
+/// the first AddNoise (same stream); fz and moment variates from a second engine, and the
+/// push-point variates from a third, each seeded from the same seed.
 void ApplyNoise(Trajectory* log, const NoiseSpec& noise);
 
 }  // namespace slideid

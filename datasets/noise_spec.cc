@@ -21,6 +21,7 @@ std::vector<std::pair<const char*, double>> Fields(const NoiseSpec& n) {
           {"spin_radps", n.spin_radps},
           {"force_relative", n.force_relative},
           {"force_N", n.force_N},
+          {"push_point_m", n.push_point_m},
           {"outlier_fraction", n.outlier_fraction},
           {"outlier_m", n.outlier_m}};
 }
@@ -49,7 +50,8 @@ bool NoiseSpec::HasDefects() const {
 
 bool NoiseSpec::IsZero() const {
   return pose_m == 0 && angle_rad == 0 && velocity_mps == 0 && spin_radps == 0 &&
-         force_relative == 0 && force_N == 0 && outlier_fraction == 0;
+         force_relative == 0 && force_N == 0 && push_point_m == 0 &&
+         outlier_fraction == 0;
 }
 
 bool NoiseSpec::IsValid(std::string* why) const {

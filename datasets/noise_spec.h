@@ -23,6 +23,9 @@ struct NoiseSpec {
   double force_relative = 0.0;  ///< on fx, fy, fz as a fraction of the value (moments too
                                 ///< when the row has no push point)
   double force_N = 0.0;         ///< on fx, fy, fz [N]; moments follow as r x f at a push point
+  /// On px, py [m]: where the pusher touches, as its tracker reports it (rows with a push
+  /// point only); the moments follow as r x f from the reported point.
+  double push_point_m = 0.0;
   double outlier_fraction = 0.0;  ///< fraction of rows whose pose jumps
   double outlier_m = 0.0;         ///< size of such a jump [m] (and outlier_m / 0.05 rad)
   std::uint64_t seed = 1;         ///< one seed, one noise stream

@@ -186,6 +186,10 @@ struct TrajectoryOptions : LossOptions {
   /// Fit a delay of the force stream against the poses, per log or one for all.
   DelayFit fit_delay = DelayFit::kNone;
   double max_delay_s = 0.1;  ///< |delay| searched up to this [s]
+  /// Correct the estimate for the mismatch between the fit's model (backward-Euler steps,
+  /// the wrench held over each row) and a continuous motion, by two linearised nuisances
+  /// per log whose uncertainty the intervals carry (estimator/mismatch_nuisances.h).
+  bool correct_mismatch = true;
   bool IsValid(std::string* why) const;
 };
 

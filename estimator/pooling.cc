@@ -14,7 +14,14 @@ Heterogeneity TestHeterogeneity(const std::vector<LogResult>& logs, int index) {
     if (log.skipped) continue;
     const ParameterEstimate& p = log.parameters[index];
     if (!p.identifiable || !(p.value > 0) || !(p.stderr_value > 0)) continue;
-    const double se_log = p.stderr_value / p.value;
+    // The log's uncertainty as its own 95% interval states it (half its width on the log
+    // scale over z): a standard error estimated from a few segments is itself noisy, which
+    // the interval's t quantile allows for, and 1/se^2 weights from it alone would put the
+    // logs whose error happened to come out small far from the rest (Q then rejects
+    // agreeing logs). Without a finite interval, the standard error as it is.
+    const bool bounded = p.ci95_lo > 0 && std::isfinite(p.ci95_hi) && p.ci95_hi > p.ci95_lo;
+    const double se_log = bounded ? std::log(p.ci95_hi / p.ci95_lo) / (2.0 * kZ95)
+                                  : p.stderr_value / p.value;
     const double w = 1.0 / (se_log * se_log);
     yw.emplace_back(std::log(p.value), w);
     sw += w;

@@ -12,7 +12,8 @@ namespace slideid {
 constexpr double kHeterogeneityAlpha = 0.05;
 
 /// Cochran's Q test of parameter `index` over the logs that identify it (each log's
-/// estimate of log(parameter), with standard error stderr / value), and the
+/// estimate of log(parameter), with the standard error its 95% interval states: half the
+/// interval's width on the log scale over 1.96), and the
 /// DerSimonian-Laird between-log spread. Not tested (tested = false) with fewer than two.
 Heterogeneity TestHeterogeneity(const std::vector<LogResult>& logs, int index);
 

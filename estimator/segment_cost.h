@@ -66,6 +66,7 @@ class SegmentCost final : public ceres::CostFunction {
               SegmentNuisances nuisances);
 
   void SetRowLoss(const RowLoss& loss) { loss_ = loss; }
+  const RowLoss& row_loss() const { return loss_; }
   /// The residuals alone, with or without the row loss (diagnostics, the seed scan).
   bool Residuals(double const* const* params, double* residuals, bool with_row_loss) const;
   int first_row() const { return first_; }

@@ -92,6 +92,8 @@ struct SegmentShare {
   std::vector<int> columns;
   Eigen::MatrixXd h;
   Eigen::VectorXd score;
+  Eigen::MatrixXd extra_cross, extra_h;
+  Eigen::VectorXd extra_score;
   double sum_squares = 0;
   int residuals = 0;
 };
@@ -338,7 +340,7 @@ ceres::Solver::Summary TrajectoryProblem::Solve(const std::vector<bool>& free, b
   return summary;
 }
 
-FitInformation TrajectoryProblem::Information() {
+FitInformation TrajectoryProblem::Information(const std::vector<Eigen::MatrixXd>* extra) {
   const int G = num_global();
   std::vector<SegmentShare> shares(segments_.size());
   ParallelFor(static_cast<int>(segments_.size()), options_.threads, [&](int k) {
@@ -383,11 +385,18 @@ FitInformation TrajectoryProblem::Information() {
     // Project the segment's state out of J_g: what the globals explain beyond it. A segment
     // whose state is not determined (at rest) gives them nothing; the pseudo-inverse keeps
     // that from poisoning the sum.
-    const Eigen::MatrixXd Jm =
-        Jg - Js * (Hss.completeOrthogonalDecomposition().pseudoInverse() * (Js.transpose() * Jg));
+    const Eigen::MatrixXd Hss_pinv = Hss.completeOrthogonalDecomposition().pseudoInverse();
+    const Eigen::MatrixXd Jm = Jg - Js * (Hss_pinv * (Js.transpose() * Jg));
     const Eigen::Map<const Eigen::VectorXd> rv(r.data(), n);
     share.h = Jm.transpose() * Jm;
     share.score = Jm.transpose() * rv;
+    if (extra && (*extra)[k].rows() == n) {
+      const Eigen::MatrixXd& X = (*extra)[k];
+      const Eigen::MatrixXd Xm = X - Js * (Hss_pinv * (Js.transpose() * X));
+      share.extra_cross = Xm.transpose() * Jm;
+      share.extra_h = Xm.transpose() * Xm;
+      share.extra_score = Xm.transpose() * rv;
+    }
     share.sum_squares = rv.squaredNorm();
     share.residuals = n;
     share.ok = true;
@@ -404,12 +413,22 @@ FitInformation TrajectoryProblem::Information() {
     segments_[k].state_determined = s.ok && s.state_determined;
     if (!s.ok) continue;
     Eigen::VectorXd g = Eigen::VectorXd::Zero(G);
+    Eigen::MatrixXd h = Eigen::MatrixXd::Zero(G, G);
     for (size_t a = 0; a < s.columns.size(); ++a) {
       g(s.columns[a]) += s.score(a);
-      for (size_t b = 0; b < s.columns.size(); ++b) {
-        info.fisher(s.columns[a], s.columns[b]) += s.h(a, b);
-      }
+      for (size_t b = 0; b < s.columns.size(); ++b) h(s.columns[a], s.columns[b]) += s.h(a, b);
     }
+    info.fisher += h;
+    SegmentInformation si{segments_[k].log, std::move(h), g, {}, {}, {}};
+    if (s.extra_h.size() > 0) {
+      si.extra_cross = Eigen::MatrixXd::Zero(s.extra_h.rows(), G);
+      for (size_t a = 0; a < s.columns.size(); ++a) {
+        si.extra_cross.col(s.columns[a]) += s.extra_cross.col(a);
+      }
+      si.extra_fisher = s.extra_h;
+      si.extra_score = s.extra_score;
+    }
+    info.per_segment.push_back(std::move(si));
     info.segment_score_outer += g * g.transpose();
     log_score[segments_[k].log] += g;
     log_used[segments_[k].log] = true;
@@ -424,6 +443,25 @@ FitInformation TrajectoryProblem::Information() {
   }
   info.fisher = 0.5 * (info.fisher + info.fisher.transpose());
   return info;
+}
+
+std::vector<Eigen::VectorXd> TrajectoryProblem::SegmentResidualsWith(
+    const std::vector<const Trajectory*>& replaced_logs, int substeps) const {
+  std::vector<Eigen::VectorXd> out(segments_.size());
+  auto* self = const_cast<TrajectoryProblem*>(this);  // BlocksOf hands out pointers only
+  const TrajectoryOptions& t = options_.trajectory;
+  const SegmentNuisances nuisances{t.fit_force_bias, t.fit_delay != DelayFit::kNone};
+  ParallelFor(static_cast<int>(segments_.size()), options_.threads, [&](int k) {
+    const TrajectorySegment& seg = segments_[k];
+    SegmentCost cost(*replaced_logs[seg.log], seg.first_row, seg.last_row, substeps,
+                     use_pose(seg.log), nuisances);
+    cost.SetRowLoss(seg.cost->row_loss());
+    const std::vector<double*> blocks = self->BlocksOf(self->segments_[k]);
+    std::vector<const double*> params(blocks.begin(), blocks.end());
+    Eigen::VectorXd r(cost.num_residuals());
+    if (cost.Residuals(params.data(), r.data(), true)) out[k] = r;
+  });
+  return out;
 }
 
 std::vector<double> TrajectoryProblem::StandardErrors(const std::vector<bool>& free) {

@@ -30,16 +30,19 @@ constexpr double kFrictionUpperBound[3] = {10.0, 1e3, 10.0};
 
 /// Intervals per shooting segment for a log of `rows` rows: options.segment_steps when
 /// set, else about rows / kTargetSegments within [kMinAutoSegmentSteps,
-/// kMaxAutoSegmentSteps]. A short log then still has the ~10 segments a cluster-robust
-/// covariance needs (with fewer, even the t-corrected sandwich covers too rarely); a long
-/// one keeps segments of 50 intervals, long enough to carry the friction's curvature and
-/// few enough state parameters. (Shorter segments do not help a long log: on the default
-/// experiment, whose forces are held over each 10 ms row while the push varies within it,
-/// 20 to 30-step segments left a and b biased by 1-2% where 50-step ones did not.)
+/// kMaxAutoSegmentSteps]. Long segments make accurate estimates: every segment spends 6
+/// parameters on its state, and with the mismatch corrected (mismatch_nuisances.h) longer
+/// segments no longer bias the estimate (on the 1000-row logs of benchmarks/coverage.cc,
+/// 100-interval segments halved the error of a against 50). A log needs enough segments for
+/// its cluster-robust covariance (trajectory_fit.cc), whose degrees of freedom follow the
+/// segments that carry information: about 10 keep them near 3 or more, where the t quantile
+/// no longer dominates the interval (with 5, the intervals covered the truth in 99%).
+/// Segments shorter than kMinAutoSegmentSteps lose more to their states than they gain:
+/// 15- and 20-interval segments on 300-row logs had 2-3 times the error of 30-interval ones.
 int TrajectorySegmentSteps(int rows, const TrajectoryOptions& options);
 constexpr int kTargetSegments = 10;
 constexpr int kMinAutoSegmentSteps = 20;
-constexpr int kMaxAutoSegmentSteps = 50;
+constexpr int kMaxAutoSegmentSteps = 100;
 
 /// One shooting segment: rows first_row..last_row of log `log`.
 struct TrajectorySegment {
@@ -52,12 +55,24 @@ struct TrajectorySegment {
   std::unique_ptr<SegmentCost> cost;
 };
 
+/// One segment's share of FitInformation: the clusters of the cluster-robust covariances.
+struct SegmentInformation {
+  int log = 0;
+  Eigen::MatrixXd fisher;  ///< G x G, J~^T J~
+  Eigen::VectorXd score;   ///< G, J~^T r
+  /// With extra residual directions X (Information's argument), projected like J: X~^T J~
+  /// (E x G), X~^T X~ (E x E) and X~^T r (E); empty without.
+  Eigen::MatrixXd extra_cross, extra_fisher;
+  Eigen::VectorXd extra_score;
+};
+
 /// What the residuals say about the global parameters, marginalised over the segment
 /// states (Schur complement), and the scores the cluster-robust covariances need.
 struct FitInformation {
   Eigen::MatrixXd fisher;               ///< G x G
   Eigen::MatrixXd segment_score_outer;  ///< sum over segments of g g^T, g = J~^T r
   Eigen::MatrixXd log_score_outer;      ///< sum over logs of the sum of their segments' g
+  std::vector<SegmentInformation> per_segment;  ///< every segment that contributed
   int segments = 0;                     ///< segments that contributed
   int logs = 0;                         ///< logs with at least one such segment
   double sum_squares = 0;               ///< of the (row-loss) residuals used
@@ -87,6 +102,7 @@ class TrajectoryProblem {
   const std::vector<TrajectorySegment>& segments() const { return segments_; }
   const Trajectory& log(int k) const { return *logs_[k]; }
   bool use_pose(int k) const { return logs_[k]->columns.pose; }
+  int substeps() const { return options_.trajectory.substeps; }
   int Rows() const;  ///< rows inside segments, over all logs
 
   void SetRowLoss(const RowLoss& loss);
@@ -103,8 +119,16 @@ class TrajectoryProblem {
   ceres::Solver::Summary Solve(const std::vector<bool>& free, bool stage = false);
 
   /// The information of every global parameter, marginalised over the states; also marks
-  /// segments whose state is undetermined.
-  FitInformation Information();
+  /// segments whose state is undetermined. `extra`, when given, holds per segment (in
+  /// order) E further residual directions (rows x E, in the units of the row-loss
+  /// residuals): linearised nuisances whose shares FitInformation::per_segment then holds.
+  FitInformation Information(const std::vector<Eigen::MatrixXd>* extra = nullptr);
+
+  /// The residuals of every segment (row loss applied, as Information sees them) with each
+  /// log replaced by `replaced_logs[log]` (the same rows, other wrenches), at the current
+  /// states and parameters; empty where a segment fails.
+  std::vector<Eigen::VectorXd> SegmentResidualsWith(
+      const std::vector<const Trajectory*>& replaced_logs, int substeps) const;
 
   /// One-sigma errors of the free global parameters from Information() and the residual
   /// variance (0 where undetermined).

@@ -37,7 +37,7 @@ const char* const kKnownKeys[] = {
     "noise.pose",     "noise.angle",    "noise.velocity",    "noise.spin",
     "noise.force_relative",             "noise.force",       "noise.outlier_fraction",
     "noise.outlier",  "noise.seed",     "noise.force_bias_x", "noise.force_bias_y",
-    "noise.force_delay",
+    "noise.force_delay", "noise.push_point",
     "program.random", "program.seed",   "program.force",     "program.amplitude_fraction",
     "program.period", "program.duration",                    "program.rest",
     "program.height", "program.spread", "program.through_cm", "program.start",
@@ -484,6 +484,7 @@ NoiseSpec ReadNoise(const Reader& r) {
   n.spin_radps = r.Number("noise.spin", 0.0, C::kNonNegative);
   n.force_relative = r.Number("noise.force_relative", 0.0, C::kNonNegative);
   n.force_N = r.Number("noise.force", 0.0, C::kNonNegative);
+  n.push_point_m = r.Number("noise.push_point", 0.0, C::kNonNegative);
   n.outlier_fraction = r.Number("noise.outlier_fraction", 0.0, C::kNonNegative);
   if (!(n.outlier_fraction <= 1.0)) r.Fail("noise.outlier_fraction", "must be <= 1");
   n.outlier_m = r.Number("noise.outlier", 0.0, C::kNonNegative);

@@ -200,6 +200,46 @@ TEST(Noise, PushPointMomentsFollowTheNoisyForceAndKeepTheResidualMoment) {
   }
 }
 
+TEST(Noise, PushPointNoiseHasTheSpecifiedStdAndTheMomentFollowsTheReportedPoint) {
+  NoiseSpec n;
+  n.push_point_m = 4e-4;
+  n.seed = 9;
+  const Trajectory clean = StillLog(true);
+  const Trajectory noisy = AddNoise(clean, n);
+  ExpectGaussian(Statistics(noisy, [](const TrajectorySample& s) { return s.push_point_world->x(); }),
+                 0.95, n.push_point_m, "px");
+  ExpectGaussian(Statistics(noisy, [](const TrajectorySample& s) { return s.push_point_world->y(); }),
+                 2.01, n.push_point_m, "py");
+  for (const TrajectorySample& s : noisy.samples) {
+    EXPECT_EQ(s.push_point_world->z(), 0.03);  // the height is not tracked
+    const Eigen::Vector3d& p = *s.push_point_world;
+    const AppliedWrench rxf = WrenchFromForceAt(s.applied.fx, s.applied.fy, s.applied.fz,
+                                                p.x() - s.state.x, p.y() - s.state.y,
+                                                p.z() - noisy.slider.com_height_m);
+    ASSERT_NEAR(s.applied.tz, rxf.tz, 1e-15);  // consistent with its own columns
+    ASSERT_EQ(s.applied.fx, 3.0);              // the force itself is untouched
+  }
+  bool listed = false;
+  for (const auto& [key, value] : noisy.extra_metadata) {
+    listed = listed || (key == "noise_push_point_m" && std::stod(value) == n.push_point_m);
+  }
+  EXPECT_TRUE(listed);
+}
+
+TEST(Noise, PushPointNoiseLeavesTheOtherStreamsAsTheyWere) {
+  NoiseSpec n;
+  n.pose_m = 1e-3;
+  n.force_relative = 0.02;
+  n.seed = 12;
+  const Trajectory a = AddNoise(StillLog(true), n);
+  n.push_point_m = 1e-3;
+  const Trajectory b = AddNoise(StillLog(true), n);
+  for (size_t u = 0; u < a.samples.size(); ++u) {
+    ASSERT_EQ(a.samples[u].state.x, b.samples[u].state.x) << u;
+    ASSERT_EQ(a.samples[u].applied.fx, b.samples[u].applied.fx) << u;
+  }
+}
+
 TEST(Noise, RowsWithoutForceGetNoForceNoise) {
   NoiseSpec n;
   n.force_relative = 0.1;

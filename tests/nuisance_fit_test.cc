@@ -119,7 +119,11 @@ TEST(NuisanceFit, NoiselessExactLogRecoversForceBiasDelayAndFriction) {
       const ParameterEstimate& p = r.parameters[i];
       ASSERT_TRUE(p.identifiable) << ParameterName(i);
       EXPECT_NEAR(p.value / truth[i], 1.0, rel_tol) << ParameterName(i);
-      EXPECT_TRUE(p.ci95_lo <= truth[i] && truth[i] <= p.ci95_hi) << ParameterName(i);
+      // Without noise the interval is rounding-narrow and the solve stops once the
+      // parameters settle (within rel_tol): the interval must reach the truth to that.
+      const double slack = rel_tol * truth[i];
+      EXPECT_TRUE(p.ci95_lo - slack <= truth[i] && truth[i] <= p.ci95_hi + slack)
+          << ParameterName(i) << " " << p.ci95_lo << ".." << p.ci95_hi;
     }
     const std::pair<const char*, double> injected[3] = {
         {"force_bias_x_N", c.bias_x}, {"force_bias_y_N", c.bias_y}, {"delay_s", c.delay}};
