@@ -21,6 +21,8 @@ struct Factors {
   bool informative = false;
   bool full_leverage = false;
   Eigen::MatrixXd T, Y, Y2;
+  Eigen::MatrixXd B;     // the cluster's information, scaled
+  double variance = 1;   // its working variance
 };
 
 Factors ClusterFactors(const Eigen::MatrixXd& B, const Eigen::MatrixXd& Hinv, double trace_h) {
@@ -94,6 +96,8 @@ ClusterCovariance ClusterRobustCovariance(const std::vector<ClusterShare>& clust
     if (!f.informative || f.full_leverage) continue;
     const Eigen::VectorXd g = f.T * (d.cwiseInverse().asDiagonal() * c.score);
     meat += g * g.transpose();
+    f.B = B;
+    f.variance = c.working_variance > 0 ? c.working_variance : 1.0;
     factors.push_back(std::move(f));
   }
   out.clusters = static_cast<int>(factors.size()) + (full_leverage ? 1 : 0);
@@ -108,24 +112,36 @@ ClusterCovariance ClusterRobustCovariance(const std::vector<ClusterShare>& clust
   const Eigen::MatrixXd V = Hinv * meat * Hinv;
   out.covariance = d.cwiseInverse().asDiagonal() * V * d.cwiseInverse().asDiagonal();
 
-  // Bell-McCaffrey degrees of freedom of each parameter: (tr M)^2 / ||M||_F^2 with
-  // M = diag(|v_c|^2) - W^T H^-1 W, evaluated in O(G p^2).
+  // Bell-McCaffrey degrees of freedom of each parameter under the working model of
+  // independent errors with each cluster's own variance s_c^2 (S = diag(s_c^2)):
+  // (tr A)^2 / ||A||_F^2 with A = diag(s_c^2 |v_c|^2) - S W^T H^-1 W - W^T H^-1 W S
+  // + W^T Q W, Q = H^-1 (sum s_c^2 B_c) H^-1. A = D + L with L = P1 Q1^T of rank 3p
+  // (P1 = [S W^T, W^T, W^T], Q1 = [-W^T H^-1, -S W^T H^-1, W^T Q]), so that
+  // ||A||^2 = ||D||^2 + 2 sum_c D_cc L_cc + tr((P1^T P1)(Q1^T Q1)): O(G p^2).
+  Eigen::MatrixXd Omega = Eigen::MatrixXd::Zero(p, p);
+  for (const Factors& f : factors) Omega += f.variance * f.B;
+  const Eigen::MatrixXd Q = Hinv * Omega * Hinv;
   out.dof.resize(p);
   for (int k = 0; k < p; ++k) {
     const Eigen::VectorXd a = Hinv.col(k);
-    double sum_d = 0, sum_d2 = 0, cross = 0;
-    Eigen::MatrixXd P = Eigen::MatrixXd::Zero(p, p);
+    double trace = 0, diagonal2 = 0, cross = 0;
+    Eigen::MatrixXd Pg = Eigen::MatrixXd::Zero(3 * p, 3 * p), Qg = Pg;
+    Eigen::VectorXd pc(3 * p), qc(3 * p);
     for (const Factors& f : factors) {
-      const double dc = a.dot(f.Y2 * a);
+      const double s2 = f.variance;
+      const double dc = s2 * a.dot(f.Y2 * a);
       const Eigen::VectorXd w = f.Y * a;
-      sum_d += dc;
-      sum_d2 += dc * dc;
-      cross += dc * w.dot(Hinv * w);
-      P += w * w.transpose();
+      const Eigen::VectorXd Hw = Hinv * w;
+      const double lcc = -2.0 * s2 * w.dot(Hw) + w.dot(Q * w);
+      trace += dc + lcc;
+      diagonal2 += dc * dc;
+      cross += dc * lcc;
+      pc << s2 * w, w, w;
+      qc << -Hw, -s2 * Hw, Q * w;
+      Pg += pc * pc.transpose();
+      Qg += qc * qc.transpose();
     }
-    const Eigen::MatrixXd HP = Hinv * P;
-    const double trace = sum_d - HP.trace();
-    const double frobenius2 = sum_d2 - 2.0 * cross + (HP * HP).trace();
+    const double frobenius2 = diagonal2 + 2.0 * cross + (Pg * Qg).trace();
     out.dof(k) = frobenius2 > 0 && trace > 0 ? trace * trace / frobenius2 : 1.0;
     out.dof(k) = std::clamp(out.dof(k), 1.0, double(out.clusters - 1));
   }

@@ -14,8 +14,9 @@
 // that, cluster by cluster: r_c -> (I - J_c H^-1 J_c^T)^(-1/2) r_c, which makes the
 // estimate exactly unbiased when the errors are independent with equal variance, and
 // nearly so otherwise. Its t quantile takes the degrees of freedom of the chi-square
-// mixture the estimate follows under that working model (at most G - 1, fewer when a few
-// clusters carry most of the information). Everything is computed in p x p terms per
+// mixture the estimate follows under a working model of independent errors (at most G - 1,
+// fewer when a few clusters carry most of the information or are much noisier than the
+// others: each cluster may state its own error variance). Everything is computed in p x p terms per
 // cluster: J_c = U S V^T gives (I - J_c H^-1 J_c^T)^(-1/2) U = U (I - K)^(-1/2) with
 // K = S V^T H^-1 V S, so the cost is O(G p^3) however many rows a cluster has.
 
@@ -29,6 +30,10 @@ namespace slideid {
 struct ClusterShare {
   Eigen::MatrixXd information;  ///< B_c = J_c^T J_c (p x p)
   Eigen::VectorXd score;        ///< g_c = J_c^T r_c (p)
+  /// The variance of the cluster's errors under the working model of the degrees of
+  /// freedom (any common unit; 1 for all: equal variances). The covariance itself does not
+  /// depend on it.
+  double working_variance = 1.0;
 };
 
 /// The CR2 covariance and, per parameter, its degrees of freedom.

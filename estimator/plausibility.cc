@@ -40,6 +40,11 @@ void JudgeEstimates(const PlausibilityContext& c, std::array<ParameterEstimate, 
               : Format("its 95%% interval [%.3g, %.3g] reaches down to zero: the log does not "
                        "determine it",
                        p.ci95_lo, p.ci95_hi);
+      if (mismatch > kMismatchRatio) {
+        held.reason += Format(" (its residuals are %.3g times the log's own noise: the model "
+                              "does not fit it, which widens the interval)",
+                              mismatch);
+      }
       p = held;
       continue;
     }

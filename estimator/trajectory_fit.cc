@@ -312,12 +312,12 @@ constexpr double kMinNuisanceInformation = 1e-6;
 // refused, and the estimate marked suspect.
 constexpr double kMaxMismatchShift = 0.1;
 
-// Fewer segments than this give no cluster-robust covariance (its t quantile would sit on
-// 1-3 degrees of freedom: 4.3-12.7, intervals too wide to say anything) and no mismatch
-// correction (two nuisances per log from a handful of segments fit their noise). The fit
-// then reports the white-noise interval and says so; the plausibility checks still mark a
-// log whose residuals are far above its noise.
-constexpr int kMinRobustSegments = 5;
+// A log's mismatch is corrected only when it has at least this many segments.
+constexpr int kMinCorrectionSegments = 8;
+
+// Below kMinRobustSegments (trajectory_problem.h) the fit reports the white-noise interval
+// and says so; the plausibility checks still mark a log whose residuals are far above its
+// noise.
 
 /// The augmented problem's shares: per segment, the free globals then the active nuisance
 /// columns.
@@ -368,6 +368,7 @@ std::vector<int> ActiveNuisances(const FitInformation& info, const std::vector<i
   std::vector<int> active;
   if (info.per_segment.empty()) return active;
   const int E = static_cast<int>(info.per_segment[0].extra_fisher.rows());
+  if (E == 0) return active;  // no mismatch directions (TrajectoryOptions::correct_mismatch)
   const AugmentedShares base = Augment(info, free, std::vector<int>(free.size(), -1), {});
   const Eigen::LDLT<Eigen::MatrixXd> ldlt(base.H);
   if (ldlt.info() != Eigen::Success) return active;
@@ -377,7 +378,13 @@ std::vector<int> ActiveNuisances(const FitInformation& info, const std::vector<i
   // nuisances' noise rather than a mismatch (on exact logs with both fitted it tripled the
   // error in a); the cluster-robust covariance still carries a mismatch's correlation.
   if (sensor_nuisances) return active;
+  std::vector<int> segments_of_log(E / kMismatchNuisances, 0);
+  for (const SegmentInformation& seg : info.per_segment) ++segments_of_log[seg.log];
   for (int e = 0; e < E; ++e) {
+    // A log of a few segments pins its two nuisances on their noise: in a pooled fit of
+    // short logs, 100 such corrections widened the interval over the logs past a single
+    // log's. Such a log keeps its model; its correlated residuals count in the covariance.
+    if (segments_of_log[e / kMismatchNuisances] < kMinCorrectionSegments) continue;
     double own = 0;
     Eigen::VectorXd cross = Eigen::VectorXd::Zero(free.size());
     for (const SegmentInformation& seg : info.per_segment) {
@@ -406,10 +413,14 @@ ClusterCovariance LogClusterCovariance(const AugmentedShares& a, int logs,
   Eigen::MatrixXd H = Eigen::MatrixXd::Zero(s, s);
   for (int k = 0; k < logs; ++k) {
     ClusterShare sum{Eigen::MatrixXd::Zero(p, p), Eigen::VectorXd::Zero(p)};
+    double variance = 0;
+    int segments = 0;
     for (size_t j = 0; j < a.segments.size(); ++j) {
       if (a.segment_log[j] != k) continue;
       sum.information += a.segments[j].information;
       sum.score += a.segments[j].score;
+      variance += a.segments[j].working_variance;
+      ++segments;
     }
     std::vector<int> own;
     for (int i = 0; i < p; ++i) {
@@ -426,7 +437,7 @@ ClusterCovariance LogClusterCovariance(const AugmentedShares& a, int logs,
       go(i) = sum.score(own[i]);
       for (size_t j = 0; j < own.size(); ++j) Boo(i, j) = sum.information(own[i], own[j]);
     }
-    ClusterShare c{Bss, gs};
+    ClusterShare c{Bss, gs, segments > 0 ? variance / segments : 1.0};
     if (!own.empty()) {
       const Eigen::MatrixXd Boo_pinv = Boo.completeOrthogonalDecomposition().pseudoInverse();
       c.information = Bss - Bso * Boo_pinv * Bso.transpose();
@@ -486,7 +497,15 @@ IntervalChoice ChooseIntervals(const FitInformation& info, const std::vector<int
   const Eigen::MatrixXd Hinv = ldlt.solve(Eigen::MatrixXd::Identity(p, p));
   Eigen::VectorXd delta = Eigen::VectorXd::Zero(p);
   if (!extra.empty()) delta = MismatchStep(a, Hinv, n, free, &choice);
-  for (ClusterShare& c : a.segments) c.score += c.information * delta;
+  // Each segment's own residual variance after the step: the working model of the
+  // degrees of freedom (pushes are noisier than rests when the force is noisy).
+  for (size_t j = 0; j < a.segments.size(); ++j) {
+    ClusterShare& c = a.segments[j];
+    const SegmentInformation& seg = info.per_segment[j];
+    const double ss = seg.sum_squares + 2 * delta.dot(c.score) + delta.dot(c.information * delta);
+    c.working_variance = std::max(ss, 0.0) / std::max(1, seg.residuals - seg.state_parameters);
+    c.score += c.information * delta;
+  }
   for (int i = 0; i < n; ++i) choice.shift[i] = delta(i);
   if (!extra.empty() && !choice.correction_refused) {
     std::string names;
@@ -716,8 +735,14 @@ FitOutcome Fit(const std::vector<const Trajectory*>& logs, const IdentifyOptions
   // Identifiability over every global parameter; hold what the logs do not determine. The
   // information carries the mismatch directions for the intervals (its fisher does not
   // depend on them).
+  // Mismatch directions only when some log has the segments to correct it (pooled short
+  // logs have none, and 2 columns per log in every segment cost half a pooled fit).
+  std::vector<int> segments_of_log(problem.num_logs(), 0);
+  for (const TrajectorySegment& seg : problem.segments()) ++segments_of_log[seg.log];
+  const bool correctable =
+      *std::max_element(segments_of_log.begin(), segments_of_log.end()) >= kMinCorrectionSegments;
   auto information = [&] {
-    if (!topt.correct_mismatch) return problem.Information();
+    if (!topt.correct_mismatch || !correctable) return problem.Information();
     const std::vector<Eigen::MatrixXd> directions = MismatchDirections(problem);
     return problem.Information(&directions);
   };

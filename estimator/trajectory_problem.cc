@@ -102,7 +102,10 @@ struct SegmentShare {
 
 int TrajectorySegmentSteps(int rows, const TrajectoryOptions& options) {
   if (options.segment_steps > 0) return options.segment_steps;
-  return std::clamp(rows / kTargetSegments, kMinAutoSegmentSteps, kMaxAutoSegmentSteps);
+  const int steps = std::clamp(rows / kTargetSegments, kMinAutoSegmentSteps, kMaxAutoSegmentSteps);
+  // A segment of s intervals holds s + 1 rows (CutSegments).
+  const int for_robust = rows / kMinRobustSegments - 1;
+  return steps <= for_robust ? steps : std::max(kMinShortSegmentSteps, for_robust);
 }
 
 TrajectoryProblem::TrajectoryProblem(const std::vector<const Trajectory*>& logs,
@@ -419,7 +422,8 @@ FitInformation TrajectoryProblem::Information(const std::vector<Eigen::MatrixXd>
       for (size_t b = 0; b < s.columns.size(); ++b) h(s.columns[a], s.columns[b]) += s.h(a, b);
     }
     info.fisher += h;
-    SegmentInformation si{segments_[k].log, std::move(h), g, {}, {}, {}};
+    SegmentInformation si{segments_[k].log, std::move(h), g, {}, {}, {},
+                          s.sum_squares, s.residuals, use_pose(segments_[k].log) ? 6 : 3};
     if (s.extra_h.size() > 0) {
       si.extra_cross = Eigen::MatrixXd::Zero(s.extra_h.rows(), G);
       for (size_t a = 0; a < s.columns.size(); ++a) {
@@ -455,11 +459,10 @@ std::vector<Eigen::VectorXd> TrajectoryProblem::SegmentResidualsWith(
     const TrajectorySegment& seg = segments_[k];
     SegmentCost cost(*replaced_logs[seg.log], seg.first_row, seg.last_row, substeps,
                      use_pose(seg.log), nuisances);
-    cost.SetRowLoss(seg.cost->row_loss());
     const std::vector<double*> blocks = self->BlocksOf(self->segments_[k]);
     std::vector<const double*> params(blocks.begin(), blocks.end());
     Eigen::VectorXd r(cost.num_residuals());
-    if (cost.Residuals(params.data(), r.data(), true)) out[k] = r;
+    if (cost.Residuals(params.data(), r.data(), false)) out[k] = r;
   });
   return out;
 }

@@ -29,20 +29,25 @@ constexpr double kFrictionLowerBound[3] = {1e-4, 1e-3, 1e-6};
 constexpr double kFrictionUpperBound[3] = {10.0, 1e3, 10.0};
 
 /// Intervals per shooting segment for a log of `rows` rows: options.segment_steps when
-/// set, else about rows / kTargetSegments within [kMinAutoSegmentSteps,
-/// kMaxAutoSegmentSteps]. Long segments make accurate estimates: every segment spends 6
-/// parameters on its state, and with the mismatch corrected (mismatch_nuisances.h) longer
-/// segments no longer bias the estimate (on the 1000-row logs of benchmarks/coverage.cc,
-/// 100-interval segments halved the error of a against 50). A log needs enough segments for
-/// its cluster-robust covariance (trajectory_fit.cc), whose degrees of freedom follow the
-/// segments that carry information: about 10 keep them near 3 or more, where the t quantile
-/// no longer dominates the interval (with 5, the intervals covered the truth in 99%).
-/// Segments shorter than kMinAutoSegmentSteps lose more to their states than they gain:
-/// 15- and 20-interval segments on 300-row logs had 2-3 times the error of 30-interval ones.
+/// set, else rows / kTargetSegments within [kMinAutoSegmentSteps, kMaxAutoSegmentSteps],
+/// shortened (to no less than kMinShortSegmentSteps) where that leaves fewer than
+/// kMinRobustSegments segments. Long segments make accurate estimates: every segment
+/// spends 6 parameters on its state (on 300-row logs, 50-interval segments had 0.4 times
+/// the error of a of 30-interval ones). Many segments make an honest interval: they are the
+/// clusters of its cluster-robust covariance (trajectory_fit.cc), and its t quantile sits
+/// on their degrees of freedom. Measured over the coverage suite (benchmarks/coverage.cc,
+/// 100 logs per condition): 10 segments of 100 intervals on 1000-row logs put b's interval
+/// around the truth in 99-100% of logs (too wide), 20 of 50 in 92-97%.
 int TrajectorySegmentSteps(int rows, const TrajectoryOptions& options);
-constexpr int kTargetSegments = 10;
-constexpr int kMinAutoSegmentSteps = 20;
+constexpr int kTargetSegments = 20;
+constexpr int kMinAutoSegmentSteps = 35;
 constexpr int kMaxAutoSegmentSteps = 100;
+/// Fewer segments than this give no cluster-robust covariance (its t quantile would sit on
+/// 1-3 degrees of freedom: 4.3-12.7, intervals too wide to say anything) and no mismatch
+/// correction (two nuisances per log from a handful of segments fit their noise).
+constexpr int kMinRobustSegments = 5;
+/// A short log's segments are shortened to give it kMinRobustSegments, down to this.
+constexpr int kMinShortSegmentSteps = 10;
 
 /// One shooting segment: rows first_row..last_row of log `log`.
 struct TrajectorySegment {
@@ -64,6 +69,9 @@ struct SegmentInformation {
   /// (E x G), X~^T X~ (E x E) and X~^T r (E); empty without.
   Eigen::MatrixXd extra_cross, extra_fisher;
   Eigen::VectorXd extra_score;
+  double sum_squares = 0;    ///< of its (row-loss) residuals
+  int residuals = 0;
+  int state_parameters = 6;  ///< 6, or 3 for a velocity log
 };
 
 /// What the residuals say about the global parameters, marginalised over the segment
@@ -124,9 +132,9 @@ class TrajectoryProblem {
   /// residuals): linearised nuisances whose shares FitInformation::per_segment then holds.
   FitInformation Information(const std::vector<Eigen::MatrixXd>* extra = nullptr);
 
-  /// The residuals of every segment (row loss applied, as Information sees them) with each
-  /// log replaced by `replaced_logs[log]` (the same rows, other wrenches), at the current
-  /// states and parameters; empty where a segment fails.
+  /// The raw residuals (no row loss) of every segment with each log replaced by
+  /// `replaced_logs[log]` (the same rows, other wrenches) and `substeps` steps per interval,
+  /// at the current states and parameters; empty where a segment fails.
   std::vector<Eigen::VectorXd> SegmentResidualsWith(
       const std::vector<const Trajectory*>& replaced_logs, int substeps) const;
 

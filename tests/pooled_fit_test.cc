@@ -109,7 +109,9 @@ TEST(PooledFit, FiftyLogsOfOneSliderGiveOneEstimateThatRecoversTheTruthAndAgree)
   // The pooled interval is narrower than any single log's.
   for (const LogResult& log : r.logs) {
     const ParameterEstimate& own = log.parameters[kA];
-    EXPECT_LT(r.parameters[kA].ci95_hi - r.parameters[kA].ci95_lo, own.ci95_hi - own.ci95_lo);
+    EXPECT_LT(r.parameters[kA].ci95_hi - r.parameters[kA].ci95_lo, own.ci95_hi - own.ci95_lo)
+        << log.name << " (" << log.rows << " rows): " << own.note << "; pooled: "
+        << r.parameters[kA].note;
   }
 }
 

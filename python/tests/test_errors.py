@@ -160,13 +160,16 @@ def test_a_fit_that_does_not_converge_raises_numerical_error():
 
 
 def test_suspect_estimates_warn_or_with_strict_raise():
-    code, message = cli_error("identify", "--log", DEFAULT_LOG, "--mass", "2.4", "--strict")
+    # Twice the slider's mass: the fit still determines a, b and c, but its residuals are
+    # three times the log's noise. (At 2.4 kg the intervals span factors of 9 to 15: not
+    # identifiable rather than suspect.)
+    code, message = cli_error("identify", "--log", DEFAULT_LOG, "--mass", "1.6", "--strict")
     assert code == 3
     with pytest.warns(slideid.SlideidWarning, match="suspect estimates"):
-        result = slideid.identify(DEFAULT_LOG, mass=2.4)
+        result = slideid.identify(DEFAULT_LOG, mass=1.6)
     assert result.e_t_mu.verdict == "suspect" and "model mismatch" in result.e_t_mu.reason
     with pytest.raises(slideid.NumericalError) as error:
-        slideid.identify(DEFAULT_LOG, mass=2.4, strict=True)
+        slideid.identify(DEFAULT_LOG, mass=1.6, strict=True)
     assert str(error.value) == message
     assert error.value.result.e_t_mu.verdict == "suspect"
 
