@@ -89,7 +89,9 @@ std::vector<Variant> MakeVariants(int threads) {
   };
   add("closed-form", EstimatorMethod::kClosedForm, 50, 1);
   add("equation-error", EstimatorMethod::kEquationError, 50, 1);
-  for (int segment : {10, 25, 50, 100}) {
+  // The default: segments sized to the log (TrajectorySegmentSteps), then fixed lengths.
+  add("trajectory default", EstimatorMethod::kTrajectory, 0, 1);
+  for (int segment : {25, 50, 100}) {
     add("trajectory seg" + std::to_string(segment) + " sub1", EstimatorMethod::kTrajectory,
         segment, 1);
   }

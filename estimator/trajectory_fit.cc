@@ -550,8 +550,8 @@ IntervalChoice ChooseIntervals(const FitInformation& info, const std::vector<int
       const double q = StudentT95(by_log.dof(k));
       if (!iv.robust || q * se > iv.quantile * iv.stderr_value) {
         iv = {se, q,
-              Format("the logs differ by more than their noise: cluster-robust (CR2) over %.0f "
-                     "logs, t quantile %.2f on %.1f df",
+              Format("cluster-robust (CR2) over %.0f logs, t quantile %.2f on %.1f df: wider "
+                     "than over the segments (the logs' spread, or few logs)",
                      by_log.clusters, q, by_log.dof(k)),
               true};
       }

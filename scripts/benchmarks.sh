@@ -58,7 +58,7 @@ load_after_evt="$(cut -d' ' -f1-3 /proc/loadavg)"
 
 # Plot: one panel per (motion, noise); one curve per estimator through its log lengths;
 # a point only where at least half the runs identified a.
-estimators=("closed-form" "equation-error" "trajectory seg10 sub1" "trajectory seg25 sub1"
+estimators=("closed-form" "equation-error" "trajectory default" "trajectory seg25 sub1"
             "trajectory seg50 sub1" "trajectory seg100 sub1" "trajectory seg50 sub2"
             "trajectory seg50 sub4")
 motions=(poses velocities)

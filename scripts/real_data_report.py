@@ -171,8 +171,8 @@ def estimates(rows):
             if p.get("identifiable") and p.get("value") is not None:
                 values[name].append(p["value"] * scale)
                 lo, hi = p["ci95"]
-                cells.append("{}{} [{}, {}]".format(fmt(p["value"] * scale), unit, fmt(lo * scale),
-                                                    fmt(hi * scale)))
+                cells.append("{}{} [{}, {}]{}".format(fmt(p["value"] * scale), unit, fmt(lo * scale),
+                                                      fmt(hi * scale), verdict_mark(p)))
             elif result and p:
                 cells.append("not identifiable")
             else:
@@ -182,8 +182,9 @@ def estimates(rows):
         status = "ok" if code == 0 else "exit {}: {}".format(code, error.replace("|", "/")[:120])
         out.append("| {} | {} | {} | {} |".format(push_name(r["source"]), r["rows"],
                                                   fmt(number(r["peak_force_N"])), " | ".join(cells) + " | " + status))
-    out += ["", "Values with their 95% intervals as identify reports them (a = e_t mu, b = e_o/e_t, "
-            "c = e_r/e_t). identify failed on {} of {} logs.".format(failures, len(accepted)), ""]
+    out += ["", "Values with their 95% intervals and verdicts as identify reports them (a = e_t mu, "
+            "b = e_o/e_t, c = e_r/e_t; an estimate without a mark is ok). identify failed on {} of {} "
+            "logs.".format(failures, len(accepted)), ""]
     out += ["Spread over the pushes (identifiable estimates only):", ""]
     for key, name, scale, unit in PARAMETERS:
         out.append("- {}{}: {}".format(name, " [mm]" if unit else "", spread(values[name])))
@@ -220,11 +221,20 @@ POOLED_VARIANTS = [
 ]
 
 
+def verdict_mark(p):
+    """' (suspect: ...)' with the first clause of the reason, or '' for an ok estimate."""
+    if p.get("verdict") != "suspect":
+        return ""
+    reason = (p.get("reason") or "").split(";")[0].split(":")[0].replace("|", "/")
+    return " (suspect: {})".format(reason) if reason else " (suspect)"
+
+
 def interval_cell(p, scale, unit):
     if not p or not p.get("identifiable") or p.get("value") is None:
         return "not identifiable"
     lo, hi = p["ci95"]
-    return "{}{} [{}, {}]".format(fmt(p["value"] * scale), unit, fmt(lo * scale), fmt(hi * scale))
+    return "{}{} [{}, {}]{}".format(fmt(p["value"] * scale), unit, fmt(lo * scale), fmt(hi * scale),
+                                    verdict_mark(p))
 
 
 def agreement_cell(h):

@@ -133,7 +133,7 @@ TEST(PooledFit, LogsOfTwoSurfacesAreFlaggedAndThePooledIntervalWidened) {
   EXPECT_GT(h.i2, 0.9);          // almost all the spread is between the logs
   EXPECT_GT(h.tau_log, 0.1);     // log(0.4 / 0.3) / 2 = 0.14 either side of the middle
   const ParameterEstimate& a = mixed.parameters[kA];
-  EXPECT_NE(a.note.find("the logs differ by more than their noise"), std::string::npos) << a.note;
+  EXPECT_NE(a.note.find("cluster-robust (CR2) over 20 logs"), std::string::npos) << a.note;
   // One surface pooled the same way: the mixed interval is many times wider (measured 17x:
   // +-0.017 against +-0.001).
   const EstimateResult one = Identify(Logs(20, 21, 0.3), IdentifyOptions{});
