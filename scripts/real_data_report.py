@@ -163,6 +163,7 @@ def estimates(rows):
     out = ["| push | rows | peak force N | a | b | c | identify |", "|---|---|---|---|---|---|---|"]
     values = {p[1]: [] for p in PARAMETERS}
     failures = 0
+    suspects = 0
     for r in sorted(accepted, key=lambda r: push_name(r["source"])):
         result, code, error = fit_of(r["output"])
         cells = []
@@ -179,12 +180,17 @@ def estimates(rows):
                 cells.append("-")
         if code != 0:
             failures += 1
-        status = "ok" if code == 0 else "exit {}: {}".format(code, error.replace("|", "/")[:120])
+        if suspect_reason(result):
+            suspects += 1
+        reason = suspect_reason(result)
+        status = ("suspect: " + reason if reason else "ok") if code == 0 else \
+            "exit {}: {}".format(code, error.replace("|", "/")[:120])
         out.append("| {} | {} | {} | {} |".format(push_name(r["source"]), r["rows"],
                                                   fmt(number(r["peak_force_N"])), " | ".join(cells) + " | " + status))
     out += ["", "Values with their 95% intervals and verdicts as identify reports them (a = e_t mu, "
-            "b = e_o/e_t, c = e_r/e_t; an estimate without a mark is ok). identify failed on {} of {} "
-            "logs.".format(failures, len(accepted)), ""]
+            "b = e_o/e_t, c = e_r/e_t; ? = suspect, with the first reason in the last column; an "
+            "estimate without a mark is ok). identify failed on {} of {} logs; {} of them have "
+            "suspect estimates.".format(failures, len(accepted), suspects), ""]
     out += ["Spread over the pushes (identifiable estimates only):", ""]
     for key, name, scale, unit in PARAMETERS:
         out.append("- {}{}: {}".format(name, " [mm]" if unit else "", spread(values[name])))
@@ -222,11 +228,17 @@ POOLED_VARIANTS = [
 
 
 def verdict_mark(p):
-    """' (suspect: ...)' with the first clause of the reason, or '' for an ok estimate."""
-    if p.get("verdict") != "suspect":
-        return ""
-    reason = (p.get("reason") or "").split(";")[0].split(":")[0].replace("|", "/")
-    return " (suspect: {})".format(reason) if reason else " (suspect)"
+    """' ?' for a suspect estimate ('' when ok): the reason goes in the row's last column."""
+    return " ?" if p.get("verdict") == "suspect" else ""
+
+
+def suspect_reason(result):
+    """The first clause of the first suspect estimate's reason, or '' when none is suspect."""
+    for key, _, _, _ in PARAMETERS:
+        p = (result or {}).get(key) or {}
+        if p.get("verdict") == "suspect" and p.get("reason"):
+            return p["reason"].split(";")[0].split(" (")[0].replace("|", "/")
+    return ""
 
 
 def interval_cell(p, scale, unit):
@@ -290,8 +302,9 @@ def pooled_section(title):
         used = [l for l in logs if not l.get("skipped")]
         out += ["`identify --logs build/real-data/mit_rect1 --skip-bad` over the {} imported rect1 "
                 "pushes ({} skipped), a, b, c shared by all, each log with its own segment states; "
-                "the interval is the widest of the white-noise and the cluster-robust ones (over "
-                "segments, and over logs with Student's t on G - 1), README \"Several logs\".".format(
+                "the interval is the wider of the cluster-robust (CR2) ones over segments and over "
+                "logs, README \"How sure: the intervals\" and \"Several logs\"; ? = suspect (the "
+                "reason: residuals / log noise above 3).".format(
                     len(used), len(logs) - len(used)), ""]
         out += ["| fit | a | b | c [mm] | residuals / log noise | nuisances | time |",
                 "|---|---|---|---|---|---|---|"]
