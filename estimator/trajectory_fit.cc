@@ -366,18 +366,17 @@ AugmentedShares Augment(const FitInformation& info, const std::vector<int>& free
 std::vector<int> ActiveNuisances(const FitInformation& info, const std::vector<int>& free,
                                  bool sensor_nuisances) {
   std::vector<int> active;
-  if (info.per_segment.empty()) return active;
-  const int E = static_cast<int>(info.per_segment[0].extra_fisher.rows());
-  if (E == 0) return active;  // no mismatch directions (TrajectoryOptions::correct_mismatch)
-  const AugmentedShares base = Augment(info, free, std::vector<int>(free.size(), -1), {});
-  const Eigen::LDLT<Eigen::MatrixXd> ldlt(base.H);
-  if (ldlt.info() != Eigen::Success) return active;
   // With a fitted force offset or delay there is no correction: a delay moves the force
   // stream against the poses as the force hold's half-row lag does, and the offset's moment
   // and the discretisation pull on c alike. The correction then fits the sensor
   // nuisances' noise rather than a mismatch (on exact logs with both fitted it tripled the
   // error in a); the cluster-robust covariance still carries a mismatch's correlation.
-  if (sensor_nuisances) return active;
+  if (sensor_nuisances || info.per_segment.empty()) return active;
+  const int E = static_cast<int>(info.per_segment[0].extra_fisher.rows());
+  if (E == 0) return active;  // no mismatch directions (TrajectoryOptions::correct_mismatch)
+  const AugmentedShares base = Augment(info, free, std::vector<int>(free.size(), -1), {});
+  const Eigen::LDLT<Eigen::MatrixXd> ldlt(base.H);
+  if (ldlt.info() != Eigen::Success) return active;
   std::vector<int> segments_of_log(E / kMismatchNuisances, 0);
   for (const SegmentInformation& seg : info.per_segment) ++segments_of_log[seg.log];
   for (int e = 0; e < E; ++e) {
@@ -738,10 +737,13 @@ FitOutcome Fit(const std::vector<const Trajectory*>& logs, const IdentifyOptions
   // information carries the mismatch directions for the intervals (its fisher does not
   // depend on them).
   // Mismatch directions only when some log has the segments to correct it (pooled short
-  // logs have none, and 2 columns per log in every segment cost half a pooled fit).
+  // logs have none, and 2 columns per log in every segment cost half a pooled fit) and no
+  // sensor nuisance is fitted (ActiveNuisances).
   std::vector<int> segments_of_log(problem.num_logs(), 0);
   for (const TrajectorySegment& seg : problem.segments()) ++segments_of_log[seg.log];
+  const bool sensor_nuisances = problem.num_global() > 3;  // force offsets, delays
   const bool correctable =
+      !sensor_nuisances &&
       *std::max_element(segments_of_log.begin(), segments_of_log.end()) >= kMinCorrectionSegments;
   auto information = [&] {
     if (!topt.correct_mismatch || !correctable) return problem.Information();
@@ -790,7 +792,7 @@ FitOutcome Fit(const std::vector<const Trajectory*>& logs, const IdentifyOptions
   for (int i : free_index) free_owner.push_back(problem.GlobalLog(i));
   const IntervalChoice choice =
       ChooseIntervals(info, free_index, free_owner, problem.StateParameters(),
-                      problem.num_logs(), /*sensor_nuisances=*/G > 3);
+                      problem.num_logs(), sensor_nuisances);
   std::vector<Interval> interval_of(G);
   std::vector<double> value_of(G);
   for (int i = 0; i < G; ++i) value_of[i] = problem.global(i);

@@ -210,19 +210,32 @@ namespace {
 // hold it in at least 90% of logs, and every interval must say that it is cluster-robust.
 // 100 logs (30 could not tell 90% from 83%: a binomial 95% band of +-13%). Measured: 91,
 // 97 and 100% for a, b, c, with a mismatch correction of about -1% in a.
+struct DefaultExperiment {
+  LoggedScene scene;
+  Trajectory simulated;
+  std::array<double, 3> truth;
+};
+
+// datasets/scenes/default_push.ini, simulated (at 0.1 ms) but not yet logged.
+DefaultExperiment SimulateDefaultExperiment() {
+  DefaultExperiment e;
+  e.scene = LoadScene(std::string(SLIDEID_SOURCE_DIR) + "/datasets/scenes/default_push.ini");
+  e.simulated = SimulateOrFail(e.scene);
+  const ReducedFriction t = ReducedFriction::From(e.scene.friction);
+  e.truth = {t.a, t.b, t.c};
+  return e;
+}
+
 TEST(TrajectoryFit, IntervalsStayHonestUnderModelMismatchOfACoarseNoisyLog) {
-  const LoggedScene scene =
-      LoadScene(std::string(SLIDEID_SOURCE_DIR) + "/datasets/scenes/default_push.ini");
-  const SimulationResult sim = Simulate(scene);
-  ASSERT_TRUE(sim.summary.ok()) << sim.summary.message;
-  const ReducedFriction t = ReducedFriction::From(scene.friction);
-  const double truth[3] = {t.a, t.b, t.c};
+  const DefaultExperiment e = SimulateDefaultExperiment();
+  const LoggedScene& scene = e.scene;
+  const std::array<double, 3>& truth = e.truth;
   constexpr int kLogs = 100;
   std::array<int, 3> covered{}, robust{};
   LogSpec spec = scene.log;
   for (int k = 0; k < kLogs; ++k) {
     spec.noise.seed = 100 + k;
-    const EstimateResult r = EstimateTrajectory(MakeLog(sim.trajectory, spec), {});
+    const EstimateResult r = EstimateTrajectory(MakeLog(e.simulated, spec), {});
     for (int i = 0; i < 3; ++i) {
       const ParameterEstimate& p = r.parameters[i];
       ASSERT_TRUE(p.identifiable);
@@ -233,6 +246,26 @@ TEST(TrajectoryFit, IntervalsStayHonestUnderModelMismatchOfACoarseNoisyLog) {
   for (int i = 0; i < 3; ++i) {
     EXPECT_GE(covered[i], 90) << ParameterName(i) << " covered in " << covered[i] << "/100";
     EXPECT_EQ(robust[i], kLogs) << ParameterName(i);
+  }
+}
+
+// TrajectoryOptions::correct_mismatch = false: no mismatch directions at all (it once read
+// past an empty table), the estimate is the fit's own, and no note claims a correction.
+TEST(TrajectoryFit, WithoutTheMismatchCorrectionTheFitIsItsOwnAndSaysSo) {
+  const DefaultExperiment e = SimulateDefaultExperiment();
+  const Trajectory log = MakeLog(e.simulated, e.scene.log);
+  IdentifyOptions options;
+  options.trajectory.correct_mismatch = false;
+  const EstimateResult plain = EstimateTrajectory(log, options);
+  const EstimateResult corrected = EstimateTrajectory(log, {});
+  for (int i = 0; i < 3; ++i) {
+    const ParameterEstimate& p = plain.parameters[i];
+    ASSERT_TRUE(p.identifiable) << ParameterName(i) << ": " << p.reason;
+    EXPECT_NEAR(p.value / e.truth[i], 1.0, 0.05) << ParameterName(i);
+    EXPECT_EQ(p.note.find("corrected"), std::string::npos) << p.note;
+    EXPECT_NE(corrected.parameters[i].note.find("corrected for model mismatch"),
+              std::string::npos)
+        << corrected.parameters[i].note;
   }
 }
 
@@ -250,37 +283,6 @@ TEST(TrajectoryFit, SolveCutOffByTheIterationLimitIsNotConverged) {
   EXPECT_FALSE(EstimateTrajectory(log, options).converged);
   options.trajectory.max_iterations = 100;
   EXPECT_TRUE(EstimateTrajectory(log, options).converged);
-}
-
-}  // namespace
-}  // namespace slideid
-
-namespace slideid {
-namespace {
-
-// TrajectoryOptions::correct_mismatch = false: no mismatch directions at all (it once read
-// past an empty table), the estimate is the fit's own, and no note claims a correction.
-TEST(TrajectoryFit, WithoutTheMismatchCorrectionTheFitIsItsOwnAndSaysSo) {
-  const LoggedScene scene =
-      LoadScene(std::string(SLIDEID_SOURCE_DIR) + "/datasets/scenes/default_push.ini");
-  const SimulationResult sim = Simulate(scene);
-  ASSERT_TRUE(sim.summary.ok()) << sim.summary.message;
-  const Trajectory log = MakeLog(sim.trajectory, scene.log);
-  IdentifyOptions options;
-  options.trajectory.correct_mismatch = false;
-  const EstimateResult plain = EstimateTrajectory(log, options);
-  const EstimateResult corrected = EstimateTrajectory(log, {});
-  const ReducedFriction t = ReducedFriction::From(scene.friction);
-  const double truth[3] = {t.a, t.b, t.c};
-  for (int i = 0; i < 3; ++i) {
-    const ParameterEstimate& p = plain.parameters[i];
-    ASSERT_TRUE(p.identifiable) << ParameterName(i) << ": " << p.reason;
-    EXPECT_NEAR(p.value / truth[i], 1.0, 0.05) << ParameterName(i);
-    EXPECT_EQ(p.note.find("corrected"), std::string::npos) << p.note;
-    EXPECT_NE(corrected.parameters[i].note.find("corrected for model mismatch"),
-              std::string::npos)
-        << corrected.parameters[i].note;
-  }
 }
 
 }  // namespace
