@@ -157,7 +157,7 @@ struct Config {
   bool quick = false;
   std::vector<std::string> only_conditions;
   std::vector<std::string> only_methods;
-  std::string csv_path = "coverage.csv";
+  std::string csv_path;  ///< none unless asked: a benchmark does not litter its directory
   std::string markdown_path;
   std::string runs_path;
   TrajectoryOptions trajectory;
@@ -262,7 +262,7 @@ void Usage(const char* argv0) {
       "  --threads N       worker threads, each fitting one log on one thread (default 1)\n"
       "  --conditions A,B  only these conditions (default all; --list shows them)\n"
       "  --methods A,B     only these methods (closed-form, equation-error, trajectory)\n"
-      "  --csv FILE        one row per condition, method and parameter (default coverage.csv)\n"
+      "  --csv FILE        one row per condition, method and parameter (default: none)\n"
       "  --markdown FILE   the tables in Markdown\n"
       "  --runs FILE       one row per log, method and parameter\n"
       "  --segment N       the trajectory fit's segment steps (default: adaptive)\n"
@@ -367,7 +367,7 @@ int Main(int argc, char** argv) {
       for (int i = 0; i < 3; ++i) cells[{run.condition, run.method, i}].Add(run, i);
     }
   }
-  WriteCsv(config.csv_path, cells, conditions, methods);
+  if (!config.csv_path.empty()) WriteCsv(config.csv_path, cells, conditions, methods);
   if (!config.markdown_path.empty()) WriteMarkdown(config.markdown_path, cells, conditions, methods, config);
   if (!config.runs_path.empty()) {
     std::ofstream out(config.runs_path);
@@ -399,9 +399,9 @@ int Main(int argc, char** argv) {
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
   // The summary: how many cells of each method lie in the band.
-  std::printf("coverage: %zu conditions x %d logs, %zu methods, %d threads; %.0f s; wrote %s\n",
+  std::printf("coverage: %zu conditions x %d logs, %zu methods, %d threads; %.0f s%s%s\n",
               conditions.size(), config.logs, methods.size(), config.threads, seconds,
-              config.csv_path.c_str());
+              config.csv_path.empty() ? "" : "; wrote ", config.csv_path.c_str());
   for (size_t m = 0; m < methods.size(); ++m) {
     int in = 0, with = 0;
     std::string outside;
