@@ -16,13 +16,8 @@
 #include <string_view>
 #include <system_error>
 
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wall"
-#pragma GCC diagnostic ignored "-Wextra"
-#include <libfccp/csv.h>
-#pragma GCC diagnostic pop
-
 #include "forward_model/contact_patch.h"
+#include "io/text_lines.h"
 
 namespace slideid {
 
@@ -39,9 +34,6 @@ constexpr int kMaxResidualNudges = 4;
 // Reader: an interval longer than this many times the median interval is reported as a
 // warning (dropped samples); LogReadOptions::max_gap_ratio makes longer ones errors.
 constexpr double kWarnGapRatio = 3.0;
-// Reader: fccp's LineReader refuses lines of its block length (16 MiB) or more; text in
-// memory is held to the same limit.
-constexpr std::size_t kMaxLineBytes = std::size_t{1} << 24;
 // Reader: magnitudes no pushing experiment reaches. A value beyond one is read, but warned
 // about: a unit error (mm for m, g for kg, g cm^2 for kg m^2) is far likelier.
 constexpr double kAbsurdPosition_m = 1e3;    // x, y, px, py, pz
@@ -107,12 +99,10 @@ constexpr std::array<const char*, 4> kTruthKeys = {"mu", "e_t", "e_o", "e_r"};
 // Text helpers
 // ---------------------------------------------------------------------------------------
 
-std::string_view Trim(std::string_view s) {
-  const auto first = s.find_first_not_of(" \t\r");
-  if (first == std::string_view::npos) return {};
-  const auto last = s.find_last_not_of(" \t\r");
-  return s.substr(first, last - first + 1);
-}
+using text::IsIdentifier;
+using text::ParseFiniteNumber;
+using text::ShortNumber;
+using text::Trim;
 
 /// A cell without surrounding blanks and without one pair of enclosing double quotes
 /// (spreadsheets quote text cells, such as the header's names).
@@ -135,46 +125,10 @@ void SplitFields(std::string_view line, std::vector<std::string_view>& fields) {
   }
 }
 
-bool IsIdentifier(std::string_view s) {
-  if (s.empty() || std::isdigit(static_cast<unsigned char>(s.front()))) return false;
-  for (char c : s) {
-    if (!std::isalnum(static_cast<unsigned char>(c)) && c != '_') return false;
-  }
-  return true;
-}
-
-/// Whole-cell parse of a finite number; locale independent (std::from_chars), so "nan",
-/// "inf", "1.2abc", "" and out-of-range values are all rejected.
-std::optional<double> ParseFiniteNumber(std::string_view s) {
-  if (!s.empty() && s.front() == '+') s.remove_prefix(1);  // from_chars rejects '+'
-  if (s.empty() || s.front() == '+') return std::nullopt;
-  double value = 0.0;
-  const auto [end, ec] = std::from_chars(s.data(), s.data() + s.size(), value);
-  if (ec != std::errc() || end != s.data() + s.size() || !std::isfinite(value)) {
-    return std::nullopt;
-  }
-  return value;
-}
-
 std::string FormatNumber(double value) {
   char buffer[40];
   std::snprintf(buffer, sizeof buffer, "%.17g", value);
   return buffer;
-}
-
-/// Shortest text that reads back to `value`, for messages (the writer uses FormatNumber).
-std::string ShortNumber(double value) {
-  char buffer[40];
-  const auto result = std::to_chars(buffer, buffer + sizeof buffer, value);
-  return std::string(buffer, result.ptr);
-}
-
-/// "file:line: column 'c': what", the form of every LogError and reader warning.
-std::string FormatLogError(const std::string& file, int line, const std::string& column,
-                           const std::string& what) {
-  std::string message = file + ":" + std::to_string(line) + ": ";
-  if (!column.empty()) message += "column '" + column + "': ";
-  return message + what;
 }
 
 /// Three significant digits, for ratios in messages.
@@ -211,19 +165,6 @@ bool Contains(const std::array<const char*, N>& keys, std::string_view key) {
 // ---------------------------------------------------------------------------------------
 // Reader: preamble (metadata comments) and header
 // ---------------------------------------------------------------------------------------
-
-/// The lines of a log, numbered from 1, without their line break ("\n" or "\r\n"); a UTF-8
-/// BOM at the start is skipped. Files are read by fast-cpp-csv-parser's LineReader; text
-/// in memory (ParsePushLog) by a splitter with the same rules, which spares fuzzing the
-/// LineReader's 48 MiB buffer per input (tests check that both read alike).
-class LineSource {
- public:
-  virtual ~LineSource() = default;
-  /// The next line, or nullopt at the end. Throws LogError for a NUL byte.
-  virtual std::optional<std::string_view> NextLine() = 0;
-  /// The number of the line NextLine returned last.
-  virtual int LineNumber() const = 0;
-};
 
 /// Context shared by the reader's phases.
 struct ReadContext {
@@ -262,9 +203,9 @@ void ParseCommentLine(const ReadContext& ctx, std::string_view line, int line_no
 }
 
 /// Reads comment and blank lines up to the header; returns the header line's text.
-std::string ReadPreamble(const ReadContext& ctx, LineSource& in, Metadata& meta,
+std::string ReadPreamble(const ReadContext& ctx, TextLines& in, Metadata& meta,
                          int& header_line) {
-  while (const auto raw = in.NextLine()) {
+  while (const auto raw = in.Next()) {
     const std::string_view line = Trim(*raw);
     const int line_no = in.LineNumber();
     if (line.empty()) continue;
@@ -408,7 +349,7 @@ void WarnAbsurd(const ReadContext& ctx, const std::array<MagnitudeTally, kNumNum
     if (t.count == 0) continue;
     const AbsurdLimit& l = kAbsurdLimits[c];
     ctx.report.warnings.push_back(
-        FormatLogError(ctx.path, t.first_line, kColumnNames[c],
+        text::Located(ctx.path, t.first_line, kColumnNames[c],
                        std::string(how) + ShortNumber(t.first_value) + " " + l.unit +
                            " is beyond " + ShortNumber(l.limit) + " " + l.unit +
                            ", absurd for a pushing experiment (a unit error?)" +
@@ -500,7 +441,7 @@ bool IsFinite(const AppliedWrench& w) {
 /// Reads the data rows one at a time into trajectory.samples (the line of each in `lines`),
 /// checking each as it comes: strictly increasing t, a positive normal force m g - fz
 /// (log-format.md: fz reduces it) when the mass is known, finite moments, theta unwrapped.
-void ReadSamples(const ReadContext& ctx, LineSource& in, const Header& h,
+void ReadSamples(const ReadContext& ctx, TextLines& in, const Header& h,
                  Trajectory& trajectory, std::vector<int>& lines, bool mass_known) {
   const double weight = trajectory.slider.mass_kg * trajectory.slider.gravity_mps2;
   const double com_height = trajectory.slider.com_height_m;
@@ -509,7 +450,7 @@ void ReadSamples(const ReadContext& ctx, LineSource& in, const Header& h,
   RawRow row;
   double prev_t = 0.0, prev_theta = 0.0;
   int prev_line = 0, unwrapped = 0;
-  while (const auto raw = in.NextLine()) {
+  while (const auto raw = in.Next()) {
     const std::string_view line = Trim(*raw);
     // fccp's comment policy would skip '#' lines anywhere; only those before the header
     // are metadata, later ones are plain comments.
@@ -593,7 +534,7 @@ void CheckTimeGaps(const ReadContext& ctx, const Trajectory& tr, const std::vect
     }
   }
   if (long_count > 0) {
-    ctx.report.warnings.push_back(FormatLogError(
+    ctx.report.warnings.push_back(text::Located(
         ctx.path, lines[longest + 1], "t",
         std::to_string(long_count) + " intervals longer than " + ShortNumber(kWarnGapRatio) +
             " times the median " + ShortNumber(median) + " s (dropped samples?); the longest, " +
@@ -730,7 +671,7 @@ void WarnAbsurdSlider(const ReadContext& ctx, const Metadata& meta,
     return it == meta.numbers.end() ? 0 : it->second.second;
   };
   auto warn = [&](const char* key, const std::string& what) {
-    ctx.report.warnings.push_back(FormatLogError(ctx.path, where(key), "", what));
+    ctx.report.warnings.push_back(text::Located(ctx.path, where(key), "", what));
   };
   if (known[0] && s.mass_kg > kAbsurdMass_kg) {
     warn("mass", "mass = " + ShortNumber(s.mass_kg) + " kg is beyond " +
@@ -787,7 +728,7 @@ void NoteUnknownColumns(const ReadContext& ctx) {
   ctx.report.notes.push_back(note);
 }
 
-Trajectory ReadFromLines(const ReadContext& ctx, LineSource& in) {
+Trajectory ReadFromLines(const ReadContext& ctx, TextLines& in) {
   Metadata meta;
   int header_line = 0;
   const std::string header_text = ReadPreamble(ctx, in, meta, header_line);
@@ -963,111 +904,12 @@ void WriteUnchecked(const Trajectory& tr, std::ostream& out) {
 
 LogError::LogError(const std::string& file, int line, const std::string& column,
                    const std::string& what)
-    : std::runtime_error(FormatLogError(file, line, column, what)),
+    : std::runtime_error(text::Located(file, line, column, what)),
       file_(file),
       line_(line),
       column_(column) {}
 
 namespace {
-
-/// What CheckedByteSource has seen. Kept outside it: fccp destroys its byte source as soon
-/// as the first read reaches the end of a short file.
-struct ByteCount {
-  long long lines = 0;
-  long long bytes = 0;
-  bool ends_with_newline = false;
-};
-
-/// fccp's byte source, checked: a NUL byte (a binary file, or the zero-filled tail a crash
-/// leaves in a file being written) is an error naming its line, since fccp would silently
-/// cut the line short there. Also records whether the text ends with a line break.
-/// fccp calls read() on its helper thread and rethrows what it throws on the reading one.
-class CheckedByteSource : public io::ByteSourceBase {
- public:
-  CheckedByteSource(std::unique_ptr<io::ByteSourceBase> inner, const std::string& path,
-                    ByteCount* count)
-      : inner_(std::move(inner)), path_(path), count_(count) {}
-
-  int read(char* buffer, int size) override {
-    const int n = inner_->read(buffer, size);
-    if (n <= 0) return n;
-    const char* const begin = buffer;
-    const char* const end = buffer + n;
-    const char* nul = static_cast<const char*>(std::memchr(begin, '\0', n));
-    count_->lines += std::count(begin, nul ? nul : end, '\n');
-    if (nul) {
-      throw LogError(path_, static_cast<int>(count_->lines + 1), "",
-                     "NUL byte at offset " + std::to_string(count_->bytes + (nul - begin)) +
-                         ": not a text file (or one cut short by a crash)");
-    }
-    count_->bytes += n;
-    count_->ends_with_newline = end[-1] == '\n';
-    return n;
-  }
-
- private:
-  std::unique_ptr<io::ByteSourceBase> inner_;
-  std::string path_;
-  ByteCount* count_;
-};
-
-/// A file's lines, by fccp's LineReader over a CheckedByteSource.
-class FileLines : public LineSource {
- public:
-  FileLines(const std::string& path, std::unique_ptr<io::ByteSourceBase> source)
-      : reader_(path, std::make_unique<CheckedByteSource>(std::move(source), path, &count_)) {}
-  std::optional<std::string_view> NextLine() override {
-    const char* line = reader_.next_line();
-    if (line == nullptr) return std::nullopt;
-    return std::string_view(line);
-  }
-  int LineNumber() const override { return static_cast<int>(reader_.get_file_line()); }
-  const ByteCount& count() const { return count_; }
-
- private:
-  ByteCount count_;  // before reader_: the reader's first read writes it
-  io::LineReader reader_;
-};
-
-/// Lines of text in memory, split by the rules of fccp's LineReader (and of FileLines: a
-/// NUL byte is an error).
-class MemoryLines : public LineSource {
- public:
-  MemoryLines(const std::string& path, std::string_view text) : path_(path), rest_(text) {
-    if (rest_.substr(0, 3) == "\xEF\xBB\xBF") rest_.remove_prefix(3);
-  }
-  std::optional<std::string_view> NextLine() override {
-    if (rest_.empty()) return std::nullopt;
-    ++line_;
-    const std::size_t end = rest_.find('\n');
-    std::string_view line = rest_.substr(0, end);
-    rest_.remove_prefix(end == std::string_view::npos ? rest_.size() : end + 1);
-    if (line.size() + 1 > kMaxLineBytes) {
-      throw LogError(path_, line_, "", "line longer than " + std::to_string(kMaxLineBytes - 1) +
-                                           " bytes");
-    }
-    if (line.find('\0') != std::string_view::npos) {
-      throw LogError(path_, line_, "", "NUL byte: not a text file (or one cut short by a crash)");
-    }
-    if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
-    return line;
-  }
-  int LineNumber() const override { return line_; }
-
- private:
-  std::string path_;
-  std::string_view rest_;
-  int line_ = 0;
-};
-
-/// Runs the reader over `lines`, mapping fccp's errors to LogError.
-Trajectory ReadFrom(const ReadContext& ctx, LineSource& lines) {
-  try {
-    return ReadFromLines(ctx, lines);
-  } catch (const io::error::base& e) {  // e.g. a line longer than fccp's 16 MiB block
-    throw LogError(ctx.path, lines.LineNumber(), "", e.what());
-  }
-}
 
 void NoteMissingFinalLineBreak(const ReadContext& ctx, bool empty, bool ends_with_newline) {
   if (!empty && !ends_with_newline) {
@@ -1075,23 +917,6 @@ void NoteMissingFinalLineBreak(const ReadContext& ctx, bool empty, bool ends_wit
                                "cut short");
   }
 }
-
-/// A byte source that owns its FILE.
-class FileByteSource : public io::ByteSourceBase {
- public:
-  explicit FileByteSource(std::FILE* file) : file_(file) {}
-  ~FileByteSource() override { std::fclose(file_); }
-  int read(char* buffer, int size) override {
-    const std::size_t n = std::fread(buffer, 1, static_cast<std::size_t>(size), file_);
-    if (n == 0 && std::ferror(file_)) {
-      throw std::runtime_error(std::string("read error: ") + std::strerror(errno));
-    }
-    return static_cast<int>(n);
-  }
-
- private:
-  std::FILE* file_;
-};
 
 }  // namespace
 
@@ -1101,31 +926,21 @@ Trajectory ReadPushLog(const std::string& path, const LogReadOptions& options,
   if (std::filesystem::is_directory(path, ec)) {
     throw LogError(path, 0, "", "cannot read: it is a directory, not a log file");
   }
-  std::FILE* file = std::fopen(path.c_str(), "rb");
-  if (file == nullptr) {
-    throw LogError(path, 0, "", std::string("cannot read: ") + std::strerror(errno));
-  }
   LogReadReport local_report;
   const ReadContext ctx{path, options, report ? *report : local_report};
-  try {
-    FileLines lines(path, std::make_unique<FileByteSource>(file));
-    Trajectory trajectory = ReadFrom(ctx, lines);
-    NoteMissingFinalLineBreak(ctx, lines.count().bytes == 0, lines.count().ends_with_newline);
-    return trajectory;
-  } catch (const LogError&) {
-    throw;
-  } catch (const std::runtime_error& e) {  // a read error on fccp's helper thread
-    throw LogError(path, 0, "", std::string("cannot read: ") + e.what());
-  }
+  const std::unique_ptr<TextLines> lines = TextLines::OpenFile(path);
+  Trajectory trajectory = ReadFromLines(ctx, *lines);
+  NoteMissingFinalLineBreak(ctx, lines->Empty(), lines->EndsWithLineBreak());
+  return trajectory;
 }
 
 Trajectory ParsePushLog(std::string_view text, const std::string& source,
                         const LogReadOptions& options, LogReadReport* report) {
   LogReadReport local_report;
   const ReadContext ctx{source, options, report ? *report : local_report};
-  MemoryLines lines(source, text);
-  Trajectory trajectory = ReadFrom(ctx, lines);
-  NoteMissingFinalLineBreak(ctx, text.empty(), text.empty() || text.back() == '\n');
+  const std::unique_ptr<TextLines> lines = TextLines::FromMemory(text, source);
+  Trajectory trajectory = ReadFromLines(ctx, *lines);
+  NoteMissingFinalLineBreak(ctx, lines->Empty(), lines->EndsWithLineBreak());
   return trajectory;
 }
 

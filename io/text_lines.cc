@@ -95,9 +95,10 @@ class FileLines : public TextLines {
     } catch (const LogError&) {
       throw;
     } catch (const io::error::base& e) {  // a line longer than fccp's 16 MiB block
-      throw LogError(name(), LineNumber() + 1, "", e.what());
+      // fccp counts the line before reading it: LineNumber() is the line it refused.
+      throw LogError(name(), LineNumber(), "", e.what());
     } catch (const std::runtime_error& e) {  // a read error on fccp's helper thread
-      throw LogError(name(), LineNumber() + 1, "", std::string("cannot read: ") + e.what());
+      throw LogError(name(), LineNumber(), "", std::string("cannot read: ") + e.what());
     }
   }
   int LineNumber() const override { return static_cast<int>(reader_.get_file_line()); }

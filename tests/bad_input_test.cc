@@ -168,6 +168,21 @@ TEST(BadLog, NulByteIsAnErrorNamingItsLineInFilesAndInMemory) {
               6, "", "NUL byte");
 }
 
+// A line of 16 MiB or more (fccp's block) is an error naming that line, in files and in
+// memory alike: io/text_lines, which every reader of a text file shares.
+TEST(BadLog, OverlongLineIsAnErrorNamingItsLineInFilesAndInMemory) {
+  const std::string text = std::string(kSliderMeta) + "t,x,y,theta\n0,0,0,0\n" +
+                           std::string(std::size_t{1} << 24, '1') + "\n";
+  ExpectError("long_line.csv", text, 6, "", "");
+  try {
+    ParsePushLog(text, "memory.csv");
+    ADD_FAILURE() << "no LogError";
+  } catch (const LogError& e) {
+    EXPECT_EQ(e.line(), 6) << e.what();
+    EXPECT_TRUE(Contains(e.what(), "longer than")) << e.what();
+  }
+}
+
 TEST(BadLog, DirectoryIsAnErrorSayingSo) {
   try {
     ReadPushLog(Dir());
