@@ -81,21 +81,6 @@ PlausibilityContext CheapContext(const std::vector<LogSteps>& logs) {
   return c;
 }
 
-std::string LogName(const Trajectory& log, int index) {
-  return log.source.empty() ? "log " + std::to_string(index) : log.source;
-}
-
-LogResult AsLogResult(const EstimateResult& r, const Trajectory& log, int index) {
-  LogResult lr;
-  lr.name = LogName(log, index);
-  lr.rows = static_cast<int>(log.samples.size());
-  lr.steps_used = r.steps_used;
-  lr.status = r.status;
-  lr.message = r.message;
-  lr.parameters = r.parameters;
-  return lr;
-}
-
 double BiasAwareHalfWidth(double sd, double bias) {
   // Coverage of +-h around an estimate N(b, sd^2) at the truth; increasing in h.
   auto coverage = [&](double h) {

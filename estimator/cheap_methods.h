@@ -52,12 +52,6 @@ std::string LowSnrReason(double snr, bool differentiated, bool rotation);
 /// The plausibility context of the logs: their weights and largest pushes.
 PlausibilityContext CheapContext(const std::vector<LogSteps>& logs);
 
-/// A log's name for pooled results: its source, or "log K".
-std::string LogName(const Trajectory& log, int index);
-
-/// One log's own result as a pooled result's entry.
-LogResult AsLogResult(const EstimateResult& r, const Trajectory& log, int index);
-
 /// An estimate of log(parameter) with its interval exp(log_value +- quantile stderr_log).
 struct LogEstimate {
   double log_value = std::numeric_limits<double>::quiet_NaN();

@@ -6,6 +6,21 @@
 
 namespace slideid {
 
+std::string LogName(const Trajectory& log, int index) {
+  return log.source.empty() ? "log " + std::to_string(index) : log.source;
+}
+
+LogResult AsLogResult(const EstimateResult& r, const Trajectory& log, int index) {
+  LogResult lr;
+  lr.name = LogName(log, index);
+  lr.rows = static_cast<int>(log.samples.size());
+  lr.steps_used = r.steps_used;
+  lr.status = r.status;
+  lr.message = r.message;
+  lr.parameters = r.parameters;
+  return lr;
+}
+
 Heterogeneity TestHeterogeneity(const std::vector<LogResult>& logs, int index) {
   Heterogeneity h;
   double sw = 0, sw2 = 0, swy = 0;

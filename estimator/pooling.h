@@ -2,11 +2,19 @@
 // Pooling many logs of one object on one surface: do they agree within their noise?
 // (estimate.h, Heterogeneity). Shared by every method that pools.
 
+#include <string>
 #include <vector>
 
 #include "estimator/estimate.h"
+#include "forward_model/trajectory.h"
 
 namespace slideid {
+
+/// A log's name for pooled results: its source, or "log K".
+std::string LogName(const Trajectory& log, int index);
+
+/// One log's own result as a pooled result's entry.
+LogResult AsLogResult(const EstimateResult& r, const Trajectory& log, int index);
 
 /// Logs disagree when Cochran's Q exceeds its chi-square quantile at this level.
 constexpr double kHeterogeneityAlpha = 0.05;

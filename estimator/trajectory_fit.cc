@@ -615,10 +615,6 @@ double MaxStdErr(const TrajectoryProblem& problem, int i, const std::vector<LogD
   return kMaxOffsetStdErrFraction * std::max(d[k].max_push_N, 0.1 * weight);
 }
 
-std::string LogName(const Trajectory& log, int k) {
-  return log.source.empty() ? "log " + std::to_string(k) : log.source;
-}
-
 void FillResiduals(const TrajectoryProblem& problem, EstimateResult* result) {
   const std::vector<double> r = problem.Residuals(true);
   size_t k = 0;
@@ -896,17 +892,6 @@ FitOutcome Fit(const std::vector<const Trajectory*>& logs, const IdentifyOptions
                   summary.termination_type == ceres::USER_SUCCESS);
   result.seconds = Seconds(t0);
   return out;
-}
-
-LogResult AsLogResult(const EstimateResult& r, const Trajectory& log, int k) {
-  LogResult lr;
-  lr.name = LogName(log, k);
-  lr.rows = static_cast<int>(log.samples.size());
-  lr.steps_used = r.steps_used;
-  lr.status = r.status;
-  lr.message = r.message;
-  lr.parameters = r.parameters;
-  return lr;
 }
 
 // True when the log's own interval of an identifiable parameter excludes the pooled value.
