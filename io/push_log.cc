@@ -102,28 +102,8 @@ constexpr std::array<const char*, 4> kTruthKeys = {"mu", "e_t", "e_o", "e_r"};
 using text::IsIdentifier;
 using text::ParseFiniteNumber;
 using text::ShortNumber;
+using text::SplitCells;
 using text::Trim;
-
-/// A cell without surrounding blanks and without one pair of enclosing double quotes
-/// (spreadsheets quote text cells, such as the header's names).
-std::string_view Unquote(std::string_view cell) {
-  cell = Trim(cell);
-  if (cell.size() >= 2 && cell.front() == '"' && cell.back() == '"') {
-    cell = Trim(cell.substr(1, cell.size() - 2));
-  }
-  return cell;
-}
-
-/// Splits `line` at commas into `fields` (cleared first; reused to spare allocations).
-void SplitFields(std::string_view line, std::vector<std::string_view>& fields) {
-  fields.clear();
-  for (;;) {
-    const auto comma = line.find(',');
-    fields.push_back(Unquote(line.substr(0, comma)));
-    if (comma == std::string_view::npos) return;
-    line.remove_prefix(comma + 1);
-  }
-}
 
 std::string FormatNumber(double value) {
   char buffer[40];
@@ -263,7 +243,7 @@ Header ParseHeader(const ReadContext& ctx, const std::string& text, int line) {
   h.text = text;
   h.line = line;
   std::vector<std::string_view> names;
-  SplitFields(text, names);
+  SplitCells(text, names);
   h.num_fields = static_cast<int>(names.size());
   if (h.num_fields == 1) {
     for (const char separator : {';', '\t', ' ', '|'}) {
@@ -361,7 +341,7 @@ void WarnAbsurd(const ReadContext& ctx, const std::array<MagnitudeTally, kNumNum
 /// Parses one data line into `row`; `cells` is scratch space reused across rows.
 void ParseRow(const ReadContext& ctx, const Header& h, std::string_view line, int line_no,
               std::vector<std::string_view>& cells, RawRow& row) {
-  SplitFields(line, cells);
+  SplitCells(line, cells);
   if (static_cast<int>(cells.size()) != h.num_fields) {
     ctx.Fail(line_no, "", "expected " + std::to_string(h.num_fields) +
                               " fields as in the header on line " + std::to_string(h.line) +

@@ -180,6 +180,24 @@ std::string_view Trim(std::string_view s) {
   return s.substr(first, last - first + 1);
 }
 
+std::string_view Unquote(std::string_view cell) {
+  cell = Trim(cell);
+  if (cell.size() >= 2 && cell.front() == '"' && cell.back() == '"') {
+    cell = Trim(cell.substr(1, cell.size() - 2));
+  }
+  return cell;
+}
+
+void SplitCells(std::string_view line, std::vector<std::string_view>& cells) {
+  cells.clear();
+  for (;;) {
+    const auto comma = line.find(',');
+    cells.push_back(Unquote(line.substr(0, comma)));
+    if (comma == std::string_view::npos) return;
+    line.remove_prefix(comma + 1);
+  }
+}
+
 std::optional<double> ParseFiniteNumber(std::string_view s) {
   if (!s.empty() && s.front() == '+') s.remove_prefix(1);  // from_chars rejects '+'
   if (s.empty() || s.front() == '+') return std::nullopt;

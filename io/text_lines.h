@@ -9,6 +9,7 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <vector>
 
 // LogError (file, line, column) is the error of every reader of a file.
 #include "io/push_log.h"
@@ -46,6 +47,14 @@ namespace text {
 
 /// `s` without leading and trailing blanks (space, tab, CR).
 std::string_view Trim(std::string_view s);
+
+/// A cell without surrounding blanks and without one pair of enclosing double quotes
+/// (spreadsheets quote text cells, such as a header's names).
+std::string_view Unquote(std::string_view cell);
+
+/// Splits a CSV `line` at commas into unquoted cells (`cells` is cleared first, and reused
+/// to spare allocations).
+void SplitCells(std::string_view line, std::vector<std::string_view>& cells);
 
 /// Whole-cell parse of a finite number, locale independent: "nan", "inf", "1.2abc", "" and
 /// out-of-range values are all rejected (nullopt). A leading '+' is accepted.

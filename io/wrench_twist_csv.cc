@@ -72,24 +72,6 @@ bool Contains(const std::array<const char*, N>& keys, std::string_view key) {
   return false;
 }
 
-std::string_view Unquote(std::string_view cell) {
-  cell = text::Trim(cell);
-  if (cell.size() >= 2 && cell.front() == '"' && cell.back() == '"') {
-    cell = text::Trim(cell.substr(1, cell.size() - 2));
-  }
-  return cell;
-}
-
-void SplitCommas(std::string_view line, std::vector<std::string_view>& fields) {
-  fields.clear();
-  for (;;) {
-    const auto comma = line.find(',');
-    fields.push_back(Unquote(line.substr(0, comma)));
-    if (comma == std::string_view::npos) return;
-    line.remove_prefix(comma + 1);
-  }
-}
-
 // ---------------------------------------------------------------------------------------
 // Reader
 // ---------------------------------------------------------------------------------------
@@ -164,7 +146,7 @@ class Reader {
     Header h;
     h.line = header_line_;
     std::vector<std::string_view> names;
-    SplitCommas(header_text, names);
+    text::SplitCells(header_text, names);
     h.num_fields = static_cast<int>(names.size());
     for (int i = 0; i < h.num_fields; ++i) {
       const std::string name(names[i]);
@@ -323,7 +305,7 @@ class Reader {
       const std::string_view line = text::Trim(*raw);
       if (line.empty() || line.front() == '#') continue;
       const int line_no = in_.LineNumber();
-      SplitCommas(line, cells_);
+      text::SplitCells(line, cells_);
       ParseCells(h, line_no, v);
       WrenchTwistRow r;
       r.push = std::isnan(v[kPush]) ? 0 : static_cast<int>(v[kPush]);
