@@ -58,22 +58,8 @@ bool Contains(const std::string& text, const std::string& part) {
   return text.find(part) != std::string::npos;
 }
 
-/// What a tool run printed and returned.
-struct ToolRun {
-  int code = -1;
-  std::string out, err;
-};
-
-ToolRun RunTool(const std::string& tool, const std::string& args) {
-  static int counter = 0;
-  const char* bin = std::getenv("SLIDEID_BIN_DIR");
-  const std::string stem = Dir() + "/run" + std::to_string(++counter);
-  const std::string cmd = std::string(bin ? bin : "build/bin") + "/" + tool + " " + args +
-                          " > " + stem + ".out 2> " + stem + ".err < /dev/null";
-  const int status = std::system(cmd.c_str());
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, ReadText(stem + ".out"),
-          ReadText(stem + ".err")};
-}
+using testing::RunTool;
+using testing::ToolRun;
 
 ToolRun Identify(const std::string& args) { return RunTool("identify", args); }
 

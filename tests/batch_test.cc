@@ -142,15 +142,11 @@ TEST(Batch, ShardsSplitTheSortedListWithoutOverlap) {
   }
 }
 
+/// identify's exit code; `output` gets what it printed on both streams.
 int RunIdentify(const std::string& args, std::string* output) {
-  const char* bin = std::getenv("SLIDEID_BIN_DIR");
-  const std::string out_file = Dir() + "/stdout_" + std::to_string(getpid()) + ".txt";
-  const int status = std::system((std::string(bin ? bin : "build/bin") + "/identify " + args +
-                                  " > " + out_file + " 2>&1").c_str());
-  std::stringstream text;
-  text << std::ifstream(out_file).rdbuf();
-  *output = text.str();
-  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  const testing::ToolRun r = testing::RunTool("identify", args);
+  *output = r.all();
+  return r.code;
 }
 
 TEST(Batch, ToolExitsOneWhenALogFailedAndWritesEveryLine) {

@@ -4,10 +4,13 @@
 // estimate recovers the truth.
 
 #include <gtest/gtest.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <cmath>
 #include <cstdlib>
+#include <fstream>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -34,6 +37,33 @@ inline std::string TempPath(const std::string& name) {
     return pattern;
   }();
   return dir + "/" + name;
+}
+
+/// What a tool run printed and returned.
+struct ToolRun {
+  int code = -1;  ///< exit code (-1: it did not exit normally)
+  std::string out, err;
+  /// Standard output, then standard error: where a message may be either.
+  std::string all() const { return out + err; }
+};
+
+/// Runs the built tool `tool` (from SLIDEID_BIN_DIR, else build/bin) with `args` (shell
+/// words), standard input from /dev/null, its two streams captured in files of this
+/// process's TempPath.
+inline ToolRun RunTool(const std::string& tool, const std::string& args) {
+  static int runs = 0;
+  const char* bin = std::getenv("SLIDEID_BIN_DIR");
+  const std::string stem = TempPath("run" + std::to_string(++runs));
+  const std::string cmd = std::string(bin ? bin : "build/bin") + "/" + tool + " " + args +
+                          " > " + stem + ".out 2> " + stem + ".err < /dev/null";
+  const int status = std::system(cmd.c_str());
+  auto read = [](const std::string& path) {
+    std::ostringstream text;
+    text << std::ifstream(path, std::ios::binary).rdbuf();
+    return text.str();
+  };
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, read(stem + ".out"),
+          read(stem + ".err")};
 }
 
 /// The log with velocities dropped, written and read back: the reader derives them from

@@ -19,27 +19,13 @@
 #include "io/result_json.h"
 #include "io/zhou_tripod_log.h"
 #include "io/zhou_tripod_synth.h"
+#include "tests/estimator_test_support.h"
 
 namespace slideid {
 namespace {
 
-struct Output {
-  int exit_code;
-  std::string out;
-};
-
-Output RunTool(const std::string& tool, const std::string& args) {
-  const char* bin = std::getenv("SLIDEID_BIN_DIR");
-  const std::string out_file =
-      ::testing::TempDir() + "/import_log_out_" + std::to_string(getpid()) + ".txt";
-  const std::string cmd = std::string(bin ? bin : "build/bin") + "/" + tool + " " + args + " > " +
-                          out_file + " 2>&1";
-  const int status = std::system(cmd.c_str());
-  std::ifstream in(out_file);
-  std::stringstream text;
-  text << in.rdbuf();
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, text.str()};
-}
+using testing::RunTool;
+using testing::ToolRun;
 
 std::string NewDir(const std::string& name) {
   std::string dir = ::testing::TempDir() + name + "_XXXXXX";
@@ -111,15 +97,15 @@ std::string MakeInputs() {
 
 TEST(ImportLogTool, ImportsEachFileOnItsOwnAndReportsEveryOne) {
   const std::string in = MakeInputs(), out = NewDir("import_log_out");
-  const Output o = RunTool("import-log", "--format mit-push --objects " + in + "/objects.csv --out " +
+  const ToolRun o = RunTool("import-log", "--format mit-push --objects " + in + "/objects.csv --out " +
                                          out + " " + in + "/" + kGood + " " + in + "/" + kDead +
                                          " " + in + "/" + kCut + " " + in + "/" + kHex);
-  EXPECT_EQ(o.exit_code, 1) << o.out;  // some files were not imported
-  EXPECT_NE(o.out.find("imported 1 of 4 files"), std::string::npos) << o.out;
-  EXPECT_NE(o.out.find("force channel constant (dead sensor?)"), std::string::npos) << o.out;
-  EXPECT_NE(o.out.find("unreadable"), std::string::npos) << o.out;
-  EXPECT_NE(o.out.find("object 'hex': mass, inertia, com_height, patch unknown"), std::string::npos)
-      << o.out;
+  EXPECT_EQ(o.code, 1) << o.all();  // some files were not imported
+  EXPECT_NE(o.all().find("imported 1 of 4 files"), std::string::npos) << o.all();
+  EXPECT_NE(o.all().find("force channel constant (dead sensor?)"), std::string::npos) << o.all();
+  EXPECT_NE(o.all().find("unreadable"), std::string::npos) << o.all();
+  EXPECT_NE(o.all().find("object 'hex': mass, inertia, com_height, patch unknown"), std::string::npos)
+      << o.all();
 
   const std::vector<std::string> report = Lines(out + "/import_report.csv");
   ASSERT_EQ(report.size(), 5u);
@@ -144,47 +130,47 @@ TEST(ImportLogTool, ImportsEachFileOnItsOwnAndReportsEveryOne) {
     sourced |= key == "object_source" && value == "synthetic, as simulated";
   }
   EXPECT_TRUE(sourced);
-  const Output fit = RunTool("identify", "--log " + log_path + " --json");
-  EXPECT_EQ(fit.exit_code, 0) << fit.out;
+  const ToolRun fit = RunTool("identify", "--log " + log_path + " --json");
+  EXPECT_EQ(fit.code, 0) << fit.all();
 }
 
 TEST(ImportLogTool, AllFilesImportedIsExitZeroAndOptionsGiveTheObject) {
   const std::string in = MakeInputs(), out = NewDir("import_log_ok");
-  const Output o = RunTool("import-log", "--format mit-push --mass 0.835 --inertia 1.13e-3 "
+  const ToolRun o = RunTool("import-log", "--format mit-push --mass 0.835 --inertia 1.13e-3 "
                                      "--com-height 0.0065 --patch 'rectangle 0.09 0.09' --out " +
                                          out + " " + in + "/" + kGood + " " + in + "/" + kHex);
-  EXPECT_EQ(o.exit_code, 0) << o.out;
-  EXPECT_NE(o.out.find("imported 2 of 2 files"), std::string::npos) << o.out;
+  EXPECT_EQ(o.code, 0) << o.all();
+  EXPECT_NE(o.all().find("imported 2 of 2 files"), std::string::npos) << o.all();
 }
 
 TEST(ImportLogTool, UsageErrorsAreExitTwo) {
   const std::string in = MakeInputs(), out = NewDir("import_log_usage");
   const std::string file = in + "/" + kGood;
-  Output o = RunTool("import-log", "--format mit-push --mass 1 --out " + out + " " + file);
-  EXPECT_EQ(o.exit_code, 2) << o.out;
-  EXPECT_NE(o.out.find("masses are never guessed"), std::string::npos) << o.out;
+  ToolRun o = RunTool("import-log", "--format mit-push --mass 1 --out " + out + " " + file);
+  EXPECT_EQ(o.code, 2) << o.all();
+  EXPECT_NE(o.all().find("masses are never guessed"), std::string::npos) << o.all();
   // An MIT file read as a tripod log is unreadable there: exit 1, naming the file.
   o = RunTool("import-log", "--format zhou-tripod --out " + out + " " + file);
-  EXPECT_EQ(o.exit_code, 1) << o.out;
-  EXPECT_NE(o.out.find(file), std::string::npos) << o.out;
-  EXPECT_EQ(RunTool("import-log", "--format csv --out " + out + " " + file).exit_code, 2);
-  EXPECT_EQ(RunTool("import-log", "--format mit-push " + file).exit_code, 2);
-  EXPECT_EQ(RunTool("import-log", "--format mit-push --out " + out).exit_code, 2);
+  EXPECT_EQ(o.code, 1) << o.all();
+  EXPECT_NE(o.all().find(file), std::string::npos) << o.all();
+  EXPECT_EQ(RunTool("import-log", "--format csv --out " + out + " " + file).code, 2);
+  EXPECT_EQ(RunTool("import-log", "--format mit-push " + file).code, 2);
+  EXPECT_EQ(RunTool("import-log", "--format mit-push --out " + out).code, 2);
   o = RunTool("import-log", "--format mit-push --objects " + in + "/objects.csv --rate 0 --out " + out +
                             " " + file);
-  EXPECT_EQ(o.exit_code, 2) << o.out;
+  EXPECT_EQ(o.code, 2) << o.all();
   EXPECT_EQ(RunTool("import-log", "--format mit-push --objects " + in + "/objects.csv --mass -1 --out " +
                                   out + " " + file)
-                .exit_code,
+                .code,
             2);
-  EXPECT_EQ(RunTool("import-log", "--help").exit_code, 0);
+  EXPECT_EQ(RunTool("import-log", "--help").code, 0);
 }
 
 TEST(ImportLogTool, UnwritableOutputIsExitFour) {
   const std::string in = MakeInputs();
-  const Output o = RunTool("import-log", "--format mit-push --objects " + in + "/objects.csv --out " +
+  const ToolRun o = RunTool("import-log", "--format mit-push --objects " + in + "/objects.csv --out " +
                                          in + "/objects.csv/sub " + in + "/" + kGood);
-  EXPECT_EQ(o.exit_code, 4) << o.out;
+  EXPECT_EQ(o.code, 4) << o.all();
 }
 
 TEST(ObjectTable, ReadsRowsWithCommentsQuotesAndOptionalColumns) {
@@ -252,14 +238,14 @@ TEST(ImportLogTool, TripodLogsBecomePairsThatIdentifyFits) {
   const std::string in = NewDir("tripod_in"), out = NewDir("tripod_out");
   const std::string txt = in + "/exp_synthetic.txt";
   WriteZhouTripodLog(TripodLogFromPushes(SimulateSpringPushes(TripodSynthSpec(truth, 12, 5))), txt);
-  const Output imported = RunTool("import-log", "--format zhou-tripod --out " + out + " " + txt);
-  ASSERT_EQ(imported.exit_code, 0) << imported.out;
-  EXPECT_NE(imported.out.find("imported 1 of 1 files"), std::string::npos) << imported.out;
+  const ToolRun imported = RunTool("import-log", "--format zhou-tripod --out " + out + " " + txt);
+  ASSERT_EQ(imported.code, 0) << imported.all();
+  EXPECT_NE(imported.all().find("imported 1 of 1 files"), std::string::npos) << imported.all();
   std::ifstream report(out + "/exp_synthetic_import_report.csv");
   EXPECT_TRUE(report.good());
-  const Output fit = RunTool("identify", "--method quasi-static --json --log " + out +
+  const ToolRun fit = RunTool("identify", "--method quasi-static --json --log " + out +
                                              "/exp_synthetic.csv");
-  ASSERT_EQ(fit.exit_code, 0) << fit.out;
+  ASSERT_EQ(fit.code, 0) << fit.all();
   const EstimateResult r = ParseResultJson(fit.out.substr(0, fit.out.find('\n')));
   ASSERT_TRUE(r.parameters[kA].identifiable);
   // The importer's averaging and the spring's own dynamics leave < 1% on synthetic pushes

@@ -17,6 +17,7 @@
 #include "io/push_log.h"
 #include "io/result_json.h"
 #include "pipeline/identify_files.h"
+#include "tests/estimator_test_support.h"
 
 namespace slideid {
 namespace {
@@ -206,22 +207,9 @@ TEST(PooledFit, PerLogDelaysAreRecoveredForTheirLogsAndASharedOneOnce) {
 
 // ---- identify --skip-bad, end to end ----
 
-struct Output {
-  int exit_code;
-  std::string out;
-};
+using testing::ToolRun;
 
-Output RunIdentify(const std::string& args) {
-  const char* bin = std::getenv("SLIDEID_BIN_DIR");
-  const std::string out_file =
-      ::testing::TempDir() + "/pooled_identify_" + std::to_string(getpid()) + ".txt";
-  const std::string cmd = std::string(bin ? bin : "build/bin") + "/identify " + args + " > " +
-                          out_file + " 2>&1";
-  const int status = std::system(cmd.c_str());
-  std::stringstream text;
-  text << std::ifstream(out_file).rdbuf();
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, text.str()};
-}
+ToolRun RunIdentify(const std::string& args) { return testing::RunTool("identify", args); }
 
 /// Two good logs and an unreadable one in a fresh directory; returns the directory.
 std::string GoodAndBadLogs() {
@@ -240,12 +228,12 @@ TEST(PooledIdentifyTool, SkipBadListsTheUnreadableLogWithItsReasonInTableAndJson
   const std::string dir = GoodAndBadLogs();
   const std::string files =
       "--log " + dir + "/a.csv --log " + dir + "/b.csv --log " + dir + "/c.csv";
-  Output o = RunIdentify(files + " --skip-bad");
-  ASSERT_EQ(o.exit_code, 0) << o.out;
-  EXPECT_NE(o.out.find("b.csv: skipped ("), std::string::npos) << o.out;
-  EXPECT_NE(o.out.find("zero"), std::string::npos) << o.out;  // the reason names the value
+  ToolRun o = RunIdentify(files + " --skip-bad");
+  ASSERT_EQ(o.code, 0) << o.all();
+  EXPECT_NE(o.all().find("b.csv: skipped ("), std::string::npos) << o.all();
+  EXPECT_NE(o.all().find("zero"), std::string::npos) << o.all();  // the reason names the value
   o = RunIdentify(files + " --skip-bad --json");
-  ASSERT_EQ(o.exit_code, 0) << o.out;
+  ASSERT_EQ(o.code, 0) << o.all();
   const EstimateResult r = ParseResultJson(o.out.substr(o.out.find('{')));
   ASSERT_EQ(r.logs.size(), 3u);
   int skipped = 0;
@@ -262,19 +250,19 @@ TEST(PooledIdentifyTool, SkipBadListsTheUnreadableLogWithItsReasonInTableAndJson
   std::ofstream(dir + "/truth.csv") << "file,mass\nlog_0000.csv,0.8\n";
   std::ofstream(dir + "/import_report.csv") << "file,status\n";
   o = RunIdentify("--logs " + dir + " --skip-bad");
-  EXPECT_EQ(o.exit_code, 0) << o.out;
-  EXPECT_NE(o.out.find("b.csv: skipped ("), std::string::npos) << o.out;
-  EXPECT_EQ(o.out.find("truth.csv"), std::string::npos) << o.out;
-  EXPECT_EQ(o.out.find("import_report.csv"), std::string::npos) << o.out;
+  EXPECT_EQ(o.code, 0) << o.all();
+  EXPECT_NE(o.all().find("b.csv: skipped ("), std::string::npos) << o.all();
+  EXPECT_EQ(o.all().find("truth.csv"), std::string::npos) << o.all();
+  EXPECT_EQ(o.all().find("import_report.csv"), std::string::npos) << o.all();
 }
 
 TEST(PooledIdentifyTool, WithoutSkipBadAnUnreadableLogFailsTheRunNamingIt) {
   const std::string dir = GoodAndBadLogs();
-  const Output o =
+  const ToolRun o =
       RunIdentify("--log " + dir + "/a.csv --log " + dir + "/b.csv --log " + dir + "/c.csv");
-  EXPECT_EQ(o.exit_code, 1) << o.out;
-  EXPECT_NE(o.out.find(dir + "/b.csv"), std::string::npos) << o.out;
-  EXPECT_NE(o.out.find("b.csv:6: column 'x'"), std::string::npos) << o.out;
+  EXPECT_EQ(o.code, 1) << o.all();
+  EXPECT_NE(o.all().find(dir + "/b.csv"), std::string::npos) << o.all();
+  EXPECT_NE(o.all().find("b.csv:6: column 'x'"), std::string::npos) << o.all();
 }
 
 }  // namespace

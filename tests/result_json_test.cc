@@ -404,18 +404,11 @@ TEST(ResultJson, ParseIdentifyJsonTakesValuesOrHeldValuesAndNamesWhatIsWrong) {
   EXPECT_NE(IdentifyError("").find("parse error"), std::string::npos);
 }
 
-/// Standard output of identify with `args` (standard error discarded), and its exit code.
+/// Standard output of identify with `args`, and its exit code.
 std::string IdentifyStdout(const std::string& args, int* exit_code) {
-  const char* bin = std::getenv("SLIDEID_BIN_DIR");
-  const std::string out_file =
-      ::testing::TempDir() + "/result_json_stdout_" + std::to_string(getpid()) + ".txt";
-  const std::string cmd = std::string(bin ? bin : "build/bin") + "/identify " + args + " > " +
-                          out_file + " 2> /dev/null";
-  const int status = std::system(cmd.c_str());
-  *exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  std::ostringstream text;
-  text << std::ifstream(out_file).rdbuf();
-  return text.str();
+  const testing::ToolRun r = testing::RunTool("identify", args);
+  *exit_code = r.code;
+  return r.out;
 }
 
 TEST(ResultJson, WhatIdentifyPrintsReadsBackExactlyForEveryMethod) {
