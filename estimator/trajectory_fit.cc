@@ -362,28 +362,41 @@ AugmentedShares Augment(const FitInformation& info, const std::vector<int>& free
   return a;
 }
 
-/// The nuisance columns the log determines (kMinNuisanceInformation).
+/// Per log: whether its model mismatch is corrected. Not when the correction is off, nor
+/// with a fitted force offset or delay: a delay moves the force stream against the poses
+/// as the force hold's half-row lag does, and the offset's moment and the discretisation
+/// pull on c alike, so the correction would fit the sensor nuisances' noise rather than a
+/// mismatch (on exact logs with both fitted it tripled the error in a). Nor for a log of
+/// fewer than kMinCorrectionSegments segments: it pins its two nuisances on their noise (in
+/// a pooled fit of short logs, 100 such corrections widened the interval over the logs past
+/// a single log's). Such logs keep their model; the cluster-robust covariance still carries
+/// a mismatch's correlation.
+std::vector<bool> CorrectableLogs(const TrajectoryProblem& problem,
+                                  const TrajectoryOptions& options) {
+  std::vector<int> segments_of_log(problem.num_logs(), 0);
+  for (const TrajectorySegment& seg : problem.segments()) ++segments_of_log[seg.log];
+  const bool sensor_nuisances = problem.num_global() > 3;  // force offsets, delays
+  std::vector<bool> correctable(problem.num_logs());
+  for (int k = 0; k < problem.num_logs(); ++k) {
+    correctable[k] = options.correct_mismatch && !sensor_nuisances &&
+                     segments_of_log[k] >= kMinCorrectionSegments;
+  }
+  return correctable;
+}
+
+/// The nuisance columns of the `correctable` logs that the logs determine
+/// (kMinNuisanceInformation).
 std::vector<int> ActiveNuisances(const FitInformation& info, const std::vector<int>& free,
-                                 bool sensor_nuisances) {
+                                 const std::vector<bool>& correctable) {
   std::vector<int> active;
-  // With a fitted force offset or delay there is no correction: a delay moves the force
-  // stream against the poses as the force hold's half-row lag does, and the offset's moment
-  // and the discretisation pull on c alike. The correction then fits the sensor
-  // nuisances' noise rather than a mismatch (on exact logs with both fitted it tripled the
-  // error in a); the cluster-robust covariance still carries a mismatch's correlation.
-  if (sensor_nuisances || info.per_segment.empty()) return active;
+  if (info.per_segment.empty()) return active;
   const int E = static_cast<int>(info.per_segment[0].extra_fisher.rows());
-  if (E == 0) return active;  // no mismatch directions (TrajectoryOptions::correct_mismatch)
+  if (E == 0) return active;  // no mismatch directions
   const AugmentedShares base = Augment(info, free, std::vector<int>(free.size(), -1), {});
   const Eigen::LDLT<Eigen::MatrixXd> ldlt(base.H);
   if (ldlt.info() != Eigen::Success) return active;
-  std::vector<int> segments_of_log(E / kMismatchNuisances, 0);
-  for (const SegmentInformation& seg : info.per_segment) ++segments_of_log[seg.log];
   for (int e = 0; e < E; ++e) {
-    // A log of a few segments pins its two nuisances on their noise: in a pooled fit of
-    // short logs, 100 such corrections widened the interval over the logs past a single
-    // log's. Such a log keeps its model; its correlated residuals count in the covariance.
-    if (segments_of_log[e / kMismatchNuisances] < kMinCorrectionSegments) continue;
+    if (!correctable[e / kMismatchNuisances]) continue;
     double own = 0;
     Eigen::VectorXd cross = Eigen::VectorXd::Zero(free.size());
     for (const SegmentInformation& seg : info.per_segment) {
@@ -476,14 +489,15 @@ Eigen::VectorXd MismatchStep(const AugmentedShares& a, const Eigen::MatrixXd& Hi
 /// from the augmented problem when `info` carries mismatch directions.
 IntervalChoice ChooseIntervals(const FitInformation& info, const std::vector<int>& free,
                                const std::vector<int>& free_owner, int state_parameters,
-                               int logs, bool sensor_nuisances) {
+                               int logs, const std::vector<bool>& correctable) {
   const int n = static_cast<int>(free.size());
   IntervalChoice choice;
   choice.intervals.resize(n);
   choice.shift.assign(n, 0.0);
   if (n == 0) return choice;
   const bool few_segments = info.segments < kMinRobustSegments;
-  std::vector<int> extra = few_segments ? std::vector<int>{} : ActiveNuisances(info, free, sensor_nuisances);
+  std::vector<int> extra =
+      few_segments ? std::vector<int>{} : ActiveNuisances(info, free, correctable);
   AugmentedShares a = Augment(info, free, free_owner, extra);
   Eigen::LDLT<Eigen::MatrixXd> ldlt(a.H);
   if (!extra.empty() && ldlt.info() != Eigen::Success) {
@@ -732,17 +746,13 @@ FitOutcome Fit(const std::vector<const Trajectory*>& logs, const IdentifyOptions
   // Identifiability over every global parameter; hold what the logs do not determine. The
   // information carries the mismatch directions for the intervals (its fisher does not
   // depend on them).
-  // Mismatch directions only when some log has the segments to correct it (pooled short
-  // logs have none, and 2 columns per log in every segment cost half a pooled fit) and no
-  // sensor nuisance is fitted (ActiveNuisances).
-  std::vector<int> segments_of_log(problem.num_logs(), 0);
-  for (const TrajectorySegment& seg : problem.segments()) ++segments_of_log[seg.log];
-  const bool sensor_nuisances = problem.num_global() > 3;  // force offsets, delays
-  const bool correctable =
-      !sensor_nuisances &&
-      *std::max_element(segments_of_log.begin(), segments_of_log.end()) >= kMinCorrectionSegments;
+  // Mismatch directions only when some log is corrected (pooled short logs are not, and 2
+  // columns per log in every segment cost half a pooled fit).
+  const std::vector<bool> correctable = CorrectableLogs(problem, topt);
+  const bool any_correctable =
+      std::find(correctable.begin(), correctable.end(), true) != correctable.end();
   auto information = [&] {
-    if (!topt.correct_mismatch || !correctable) return problem.Information();
+    if (!any_correctable) return problem.Information();
     const std::vector<Eigen::MatrixXd> directions = MismatchDirections(problem);
     return problem.Information(&directions);
   };
@@ -788,7 +798,7 @@ FitOutcome Fit(const std::vector<const Trajectory*>& logs, const IdentifyOptions
   for (int i : free_index) free_owner.push_back(problem.GlobalLog(i));
   const IntervalChoice choice =
       ChooseIntervals(info, free_index, free_owner, problem.StateParameters(),
-                      problem.num_logs(), sensor_nuisances);
+                      problem.num_logs(), correctable);
   std::vector<Interval> interval_of(G);
   std::vector<double> value_of(G);
   for (int i = 0; i < G; ++i) value_of[i] = problem.global(i);
