@@ -1,10 +1,10 @@
 #include "estimator/mismatch_nuisances.h"
 
-#include <ceres/loss_function.h>
-
 #include <algorithm>
 #include <cmath>
 #include <memory>
+
+#include "estimator/segment_cost.h"
 
 namespace slideid {
 namespace {
@@ -16,37 +16,17 @@ AppliedWrench Mean(const AppliedWrench& a, const AppliedWrench& b) {
           0.5 * (a.tx + b.tx), 0.5 * (a.ty + b.ty), 0.5 * (a.tz + b.tz)};
 }
 
-// A row whose squared residual is below this fraction of the loss scale squared takes the
-// loss's expansion at zero (as SegmentCost does).
-constexpr double kTinyRowFraction = 1e-12;
-
 // The directions X (raw, 3 rows per log row) as the row loss sees them: its linearisation
-// at the segment's raw residuals r, dr~ = g dX + 2 g'(s) r (r . dX) per row with
-// r~ = g(s) r, g = sqrt(rho(s) / s), s = |r|^2 (SegmentCost::ApplyRowLoss does the same for
-// the Jacobian). Taking the difference of robustified residuals instead would put a part of
-// r itself into X wherever the loss's weight changes between the two models, and the
-// nuisance would then fit the noise of the rows near the loss's scale.
+// at the segment's raw residuals r, dr~ = g dX + 2 g'(s) r (r . dX) per row
+// (RowLossScalingAt, as SegmentCost::ApplyRowLoss for the Jacobian). Taking the difference
+// of robustified residuals instead would put a part of r itself into X wherever the loss's
+// weight changes between the two models, and the nuisance would then fit the noise of the
+// rows near the loss's scale.
 void ThroughRowLoss(const RowLoss& loss, const Eigen::VectorXd& r, Eigen::MatrixXd* X) {
   if (loss.kind == RobustLoss::kNone || !(loss.scale > 0)) return;
-  std::unique_ptr<ceres::LossFunction> rho_of;
-  if (loss.kind == RobustLoss::kHuber) {
-    rho_of = std::make_unique<ceres::HuberLoss>(loss.scale);
-  } else {
-    rho_of = std::make_unique<ceres::CauchyLoss>(loss.scale);
-  }
   for (int i = 0; 3 * i < r.size(); ++i) {
     const Eigen::Vector3d row = r.segment<3>(3 * i);
-    const double s = row.squaredNorm();
-    double rho[3];
-    rho_of->Evaluate(s, rho);
-    double g, g_prime;
-    if (s < kTinyRowFraction * loss.scale * loss.scale) {
-      g = std::sqrt(rho[1]);
-      g_prime = rho[2] / (4.0 * g);
-    } else {
-      g = std::sqrt(rho[0] / s);
-      g_prime = (rho[1] * s - rho[0]) / (2.0 * g * s * s);
-    }
+    const auto [g, g_prime] = RowLossScalingAt(loss, row.squaredNorm());
     auto block = X->middleRows<3>(3 * i);
     const Eigen::RowVectorXd along = row.transpose() * block;
     block = g * block + 2.0 * g_prime * row * along;

@@ -290,23 +290,25 @@ bool SegmentCost::Simulate(double const* const* params, double* residuals,
   return true;
 }
 
+RowLossScaling RowLossScalingAt(const RowLoss& loss, double s) {
+  double rho[3];
+  EvaluateLoss(loss, s, rho);
+  // r~ = g(s) r with g = sqrt(rho / s); near s = 0, the loss's expansion there.
+  if (s < kTinyRowFraction * loss.scale * loss.scale) {
+    const double g = std::sqrt(rho[1]);
+    return {g, rho[2] / (4.0 * g)};
+  }
+  const double g = std::sqrt(rho[0] / s);
+  return {g, (rho[1] * s - rho[0]) / (2.0 * g * s * s)};
+}
+
 void SegmentCost::ApplyRowLoss(double* residuals, double** jacobians) const {
   const int rows = num_residuals() / 3;
   const std::vector<int32_t>& sizes = parameter_block_sizes();
   for (int i = 0; i < rows; ++i) {
     double* r = residuals + 3 * i;
     const double s = r[0] * r[0] + r[1] * r[1] + r[2] * r[2];
-    double rho[3];
-    EvaluateLoss(loss_, s, rho);
-    // r~ = g(s) r with g = sqrt(rho / s); dr~ = g dr + 2 g'(s) r (r^T dr).
-    double g, g_prime;
-    if (s < kTinyRowFraction * loss_.scale * loss_.scale) {
-      g = std::sqrt(rho[1]);
-      g_prime = rho[2] / (4.0 * g);
-    } else {
-      g = std::sqrt(rho[0] / s);
-      g_prime = (rho[1] * s - rho[0]) / (2.0 * g * s * s);
-    }
+    const auto [g, g_prime] = RowLossScalingAt(loss_, s);
     if (jacobians) {
       for (size_t b = 0; b < sizes.size(); ++b) {
         if (!jacobians[b]) continue;

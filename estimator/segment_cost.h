@@ -58,6 +58,15 @@ struct RowLoss {
   double scale = 0;  ///< a of Huber or Cauchy, in the residuals' units
 };
 
+/// How the row loss scales a row of squared norm s: r~ = g r, with g' = dg/ds, so that a
+/// change dr of the row changes r~ by g dr + 2 g' r (r . dr). SegmentCost's Jacobian and
+/// the mismatch directions (mismatch_nuisances.h) are both linearised this way.
+struct RowLossScaling {
+  double g = 1.0, g_prime = 0.0;
+};
+/// For a row loss of kind Huber or Cauchy (scale > 0).
+RowLossScaling RowLossScalingAt(const RowLoss& loss, double s);
+
 class SegmentCost final : public ceres::CostFunction {
  public:
   /// Rows first_row..last_row of `log` (which must outlive the cost); substeps forward-model
