@@ -11,6 +11,8 @@
 # BUILD_DIR (default build) is the CMake build directory to use.
 set -euo pipefail
 cd "$(dirname "$0")/.."
+# shellcheck source=generated_section.sh
+source scripts/generated_section.sh
 
 quick=0
 case "${1:-}" in
@@ -38,8 +40,7 @@ trap 'rm -rf "$work"' EXIT
 cpu_model="$(awk -F': ' '/^model name/ {print $2; exit}' /proc/cpuinfo)"
 cpu_mhz="$(awk -F': ' '/^cpu MHz/ {printf "%.0f", $2; exit}' /proc/cpuinfo)"
 machine="$(nproc) cores ($(getconf _NPROCESSORS_ONLN) online), ${cpu_model:-unknown CPU} at ${cpu_mhz:-?} MHz, $(uname -sr)"
-commit="$(git rev-parse --short HEAD 2>/dev/null || echo unknown)"
-if [ -n "$(git status --porcelain 2>/dev/null)" ]; then commit="$commit + uncommitted changes"; fi
+commit="$(commit_label)"
 load_before="$(cut -d' ' -f1-3 /proc/loadavg)"
 
 # ---- 1. error against run time ---------------------------------------------------------
@@ -179,20 +180,6 @@ per_paper() {  # our ns vs the paper's ms
   sed -n '1,/^(mean work/p' "$work/step_console.txt"
   echo '```'
 } > "$work/step_generated.md"
-
-# Replaces what lies between the generated markers of $1 with the file $2.
-splice() {
-  local doc="$1" part="$2"
-  if ! grep -q '<!-- generated:begin' "$doc" 2>/dev/null; then
-    printf '%s\n\n<!-- generated:begin (scripts/benchmarks.sh) -->\n<!-- generated:end -->\n' \
-      "# $(basename "$doc" .md)" > "$doc"
-  fi
-  awk -v part="$part" '
-    /<!-- generated:begin/ { print; while ((getline line < part) > 0) print line; skip = 1; next }
-    /<!-- generated:end/ { skip = 0 }
-    !skip' "$doc" > "$doc.tmp"
-  mv "$doc.tmp" "$doc"
-}
 
 {
   echo "Measured $(date -u +%Y-%m-%d) at commit $commit."

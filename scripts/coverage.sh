@@ -10,6 +10,8 @@
 # BUILD_DIR (default build) is the CMake build directory to use.
 set -euo pipefail
 cd "$(dirname "$0")/.."
+# shellcheck source=generated_section.sh
+source scripts/generated_section.sh
 
 logs=200
 case "${1:-}" in
@@ -23,8 +25,7 @@ cmake --build "$build_dir" -j"$(nproc)" --target coverage >/dev/null
 
 work="$(mktemp -d)"
 trap 'rm -rf "$work"' EXIT
-commit="$(git rev-parse --short HEAD 2>/dev/null || echo unknown)"
-if [ -n "$(git status --porcelain 2>/dev/null)" ]; then commit="$commit + uncommitted changes"; fi
+commit="$(commit_label)"
 start=$SECONDS
 
 "$build_dir/bin/coverage" --logs "$logs" --threads "$(nproc)" --csv "$work/all.csv" \
@@ -57,10 +58,5 @@ start=$SECONDS
 } > "$work/generated.md"
 
 doc=docs/coverage.md
-awk -v part="$work/generated.md" '
-  /<!-- generated:begin/ { print; while ((getline line < part) > 0) print line; skip = 1; next }
-  /<!-- generated:end/ { skip = 0 }
-  !skip { print }
-' "$doc" > "$work/doc.md"
-cp "$work/doc.md" "$doc"
+splice "$doc" "$work/generated.md"
 echo "coverage: wrote $doc"

@@ -15,6 +15,8 @@
 # build) is the CMake build directory. Times are wall-clock: run it on an idle machine.
 set -euo pipefail
 cd "$(dirname "$0")/.."
+# shellcheck source=generated_section.sh
+source scripts/generated_section.sh
 
 quick=0
 case "${1:-}" in
@@ -40,8 +42,7 @@ cpu_model="$(awk -F': ' '/^model name/ {print $2; exit}' /proc/cpuinfo)"
 cpu_mhz="$(awk -F': ' '/^cpu MHz/ {printf "%.0f", $2; exit}' /proc/cpuinfo)"
 memory_gb="$(awk '/^MemTotal/ {printf "%.0f", $2 / 1048576}' /proc/meminfo)"
 machine="$(nproc) cores, ${cpu_model:-unknown CPU} at ${cpu_mhz:-?} MHz, ${memory_gb} GB, $(uname -sr)"
-commit="$(git rev-parse --short HEAD 2>/dev/null || echo unknown)"
-if [ -n "$(git status --porcelain 2>/dev/null)" ]; then commit="$commit + uncommitted changes"; fi
+commit="$(commit_label)"
 load_before="$(cut -d' ' -f1-3 /proc/loadavg)"
 
 # ---- the logs, made once ------------------------------------------------------------------
@@ -181,15 +182,6 @@ EOF
   cat "$work/tables.md"
 } > "$generated"
 
-# Replaces what lies between the generated markers of $1 with the file $2.
-splice() {
-  local doc="$1" part="$2"
-  awk -v part="$part" '
-    /<!-- generated:begin/ { print; while ((getline line < part) > 0) print line; skip = 1; next }
-    /<!-- generated:end/ { skip = 0 }
-    !skip' "$doc" > "$doc.tmp"
-  mv "$doc.tmp" "$doc"
-}
 if ((quick)); then
   mkdir -p "$build_dir/scale-quick"
   cp "$generated" "$build_dir/scale-quick/scale-out_generated.md"
