@@ -46,11 +46,7 @@ std::string WriteFile(const std::string& name, const std::string& content) {
   return path;
 }
 
-std::string ReadText(const std::string& path) {
-  std::ostringstream text;
-  text << std::ifstream(path, std::ios::binary).rdbuf();
-  return text.str();
-}
+using testing::ReadText;
 
 bool Exists(const std::string& path) { return std::filesystem::exists(path); }
 

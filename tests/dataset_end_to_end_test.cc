@@ -20,6 +20,7 @@
 #include "io/push_log.h"
 #include "io/result_json.h"
 #include "io/scene_file.h"
+#include "tests/estimator_test_support.h"
 
 namespace slideid {
 namespace {
@@ -47,11 +48,7 @@ constexpr double kTolDefaultLog = 0.02;
 
 std::string Source(const std::string& rel) { return std::string(SLIDEID_SOURCE_DIR) + "/" + rel; }
 
-std::string ReadText(const std::string& path) {
-  std::ostringstream text;
-  text << std::ifstream(path, std::ios::binary).rdbuf();
-  return text.str();
-}
+using testing::ReadText;
 
 IdentifyOptions Options(int substeps) {
   IdentifyOptions o;

@@ -39,6 +39,16 @@ inline std::string TempPath(const std::string& name) {
   return dir + "/" + name;
 }
 
+/// The whole content of a file ("" when it cannot be read).
+inline std::string ReadText(const std::string& path) {
+  std::ostringstream text;
+  text << std::ifstream(path, std::ios::binary).rdbuf();
+  return text.str();
+}
+
+/// Whether gnuplot runs here (the plotting tests skip without it).
+inline bool HaveGnuplot() { return std::system("gnuplot --version > /dev/null 2>&1") == 0; }
+
 /// What a tool run printed and returned.
 struct ToolRun {
   int code = -1;  ///< exit code (-1: it did not exit normally)
@@ -57,13 +67,8 @@ inline ToolRun RunTool(const std::string& tool, const std::string& args) {
   const std::string cmd = std::string(bin ? bin : "build/bin") + "/" + tool + " " + args +
                           " > " + stem + ".out 2> " + stem + ".err < /dev/null";
   const int status = std::system(cmd.c_str());
-  auto read = [](const std::string& path) {
-    std::ostringstream text;
-    text << std::ifstream(path, std::ios::binary).rdbuf();
-    return text.str();
-  };
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, read(stem + ".out"),
-          read(stem + ".err")};
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, ReadText(stem + ".out"),
+          ReadText(stem + ".err")};
 }
 
 /// The log with velocities dropped, written and read back: the reader derives them from

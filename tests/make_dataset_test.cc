@@ -14,6 +14,7 @@
 
 #include "io/dataset_files.h"
 #include "io/push_log.h"
+#include "tests/estimator_test_support.h"
 
 namespace slideid {
 namespace {
@@ -24,11 +25,7 @@ std::string TempDir(const std::string& name) {
   return pattern;
 }
 
-std::string ReadText(const std::string& path) {
-  std::ostringstream text;
-  text << std::ifstream(path, std::ios::binary).rdbuf();
-  return text.str();
-}
+using testing::ReadText;
 
 std::string Written(const Trajectory& t) {
   std::ostringstream out;

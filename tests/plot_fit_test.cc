@@ -18,13 +18,8 @@
 namespace slideid {
 namespace {
 
-std::string ReadText(const std::string& path) {
-  std::ostringstream text;
-  text << std::ifstream(path, std::ios::binary).rdbuf();
-  return text.str();
-}
-
-bool HaveGnuplot() { return std::system("gnuplot --version > /dev/null 2>&1") == 0; }
+using testing::ReadText;
+using testing::HaveGnuplot;
 
 ParameterEstimate Estimate(double value, double half_width, Verdict verdict = Verdict::kOk) {
   ParameterEstimate p;

@@ -21,13 +21,8 @@
 namespace slideid {
 namespace {
 
-std::string ReadText(const std::string& path) {
-  std::ostringstream text;
-  text << std::ifstream(path, std::ios::binary).rdbuf();
-  return text.str();
-}
-
-bool HaveGnuplot() { return std::system("gnuplot --version > /dev/null 2>&1") == 0; }
+using testing::ReadText;
+using testing::HaveGnuplot;
 
 std::string Source(const std::string& rel) { return std::string(SLIDEID_SOURCE_DIR) + "/" + rel; }
 

@@ -1,4 +1,5 @@
 #include "io/push_log.h"
+#include "tests/estimator_test_support.h"
 
 #include <Eigen/Geometry>
 #include <gtest/gtest.h>
@@ -37,11 +38,7 @@ std::string WriteFile(const std::string& name, const std::string& content) {
 
 bool FileExists(const std::string& path) { return std::ifstream(path).good(); }
 
-std::string ReadText(const std::string& path) {
-  std::ostringstream text;
-  text << std::ifstream(path, std::ios::binary).rdbuf();
-  return text.str();
-}
+using testing::ReadText;
 
 constexpr const char* kSliderMeta = "# mass = 0.5\n# inertia = 2e-4\n# com_height = 0.08\n";
 
