@@ -149,24 +149,36 @@ SegmentCost::SegmentCost(const Trajectory& log, int first_row, int last_row, int
   }
 }
 
-bool SegmentCost::Evaluate(double const* const* params, double* residuals,
-                           double** jacobians) const {
+bool SegmentCost::RawResiduals(double const* const* params, double* residuals,
+                               double** jacobians) const {
+  const std::vector<int32_t>& sizes = parameter_block_sizes();
+  std::vector<double> values;
+  for (size_t b = 0; b < sizes.size(); ++b) values.insert(values.end(), params[b], params[b] + sizes[b]);
+  if (!jacobians && values == last_params_) {
+    std::copy(last_residuals_.begin(), last_residuals_.end(), residuals);
+    return true;
+  }
+  last_params_.clear();
   try {
     if (!Simulate(params, residuals, jacobians)) return false;
   } catch (const std::exception&) {
     return false;
   }
+  last_params_ = std::move(values);
+  last_residuals_.assign(residuals, residuals + num_residuals());
+  return true;
+}
+
+bool SegmentCost::Evaluate(double const* const* params, double* residuals,
+                           double** jacobians) const {
+  if (!RawResiduals(params, residuals, jacobians)) return false;
   if (loss_.kind != RobustLoss::kNone && loss_.scale > 0) ApplyRowLoss(residuals, jacobians);
   return true;
 }
 
 bool SegmentCost::Residuals(double const* const* params, double* residuals,
                             bool with_row_loss) const {
-  try {
-    if (!Simulate(params, residuals, nullptr)) return false;
-  } catch (const std::exception&) {
-    return false;
-  }
+  if (!RawResiduals(params, residuals, nullptr)) return false;
   if (with_row_loss && loss_.kind != RobustLoss::kNone && loss_.scale > 0) {
     ApplyRowLoss(residuals, nullptr);
   }

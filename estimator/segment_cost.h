@@ -88,6 +88,9 @@ class SegmentCost final : public ceres::CostFunction {
 
  private:
   bool Simulate(double const* const* params, double* residuals, double** jacobians) const;
+  /// Simulate, or the residuals of the last simulation when asked for no derivatives at
+  /// the same parameter values (bit for bit).
+  bool RawResiduals(double const* const* params, double* residuals, double** jacobians) const;
   void ApplyRowLoss(double* residuals, double** jacobians) const;
 
   const Trajectory& log_;
@@ -100,6 +103,11 @@ class SegmentCost final : public ceres::CostFunction {
   // Per (step, substep) cache of the last solution; a residual block is evaluated by one
   // thread at a time, so the cache needs no lock.
   mutable std::vector<Eigen::Vector4d> warm_start_;
+  // The parameter values and raw residuals of the last successful simulation. On a problem
+  // with bounds, Ceres' trust-region minimizer evaluates every accepted step twice at the
+  // same point (its projected line search, then the candidate point): the second costs
+  // nothing. Same threading as warm_start_.
+  mutable std::vector<double> last_params_, last_residuals_;
 };
 
 }  // namespace slideid

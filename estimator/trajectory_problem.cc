@@ -158,6 +158,48 @@ TrajectoryProblem::TrajectoryProblem(const std::vector<const Trajectory*>& logs,
   }
 }
 
+std::unique_ptr<TrajectoryProblem> TrajectoryProblem::Heads(int steps) const {
+  std::unique_ptr<TrajectoryProblem> heads(new TrajectoryProblem);
+  heads->logs_ = logs_;
+  heads->options_ = options_;
+  heads->global_ = global_;
+  heads->global_log_ = global_log_;
+  heads->offset_index_ = offset_index_;
+  heads->delay_index_ = delay_index_;
+  const TrajectoryOptions& t = options_.trajectory;
+  const SegmentNuisances nuisances{t.fit_force_bias, t.fit_delay != DelayFit::kNone};
+  for (const TrajectorySegment& seg : segments_) {
+    TrajectorySegment head;
+    head.log = seg.log;
+    head.first_row = seg.first_row;
+    head.last_row = std::min(seg.last_row, seg.first_row + steps);
+    head.state = seg.state;
+    head.cost = std::make_unique<SegmentCost>(*logs_[seg.log], head.first_row, head.last_row,
+                                              t.substeps, use_pose(seg.log), nuisances);
+    heads->segments_.push_back(std::move(head));
+  }
+  return heads;
+}
+
+double TrajectoryProblem::HeadsFraction(int steps) const {
+  int rows = 0;
+  for (const TrajectorySegment& seg : segments_) {
+    rows += std::min(seg.last_row - seg.first_row, steps) + 1;
+  }
+  return static_cast<double>(rows) / Rows();
+}
+
+TrajectoryProblem::Point TrajectoryProblem::point() const {
+  Point p{global_, {}};
+  for (const TrajectorySegment& seg : segments_) p.states.push_back(seg.state);
+  return p;
+}
+
+void TrajectoryProblem::set_point(const Point& point) {
+  global_ = point.global;
+  for (size_t k = 0; k < segments_.size(); ++k) segments_[k].state = point.states[k];
+}
+
 std::string TrajectoryProblem::GlobalName(int i) const {
   if (i < 3) return ParameterName(i);
   const int k = global_log_[i];

@@ -93,6 +93,22 @@ class TrajectoryProblem {
   /// std::invalid_argument when no log is long enough for one segment.
   TrajectoryProblem(const std::vector<const Trajectory*>& logs, const IdentifyOptions& options);
 
+  /// The same logs, options and global values over the first `steps` intervals of each of
+  /// this problem's segments (all of a shorter one), the segments in the same order with
+  /// the same states: a cheaper problem, less nonlinear in the friction, whose fit seeds
+  /// this one (set_point).
+  std::unique_ptr<TrajectoryProblem> Heads(int steps) const;
+  /// Rows of the segments' heads of `steps` intervals over Rows().
+  double HeadsFraction(int steps) const;
+  /// Where the fit is: the global values and every segment's state. A point of a problem
+  /// is a point of its Heads() and back (same globals, segments in the same order).
+  struct Point {
+    std::vector<double> global;
+    std::vector<Eigen::Matrix<double, 6, 1>> states;
+  };
+  Point point() const;
+  void set_point(const Point& point);
+
   int num_logs() const { return static_cast<int>(logs_.size()); }
   int num_global() const { return static_cast<int>(global_.size()); }
   /// Name of global parameter i ("e_t_mu", "force_bias_x_N", "delay_s", ...) and the log
@@ -146,6 +162,7 @@ class TrajectoryProblem {
   int StateParameters() const;
 
  private:
+  TrajectoryProblem() = default;
   std::vector<double*> BlocksOf(TrajectorySegment& seg);
 
   std::vector<const Trajectory*> logs_;

@@ -11,6 +11,7 @@
 #include "datasets/noise.h"
 #include "datasets/sensor_model.h"
 #include "estimator/closed_form.h"
+#include "estimator/trajectory_problem.h"
 #include "io/scene_file.h"
 #include "tests/estimator_test_support.h"
 
@@ -185,6 +186,69 @@ TEST(TrajectoryFit, SegmentCostJacobianMatchesCentralDifferences) {
       }
     }
   }
+}
+
+TEST(TrajectoryFit, SegmentCostReusesTheResidualsOfThePointItJustSimulatedAndNoOther) {
+  const Trajectory log = SimulateOrFail(testing::TiltingPush());
+  std::unique_ptr<ceres::CostFunction> cost(NewSegmentCost(log, 10, 40, 1, true));
+  std::unique_ptr<ceres::CostFunction> fresh(NewSegmentCost(log, 10, 40, 1, true));
+  const TrajectorySample& s = log.samples[10];
+  double state[6] = {s.state.x, s.state.y, s.state.theta, s.state.vx, s.state.vy, s.state.wz};
+  double la = std::log(0.31), lb = std::log(1.1), lc = std::log(0.028);
+  double* blocks[] = {state, &la, &lb, &lc};
+  const int n = cost->num_residuals();
+  std::vector<double> at_p(n), at_q(n), again(n), reference(n), with_jacobian(n), j0(6 * n),
+      ja(n), jb(n), jc(n);
+  double* jac[] = {j0.data(), ja.data(), jb.data(), jc.data()};
+  ASSERT_TRUE(cost->Evaluate(blocks, at_p.data(), nullptr));
+  lc = std::log(0.029);  // another point: simulated, not the last residuals
+  ASSERT_TRUE(cost->Evaluate(blocks, at_q.data(), nullptr));
+  ASSERT_TRUE(fresh->Evaluate(blocks, reference.data(), nullptr));
+  // (A fresh cost starts its step solver cold: the same residuals up to rounding.)
+  for (int i = 0; i < n; ++i) EXPECT_NEAR(at_q[i], reference[i], 1e-12) << i;
+  EXPECT_NE(at_q, at_p);
+  ASSERT_TRUE(cost->Evaluate(blocks, again.data(), nullptr));  // the same point again
+  EXPECT_EQ(again, at_q);
+  // With derivatives it always simulates; the residuals are those of the point.
+  ASSERT_TRUE(cost->Evaluate(blocks, with_jacobian.data(), jac));
+  for (int i = 0; i < n; ++i) EXPECT_NEAR(with_jacobian[i], at_q[i], 1e-12) << i;
+}
+
+TEST(TrajectoryFit, HeadsAreEachSegmentsFirstIntervalsAndShareThePointOfTheProblem) {
+  const Trajectory log = SimulateOrFail(testing::PushedSlider());
+  TrajectoryProblem problem({&log}, Options(30));
+  const std::unique_ptr<TrajectoryProblem> heads = problem.Heads(10);
+  ASSERT_EQ(heads->segments().size(), problem.segments().size());
+  int head_rows = 0;
+  for (size_t k = 0; k < problem.segments().size(); ++k) {
+    const TrajectorySegment& seg = problem.segments()[k];
+    const TrajectorySegment& head = heads->segments()[k];
+    EXPECT_EQ(head.first_row, seg.first_row);
+    EXPECT_EQ(head.last_row, std::min(seg.last_row, seg.first_row + 10));
+    EXPECT_EQ(head.state, seg.state);
+    head_rows += head.last_row - head.first_row + 1;
+  }
+  EXPECT_DOUBLE_EQ(problem.HeadsFraction(10), double(head_rows) / problem.Rows());
+  TrajectoryProblem::Point moved = heads->point();
+  moved.global[0] += 0.1;
+  moved.states.back()[3] += 0.01;
+  problem.set_point(moved);
+  EXPECT_EQ(problem.global(0), moved.global[0]);
+  EXPECT_EQ(problem.segments().back().state, moved.states.back());
+}
+
+// The seed stage fits the segments' heads; where the heads hold no sliding (a push that
+// starts after them) they say nothing of the friction, and the fit must still find it.
+TEST(TrajectoryFit, RecoversTheTruthWhenTheSegmentHeadsAreAtRest) {
+  Scene scene = testing::PushedSlider();
+  scene.initial = {0, 0, 0, 0, 0, 0};
+  scene.pushes[0].start_s = 0.3;
+  scene.duration_s = 2.0;
+  const Trajectory log = SimulateOrFail(scene);
+  const IdentifyOptions options = Options(99);  // 100-row segments: rows 0-20 at rest
+  TrajectoryProblem problem({&log}, options);
+  ASSERT_LE(problem.HeadsFraction(20), 0.5);
+  ExpectRecovers(scene, log, options);
 }
 
 TEST(TrajectoryFit, LogWithoutMotionEndsWithTooLittleExcitationSayingSo) {
