@@ -769,10 +769,9 @@ FitOutcome Fit(const std::vector<const Trajectory*>& logs, const IdentifyOptions
       }
     }
     // Huber equals least squares for rows inside its scale: when no row lies beyond it, the
-    // least-squares solution is the robust one. (The scale is on a row's norm, 3 channel
-    // sigmas: a Gaussian row passes it with probability 0.03, so on long logs some row
-    // nearly always does, and more after the first solve, which stops in the basin: 308 of
-    // the 10,000 rows of estimator_benchmark's log.) Either way the last solve settles
+    // least-squares solution is the robust one. (On estimator_benchmark's 10,000-row log no
+    // row does once the fit is seeded on the segments' heads; 308 did when the first solve
+    // started from the scan's seed and stopped early.) Either way the last solve settles
     // tightly.
     if (topt.loss != RobustLoss::kHuber ||
         RowsBeyond(problem, topt.loss_scale_sigmas, loss_noise) > 0) {
