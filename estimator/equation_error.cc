@@ -191,7 +191,7 @@ std::array<double, 3> SeedOf(const EstimateResult& closed_form, double radius_m)
   for (int i = 0; i < 3; ++i) {
     const ParameterEstimate& p = closed_form.parameters[i];
     const double value = p.identifiable ? p.value : fallback[i];
-    seed[i] = std::log(std::clamp(value, kFrictionLowerBound[i], kFrictionUpperBound[i]));
+    seed[i] = std::log(ClampToSearchRange(i, value));
   }
   return seed;
 }

@@ -152,9 +152,18 @@ SegmentCost::SegmentCost(const Trajectory& log, int first_row, int last_row, int
 bool SegmentCost::RawResiduals(double const* const* params, double* residuals,
                                double** jacobians) const {
   const std::vector<int32_t>& sizes = parameter_block_sizes();
-  std::vector<double> values;
-  for (size_t b = 0; b < sizes.size(); ++b) values.insert(values.end(), params[b], params[b] + sizes[b]);
-  if (!jacobians && values == last_params_) {
+  // Compared in place: this runs for every segment on every evaluation of a fit.
+  auto same_as_last = [&] {
+    if (last_params_.empty()) return false;
+    size_t k = 0;
+    for (size_t b = 0; b < sizes.size(); ++b) {
+      for (int j = 0; j < sizes[b]; ++j) {
+        if (!(params[b][j] == last_params_[k++])) return false;
+      }
+    }
+    return true;
+  };
+  if (!jacobians && same_as_last()) {
     std::copy(last_residuals_.begin(), last_residuals_.end(), residuals);
     return true;
   }
@@ -164,7 +173,9 @@ bool SegmentCost::RawResiduals(double const* const* params, double* residuals,
   } catch (const std::exception&) {
     return false;
   }
-  last_params_ = std::move(values);
+  for (size_t b = 0; b < sizes.size(); ++b) {
+    last_params_.insert(last_params_.end(), params[b], params[b] + sizes[b]);
+  }
   last_residuals_.assign(residuals, residuals + num_residuals());
   return true;
 }

@@ -5,7 +5,6 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <cstdlib>
 #include <limits>
 #include <memory>
 #include <optional>
@@ -117,9 +116,7 @@ std::array<double, 3> SeedFriction(TrajectoryProblem* problem, const SeedCandida
   std::array<double, 3> best = seeds.base;
   // The seed is what the fit starts from: inside the search range, as SetFriction puts it.
   auto try_seed = [&](std::array<double, 3> seed) {
-    for (int i = 0; i < 3; ++i) {
-      seed[i] = std::clamp(seed[i], kFrictionLowerBound[i], kFrictionUpperBound[i]);
-    }
+    for (int i = 0; i < 3; ++i) seed[i] = ClampToSearchRange(i, seed[i]);
     problem->SetFriction(seed);
     const double cost = problem->RawCost();
     if (cost < best_cost) {

@@ -135,19 +135,11 @@ TrajectoryProblem::TrajectoryProblem(const std::vector<const Trajectory*>& logs,
       global_log_.push_back(k);
     }
   }
-  const SegmentNuisances nuisances{t.fit_force_bias, t.fit_delay != DelayFit::kNone};
   for (int k = 0; k < n; ++k) {
     const Trajectory& log = *logs[k];
     const int rows = static_cast<int>(log.samples.size());
     for (const auto& [first, last] : CutSegments(rows, TrajectorySegmentSteps(rows, t))) {
-      TrajectorySegment seg;
-      seg.log = k;
-      seg.first_row = first;
-      seg.last_row = last;
-      seg.state = SeedState(log, first, last);
-      seg.cost = std::make_unique<SegmentCost>(log, first, last, t.substeps, log.columns.pose,
-                                               nuisances);
-      segments_.push_back(std::move(seg));
+      segments_.push_back(NewSegment(k, first, last, SeedState(log, first, last)));
     }
   }
   if (segments_.empty()) {
@@ -166,19 +158,29 @@ std::unique_ptr<TrajectoryProblem> TrajectoryProblem::Heads(int steps) const {
   heads->global_log_ = global_log_;
   heads->offset_index_ = offset_index_;
   heads->delay_index_ = delay_index_;
-  const TrajectoryOptions& t = options_.trajectory;
-  const SegmentNuisances nuisances{t.fit_force_bias, t.fit_delay != DelayFit::kNone};
   for (const TrajectorySegment& seg : segments_) {
-    TrajectorySegment head;
-    head.log = seg.log;
-    head.first_row = seg.first_row;
-    head.last_row = std::min(seg.last_row, seg.first_row + steps);
-    head.state = seg.state;
-    head.cost = std::make_unique<SegmentCost>(*logs_[seg.log], head.first_row, head.last_row,
-                                              t.substeps, use_pose(seg.log), nuisances);
-    heads->segments_.push_back(std::move(head));
+    heads->segments_.push_back(heads->NewSegment(
+        seg.log, seg.first_row, std::min(seg.last_row, seg.first_row + steps), seg.state));
   }
   return heads;
+}
+
+TrajectorySegment TrajectoryProblem::NewSegment(int log, int first_row, int last_row,
+                                                const Eigen::Matrix<double, 6, 1>& state) const {
+  TrajectorySegment seg;
+  seg.log = log;
+  seg.first_row = first_row;
+  seg.last_row = last_row;
+  seg.state = state;
+  seg.cost = std::make_unique<SegmentCost>(*logs_[log], first_row, last_row,
+                                           options_.trajectory.substeps, use_pose(log),
+                                           FittedNuisances());
+  return seg;
+}
+
+SegmentNuisances TrajectoryProblem::FittedNuisances() const {
+  const TrajectoryOptions& t = options_.trajectory;
+  return {t.fit_force_bias, t.fit_delay != DelayFit::kNone};
 }
 
 double TrajectoryProblem::HeadsFraction(int steps) const {
@@ -210,8 +212,7 @@ std::string TrajectoryProblem::GlobalName(int i) const {
 
 void TrajectoryProblem::SetFriction(const std::array<double, 3>& abc) {
   for (int i = 0; i < 3; ++i) {
-    global_[i] =
-        std::log(std::clamp(abc[i], kFrictionLowerBound[i], kFrictionUpperBound[i]));
+    global_[i] = std::log(ClampToSearchRange(i, abc[i]));
   }
 }
 
@@ -495,8 +496,7 @@ std::vector<Eigen::VectorXd> TrajectoryProblem::SegmentResidualsWith(
     const std::vector<const Trajectory*>& replaced_logs, int substeps) const {
   std::vector<Eigen::VectorXd> out(segments_.size());
   auto* self = const_cast<TrajectoryProblem*>(this);  // BlocksOf hands out pointers only
-  const TrajectoryOptions& t = options_.trajectory;
-  const SegmentNuisances nuisances{t.fit_force_bias, t.fit_delay != DelayFit::kNone};
+  const SegmentNuisances nuisances = FittedNuisances();
   ParallelFor(static_cast<int>(segments_.size()), options_.threads, [&](int k) {
     const TrajectorySegment& seg = segments_[k];
     SegmentCost cost(*replaced_logs[seg.log], seg.first_row, seg.last_row, substeps,

@@ -11,6 +11,7 @@
 #include <ceres/ceres.h>
 
 #include <Eigen/Core>
+#include <algorithm>
 #include <array>
 #include <memory>
 #include <string>
@@ -27,6 +28,10 @@ namespace slideid {
 /// parameters under- or overflow (exp of the log-parameter).
 constexpr double kFrictionLowerBound[3] = {1e-4, 1e-3, 1e-6};
 constexpr double kFrictionUpperBound[3] = {10.0, 1e3, 10.0};
+/// Friction parameter i (0 a, 1 b, 2 c) brought inside the search range.
+inline double ClampToSearchRange(int i, double value) {
+  return std::clamp(value, kFrictionLowerBound[i], kFrictionUpperBound[i]);
+}
 
 /// Intervals per shooting segment for a log of `rows` rows: options.segment_steps when
 /// set, else rows / kTargetSegments within [kMinAutoSegmentSteps, kMaxAutoSegmentSteps],
@@ -163,6 +168,11 @@ class TrajectoryProblem {
 
  private:
   TrajectoryProblem() = default;
+  /// Segment of rows first_row..last_row of log `log`, starting at `state`, with its cost.
+  TrajectorySegment NewSegment(int log, int first_row, int last_row,
+                               const Eigen::Matrix<double, 6, 1>& state) const;
+  /// The sensor nuisances the options fit (parameter blocks of every segment's cost).
+  SegmentNuisances FittedNuisances() const;
   std::vector<double*> BlocksOf(TrajectorySegment& seg);
 
   std::vector<const Trajectory*> logs_;
