@@ -15,7 +15,6 @@
 // A plain program, not Google Benchmark: each run is one Identify call on a different log.
 // Logs are made and identified on --threads worker threads, each fit on one thread.
 
-#include <glog/logging.h>
 
 #include <algorithm>
 #include <atomic>
@@ -31,6 +30,7 @@
 #include <thread>
 #include <vector>
 
+#include "benchmarks/table_tool.h"
 #include "datasets/coverage_conditions.h"
 #include "estimator/identify.h"
 
@@ -132,12 +132,7 @@ struct Cell {
   }
 };
 
-std::string Fmt(const char* fmt, double v) {
-  if (!std::isfinite(v)) return "-";
-  char buf[64];
-  std::snprintf(buf, sizeof buf, fmt, v);
-  return buf;
-}
+using bench::Fmt;
 
 std::string Percent(double fraction) {
   if (!std::isfinite(fraction)) return "-";
@@ -427,13 +422,5 @@ int Main(int argc, char** argv) {
 }  // namespace slideid
 
 int main(int argc, char** argv) {
-  // Ceres logs a page for every residual block that evaluates to NaN (the equation-error fit
-  // on noisy logs does); the results record how each fit ended, so keep only errors.
-  FLAGS_minloglevel = google::GLOG_ERROR;
-  try {
-    return slideid::Main(argc, argv);
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "coverage: %s\n", e.what());
-    return 1;
-  }
+  return slideid::bench::RunTableTool("coverage", slideid::Main, argc, argv);
 }

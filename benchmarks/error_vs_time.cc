@@ -15,7 +15,6 @@
 // the scenes (scene = "all"); optionally Markdown tables and one CSV row per Identify call.
 // A plain program, not Google Benchmark: each run is one Identify call on a different log.
 
-#include <glog/logging.h>
 #include <time.h>
 #include <unistd.h>
 
@@ -32,6 +31,7 @@
 #include <tuple>
 #include <vector>
 
+#include "benchmarks/table_tool.h"
 #include "datasets/sensor_model.h"
 #include "estimator/identify.h"
 #include "fixtures/seeded_scenes.h"
@@ -273,12 +273,7 @@ struct Config {
   bool Runs(SceneKind k) const { return only_scene.empty() || only_scene == ToString(k); }
 };
 
-std::string Fmt(const char* fmt, double v) {
-  if (!std::isfinite(v)) return "-";
-  char buf[64];
-  std::snprintf(buf, sizeof buf, fmt, v);
-  return buf;
-}
+using bench::Fmt;
 
 std::string Percent(double v) {
   if (!std::isfinite(v)) return "-";
@@ -645,13 +640,5 @@ int Main(int argc, char** argv) {
 }  // namespace slideid
 
 int main(int argc, char** argv) {
-  // Ceres logs a page for every residual block that evaluates to NaN (the equation-error fit
-  // on noisy logs does); the results record how each fit ended, so keep only errors.
-  FLAGS_minloglevel = google::GLOG_ERROR;
-  try {
-    return slideid::Main(argc, argv);
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "error_vs_time: %s\n", e.what());
-    return 1;
-  }
+  return slideid::bench::RunTableTool("error_vs_time", slideid::Main, argc, argv);
 }
