@@ -190,6 +190,9 @@ struct TrajectoryOptions : LossOptions {
   /// the wrench held over each row) and a continuous motion, by two linearised nuisances
   /// per log whose uncertainty the intervals carry (estimator/mismatch_nuisances.h).
   bool correct_mismatch = true;
+  /// Start the fit a second time from longer segments and keep the lower of the two minima
+  /// of its cost (trajectory_fit.cc, "a second start"). Off: the first start's minimum.
+  bool second_start = false;
   bool IsValid(std::string* why) const;
 };
 

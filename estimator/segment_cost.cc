@@ -196,8 +196,19 @@ bool SegmentCost::Residuals(double const* const* params, double* residuals,
   return true;
 }
 
-bool SegmentCost::Simulate(double const* const* params, double* residuals,
-                           double** jacobians) const {
+bool SegmentCost::SimulatedStates(double const* const* params,
+                                  std::vector<PlanarState>* states) const {
+  std::vector<double> residuals(num_residuals());
+  states->clear();
+  try {
+    return Simulate(params, residuals.data(), nullptr, states);
+  } catch (const std::exception&) {
+    return false;
+  }
+}
+
+bool SegmentCost::Simulate(double const* const* params, double* residuals, double** jacobians,
+                           std::vector<PlanarState>* states) const {
   PlanarState s{params[0][0], params[0][1], params[0][2],
                 params[0][3], params[0][4], params[0][5]};
   const ReducedFriction abc{std::exp(params[1][0]), std::exp(params[2][0]),
@@ -215,6 +226,7 @@ bool SegmentCost::Simulate(double const* const* params, double* residuals,
   Matrix63 d_param = Matrix63::Zero();      // d(state) / d(log a, log b, log c)
   Matrix63 d_nuis = Matrix63::Zero();       // d(state) / d(o_x, o_y, delay)
   auto residual = [&](int i) {
+    if (states) states->push_back(s);
     const PlanarState& m = log_.samples[first_ + i].state;
     const int offset = use_pose_ ? 0 : 3;  // rows of the state the channels read
     const double got[3] = {use_pose_ ? s.x : s.vx, use_pose_ ? s.y : s.vy,

@@ -78,6 +78,10 @@ class SegmentCost final : public ceres::CostFunction {
   const RowLoss& row_loss() const { return loss_; }
   /// The residuals alone, with or without the row loss (diagnostics, the seed scan).
   bool Residuals(double const* const* params, double* residuals, bool with_row_loss) const;
+  /// The simulated state at every row first_row..last_row (in order) at `params`, as the
+  /// residuals see it; false where a step fails. Seeds other segmentations of the same log
+  /// (TrajectoryProblem::StatesFrom).
+  bool SimulatedStates(double const* const* params, std::vector<PlanarState>* states) const;
   int first_row() const { return first_; }
   int last_row() const { return last_; }
   double length_m() const { return length_m_; }
@@ -87,7 +91,9 @@ class SegmentCost final : public ceres::CostFunction {
                 double** jacobians) const override;
 
  private:
-  bool Simulate(double const* const* params, double* residuals, double** jacobians) const;
+  /// Writes the state at every row into `states` when not null.
+  bool Simulate(double const* const* params, double* residuals, double** jacobians,
+                std::vector<PlanarState>* states = nullptr) const;
   /// Simulate, or the residuals of the last simulation when asked for no derivatives at
   /// the same parameter values (bit for bit).
   bool RawResiduals(double const* const* params, double* residuals, double** jacobians) const;

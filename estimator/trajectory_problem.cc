@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <stdexcept>
 
 #include "estimator/parallel_for.h"
@@ -165,6 +166,42 @@ std::unique_ptr<TrajectoryProblem> TrajectoryProblem::Heads(int steps) const {
   return heads;
 }
 
+std::unique_ptr<TrajectoryProblem> TrajectoryProblem::Resegmented(int steps) const {
+  IdentifyOptions options = options_;
+  options.trajectory.segment_steps = steps;
+  auto other = std::make_unique<TrajectoryProblem>(logs_, options);
+  other->global_ = global_;
+  other->StatesFrom(*this);
+  return other;
+}
+
+void TrajectoryProblem::StatesFrom(const TrajectoryProblem& other) {
+  // The state each of other's segments simulates at each of its rows, per log.
+  std::vector<std::vector<std::optional<Vector6>>> at_row(logs_.size());
+  for (size_t k = 0; k < logs_.size(); ++k) at_row[k].resize(logs_[k]->samples.size());
+  auto* source = const_cast<TrajectoryProblem*>(&other);  // BlocksOf hands out pointers only
+  std::vector<std::vector<PlanarState>> simulated(other.segments_.size());
+  std::vector<char> ok(other.segments_.size(), 0);
+  ParallelFor(static_cast<int>(other.segments_.size()), options_.threads, [&](int j) {
+    const std::vector<double*> blocks = source->BlocksOf(source->segments_[j]);
+    std::vector<const double*> params(blocks.begin(), blocks.end());
+    ok[j] = other.segments_[j].cost->SimulatedStates(params.data(), &simulated[j]);
+  });
+  for (size_t j = 0; j < other.segments_.size(); ++j) {
+    if (!ok[j]) continue;
+    const TrajectorySegment& seg = other.segments_[j];
+    for (size_t i = 0; i < simulated[j].size(); ++i) {
+      const PlanarState& p = simulated[j][i];
+      Vector6 state;
+      state << p.x, p.y, p.theta, p.vx, p.vy, p.wz;
+      at_row[seg.log][seg.first_row + i] = state;
+    }
+  }
+  for (TrajectorySegment& seg : segments_) {
+    if (at_row[seg.log][seg.first_row]) seg.state = *at_row[seg.log][seg.first_row];
+  }
+}
+
 TrajectorySegment TrajectoryProblem::NewSegment(int log, int first_row, int last_row,
                                                 const Eigen::Matrix<double, 6, 1>& state) const {
   TrajectorySegment seg;
@@ -268,6 +305,7 @@ double TrajectoryProblem::RawCost() const {
   return std::isfinite(cost) ? cost : std::numeric_limits<double>::infinity();
 }
 
+
 namespace {
 
 // Stops a solve once the free global parameters have settled: two successive successful
@@ -285,6 +323,8 @@ class SettledCallback final : public ceres::IterationCallback {
 
   ceres::CallbackReturnType operator()(const ceres::IterationSummary& it) override {
     if (!it.step_is_successful || it.iteration == 0) return ceres::SOLVER_CONTINUE;
+    // With every global held (a profile over the states) Ceres' own tolerances end it.
+    if (std::find(free_.begin(), free_.end(), true) == free_.end()) return ceres::SOLVER_CONTINUE;
     std::vector<double> moved(free_.size(), 0.0);
     bool small = true;
     for (size_t i = 0; i < free_.size(); ++i) {

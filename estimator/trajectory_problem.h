@@ -103,6 +103,15 @@ class TrajectoryProblem {
   /// the same states: a cheaper problem, less nonlinear in the friction, whose fit seeds
   /// this one (set_point).
   std::unique_ptr<TrajectoryProblem> Heads(int steps) const;
+  /// The same logs, options and global values cut into segments of `steps` intervals (the
+  /// whole log when it is shorter), each segment's state read off this problem's simulated
+  /// trajectory (StatesFrom): a second start of the fit, on a segmentation whose states
+  /// have fewer ways to absorb what the friction should explain.
+  std::unique_ptr<TrajectoryProblem> Resegmented(int steps) const;
+  /// Sets each segment's state to `other`'s simulated state at the segment's first row,
+  /// where a segment of `other` (same logs) covers that row at other's current point;
+  /// other segments keep theirs. Carries a fit from one segmentation to another.
+  void StatesFrom(const TrajectoryProblem& other);
   /// Rows of the segments' heads of `steps` intervals over Rows().
   double HeadsFraction(int steps) const;
   /// Where the fit is: the global values and every segment's state. A point of a problem

@@ -1,0 +1,45 @@
+#!/usr/bin/env bash
+# Regenerates docs/scene-suite.md (between its generated markers): the randomized scene
+# suite of issue 17 (benchmarks/scene_suite.cc over datasets/scene_suite.h), the default
+# trajectory fit on 500 logs drawn widely, judged against the fits with 25-, 50- and
+# 100-interval segments and single shooting (fixtures/suite_check.h). A few minutes on 2 cores.
+#
+#   bash scripts/scene_suite.sh            # 500 logs: what docs/scene-suite.md shows
+#   bash scripts/scene_suite.sh --logs N   # another count; still writes the page
+#
+# BUILD_DIR (default build) is the CMake build directory to use.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+# shellcheck source=generated_section.sh
+source scripts/generated_section.sh
+
+logs=500
+case "${1:-}" in
+  --logs) logs="${2:?--logs needs a count}" ;;
+  "") ;;
+  *) echo "usage: bash scripts/scene_suite.sh [--logs N]" >&2; exit 2 ;;
+esac
+build_dir="${BUILD_DIR:-build}"
+cmake -S . -B "$build_dir" -DCMAKE_BUILD_TYPE=Release >/dev/null
+cmake --build "$build_dir" -j"$(nproc)" --target scene_suite >/dev/null
+
+work="$(mktemp -d)"
+trap 'rm -rf "$work"' EXIT
+commit="$(commit_label)"
+start=$SECONDS
+"$build_dir/bin/scene_suite" --logs "$logs" --threads "$(nproc)" --markdown "$work/suite.md" \
+  2>/dev/null >/dev/null
+"$build_dir/bin/scene_suite" --logs "$logs" --threads "$(nproc)" --second-start \
+  --markdown "$work/second.md" 2>/dev/null >/dev/null
+{
+  echo "Measured $(date -u +%Y-%m-%d) at commit $commit in $((SECONDS - start)) s"
+  echo "(\`build/bin/scene_suite --logs $logs\`, then with \`--second-start\`)."
+  echo
+  cat "$work/suite.md"
+  echo
+  echo "### With the second start (\`TrajectoryOptions::second_start\`, off by default)"
+  echo
+  head -6 "$work/second.md" | tail -4
+} > "$work/generated.md"
+splice docs/scene-suite.md "$work/generated.md"
+echo "scene_suite: wrote docs/scene-suite.md"
