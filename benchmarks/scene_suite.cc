@@ -10,7 +10,7 @@
 //
 // Usage: scene_suite [--logs N] [--first K] [--threads N] [--max-rows N] [--markdown FILE]
 //                    [--csv FILE] [--dump DIR]
-//                    [--second-start]
+//                    [--second-start] [--no-cross-check]
 
 #include <algorithm>
 #include <atomic>
@@ -41,7 +41,7 @@ struct Config {
   int threads = 1;
   int max_rows = 10000;
   std::string markdown_path, csv_path;
-  bool second_start = false;  ///< TrajectoryOptions::second_start of the default fit
+  suite::FitChoices choices;  ///< of the default fit
   std::string dump_dir;  ///< writes each log there as suite_NNNN.csv (to look at one)
 };
 
@@ -67,7 +67,8 @@ Config Parse(int argc, char** argv) {
     else if (arg == "--markdown") c.markdown_path = value();
     else if (arg == "--csv") c.csv_path = value();
     else if (arg == "--dump") c.dump_dir = value();
-    else if (arg == "--second-start") c.second_start = true;
+    else if (arg == "--second-start") c.choices.second_start = true;
+    else if (arg == "--no-cross-check") c.choices.cross_check = false;
     else throw std::invalid_argument("unknown option " + arg);
   }
   return c;
@@ -86,7 +87,8 @@ std::string Percent(int n, int of) {
 
 /// Counts over a group of logs.
 struct Tally {
-  int logs = 0, determined = 0, basin = 0, within3 = 0, narrow = 0, narrow_ok = 0;
+  int logs = 0, determined = 0, basin = 0, within3 = 0, ok_within3 = 0, narrow = 0, narrow_ok = 0;
+  int suspect = 0;  ///< logs with an identified parameter marked suspect
   std::array<int, 3> intervals{}, covered{};
   void Add(const suite::Outcome& o) {
     ++logs;
@@ -94,6 +96,10 @@ struct Tally {
     ++determined;
     basin += o.in_best_basin;
     within3 += o.max_abs_z <= 3;
+    ok_within3 += o.max_abs_z_ok <= 3;
+    bool any_suspect = false;
+    for (const ParameterEstimate& p : o.fit.parameters) any_suspect = any_suspect || p.verdict == Verdict::kSuspect;
+    suspect += any_suspect;
     bool has_narrow = false;
     for (int i = 0; i < 3; ++i) {
       if (!o.identifiable[i]) continue;
@@ -110,7 +116,9 @@ struct Tally {
 std::string TallyLine(const std::string& name, const Tally& t) {
   std::ostringstream s;
   s << "| " << name << " | " << t.logs << " | " << t.determined << " | " << Percent(t.basin, t.determined)
-    << " | " << Percent(t.within3, t.determined) << " | " << Percent(t.narrow_ok, t.narrow);
+    << " | " << Percent(t.within3, t.determined) << " | " << Percent(t.suspect, t.determined)
+    << " | " << Percent(t.ok_within3, t.determined)
+    << " | " << Percent(t.narrow_ok, t.narrow);
   for (int i = 0; i < 3; ++i) s << " | " << Percent(t.covered[i], t.intervals[i]);
   s << " |\n";
   return s.str();
@@ -150,9 +158,11 @@ std::string Report(const Config& c, const std::vector<Row>& rows) {
   s << "Logs " << c.first << " to " << c.first + c.logs - 1 << " of the suite (seed "
     << kSceneSuiteSeed << "), up to " << c.max_rows << " rows; " << failures
     << " could not be made. Default fit"
-    << (c.second_start ? " with the second start" : "") << ".\n\n";
-  s << "| logs | count | identified | best basin | all within 3 SE | narrow within 1.5% | "
-       "a covered | b covered | c covered |\n|---|---|---|---|---|---|---|---|---|\n";
+    << (c.choices.second_start ? " with the second start" : "")
+    << (c.choices.cross_check ? "" : " without the cross-check") << ".\n\n";
+  s << "| logs | count | identified | best basin | all within 3 SE | some suspect | "
+       "ok ones within 3 SE | narrow within 1.5% | a covered | b covered | c covered |\n"
+       "|---|---|---|---|---|---|---|---|---|---|---|\n";
   s << TallyLine("**all**", all);
   for (const auto& group : groups) {
     for (const auto& [name, tally] : group) s << TallyLine(name, tally);
@@ -200,7 +210,7 @@ int Main(int argc, char** argv) {
         if (!c.dump_dir.empty()) {
           WritePushLog(made.log, c.dump_dir + "/suite_" + std::to_string(row.index) + ".csv");
         }
-        row.o = suite::Judge(made, c.second_start);
+        row.o = suite::Judge(made, c.choices);
       } catch (const std::exception& e) {
         row.failure = e.what();
       }

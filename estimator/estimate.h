@@ -193,6 +193,10 @@ struct TrajectoryOptions : LossOptions {
   /// Start the fit a second time from longer segments and keep the lower of the two minima
   /// of its cost (trajectory_fit.cc, "a second start"). Off: the first start's minimum.
   bool second_start = false;
+  /// On a log of at most 300 rows, fit it again over long segments and mark
+  /// an estimate suspect when that fit lands outside its interval (trajectory_fit.cc, "a
+  /// cross-check"). Off: no second fit.
+  bool cross_check = true;
   bool IsValid(std::string* why) const;
 };
 

@@ -39,7 +39,7 @@ start=$SECONDS
   echo
   echo "### With the second start (\`TrajectoryOptions::second_start\`, off by default)"
   echo
-  head -6 "$work/second.md" | tail -4
+  sed -n 3,5p "$work/second.md"
 } > "$work/generated.md"
 splice docs/scene-suite.md "$work/generated.md"
 echo "scene_suite: wrote docs/scene-suite.md"
