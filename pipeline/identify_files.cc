@@ -18,8 +18,18 @@ namespace {
 
 // Tolerance within which two files' weights m g are the same slider's [relative].
 constexpr double kSameWeight = 1e-9;
-// What make-dataset (truth.csv) and import-log (import_report.csv) write beside their logs.
+// What make-dataset (truth.csv) and import-log (import_report.csv) write beside their logs,
+// and the name every per-file import report ends with (pipeline/import_files.h).
 const char* const kManifestNames[] = {"truth.csv", "import_report.csv"};
+constexpr const char kReportSuffix[] = "_import_report.csv";
+
+bool IsManifest(const std::string& name) {
+  const std::string suffix = kReportSuffix;
+  return std::find(std::begin(kManifestNames), std::end(kManifestNames), name) !=
+             std::end(kManifestNames) ||
+         (name.size() >= suffix.size() &&
+          name.compare(name.size() - suffix.size(), suffix.size(), suffix) == 0);
+}
 
 std::vector<std::string> ExpandAllFiles(const std::string& directory_or_glob,
                                         const std::string& extension);
@@ -237,12 +247,7 @@ std::vector<std::string> ExpandFiles(const std::string& directory_or_glob,
   std::vector<std::string> files = ExpandAllFiles(directory_or_glob, extension);
   // The manifests our own tools write beside their logs are not logs.
   files.erase(std::remove_if(files.begin(), files.end(),
-                             [](const std::string& f) {
-                               const std::string name = FileName(f);
-                               return std::find(std::begin(kManifestNames),
-                                                std::end(kManifestNames),
-                                                name) != std::end(kManifestNames);
-                             }),
+                             [](const std::string& f) { return IsManifest(FileName(f)); }),
               files.end());
   if (files.empty()) {
     throw FileError(directory_or_glob + ": names no " + extension +

@@ -44,13 +44,30 @@ ImportSummary ImportMitFiles(const std::vector<std::string>& files,
   return summary;
 }
 
+// The output name of a tripod file: its stem, or, when another input already took that
+// (the ICRA 2016 logs of different configurations share names such as exp_08_17_50.txt),
+// its folder's name and its stem; then a counter. Two inputs never map to one output.
+std::string TripodOutputStem(const std::string& file, std::set<std::string>* used) {
+  const std::filesystem::path path(file);
+  const std::string stem = path.stem().string();
+  const std::string folder = path.parent_path().filename().string();
+  std::string name = stem;
+  if (used->count(name) && !folder.empty()) name = folder + "_" + stem;
+  const std::string base = name;
+  for (int k = 2; used->count(name); ++k) name = base + "_" + std::to_string(k);
+  used->insert(name);
+  return name;
+}
+
 ImportSummary ImportTripodFiles(const std::vector<std::string>& files,
                                 const TripodImportOptions& options, const std::string& out_dir) {
   CreateDirectory(out_dir);
   ImportSummary summary;
+  // "import_report" is the MIT importer's report name: no pair file may take it.
+  std::set<std::string> used_stems{"import_report"};
   for (const std::string& file : files) {
     ++summary.files;
-    const std::string stem = out_dir + "/" + std::filesystem::path(file).stem().string();
+    const std::string stem = out_dir + "/" + TripodOutputStem(file, &used_stems);
     TripodImportReport report;
     WrenchTwistData data;
     try {
@@ -70,11 +87,13 @@ ImportSummary ImportTripodFiles(const std::vector<std::string>& files,
     }
     WriteWrenchTwistCsv(data, stem + ".csv");
     ++summary.accepted;
-    summary.accepted_lines.push_back("accepted " + stem + ".csv (" +
+    summary.accepted_lines.push_back("accepted " + stem + ".csv from " + file + " (" +
                                      std::to_string(data.rows.size()) + " of " +
-                                     std::to_string(report.pushes) + " pushes)");
+                                     std::to_string(report.pushes) + " pushes; report " + stem +
+                                     "_import_report.csv)");
   }
-  summary.report_path = out_dir + "/<file>_import_report.csv";
+  // One report per file, each named after its pairs (identify --logs skips them).
+  summary.report_path = out_dir + "/*_import_report.csv (one per file)";
   return summary;
 }
 

@@ -19,7 +19,9 @@ struct ImportSummary {
   int accepted = 0;
   std::vector<std::string> accepted_lines;  ///< "accepted DIR/x.csv (61 rows)" per file
   std::vector<std::string> rejections;      ///< one line per rejected or unreadable file
-  std::string report_path;                  ///< where the report (or reports) went
+  /// Where the report went: DIR/import_report.csv (mit-push), or DIR/*_import_report.csv,
+  /// one beside each file's pairs (zhou-tripod); identify --logs skips both kinds.
+  std::string report_path;
 };
 
 /// MIT push JSON files into DIR/<stem>.csv push logs. Throws std::runtime_error naming a

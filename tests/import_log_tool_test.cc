@@ -4,6 +4,8 @@
 // import report, the two other files the tool reads and writes.
 
 #include <gtest/gtest.h>
+
+#include <filesystem>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -253,6 +255,35 @@ TEST(ImportLogTool, TripodLogsBecomePairsThatIdentifyFits) {
   EXPECT_NEAR(r.parameters[kA].value / truth.a, 1.0, 0.02);
   ASSERT_TRUE(r.parameters[kC].identifiable);
   EXPECT_NEAR(r.parameters[kC].value / truth.c, 1.0, 0.02);
+}
+
+// Two inputs of one name (the ICRA 2016 logs of different configurations share names)
+// never map to one output: the second takes its folder's name, each is written, the count
+// says so, and identify --logs on the output reads the pairs and not the reports.
+TEST(ImportLogTool, TripodFilesOfOneNameInTwoFoldersGiveTwoOutputs) {
+  const ReducedFriction truth{0.3, 1.0, 0.045};
+  const std::string in = NewDir("tripod_same_name"), out = NewDir("tripod_same_out");
+  std::filesystem::create_directories(in + "/config_a");
+  std::filesystem::create_directories(in + "/config_b");
+  for (const char* config : {"config_a", "config_b"}) {
+    WriteZhouTripodLog(TripodLogFromPushes(SimulateSpringPushes(TripodSynthSpec(truth, 12, 5))),
+                       in + "/" + config + "/exp_08_17_50.txt");
+  }
+  const ToolRun imported =
+      RunTool("import-log", "--format zhou-tripod --out " + out + " " + in +
+                                "/config_a/exp_08_17_50.txt " + in + "/config_b/exp_08_17_50.txt");
+  ASSERT_EQ(imported.code, 0) << imported.all();
+  EXPECT_NE(imported.all().find("imported 2 of 2 files"), std::string::npos) << imported.all();
+  EXPECT_EQ(imported.all().find("<file>"), std::string::npos) << imported.all();
+  EXPECT_TRUE(std::filesystem::exists(out + "/exp_08_17_50.csv"));
+  EXPECT_TRUE(std::filesystem::exists(out + "/config_b_exp_08_17_50.csv"));
+  EXPECT_TRUE(std::filesystem::exists(out + "/exp_08_17_50_import_report.csv"));
+  EXPECT_TRUE(std::filesystem::exists(out + "/config_b_exp_08_17_50_import_report.csv"));
+  EXPECT_NE(imported.out.find(in + "/config_b/exp_08_17_50.txt"), std::string::npos)
+      << "each output names its source: " << imported.out;
+  const ToolRun fit = RunTool("identify", "--method quasi-static --logs " + out);
+  EXPECT_EQ(fit.code, 0) << fit.all();
+  EXPECT_EQ(fit.all().find("missing"), std::string::npos) << fit.all();
 }
 
 }  // namespace
