@@ -21,7 +21,8 @@ void AddReason(ParameterEstimate* p, const std::string& reason) {
 }  // namespace
 
 void JudgeEstimates(const PlausibilityContext& c, std::array<ParameterEstimate, 3>* parameters) {
-  const double mismatch = c.residual_rms / c.log_noise;
+  const double floor = std::isfinite(c.model_floor) ? c.model_floor : 0.0;
+  const double mismatch = c.residual_rms / std::hypot(c.log_noise, floor);
   for (int i = 0; i < 3; ++i) {
     ParameterEstimate& p = (*parameters)[i];
     if (!p.identifiable) {
@@ -41,8 +42,9 @@ void JudgeEstimates(const PlausibilityContext& c, std::array<ParameterEstimate, 
                        "determine it",
                        p.ci95_lo, p.ci95_hi);
       if (mismatch > kMismatchRatio) {
-        held.reason += Format(" (its residuals are %.3g times the log's own noise: the model "
-                              "does not fit it, which widens the interval)",
+        held.reason += Format(" (its residuals are %.3g times the log's own noise and the "
+                              "model's discretisation: the model does not fit it, which widens "
+                              "the interval)",
                               mismatch);
       }
       p = held;
@@ -51,9 +53,13 @@ void JudgeEstimates(const PlausibilityContext& c, std::array<ParameterEstimate, 
     p.verdict = Verdict::kOk;
     p.reason.clear();
     if (mismatch > kMismatchRatio) {
-      AddReason(&p, Format("residuals %.3g times the log's own noise (model mismatch: %.3g "
-                           "against %.3g)",
-                           mismatch, c.residual_rms, c.log_noise));
+      AddReason(&p, floor > 0 ? Format("residuals %.3g times the log's own noise and the "
+                                       "model's discretisation together (model mismatch: "
+                                       "%.3g against %.3g)",
+                                       mismatch, c.residual_rms, std::hypot(c.log_noise, floor))
+                              : Format("residuals %.3g times the log's own noise (model "
+                                       "mismatch: %.3g against %.3g)",
+                                       mismatch, c.residual_rms, c.log_noise));
     }
     if (i == kA) {
       for (const PushCapacity& log : c.logs) {

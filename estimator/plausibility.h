@@ -43,6 +43,12 @@ struct PushCapacity {
 struct PlausibilityContext {
   double residual_rms = std::numeric_limits<double>::quiet_NaN();
   double log_noise = std::numeric_limits<double>::quiet_NaN();  ///< same channels
+  /// The residuals the method's own model error leaves on an exact log, in the same
+  /// channels (0: not known). The mismatch check compares the residuals with the log's
+  /// noise and this together: a noise-free simulated log leaves residuals of the fit's
+  /// discretisation, tens of times its rounding-level noise, and that is no reason to
+  /// distrust it.
+  double model_floor = 0;
   std::vector<PushCapacity> logs;
   std::array<double, 3> seed{{std::numeric_limits<double>::quiet_NaN(),
                               std::numeric_limits<double>::quiet_NaN(),
