@@ -43,6 +43,12 @@ constexpr double kAbsurdForce_N = 1e5;       // fx, fy, fz
 constexpr double kAbsurdMoment_Nm = 1e5;     // tx, ty, tz
 constexpr double kAbsurdMass_kg = 1e4;
 constexpr double kAbsurdComHeight_m = 1e2;
+// Theta in degrees (WarnThetaInDegrees): a jump between rows of 300-420 is a wrap at +-180
+// degrees (a wrap in radians is 2 pi); a spin beyond 60 rad/s in a tenth of the turning
+// intervals is degrees per second.
+constexpr double kDegreeWrapLo = 300.0, kDegreeWrapHi = 420.0;
+constexpr double kDegreesSpin_radps = 60.0;
+constexpr double kDegreesSpinFraction = 0.1;
 constexpr double kMinGyration_m = 1e-4;      // radius of gyration sqrt(I/m)
 constexpr double kMaxGyration_m = 1e2;
 constexpr double kMinGravity_mps2 = 0.1;
@@ -428,8 +434,9 @@ void ReadSamples(const ReadContext& ctx, TextLines& in, const Header& h,
   std::vector<std::string_view> cells;
   std::array<MagnitudeTally, kNumNumeric> tally;
   RawRow row;
-  double prev_t = 0.0, prev_theta = 0.0;
+  double prev_t = 0.0, prev_theta = 0.0, prev_raw_theta = 0.0;
   int prev_line = 0, unwrapped = 0;
+  int degree_wraps = 0, first_degree_wrap = 0;  // jumps of about 360: a wrap at +-180 degrees
   while (const auto raw = in.Next()) {
     const std::string_view line = Trim(*raw);
     // fccp's comment policy would skip '#' lines anywhere; only those before the header
@@ -447,6 +454,13 @@ void ReadSamples(const ReadContext& ctx, TextLines& in, const Header& h,
                                   ShortNumber(row.v[kFz]) + " N is not below m g = " +
                                   ShortNumber(weight) + " N");
     }
+    if (!first && h.Has(kTheta)) {
+      const double jump = std::abs(row.v[kTheta] - prev_raw_theta);
+      if (jump > kDegreeWrapLo && jump < kDegreeWrapHi && ++degree_wraps == 1) {
+        first_degree_wrap = line_no;
+      }
+    }
+    const double raw_theta = row.v[kTheta];
     if (!first && h.Has(kTheta)) {
       bool shifted = false;
       if (!UnwrapAgainst(prev_theta, row.v[kTheta], shifted)) {
@@ -470,7 +484,14 @@ void ReadSamples(const ReadContext& ctx, TextLines& in, const Header& h,
     lines.push_back(line_no);
     prev_t = row.v[kT];
     prev_theta = row.v[kTheta];
+    prev_raw_theta = raw_theta;
     prev_line = line_no;
+  }
+  if (degree_wraps > 0) {
+    ctx.report.warnings.push_back(text::Located(
+        ctx.path, first_degree_wrap, "theta",
+        "theta looks like degrees: it jumps by about 360 between rows (a wrap at +-180 "
+        "degrees; " + std::to_string(degree_wraps) + " such jumps): give theta in radians"));
   }
   if (lines.empty()) ctx.Fail(h.line, "", "the header is not followed by any data row");
   if (unwrapped > 0) {
@@ -478,6 +499,29 @@ void ReadSamples(const ReadContext& ctx, TextLines& in, const Header& h,
                                " rows shifted by multiples of 2 pi");
   }
   WarnAbsurd(ctx, tally, "");
+}
+
+/// Theta in degrees, unwrapped or not, turns the slider tens of times faster than it turns:
+/// 1 rad/s becomes 57 "rad/s". Beyond kDegreesSpin_radps (nearly 10 turns a second) in at
+/// least kDegreesSpinFraction of the intervals in which it turns, no pushed or thrown
+/// object on a table spins (a disk thrown hard: 20-30 rad/s), and the log is warned of.
+void WarnThetaInDegrees(const ReadContext& ctx, const Trajectory& tr, const std::vector<int>& lines) {
+  if (!tr.columns.pose) return;
+  int turning = 0, fast = 0, first_fast = 0;
+  for (size_t u = 1; u < tr.samples.size(); ++u) {
+    const double dt = tr.samples[u].t_s - tr.samples[u - 1].t_s;
+    const double spin = std::abs(tr.samples[u].state.theta - tr.samples[u - 1].state.theta) / dt;
+    if (!(spin > 0)) continue;
+    ++turning;
+    if (spin > kDegreesSpin_radps && ++fast == 1) first_fast = lines[u];
+  }
+  if (turning == 0 || fast < kDegreesSpinFraction * turning) return;
+  ctx.report.warnings.push_back(text::Located(
+      ctx.path, first_fast, "theta",
+      "theta looks like degrees: it turns faster than " + ShortNumber(kDegreesSpin_radps) +
+          " rad/s in " + std::to_string(fast) + " of the " + std::to_string(turning) +
+          " intervals in which it turns, which no pushed or thrown object does: give theta "
+          "in radians"));
 }
 
 /// Time gaps (docs/robustness.md): the model holds a row's force over the interval to the
@@ -733,6 +777,7 @@ Trajectory ReadFromLines(const ReadContext& ctx, TextLines& in) {
   std::vector<int> lines;  // the file line of each sample, for messages
   ReadSamples(ctx, in, header, trajectory, lines, known[0]);
   CheckTimeGaps(ctx, trajectory, lines);
+  WarnThetaInDegrees(ctx, trajectory, lines);
   if (!header.Has(kVx)) VelocitiesFromPoses(ctx, trajectory, lines);
   NoteUnknownColumns(ctx);
   return trajectory;

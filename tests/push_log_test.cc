@@ -1,4 +1,5 @@
 #include "io/push_log.h"
+#include "forward_model/simulator.h"
 #include "tests/estimator_test_support.h"
 
 #include <Eigen/Geometry>
@@ -9,6 +10,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
+#include <iterator>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -444,6 +446,86 @@ TEST(PushLog, WriterRejectsMetadataThatWouldNotReadBack) {
   EXPECT_THROW(WritePushLog(tr, out), std::invalid_argument);
   tr.extra_metadata.back() = {"two words", "x"};
   EXPECT_THROW(WritePushLog(tr, out), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace slideid
+
+namespace slideid {
+namespace {
+
+// Theta in degrees gets a warning as positions in millimetres do (issue 17): the bundled
+// log with its theta in degrees, unwrapped and wrapped to (-180, 180]; a disk thrown with
+// 14 rad/s of spin in radians gets none.
+std::string WithThetaInDegrees(const std::string& text, bool wrap) {
+  std::istringstream in(text);
+  std::ostringstream out;
+  std::string line;
+  int column = -1;
+  while (std::getline(in, line)) {
+    if (line.empty() || line[0] == '#' || column < 0) {
+      if (!line.empty() && line[0] != '#') {
+        std::istringstream header(line);
+        std::string name;
+        for (int i = 0; std::getline(header, name, ','); ++i) if (name == "theta") column = i;
+      }
+      out << line << "\n";
+      continue;
+    }
+    std::istringstream cells(line);
+    std::string cell;
+    for (int i = 0; std::getline(cells, cell, ','); ++i) {
+      double value = std::stod(cell);
+      if (i == column) {
+        value *= 180.0 / M_PI;
+        if (wrap) value = std::remainder(value, 360.0);
+        cell = std::to_string(value);
+      }
+      out << (i ? "," : "") << cell;
+    }
+    out << "\n";
+  }
+  return out.str();
+}
+
+std::vector<std::string> Warnings(const std::string& text) {
+  LogReadReport report;
+  ParsePushLog(text, "log.csv", LogReadOptions{}, &report);
+  return report.warnings;
+}
+
+bool Says(const std::vector<std::string>& warnings, const std::string& what) {
+  for (const std::string& w : warnings) {
+    if (w.find(what) != std::string::npos) return true;
+  }
+  return false;
+}
+
+TEST(PushLogDegrees, ThetaInDegreesIsWarnedOf) {
+  std::ifstream in(std::string(SLIDEID_SOURCE_DIR) + "/datasets/logs/default_push.csv");
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  ASSERT_FALSE(text.empty());
+  EXPECT_FALSE(Says(Warnings(text), "degrees"));
+  const std::vector<std::string> unwrapped = Warnings(WithThetaInDegrees(text, false));
+  EXPECT_TRUE(Says(unwrapped, "theta looks like degrees")) << unwrapped.size();
+  const std::vector<std::string> wrapped = Warnings(WithThetaInDegrees(text, true));
+  EXPECT_TRUE(Says(wrapped, "theta looks like degrees")) << wrapped.size();
+}
+
+TEST(PushLogDegrees, AFastSpinInRadiansIsNotWarnedOf) {
+  Scene scene;
+  scene.slider = {0.5, 6.25e-4, 0.02, 9.81};
+  scene.friction = {0.3, 1.0, 1.0, 0.02};
+  scene.patch = ContactPatch::Disk(0.05);
+  scene.initial.vx = 1.2;
+  scene.initial.wz = 25.0;  // a hard throw's spin
+  scene.dt_s = 1e-3;
+  scene.duration_s = 0.8;
+  const SimulationResult sim = Simulate(scene);
+  ASSERT_TRUE(sim.summary.ok()) << sim.summary.message;
+  std::ostringstream out;
+  WritePushLog(sim.trajectory, out);
+  EXPECT_FALSE(Says(Warnings(out.str()), "degrees"));
 }
 
 }  // namespace
