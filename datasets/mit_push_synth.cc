@@ -46,6 +46,14 @@ Scene MakeScene(const MitSynthSpec& spec) {
   push.start_s = spec.rest_before_s;
   push.stop_s = spec.rest_before_s + spec.push_s;
   scene.pushes.push_back(push);
+  if (spec.preload_N > 0) {
+    PushSpec preload = push;
+    preload.force_N = spec.preload_N;
+    preload.amplitude_N = 0;
+    preload.start_s = 0;
+    preload.stop_s = spec.rest_before_s;
+    scene.pushes.push_back(preload);
+  }
   scene.dt_s = spec.sim_dt_s;
   scene.duration_s = spec.rest_before_s + spec.push_s + spec.rest_after_s;
   return scene;
@@ -146,8 +154,10 @@ MitSynthResult MakeMitPushRecording(const MitSynthSpec& spec) {
   auto tip_at = [&](double t) {
     const Eigen::Vector3d q = truth.Pose(std::clamp(t, push_start, push_stop));
     const Eigen::Rotation2Dd rotation(q.z());
+    const double rest = t < push_start || t > push_stop ? spec.rest_clearance_m : 0.0;
     return Eigen::Vector2d(q.head<2>() + rotation * (spec.push_point_body +
-                                                     (spec.tip_radius_m + d.tip_clearance_m) * normal_out));
+                                                     (spec.tip_radius_m + d.tip_clearance_m + rest) *
+                                                         normal_out));
   };
   const double inset = spec.stream_inset_s;
   for (double t : Clock(inset, end - inset, spec.tip_rate_hz, spec.clock_jitter, &rng)) {

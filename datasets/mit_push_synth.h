@@ -54,6 +54,12 @@ struct MitSynthSpec {
   double rest_before_s = 0.3;  ///< still, touching, before the push [s]
   double push_s = 0.9;         ///< push duration [s]
   double rest_after_s = 0.4;   ///< after the push; the tip stays where it stopped [s]
+  /// Before and after the push the tip stands this much farther from the outline [m]
+  /// (0: it rests against the object, as the MIT pushes start).
+  double rest_clearance_m = 0.0;
+  /// Before the push the tip presses the object with this force along the push direction
+  /// [N] (a pre-load; below what friction holds, so the object stays still).
+  double preload_N = 0.0;
   double sim_dt_s = 1e-3;
   Eigen::Vector3d initial_pose{0.35, -0.05, 3.0};  ///< x, y [m], theta [rad] (crosses pi)
   double object_rate_hz = 200, tip_rate_hz = 237, ft_rate_hz = 250;

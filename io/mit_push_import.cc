@@ -23,6 +23,11 @@ constexpr int kMinStreamRows = 10;
 // (the real files print 16 digits; still noise is about 0.05 N): this many identical
 // consecutive readings of fx or fy (20 ms at 250 Hz) are a stalled or saturated channel.
 constexpr int kFrozenRun = 5;
+// Two offset windows, one with the tip resting against the object, that differ by more
+// than this [N] hold a pre-load (EstimateOffset): below the smallest pre-load the MIT files
+// show (0.4 N), and above their force noise (0.05 N per sample, about 5 mN on a window's
+// median).
+constexpr double kMinPreloadN = 0.3;
 // Still samples needed for an offset estimate: 10 samples (40 ms at 250 Hz) make the
 // median's error about 0.4 sigma.
 constexpr int kMinStillSamples = 10;
@@ -318,46 +323,94 @@ Eigen::Vector2d ComponentMedian(const std::vector<const ForceSample*>& samples) 
 /// What went wrong, if anything, as the report's reason.
 using Rejection = std::optional<std::string>;
 
+// The samples outside the push on one side, split by whether the tip is clear of the
+// outline (they measure the sensor's offset) or rests against the object (they may carry a
+// real pre-load).
+struct OffsetWindow {
+  std::vector<const ForceSample*> clear, resting;
+  bool HasClear() const { return static_cast<int>(clear.size()) >= kMinStillSamples; }
+  bool HasResting() const { return static_cast<int>(resting.size()) >= kMinStillSamples; }
+};
+
+/// Where the offset is measured (docs/real-data.md, "Offsets and pre-loads"):
+///  - a window with the tip clear of the object (MitImportOptions::offset_clearance_m)
+///    measures it; with both clear and disagreeing by more than max_offset_drift_N the
+///    file is rejected for drift;
+///  - a window where the tip only rests against the object measures it too when it agrees
+///    with the other window within kMinPreloadN, or when there is no other; when it
+///    disagrees, the clear window, else the one after the push, is the offset, and the other
+///    holds a pre-load: the tip pressing the object, a real force kept in the log (the MIT
+///    pushes start "in contact with the object" and read 0.4-1.9 N more than once the tip
+///    has left). A drift of the sensor while the tip rests on both sides cannot be told
+///    from a pre-load, and is taken for one.
 Rejection EstimateOffset(const std::vector<ForceSample>& samples, double t_first_active,
                          double t_last_active, const MitImportOptions& o, Offset* offset,
                          MitImportReport* report) {
-  std::vector<const ForceSample*> before, after;
+  OffsetWindow side[2];  // before, after
   for (const ForceSample& s : samples) {
     if (!s.known) continue;
-    if (s.t < t_first_active - kGuardS) before.push_back(&s);
-    if (s.t > t_last_active + kGuardS) after.push_back(&s);
+    const int k = s.t < t_first_active - kGuardS ? 0 : s.t > t_last_active + kGuardS ? 1 : -1;
+    if (k < 0) continue;
+    (s.contact.gap_m > o.offset_clearance_m ? side[k].clear : side[k].resting).push_back(&s);
   }
-  report->offset_before_samples = static_cast<int>(before.size());
-  report->offset_after_samples = static_cast<int>(after.size());
-  if (static_cast<int>(before.size()) >= kMinStillSamples) {
-    offset->before = ComponentMedian(before);
-    offset->t_before = before.back()->t;
-  } else {
-    report->notes.push_back("no offset before the push: " + std::to_string(before.size()) +
-                            " still force samples (the streams start during the push?)");
+  // Each side's samples for the offset: the clear ones, else the resting ones.
+  std::vector<const ForceSample*> used[2];
+  std::optional<Eigen::Vector2d> median[2];
+  for (int k = 0; k < 2; ++k) {
+    used[k] = side[k].HasClear() ? side[k].clear : side[k].HasResting() ? side[k].resting
+                                                                        : std::vector<const ForceSample*>{};
+    if (!used[k].empty()) median[k] = ComponentMedian(used[k]);
   }
-  if (static_cast<int>(after.size()) >= kMinStillSamples) {
-    offset->after = ComponentMedian(after);
-    offset->t_after = after.front()->t;
+  report->offset_before_samples = static_cast<int>(used[0].size());
+  report->offset_after_samples = static_cast<int>(used[1].size());
+  if (!median[0] && !median[1]) {
+    return "force offset unknown: too few force samples outside the push before (" +
+           std::to_string(side[0].clear.size() + side[0].resting.size()) + ") and after (" +
+           std::to_string(side[1].clear.size() + side[1].resting.size()) +
+           ") it (need " + std::to_string(kMinStillSamples) + ")";
+  }
+  const bool both_clear = side[0].HasClear() && side[1].HasClear();
+  const double differ_by = median[0] && median[1] ? (*median[1] - *median[0]).norm() : 0.0;
+  if (differ_by > (both_clear ? o.max_offset_drift_N : kMinPreloadN)) {
+    if (both_clear) {
+      report->offset_drift_N = (*median[1] - *median[0]).norm();
+      return Format("force offset drift %.3g N between before (", *report->offset_drift_N) +
+             Vec(*median[0]) + ") and after (" + Vec(*median[1]) +
+             Format(") the push, both with the tip clear of the object, exceeds %.3g N "
+                    "(--max-offset-drift)", o.max_offset_drift_N);
+    }
+    // A resting side that disagrees: a clear side, else the side after the push, is the
+    // offset (a pushing tip stops pressing once the push is over: the MIT rig then reads
+    // 0.02-0.07 N), and the other side's tip presses the object.
+    const int load = side[0].HasClear() ? 1 : 0;
+    const Eigen::Vector2d preload = *median[load] - *median[1 - load];
+    report->preload_N = preload;
+    report->notes.push_back(std::string("the tip rests against the object ") +
+                           (load == 0 ? "before" : "after") +
+                           Format(" the push, pressing it with %.3g N: kept as a real force, "
+                                  "not taken for the sensor's offset", preload.norm()));
+    median[load].reset();
+    used[load].clear();
+  }
+  if (median[0]) {
+    offset->before = median[0];
+    offset->t_before = used[0].back()->t;
   } else {
-    report->notes.push_back("no offset after the push: " + std::to_string(after.size()) +
-                            " still force samples");
+    report->notes.push_back("no offset before the push");
+  }
+  if (median[1]) {
+    offset->after = median[1];
+    offset->t_after = used[1].front()->t;
+  } else {
+    report->notes.push_back("no offset after the push");
   }
   report->offset_before_N = offset->before;
   report->offset_after_N = offset->after;
-  if (!offset->before && !offset->after) {
-    return "force offset unknown: too few still force samples before (" +
-           std::to_string(before.size()) + ") and after (" + std::to_string(after.size()) +
-           ") the push (need " + std::to_string(kMinStillSamples) + ")";
-  }
   if (offset->before && offset->after) {
     report->offset_drift_N = (*offset->after - *offset->before).norm();
-    if (*report->offset_drift_N > o.max_offset_drift_N) {
-      return Format("force offset drift %.3g N between before (", *report->offset_drift_N) +
-             Vec(*offset->before) + ") and after (" + Vec(*offset->after) +
-             Format(") the push exceeds %.3g N (--max-offset-drift)", o.max_offset_drift_N);
-    }
   }
+  const std::vector<const ForceSample*>& before = used[0];
+  const std::vector<const ForceSample*>& after = used[1];
   std::vector<double> deviations;
   for (const auto* side : {&before, &after}) {
     for (const ForceSample* s : *side) deviations.push_back((s->f - offset->At(s->t)).norm());
@@ -676,7 +729,8 @@ bool MitImportOptions::IsValid(std::string* why) const {
       {"tip_radius", tip_radius_m},         {"rate", rate_hz},
       {"max_offset_drift", max_offset_drift_N}, {"max_pose_gap", max_pose_gap_s},
       {"min_push_duration", min_push_duration_s}, {"theta_jump", theta_jump_rad},
-      {"contact_tolerance", contact_tolerance_m}, {"still_speed", still_speed_mps}};
+      {"contact_tolerance", contact_tolerance_m}, {"still_speed", still_speed_mps},
+      {"offset_clearance", offset_clearance_m}};
   for (const auto& [name, value] : positive) {
     if (!(std::isfinite(value) && value > 0)) return fail(std::string(name) + " must be > 0");
   }

@@ -71,6 +71,12 @@ struct MitImportOptions {
   /// The tip touches the object when its centre is within tip_radius + this of the
   /// outline [m]: motion-capture error and the plate's machining (about 1-2 mm).
   double contact_tolerance_m = 2e-3;
+  /// A force sample measures the sensor's offset only when the tip is farther than this
+  /// from the outline (beyond its radius) [m]: the MIT pushes often start with the tip
+  /// resting against the object, pressing it with 0.4-1.9 N (the dataset paper: "the
+  /// pusher starts in contact with the object"), a real force and not an offset. 3 mm: past
+  /// the contact tolerance with a millimetre to spare for motion-capture error.
+  double offset_clearance_m = 3e-3;
   /// The tip moves when faster than this [m/s]: pushes run at 10-150 mm/s; the robot's
   /// stationary jitter is below 1 mm/s.
   double still_speed_mps = 5e-3;
@@ -113,6 +119,9 @@ struct MitImportReport {
   std::optional<Eigen::Vector2d> offset_before_N, offset_after_N;
   int offset_before_samples = 0, offset_after_samples = 0;
   std::optional<double> offset_drift_N;  ///< |after - before| when both exist
+  /// The force the tip pressed with while resting against the object before the push
+  /// (median of those samples, offset removed) [N]: kept in the log as a real force.
+  std::optional<Eigen::Vector2d> preload_N;
   double force_noise_N = 0;              ///< robust std of the still samples, offset removed
   double force_threshold_N = 0;          ///< "force above noise"
 

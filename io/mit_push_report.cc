@@ -100,6 +100,9 @@ const std::vector<std::pair<std::string, Cell>>& Columns() {
                  }});
     c.push_back({"offset_after_samples", [](R r) { return Count(r, r.offset_after_samples); }});
     c.push_back({"offset_drift_N", [](R r) { return Number(r.offset_drift_N); }});
+    c.push_back({"preload_N", [](R r) {
+                   return r.preload_N ? Number(r.preload_N->norm()) : "";
+                 }});
     c.push_back({"force_noise_N", [](R r) {
                    return r.force_threshold_N > 0 ? Number(r.force_noise_N) : "";
                  }});

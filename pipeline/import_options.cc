@@ -25,6 +25,7 @@ MitImportOptions MitOptions(const po::variables_map& vm) {
   o.rate_hz = vm["rate"].as<double>();
   o.margin_s = vm["margin"].as<double>();
   o.max_offset_drift_N = vm["max-offset-drift"].as<double>();
+  o.offset_clearance_m = vm["offset-clearance"].as<double>();
   o.max_pose_gap_s = vm["max-pose-gap"].as<double>();
   o.min_push_duration_s = vm["min-push-duration"].as<double>();
   const std::string sign = vm["force-sign"].as<std::string>();
@@ -82,7 +83,11 @@ void AddImportOptions(po::options_description* options, po::options_description*
       ("margin", po::value<double>()->default_value(0.05)->value_name("S"),
        "kept before and after the push")
       ("max-offset-drift", po::value<double>()->default_value(0.5)->value_name("N"),
-       "reject a file whose force offsets before and after the push differ by more")
+       "reject a file whose force offsets before and after the push differ by more (only "
+       "when both exist)")
+      ("offset-clearance", po::value<double>()->default_value(3e-3)->value_name("M"),
+       "the force offset is measured only where the tip is farther than this from the "
+       "object's outline; before that, a tip resting on the object is a real pre-load")
       ("max-pose-gap", po::value<double>()->default_value(0.05)->value_name("S"),
        "reject a file with a longer gap between object poses inside the push")
       ("min-push-duration", po::value<double>()->default_value(0.2)->value_name("S"),
