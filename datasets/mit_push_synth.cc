@@ -142,13 +142,15 @@ MitSynthResult MakeMitPushRecording(const MitSynthSpec& spec) {
   const double push_start = spec.rest_before_s, push_stop = spec.rest_before_s + spec.push_s;
   MitPushRecording& r = result.recording;
 
+  int pose_index = 0;
   for (double t : Clock(0.0, end, spec.object_rate_hz, spec.clock_jitter, &rng)) {
+    const bool glitch = d.glitch_every > 0 && ++pose_index % d.glitch_every == 0;
     const bool dropped = std::any_of(d.pose_gaps.begin(), d.pose_gaps.end(),
                                      [&](const auto& g) { return t >= g.first && t < g.second; });
     const Eigen::Vector3d q = truth.Pose(t);
     const double theta = q.z() + spec.angle_noise_rad * gauss(rng) + QuarterTurns(d, t) * kPi / 2;
     const double x = q.x() + spec.pose_noise_m * gauss(rng), y = q.y() + spec.pose_noise_m * gauss(rng);
-    if (!dropped) r.object_pose.push_back({spec.t_epoch_s + t, x, y, Wrap(theta)});
+    if (!dropped) r.object_pose.push_back({spec.t_epoch_s + t, x + (glitch ? d.glitch_m : 0.0), y, Wrap(theta)});
   }
   // The tip follows the contact point during the push and stays still outside it.
   auto tip_at = [&](double t) {

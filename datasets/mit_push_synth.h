@@ -34,6 +34,9 @@ struct MitSynthDefects {
   double saturation_N = 0;  ///< > 0: fx and fy clipped to +-saturation_N
   /// object_pose rows in [first, second) [s after the start] dropped (motion-capture gaps).
   std::vector<std::pair<double, double>> pose_gaps;
+  /// Every glitch_every-th object pose (0: none) is moved glitch_m away in x: a marker swap.
+  int glitch_every = 0;
+  double glitch_m = 5.0;
   /// Stored force turned by this angle [rad] (a wrong sensor frame).
   double force_frame_rad = 0;
   /// Tip moved this far further out along the edge normal [m] (a pusher that misses).

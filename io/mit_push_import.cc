@@ -163,6 +163,38 @@ std::vector<FrozenRun> DropFrozen(std::vector<MitStreamRow>* ft) {
 
 /// Unwraps theta and repairs steps near a non-zero multiple of pi/2 (model: the tracker
 /// swapped to a symmetric marker assignment; every later sample carries the same offset).
+// Motion-capture glitches: a marker swap puts the object metres away on isolated samples.
+// A pose farther than kGlitchDistanceM from the median of its kGlitchNeighbours neighbours
+// on either side is one: in the 3 samples (12 ms at 250 Hz) either side an object pushed at
+// 0.1-0.15 m/s moves under 2 mm, a tenth of that. Dropped poses are counted in the report;
+// above kMaxGlitchFraction of the stream the file is rejected, the stream untrustworthy.
+constexpr double kGlitchDistanceM = 0.02;
+constexpr int kGlitchNeighbours = 3;
+constexpr double kMaxGlitchFraction = 0.2;
+
+/// Drops the isolated outliers of an object-pose stream; returns how many.
+int DropPoseGlitches(std::vector<MitStreamRow>* pose) {
+  const int n = static_cast<int>(pose->size());
+  std::vector<char> glitch(n, 0);
+  for (int i = 0; i < n; ++i) {
+    std::vector<double> x, y;
+    for (int j = std::max(0, i - kGlitchNeighbours); j <= std::min(n - 1, i + kGlitchNeighbours); ++j) {
+      if (j == i) continue;
+      x.push_back((*pose)[j][1]);
+      y.push_back((*pose)[j][2]);
+    }
+    if (x.empty()) continue;
+    glitch[i] = std::hypot((*pose)[i][1] - Median(x), (*pose)[i][2] - Median(y)) > kGlitchDistanceM;
+  }
+  std::vector<MitStreamRow> kept;
+  for (int i = 0; i < n; ++i) {
+    if (!glitch[i]) kept.push_back((*pose)[i]);
+  }
+  const int dropped = n - static_cast<int>(kept.size());
+  *pose = std::move(kept);
+  return dropped;
+}
+
 void RepairTheta(std::vector<MitStreamRow>* pose, double threshold, MitImportReport* report) {
   double previous_raw = (*pose)[0][3];
   double previous = previous_raw;
@@ -530,6 +562,17 @@ Rejection PrepareStreams(const MitImportOptions& o, Streams* s, std::vector<Froz
   if (static_cast<int>(s->ft.size()) < kMinStreamRows) {
     return "force channel frozen (dead sensor?): " + std::to_string(r->frozen_force_samples) +
            " of " + std::to_string(r->ft_wrench.rows) + " samples repeat a reading";
+  }
+  const int poses = static_cast<int>(s->object.size());
+  r->pose_glitches = DropPoseGlitches(&s->object);
+  if (r->pose_glitches > kMaxGlitchFraction * poses) {
+    return "object_pose: " + std::to_string(r->pose_glitches) + " of " + std::to_string(poses) +
+           Format(" poses lie more than %.3g mm from their neighbours (marker swaps?): too many "
+                  "to drop", kGlitchDistanceM * 1e3);
+  }
+  if (r->pose_glitches > 0) {
+    r->notes.push_back(std::to_string(r->pose_glitches) +
+                       " object poses dropped as isolated outliers (marker swaps?)");
   }
   RepairTheta(&s->object, o.theta_jump_rad, r);
   return std::nullopt;

@@ -109,6 +109,7 @@ struct MitImportReport {
 
   StreamSummary object_pose, tip_pose, ft_wrench;
   int frozen_force_samples = 0;       ///< dropped (a repeated reading)
+  int pose_glitches = 0;              ///< object poses dropped as isolated outliers
   int theta_wraps = 0;                ///< 2 pi unwraps
   int theta_jumps_repaired = 0;       ///< steps near a non-zero multiple of pi/2 (not 2 pi)
   int theta_jumps_unrepaired = 0;     ///< steps above the threshold, not near one

@@ -77,6 +77,7 @@ const std::vector<std::pair<std::string, Cell>>& Columns() {
     AddStream(&c, "tip_pose", &MitImportReport::tip_pose);
     AddStream(&c, "ft_wrench", &MitImportReport::ft_wrench);
     c.push_back({"frozen_force_samples", [](R r) { return Count(r, r.frozen_force_samples); }});
+    c.push_back({"pose_glitches_dropped", [](R r) { return Count(r, r.pose_glitches); }});
     c.push_back({"theta_wraps", [](R r) { return Count(r, r.theta_wraps); }});
     c.push_back({"theta_jumps_repaired", [](R r) { return Count(r, r.theta_jumps_repaired); }});
     c.push_back({"theta_jumps_unrepaired",

@@ -223,6 +223,33 @@ TEST(MitPushImport, ATipTouchingWithoutPressingMeasuresTheOffset) {
   ASSERT_TRUE(r.report.offset_before_N && r.report.offset_after_N);
 }
 
+// Marker swaps: every 7th object pose 5 m off is dropped, counted, and the push imported
+// as without them (identify then recovers the truth as on the clean recording); every 3rd
+// is too many, and the file is rejected saying why.
+TEST(MitPushImport, IsolatedPoseGlitchesAreDroppedAndTooManyRejected) {
+  MitSynthSpec spec;
+  const MitImportResult clean = ImportAccepted(spec);
+  spec.defects.glitch_every = 7;
+  const MitImportResult r = ImportAccepted(spec);
+  const int poses = static_cast<int>(MakeMitPushRecording(spec).recording.object_pose.size());
+  EXPECT_NEAR(r.report.pose_glitches, poses / 7, 1);
+  ASSERT_EQ(r.log.samples.size(), clean.log.samples.size());
+  const EstimateResult fit = Identify(r.log, IdentifyOptions{});
+  const EstimateResult fit_clean = Identify(clean.log, IdentifyOptions{});
+  ASSERT_TRUE(fit.converged) << fit.message;
+  for (int i = 0; i < 3; ++i) {
+    ASSERT_TRUE(fit.parameters[i].identifiable) << ParameterName(i) << ": " << fit.parameters[i].reason;
+    // Dropping one pose in 7 changes the rows' interpolation a little: within the clean
+    // fit's own interval.
+    EXPECT_TRUE(fit_clean.parameters[i].ci95_lo <= fit.parameters[i].value &&
+                fit.parameters[i].value <= fit_clean.parameters[i].ci95_hi)
+        << ParameterName(i) << " " << fit.parameters[i].value << " vs "
+        << fit_clean.parameters[i].value;
+  }
+  spec.defects.glitch_every = 3;
+  ExpectRejected(Import(spec), "marker swaps");
+}
+
 TEST(MitPushImport, OneSidedOffsetIsUsedAndNoted) {
   MitSynthSpec spec;
   spec.rest_before_s = 0.03;  // the streams start while the push starts
