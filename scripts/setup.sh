@@ -5,6 +5,7 @@ set -euo pipefail
 
 packages=(
   build-essential cmake
+  ccache                 # compiler cache: CI's fresh clones recompile only what changed
   libeigen3-dev          # linear algebra
   libceres-dev           # robust least squares and covariance
   libboost-program-options-dev  # command lines and INI scene files
