@@ -11,5 +11,7 @@ bash scripts/build.sh
 (cd build && ctest --output-on-failure -j"$(nproc)")
 if [ "${SLIDEID_QUICK:-0}" != 1 ]; then
   bash scripts/fuzz.sh 30
-  bash scripts/sanitizers.sh
+  # The scene suite's statistics (80 logs, 5 fits each) take 134 s under the sanitizers and
+  # run no code the other tests do not: they are checked in the Release pass above.
+  bash scripts/sanitizers.sh -E '^SceneSuite\.DefaultFitOnWidelyDrawnLogs$'
 fi
