@@ -37,7 +37,7 @@ bool Given(const po::variables_map& vm, const char* option) {
 void RejectOptionsTheMethodIgnores(const po::variables_map& vm, EstimatorMethod method) {
   std::vector<const char*> unused;
   if (method != EstimatorMethod::kTrajectory) {
-    unused = {"segment", "substeps", "fit-force-bias", "fit-delay"};
+    unused = {"segment", "substeps", "fit-force-bias", "fit-delay", "no-cross-check"};
   }
   if (method == EstimatorMethod::kClosedForm) {
     unused.insert(unused.end(), {"loss", "max-iterations"});
@@ -70,6 +70,7 @@ IdentifyOptions ReadEstimatorOptions(const po::variables_map& vm) {
   o.trajectory.segment_steps = vm["segment"].as<int>();
   o.trajectory.substeps = vm["substeps"].as<int>();
   o.trajectory.fit_force_bias = vm.count("fit-force-bias") > 0;
+  o.trajectory.cross_check = vm.count("no-cross-check") == 0;
   if (vm.count("fit-delay")) {
     o.trajectory.fit_delay = Choose<DelayFit>(
         vm, "fit-delay", {{"shared", DelayFit::kShared}, {"per-log", DelayFit::kPerLog}});
@@ -139,6 +140,8 @@ void AddIdentifyOptions(po::options_description* options, po::options_descriptio
        "robust loss: huber, cauchy, none (not closed-form)")
       ("fit-force-bias", "trajectory only: fit a constant offset (x, y) of each log's force "
                          "channel, with its interval")
+      ("no-cross-check", "trajectory only: on a log of at most 300 rows, do not fit it again over "
+                         "long segments to mark estimates that depend on how it is cut")
       ("fit-delay", po::value<std::string>()->implicit_value("shared")->value_name("MODE"),
        "trajectory only: fit the delay of the force stream against the poses, one for all "
        "logs (shared, the default) or one per log (per-log)")

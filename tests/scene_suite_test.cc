@@ -17,7 +17,9 @@
 #include "datasets/sensor_model.h"
 #include "fixtures/suite_check.h"
 #include "forward_model/simulator.h"
+#include "io/push_log.h"
 #include "io/scene_file.h"
+#include "tests/estimator_test_support.h"
 
 namespace slideid {
 namespace {
@@ -106,6 +108,19 @@ TEST(SceneSuite, CrossCheckMarksAnEstimateThatDependsOnTheSegmentation) {
   EXPECT_NE(checked.parameters[kA].reason.find("depends on how the log is cut"), std::string::npos)
       << checked.parameters[kA].reason;
   EXPECT_EQ(checked.status, TerminationStatus::kConvergedWithCaveats);
+}
+
+// The same from the command line: identify marks the estimate, --no-cross-check does not.
+TEST(SceneSuite, IdentifyCrossChecksUnlessToldNot) {
+  const std::string log = testing::TempPath("suite_471.csv");
+  WritePushLog(MakeSuiteLog(471).log, log);
+  const testing::ToolRun checked = testing::RunTool("identify", "--log " + log);
+  EXPECT_NE(checked.all().find("depends on how the log is cut"), std::string::npos) << checked.all();
+  const testing::ToolRun unchecked = testing::RunTool("identify", "--no-cross-check --log " + log);
+  EXPECT_EQ(unchecked.code, 0) << unchecked.all();
+  EXPECT_EQ(unchecked.all().find("depends on how the log is cut"), std::string::npos) << unchecked.all();
+  const testing::ToolRun wrong = testing::RunTool("identify", "--method closed-form --no-cross-check --log " + log);
+  EXPECT_NE(wrong.code, 0) << wrong.all();
 }
 
 Trajectory HoldOutLog(const std::string& scene_file, ReducedFriction* truth) {
