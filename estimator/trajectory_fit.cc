@@ -214,7 +214,24 @@ int SeedFromHeads(TrajectoryProblem* problem, const SeedCandidates& candidates,
   return iterations;
 }
 
-// ---- a second start ----------------------------------------------------------------------
+// ---- long segments: a second start and a cross-check ------------------------------------
+
+// Intervals per segment of a long segmentation of a one-log problem: kLongSegmentFactor
+// times its longest segment, at least kMinLongSegmentSteps, the whole log when shorter; 0
+// when one segment already spans the log.
+constexpr int kLongSegmentFactor = 3;
+constexpr int kMinLongSegmentSteps = 100;
+int LongSegmentSteps(const TrajectoryProblem& problem) {
+  const int rows = static_cast<int>(problem.log(0).samples.size());
+  int longest = 0;
+  for (const TrajectorySegment& seg : problem.segments()) {
+    longest = std::max(longest, seg.last_row - seg.first_row);
+  }
+  const int steps = std::min(rows - 1, std::max(kMinLongSegmentSteps, kLongSegmentFactor * longest));
+  return steps > longest ? steps : 0;
+}
+
+// A second start.
 //
 // Short shooting segments have minima of their own: a segment that starts near sticking can
 // settle with its start velocity in another mode, and the friction then explains what the
@@ -222,8 +239,7 @@ int SeedFromHeads(TrajectoryProblem* problem, const SeedCandidates& candidates,
 // with 37-interval segments, -1.2% with 50 and 0.0% with 100, each interval excluding the
 // others). Longer segments leave their states fewer ways to absorb the friction's work:
 // a segment's later rows are simulated from its start instead of fitted. So the fit is
-// started a second time: over segments of kSecondStartFactor times the length (at least
-// kMinSecondStartSteps intervals, the whole log when shorter), from where the first ended,
+// started a second time: over long segments (LongSegmentSteps), from where the first ended,
 // and carried back to the fit's own segments from there. The two ends are compared on the
 // fit's own cost, which is common to both; the lower is kept.
 //
@@ -232,36 +248,24 @@ int SeedFromHeads(TrajectoryProblem* problem, const SeedCandidates& candidates,
 // basin (87.2% with it, 87.8% without) nor how often every estimate lies within 3 standard
 // errors (89.8% both), at about a third more time: where the default fit is off, its own
 // segmentation's lowest minimum is off too, which no second start on it can fix.
-constexpr int kSecondStartFactor = 3;
-constexpr int kMinSecondStartSteps = 100;
 
-/// What the second start found: whether the fit moved to it, and the relative cost.
+/// What the second start found: whether the fit moved to it, and the two costs.
 struct SecondStart {
-  bool tried = false;
   bool moved = false;
   double cost_first = 0, cost_second = 0;
-  std::array<double, 3> long_friction{};  ///< where the long segments ended
-  int steps = 0;                          ///< intervals per long segment
+  int steps = 0;                   ///< intervals per long segment
   int iterations = 0;
-  ceres::Solver::Summary summary;         ///< of the fit's own solve from the second start
+  ceres::Solver::Summary summary;  ///< of the fit's own solve from the second start
 };
 
 SecondStart TrySecondStart(TrajectoryProblem* problem, const std::vector<bool>& free,
                            bool stage) {
   SecondStart out;
-  const int rows = static_cast<int>(problem->log(0).samples.size());
-  int longest = 0;
-  for (const TrajectorySegment& seg : problem->segments()) {
-    longest = std::max(longest, seg.last_row - seg.first_row);
-  }
-  const int steps = std::min(rows - 1, std::max(kMinSecondStartSteps, kSecondStartFactor * longest));
-  if (steps <= longest) return out;  // one segment already spans the log
-  std::unique_ptr<TrajectoryProblem> wide = problem->Resegmented(steps);
-  out.tried = true;
-  out.steps = steps;
+  out.steps = LongSegmentSteps(*problem);
+  if (out.steps == 0) return out;
+  std::unique_ptr<TrajectoryProblem> wide = problem->Resegmented(out.steps);
   const ceres::Solver::Summary wide_summary = wide->Solve(free, /*stage=*/true);
   out.iterations += static_cast<int>(wide_summary.iterations.size());
-  out.long_friction = wide->Friction();
   if (!(wide->RawCost() < std::numeric_limits<double>::infinity())) return out;
   const TrajectoryProblem::Point first = problem->point();
   out.cost_first = problem->RawCost();
@@ -1127,19 +1131,16 @@ void RefitFromPooled(const Trajectory& log, int k, const TrajectoryProblem& pool
 // datasets/scene_suite.h: of 500 logs, 22% of those with 100-299 rows had an estimate more
 // than 3 standard errors from the truth, most of them "ok"; a 176-row free slide gave
 // a = 1.04 [0.48, 2.26] for a truth of 0.285). Such a log is cheap: it is fitted a second
-// time over segments kCrossCheckFactor times as long (at least kCrossCheckMinSteps
-// intervals, the whole log when shorter), from its own seeds, and an estimate that differs
-// from that fit's by more than both fits' errors admit (Consistent) is marked suspect. The estimate is not
-// replaced: neither fit is known to be the better one, and the long segments' interval is
-// only white-noise.
+// time over long segments (LongSegmentSteps), from its own seeds, and an estimate that
+// differs from that fit's by more than both fits' errors admit (Consistent) is marked
+// suspect. The estimate is not replaced: neither fit is known to be the better one, and the
+// long segments' interval is only white-noise.
 // Up to 300 rows, where the suite's failures gather (logs 0-199: 13 of 65 logs beyond 3
 // standard errors; the check marks 8 logs suspect, 5 of them among those 13, and leaves
 // 87.7% of the logs with no "ok" estimate beyond 3 standard errors, from 80.0%). On logs of
 // 300-999 rows it caught 2 of 4 such logs at the price of 11 logs marked suspect for
 // nothing, and it would cost a second fit where fits are no longer cheap.
 constexpr int kCrossCheckMaxRows = 300;
-constexpr int kCrossCheckFactor = 3;
-constexpr int kCrossCheckMinSteps = 100;
 
 // Two estimates of one parameter from one log agree when their log-difference is within the
 // first's 95% quantile times the root sum of their squared relative standard errors: their
@@ -1159,15 +1160,10 @@ void CrossCheck(const Trajectory& log, const IdentifyOptions& options, FitOutcom
       r.status == TerminationStatus::kTooLittleExcitation) {
     return;
   }
-  int longest = 0;
-  for (const TrajectorySegment& seg : first->problem->segments()) {
-    longest = std::max(longest, seg.last_row - seg.first_row);
-  }
   IdentifyOptions other = options;
   other.trajectory.cross_check = false;
-  other.trajectory.segment_steps =
-      std::min(rows - 1, std::max(kCrossCheckMinSteps, kCrossCheckFactor * longest));
-  if (other.trajectory.segment_steps <= longest) return;  // one segment already
+  other.trajectory.segment_steps = LongSegmentSteps(*first->problem);
+  if (other.trajectory.segment_steps == 0) return;
   const EstimateResult second = Fit({&log}, other, nullptr).result;
   if (!second.converged) return;
   for (int i = 0; i < 3; ++i) {
@@ -1181,8 +1177,7 @@ void CrossCheck(const Trajectory& log, const IdentifyOptions& options, FitOutcom
                         other.trajectory.segment_steps, q.value);
     }
   }
-  const bool solve_converged = r.converged;
-  r.Conclude(solve_converged);
+  r.Conclude(r.converged);  // the status follows the new verdicts
 }
 
 }  // namespace

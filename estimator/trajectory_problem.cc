@@ -305,7 +305,6 @@ double TrajectoryProblem::RawCost() const {
   return std::isfinite(cost) ? cost : std::numeric_limits<double>::infinity();
 }
 
-
 namespace {
 
 // Stops a solve once the free global parameters have settled: two successive successful
