@@ -161,8 +161,6 @@ std::vector<FrozenRun> DropFrozen(std::vector<MitStreamRow>* ft) {
   return runs;
 }
 
-/// Unwraps theta and repairs steps near a non-zero multiple of pi/2 (model: the tracker
-/// swapped to a symmetric marker assignment; every later sample carries the same offset).
 // Motion-capture glitches: a marker swap puts the object metres away on isolated samples.
 // A pose farther than kGlitchDistanceM from the median of its kGlitchNeighbours neighbours
 // on either side is one: in the 3 samples (12 ms at 250 Hz) either side an object pushed at
@@ -195,6 +193,8 @@ int DropPoseGlitches(std::vector<MitStreamRow>* pose) {
   return dropped;
 }
 
+/// Unwraps theta and repairs steps near a non-zero multiple of pi/2 (model: the tracker
+/// swapped to a symmetric marker assignment; every later sample carries the same offset).
 void RepairTheta(std::vector<MitStreamRow>* pose, double threshold, MitImportReport* report) {
   double previous_raw = (*pose)[0][3];
   double previous = previous_raw;
@@ -405,7 +405,7 @@ Rejection EstimateOffset(const std::vector<ForceSample>& samples, double t_first
   const double differ_by = median[0] && median[1] ? (*median[1] - *median[0]).norm() : 0.0;
   if (differ_by > (both_clear ? o.max_offset_drift_N : kMinPreloadN)) {
     if (both_clear) {
-      report->offset_drift_N = (*median[1] - *median[0]).norm();
+      report->offset_drift_N = differ_by;
       return Format("force offset drift %.3g N between before (", *report->offset_drift_N) +
              Vec(*median[0]) + ") and after (" + Vec(*median[1]) +
              Format(") the push, both with the tip clear of the object, exceeds %.3g N "
@@ -428,13 +428,17 @@ Rejection EstimateOffset(const std::vector<ForceSample>& samples, double t_first
     offset->before = median[0];
     offset->t_before = used[0].back()->t;
   } else {
-    report->notes.push_back("no offset before the push");
+    report->notes.push_back("no offset before the push: " +
+                            std::to_string(side[0].clear.size() + side[0].resting.size()) +
+                            " force samples outside it (the streams start during the push?)");
   }
   if (median[1]) {
     offset->after = median[1];
     offset->t_after = used[1].front()->t;
   } else {
-    report->notes.push_back("no offset after the push");
+    report->notes.push_back("no offset after the push: " +
+                            std::to_string(side[1].clear.size() + side[1].resting.size()) +
+                            " force samples outside it");
   }
   report->offset_before_N = offset->before;
   report->offset_after_N = offset->after;
