@@ -85,33 +85,7 @@ std::string Percent(int n, int of) {
   return of ? Fmt("%.1f%%", 100.0 * n / of) + " (" + std::to_string(n) + "/" + std::to_string(of) + ")" : "-";
 }
 
-/// Counts over a group of logs.
-struct Tally {
-  int logs = 0, determined = 0, basin = 0, within3 = 0, ok_within3 = 0, narrow = 0, narrow_ok = 0;
-  int suspect = 0;  ///< logs with an identified parameter marked suspect
-  std::array<int, 3> intervals{}, covered{};
-  void Add(const suite::Outcome& o) {
-    ++logs;
-    if (!o.determined) return;
-    ++determined;
-    basin += o.in_best_basin;
-    within3 += o.max_abs_z <= 3;
-    ok_within3 += o.max_abs_z_ok <= 3;
-    bool any_suspect = false;
-    for (const ParameterEstimate& p : o.fit.parameters) any_suspect = any_suspect || p.verdict == Verdict::kSuspect;
-    suspect += any_suspect;
-    bool has_narrow = false;
-    for (int i = 0; i < 3; ++i) {
-      if (!o.identifiable[i]) continue;
-      ++intervals[i];
-      covered[i] += o.covered[i];
-      const ParameterEstimate& p = o.fit.parameters[i];
-      has_narrow = has_narrow || 0.5 * (p.ci95_hi - p.ci95_lo) / p.value < 0.01;
-    }
-    narrow += has_narrow;
-    narrow_ok += has_narrow && !o.narrow_but_off;
-  }
-};
+using suite::Tally;
 
 std::string TallyLine(const std::string& name, const Tally& t) {
   std::ostringstream s;

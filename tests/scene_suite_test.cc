@@ -27,33 +27,15 @@ namespace {
 constexpr int kLogs = 80;
 constexpr int kMaxRows = 1500;
 
-struct Counts {
-  int determined = 0, in_basin = 0, within3 = 0, ok_within3 = 0, narrow = 0, narrow_ok = 0;
-  std::array<int, 3> intervals{}, covered{};
-};
-
-Counts RunSuite() {
-  Counts c;
+suite::Tally RunSuite() {
+  suite::Tally c;
   SceneSuiteLimits limits;
   limits.max_rows = kMaxRows;
   for (int k = 0; k < kLogs; ++k) {
     const SuiteLog made = MakeSuiteLog(k, kSceneSuiteSeed, limits);
     const suite::Outcome o = suite::Judge(made);
+    c.Add(o);
     if (!o.determined) continue;
-    ++c.determined;
-    c.in_basin += o.in_best_basin;
-    c.within3 += o.max_abs_z <= 3;
-    c.ok_within3 += o.max_abs_z_ok <= 3;
-    bool narrow = false;
-    for (int i = 0; i < 3; ++i) {
-      if (!o.identifiable[i]) continue;
-      ++c.intervals[i];
-      c.covered[i] += o.covered[i];
-      const ParameterEstimate& p = o.fit.parameters[i];
-      narrow = narrow || 0.5 * (p.ci95_hi - p.ci95_lo) / p.value < 0.01;
-    }
-    c.narrow += narrow;
-    c.narrow_ok += narrow && !o.narrow_but_off;
     if (o.max_abs_z > 3 || !o.in_best_basin) {
       std::printf("  log %d (%s): max |z| %.2f, best basin from %s%s\n", k,
                   made.Describe().c_str(), o.max_abs_z, o.best_from.c_str(),
@@ -64,9 +46,9 @@ Counts RunSuite() {
 }
 
 TEST(SceneSuite, DefaultFitOnWidelyDrawnLogs) {
-  const Counts c = RunSuite();
+  const suite::Tally c = RunSuite();
   ASSERT_GE(c.determined, kLogs * 9 / 10) << "too many logs identified nothing";
-  const double basin = double(c.in_basin) / c.determined;
+  const double basin = double(c.basin) / c.determined;
   const double within3 = double(c.within3) / c.determined;
   const double ok_within3 = double(c.ok_within3) / c.determined;
   std::printf("%d logs identified: best basin %.1f%%, within 3 SE %.1f%% (ok ones %.1f%%), "
