@@ -13,20 +13,7 @@ cd "$(dirname "$0")/.."
 # shellcheck source=generated_section.sh
 source scripts/generated_section.sh
 
-logs=200
-case "${1:-}" in
-  --logs) logs="${2:?--logs needs a count}" ;;
-  "") ;;
-  *) echo "usage: bash scripts/coverage.sh [--logs N]" >&2; exit 2 ;;
-esac
-build_dir="${BUILD_DIR:-build}"
-cmake -S . -B "$build_dir" -DCMAKE_BUILD_TYPE=Release >/dev/null
-cmake --build "$build_dir" -j"$(nproc)" --target coverage >/dev/null
-
-work="$(mktemp -d)"
-trap 'rm -rf "$work"' EXIT
-commit="$(commit_label)"
-start=$SECONDS
+suite_setup 200 coverage "$@"
 
 "$build_dir/bin/coverage" --logs "$logs" --threads "$(nproc)" --csv "$work/all.csv" \
   --markdown "$work/all.md" | tee "$work/all.txt"

@@ -13,20 +13,7 @@ cd "$(dirname "$0")/.."
 # shellcheck source=generated_section.sh
 source scripts/generated_section.sh
 
-logs=500
-case "${1:-}" in
-  --logs) logs="${2:?--logs needs a count}" ;;
-  "") ;;
-  *) echo "usage: bash scripts/scene_suite.sh [--logs N]" >&2; exit 2 ;;
-esac
-build_dir="${BUILD_DIR:-build}"
-cmake -S . -B "$build_dir" -DCMAKE_BUILD_TYPE=Release >/dev/null
-cmake --build "$build_dir" -j"$(nproc)" --target scene_suite >/dev/null
-
-work="$(mktemp -d)"
-trap 'rm -rf "$work"' EXIT
-commit="$(commit_label)"
-start=$SECONDS
+suite_setup 500 scene_suite "$@"
 "$build_dir/bin/scene_suite" --logs "$logs" --threads "$(nproc)" --markdown "$work/suite.md" \
   2>/dev/null >/dev/null
 "$build_dir/bin/scene_suite" --logs "$logs" --threads "$(nproc)" --second-start \
