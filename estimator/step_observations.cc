@@ -45,7 +45,7 @@ std::vector<StepObservation> ExtractStepObservations(const Trajectory& logged) {
     return std::hypot(b.fx - a.fx, b.fy - a.fy) > kForceSwitchFraction * max_push;
   };
   steps.reserve(log.samples.size() - 1);
-  const bool has_mode = log.columns.step_info;
+  const bool has_mode = log.columns.step_info || log.columns.mode;
   for (size_t u = 0; u + 1 < log.samples.size(); ++u) {
     const TrajectorySample& a = log.samples[u];
     const TrajectorySample& b = log.samples[u + 1];
@@ -55,7 +55,8 @@ std::vector<StepObservation> ExtractStepObservations(const Trajectory& logged) {
     o.start = a.state;
     o.end = b.state;
     o.applied = a.applied;
-    o.start_velocity_known = log.columns.velocity || u > 0;
+    o.start_velocity_known = log.columns.velocity || !StartsRun(log, u);
+    o.across_gap = StartsRun(log, u + 1);
     o.near_force_switch =
         !logged.columns.velocity && ((u > 0 && switches(u - 1, u)) || switches(u, u + 1));
     const double h = o.h_s;
@@ -92,7 +93,7 @@ StepNoise ReadStepNoise(const Trajectory& log) {
   }
   std::vector<double> intervals;
   for (size_t u = 0; u + 1 < log.samples.size(); ++u) {
-    intervals.push_back(log.samples[u + 1].t_s - log.samples[u].t_s);
+    if (!StartsRun(log, u + 1)) intervals.push_back(log.samples[u + 1].t_s - log.samples[u].t_s);
   }
   if (intervals.empty()) return n;
   const double h = Median(intervals);
@@ -111,6 +112,10 @@ bool SlidingStep(const StepObservation& step, const StepNoise& noise, double rad
                  EstimateResult* result) {
   if (step.logged_stick) {
     result->Exclude("sticking");
+    return false;
+  }
+  if (step.across_gap) {
+    result->Exclude("across a gap in the log");
     return false;
   }
   if (!step.start_velocity_known) {

@@ -28,9 +28,12 @@ struct StepObservation {
   /// The log says this step stuck (mode column), or, without a mode column, the end
   /// velocity is exactly zero.
   bool logged_stick = false;
-  /// False for the first step of a poses-only log: the kinematic map gives no velocity at
-  /// the first row, so this step's start velocity is unknown.
+  /// False for the first step of each run of a poses-only log: the kinematic map gives no
+  /// velocity at a run's first row, so this step's start velocity is unknown.
   bool start_velocity_known = true;
+  /// The step ends at a row marked `start`: it spans a gap in the record, and no model step
+  /// joins its two rows.
+  bool across_gap = false;
   /// Velocities differentiated from poses, and the applied force switches (by more than
   /// kForceSwitchFraction of the log's largest push) at the row before, at, or after this
   /// step: a differentiated velocity is the mean over the interval before its row, so the

@@ -138,9 +138,14 @@ TrajectoryProblem::TrajectoryProblem(const std::vector<const Trajectory*>& logs,
   }
   for (int k = 0; k < n; ++k) {
     const Trajectory& log = *logs[k];
-    const int rows = static_cast<int>(log.samples.size());
-    for (const auto& [first, last] : CutSegments(rows, TrajectorySegmentSteps(rows, t))) {
-      segments_.push_back(NewSegment(k, first, last, SeedState(log, first, last)));
+    const int steps = TrajectorySegmentSteps(static_cast<int>(log.samples.size()), t);
+    // No segment spans a gap: each run (forward_model/trajectory.h) is cut on its own.
+    for (const auto& [run_first, run_last] : Runs(log)) {
+      for (auto [first, last] : CutSegments(run_last - run_first + 1, steps)) {
+        first += run_first;
+        last += run_first;
+        segments_.push_back(NewSegment(k, first, last, SeedState(log, first, last)));
+      }
     }
   }
   if (segments_.empty()) {

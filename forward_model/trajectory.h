@@ -13,7 +13,9 @@
 
 namespace slideid {
 
-/// Mode column of a log row: the first row is `start`.
+/// Mode column of a log row. `start` marks the first row of a run: the first row, and the
+/// first row after a hole in the record (a motion-capture gap), where the step into the row
+/// is not modelled and a pose-only log knows no velocity.
 enum class SampleMode { kStart, kSlide, kStick };
 
 /// One log row at time t.
@@ -30,7 +32,7 @@ struct TrajectorySample {
   Eigen::Vector2d ecp_world = Eigen::Vector2d::Zero();  ///< ax, ay [m]
   double pt = 0.0, po = 0.0, pr = 0.0;                  ///< friction impulses
   double sigma = 0.0;                                   ///< [m/s]
-  SampleMode mode = SampleMode::kStart;
+  SampleMode mode = SampleMode::kSlide;  ///< the simulator and the readers set kStart on row 0
 };
 
 /// Which column groups a log has (read) or should have (write).
@@ -42,6 +44,9 @@ struct LogColumns {
   bool moments = false;    ///< tx, ty, tz (residual moments when push points are written)
   bool push_point = false; ///< px, py, pz
   bool step_info = true;   ///< ax, ay, pt, po, pr, sigma, mode
+  /// The mode column alone (a log whose rows are split into runs by gaps); written whenever
+  /// a row after the first starts a run, whatever this says.
+  bool mode = false;
 };
 
 /// A push log: known slider properties (metadata), optional truth, and samples.
@@ -57,9 +62,19 @@ struct Trajectory {
   std::vector<TrajectorySample> samples;
 };
 
+/// Whether `row` starts a run: the first row, or a row marked `start` after a gap.
+bool StartsRun(const Trajectory& log, std::size_t row);
+
+/// Whether any row after the first starts a run (the log has gaps).
+bool HasGaps(const Trajectory& log);
+
+/// The runs of rows between gaps, as (first row, last row), in order; the whole log when
+/// it has none. Empty for an empty log.
+std::vector<std::pair<int, int>> Runs(const Trajectory& log);
+
 /// Overwrites every sample's velocity by the backward-Euler kinematic map of the poses,
-/// v^{u+1} = (q^{u+1} - q^u) / (t_{u+1} - t_u) (log-format.md); the first row's is set to 0
-/// (unknown). What a poses-only log means, wherever it came from.
+/// v^{u+1} = (q^{u+1} - q^u) / (t_{u+1} - t_u) (log-format.md); a run's first row's is set to
+/// 0 (unknown). What a poses-only log means, wherever it came from.
 void SetVelocitiesFromPoses(Trajectory* log);
 
 }  // namespace slideid

@@ -622,11 +622,38 @@ Rejection FindPush(const Streams& s, const MitImportOptions& o, Push* push, MitI
   return CheckSign(push->above, push->offset, o, r);
 }
 
+/// The object-pose gaps longer than o.max_pose_gap_s that overlap [start, end], as
+/// (last pose before, first pose after) [s, stream clock].
+std::vector<std::pair<double, double>> PoseGaps(const Streams& s, double start, double end,
+                                                const MitImportOptions& o,
+                                                MitImportReport* r) {
+  std::vector<std::pair<double, double>> gaps;
+  for (std::size_t i = 1; i < s.object.size(); ++i) {
+    const double t0 = s.object[i - 1][0], t1 = s.object[i][0];
+    if (t1 < start || t0 > end) continue;
+    r->largest_pose_gap_in_window_s = std::max(r->largest_pose_gap_in_window_s, t1 - t0);
+    if (t1 - t0 > o.max_pose_gap_s) gaps.emplace_back(t0, t1);
+  }
+  return gaps;
+}
+
+/// How much of the push [push_start, push_end] has poses: its length less the gaps [s].
+double PushOutsideGaps(double push_start, double push_end,
+                       const std::vector<std::pair<double, double>>& gaps) {
+  double kept = push_end - push_start;
+  for (const auto& [t0, t1] : gaps) {
+    kept -= std::max(0.0, std::min(t1, push_end) - std::max(t0, push_start));
+  }
+  return kept;
+}
+
 /// Step 7: the push plus the margins, inside every stream; rejects a short push, a frozen
-/// force or a long motion-capture gap inside it, or an absurd number of rows.
+/// force inside it, motion-capture gaps that leave too little of it, or an absurd number of
+/// rows. Gaps longer than o.max_pose_gap_s inside the window go to `gaps`: the log is split
+/// there (step 8).
 Rejection ChooseWindow(const Streams& s, const Push& push, const std::vector<FrozenRun>& frozen,
                        const MitImportOptions& o, double* start, double* end,
-                       MitImportReport* r) {
+                       std::vector<std::pair<double, double>>* gaps, MitImportReport* r) {
   const double push_start = push.above.front()->t, push_end = push.above.back()->t;
   if (push_end - push_start < o.min_push_duration_s) {
     return Format("log too short: the push lasts %.3g s (need %.3g s, --min-push-duration)",
@@ -642,15 +669,18 @@ Rejection ChooseWindow(const Streams& s, const Push& push, const std::vector<Fro
              " samples inside the push window (saturated or stalled sensor)";
     }
   }
-  for (std::size_t i = 1; i < s.object.size(); ++i) {
-    const double t0 = s.object[i - 1][0], t1 = s.object[i][0];
-    if (t1 < *start || t0 > *end) continue;
-    r->largest_pose_gap_in_window_s = std::max(r->largest_pose_gap_in_window_s, t1 - t0);
-  }
-  if (r->largest_pose_gap_in_window_s > o.max_pose_gap_s) {
-    return Format("object_pose gap of %.0f ms inside the push window (more than %.0f ms, "
-                  "--max-pose-gap)",
-                  r->largest_pose_gap_in_window_s * 1e3, o.max_pose_gap_s * 1e3);
+  *gaps = PoseGaps(s, *start, *end, o, r);
+  const double kept = PushOutsideGaps(push_start, push_end, *gaps);
+  if (kept < o.min_push_duration_s) {
+    std::string which;
+    for (const auto& [t0, t1] : *gaps) {
+      which += (which.empty() ? "" : ", ") + Format("%.0f ms at %.3f s", (t1 - t0) * 1e3,
+                                                    t0 - push_start);
+    }
+    return Format("object_pose gaps leave %.3g s of the %.3g s push (need %.3g s, "
+                  "--min-push-duration; gaps over --max-pose-gap split the log): ",
+                  kept, push_end - push_start, o.min_push_duration_s) + which +
+           " after the push starts";
   }
   if ((*end - *start) * o.rate_hz >= kMaxRows) {
     return Format("push window of %.3g s at %.3g Hz: more rows than any push needs (times "
@@ -659,8 +689,17 @@ Rejection ChooseWindow(const Streams& s, const Push& push, const std::vector<Fro
   return std::nullopt;
 }
 
-/// Step 8: the rows on one clock from `start` to `end`, and their contact statistics.
+/// Whether time t falls strictly inside one of `gaps`, where no pose is measured.
+bool InGap(double t, const std::vector<std::pair<double, double>>& gaps) {
+  return std::any_of(gaps.begin(), gaps.end(),
+                     [t](const auto& g) { return t > g.first && t < g.second; });
+}
+
+/// Step 8: the rows on one clock from `start` to `end`, and their contact statistics. Rows
+/// inside a pose gap are left out, and the row after one is marked `start`: a new run, so
+/// that no model step spans the gap (forward_model/trajectory.h).
 Trajectory BuildLog(const Streams& s, const Offset& offset, double start, double end,
+                    const std::vector<std::pair<double, double>>& pose_gaps,
                     const MitImportOptions& o, MitImportReport* r) {
   const double dt = 1.0 / o.rate_hz;
   const int rows = static_cast<int>(std::floor((end - start) / dt + 1e-9)) + 1;
@@ -668,7 +707,6 @@ Trajectory BuildLog(const Streams& s, const Offset& offset, double start, double
   r->time_origin_s = start;
   r->window_start_s = 0;
   r->window_end_s = (rows - 1) * dt;
-  r->rows = rows;
   Trajectory log;
   log.slider = o.slider;
   log.patch_spec = ContactPatch::Parse(o.patch_spec).Spec();
@@ -677,10 +715,17 @@ Trajectory BuildLog(const Streams& s, const Offset& offset, double start, double
   log.columns.force = true;
   log.columns.push_point = true;
   log.columns.step_info = false;
+  log.columns.mode = !pose_gaps.empty();
   std::vector<double> gaps;
   int out_of_contact = 0;
+  bool after_gap = false;
   for (int u = 0; u < rows; ++u) {
     const double t = start + u * dt;
+    if (InGap(t, pose_gaps)) {
+      after_gap = true;
+      ++r->rows_dropped_in_pose_gaps;
+      continue;
+    }
     const Eigen::Vector3d pose = s.PoseAt(t);
     const Contact contact = s.ContactAtTime(t);
     const RowWrench wrench = MeanWrench(s, offset, sign, t, t + dt);
@@ -695,7 +740,8 @@ Trajectory BuildLog(const Streams& s, const Offset& offset, double start, double
     sample.applied.tz = wrench.moment_Nm;  // the writer keeps what r x f misses as tz
     sample.push_point_world =
         Eigen::Vector3d(contact.point_world.x(), contact.point_world.y(), o.slider.com_height_m);
-    sample.mode = u == 0 ? SampleMode::kStart : SampleMode::kSlide;
+    sample.mode = log.samples.empty() || after_gap ? SampleMode::kStart : SampleMode::kSlide;
+    after_gap = false;
     log.samples.push_back(sample);
     r->peak_force_N = std::max(r->peak_force_N, f.norm());
     if (f.norm() > r->force_threshold_N) {
@@ -708,6 +754,14 @@ Trajectory BuildLog(const Streams& s, const Offset& offset, double start, double
     r->contact_gap_p05_m = Quantile(gaps, 0.05);
     r->contact_gap_p95_m = Quantile(gaps, 0.95);
     r->rows_out_of_contact_fraction = static_cast<double>(out_of_contact) / gaps.size();
+  }
+  r->rows = static_cast<int>(log.samples.size());
+  r->pose_gaps_split = static_cast<int>(Runs(log).size()) - 1;
+  if (r->pose_gaps_split > 0) {
+    r->notes.push_back(std::to_string(r->pose_gaps_split) + " object_pose gap(s) over " +
+                       Format("%.0f ms", o.max_pose_gap_s * 1e3) + " inside the window: " +
+                       std::to_string(r->rows_dropped_in_pose_gaps) +
+                       " rows left out, the log split into runs there (mode 'start')");
   }
   return log;
 }
@@ -802,10 +856,11 @@ MitImportResult ImportMitPush(const MitPushRecording& recording, const std::stri
   Push push;
   if (Rejection no = FindPush(s, o, &push, &r)) return Reject(result, *no);
   double start = 0, end = 0;
-  if (Rejection no = ChooseWindow(s, push, frozen, o, &start, &end, &r)) {
+  std::vector<std::pair<double, double>> pose_gaps;
+  if (Rejection no = ChooseWindow(s, push, frozen, o, &start, &end, &pose_gaps, &r)) {
     return Reject(result, *no);
   }
-  result.log = BuildLog(s, push.offset, start, end, o, &r);
+  result.log = BuildLog(s, push.offset, start, end, pose_gaps, o, &r);
   if (r.theta_jumps_unrepaired > 0) {
     r.notes.push_back(std::to_string(r.theta_jumps_unrepaired) +
                       " theta step(s) above the jump threshold not near a multiple of pi/2: "

@@ -16,11 +16,13 @@
 //  6. checks the sign: the force on the object points into it along the contact normal;
 //     a stored reaction (pointing out) is flipped;
 //  7. keeps the push window (touching, force above the noise) plus a margin, rejects a log
-//     too short or a motion-capture gap inside it longer than a threshold;
+//     too short, or one whose motion-capture gaps (longer than a threshold) leave too
+//     little of the push;
 //  8. resamples onto one clock: pose and tip linear at the row times, a row's force the mean
 //     over [t_u, t_u+1) (the log holds a row's force over that interval), applied at the
 //     point of the outline nearest the tip centre, at pz = com_height (no tilting moment:
-//     the pusher height is not recorded).
+//     the pusher height is not recorded); rows inside a long pose gap are left out and the
+//     row after it starts a new run (mode `start`), so that the fit's segments end there.
 // A file that fails a check is rejected with its reason; nothing throws for bad data.
 
 #include <Eigen/Core>
@@ -59,9 +61,11 @@ struct MitImportOptions {
   /// Largest accepted |offset after - offset before| [N]. At 0.5 N, interpolating
   /// between the two leaves at most 0.25 N of error mid-push, about 10% of a 2-3 N push.
   double max_offset_drift_N = 0.5;
-  /// Longest accepted gap between object poses inside the push window [s]. Over a gap the
-  /// pose is interpolated linearly: at 50 ms and an angular acceleration of 5 rad/s^2 the
-  /// error is alpha T^2 / 8 = 1.6 mrad, comparable to the motion-capture noise.
+  /// Longest gap between object poses inside the push window that is interpolated over
+  /// [s]: at 50 ms and an angular acceleration of 5 rad/s^2 the error is alpha T^2 / 8 =
+  /// 1.6 mrad, comparable to the motion-capture noise. A longer gap splits the log into
+  /// runs (its rows left out); the file is rejected only when the gaps leave less than
+  /// min_push_duration_s of the push.
   double max_pose_gap_s = 0.05;
   double min_push_duration_s = 0.2;  ///< shorter pushes are rejected as too short [s]
   /// A step of theta between consecutive samples above this is a tracking jump, repaired
@@ -115,6 +119,8 @@ struct MitImportReport {
   int theta_jumps_unrepaired = 0;     ///< steps above the threshold, not near one
   double largest_theta_step_rad = 0;  ///< after repair
   double largest_pose_gap_in_window_s = 0;
+  int pose_gaps_split = 0;            ///< gaps over max_pose_gap_s: the log's runs less one
+  int rows_dropped_in_pose_gaps = 0;  ///< rows whose time fell inside such a gap
 
   /// Offsets [N] (stored force, world axes) from the still samples before / after the push.
   std::optional<Eigen::Vector2d> offset_before_N, offset_after_N;

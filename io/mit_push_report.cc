@@ -86,6 +86,9 @@ const std::vector<std::pair<std::string, Cell>>& Columns() {
                  [](R r) { return Examined(r) ? Number(r.largest_theta_step_rad * kRadToDeg) : ""; }});
     c.push_back({"largest_pose_gap_in_window_ms",
                  [](R r) { return r.rows > 0 ? Number(r.largest_pose_gap_in_window_s * 1e3) : ""; }});
+    c.push_back({"pose_gaps_split", [](R r) { return r.rows > 0 ? std::to_string(r.pose_gaps_split) : ""; }});
+    c.push_back({"rows_dropped_in_pose_gaps",
+                 [](R r) { return r.rows > 0 ? std::to_string(r.rows_dropped_in_pose_gaps) : ""; }});
     c.push_back({"offset_before_fx_N", [](R r) {
                    return r.offset_before_N ? Number(r.offset_before_N->x()) : "";
                  }});

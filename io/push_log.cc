@@ -133,6 +133,11 @@ const char* ModeName(SampleMode mode) {
   return "slide";
 }
 
+/// A row's mode as written: the first row is always `start`.
+const char* WrittenMode(const Trajectory& tr, const TrajectorySample& s) {
+  return ModeName(&s == &tr.samples.front() ? SampleMode::kStart : s.mode);
+}
+
 std::optional<SampleMode> ParseMode(std::string_view s) {
   if (s == "start") return SampleMode::kStart;
   if (s == "slide") return SampleMode::kSlide;
@@ -509,6 +514,7 @@ void WarnThetaInDegrees(const ReadContext& ctx, const Trajectory& tr, const std:
   if (!tr.columns.pose) return;
   int turning = 0, fast = 0, first_fast = 0;
   for (size_t u = 1; u < tr.samples.size(); ++u) {
+    if (StartsRun(tr, u)) continue;  // the turn over a gap is not a rate
     const double dt = tr.samples[u].t_s - tr.samples[u - 1].t_s;
     const double spin = std::abs(tr.samples[u].state.theta - tr.samples[u - 1].state.theta) / dt;
     if (!(spin > 0)) continue;
@@ -527,12 +533,17 @@ void WarnThetaInDegrees(const ReadContext& ctx, const Trajectory& tr, const std:
 /// Time gaps (docs/robustness.md): the model holds a row's force over the interval to the
 /// next row and takes one backward-Euler step across it, so an interval many times the
 /// median one is a hole in the log, not a sample. Above options.max_gap_ratio medians it is
-/// an error; above kWarnGapRatio medians, a warning.
+/// an error; above kWarnGapRatio medians, a warning. A hole the log declares, by `start` on
+/// the row after it, is no interval: no step is taken across it.
 void CheckTimeGaps(const ReadContext& ctx, const Trajectory& tr, const std::vector<int>& lines) {
-  const std::size_t n = tr.samples.size();
-  if (n < 3) return;  // one interval: nothing to compare it with
-  std::vector<double> dt(n - 1);
-  for (std::size_t u = 1; u < n; ++u) dt[u - 1] = tr.samples[u].t_s - tr.samples[u - 1].t_s;
+  std::vector<double> dt;  // dt[i]: the interval ending at row end[i]
+  std::vector<std::size_t> end;
+  for (std::size_t u = 1; u < tr.samples.size(); ++u) {
+    if (StartsRun(tr, u)) continue;
+    dt.push_back(tr.samples[u].t_s - tr.samples[u - 1].t_s);
+    end.push_back(u);
+  }
+  if (dt.size() < 2) return;  // one interval: nothing to compare it with
   std::vector<double> sorted = dt;
   // The lower median: with two intervals, the shorter one is the reference.
   const auto mid = sorted.begin() + static_cast<std::ptrdiff_t>((sorted.size() - 1) / 2);
@@ -541,29 +552,41 @@ void CheckTimeGaps(const ReadContext& ctx, const Trajectory& tr, const std::vect
   const double max_ratio = ctx.options.max_gap_ratio;
   int long_count = 0;
   std::size_t longest = 0;
-  for (std::size_t u = 0; u < dt.size(); ++u) {
-    const double ratio = dt[u] / median;
+  for (std::size_t i = 0; i < dt.size(); ++i) {
+    const double ratio = dt[i] / median;
+    const std::size_t u = end[i];
     if (max_ratio > 0 && !(ratio <= max_ratio)) {
-      ctx.Fail(lines[u + 1], "t",
-               "t jumps by " + ShortNumber(dt[u]) + " s from t = " +
-                   ShortNumber(tr.samples[u].t_s) + " (line " + std::to_string(lines[u]) +
+      ctx.Fail(lines[u], "t",
+               "t jumps by " + ShortNumber(dt[i]) + " s from t = " +
+                   ShortNumber(tr.samples[u - 1].t_s) + " (line " + std::to_string(lines[u - 1]) +
                    "), " + RoundedNumber(ratio) + " times the median interval " +
                    ShortNumber(median) + " s: the model holds the force across an interval "
-                   "and cannot represent the motion missing from it; split the log there, or "
-                   "allow it with --max-gap-ratio (now " + ShortNumber(max_ratio) + ")");
+                   "and cannot represent the motion missing from it; mark the row after the "
+                   "gap 'start' in a mode column, or allow it with --max-gap-ratio (now " +
+                   ShortNumber(max_ratio) + ")");
     }
     if (ratio > kWarnGapRatio) {
-      if (long_count == 0 || dt[u] > dt[longest]) longest = u;
+      if (long_count == 0 || dt[i] > dt[longest]) longest = i;
       ++long_count;
     }
   }
   if (long_count > 0) {
     ctx.report.warnings.push_back(text::Located(
-        ctx.path, lines[longest + 1], "t",
+        ctx.path, lines[end[longest]], "t",
         std::to_string(long_count) + " intervals longer than " + ShortNumber(kWarnGapRatio) +
             " times the median " + ShortNumber(median) + " s (dropped samples?); the longest, " +
             ShortNumber(dt[longest]) + " s, ends here"));
   }
+}
+
+/// Rows marked `start` after the first split the log into runs; say so, for a user who did
+/// not know the mode column does that.
+void NoteRuns(const ReadContext& ctx, const Trajectory& tr) {
+  const std::size_t runs = Runs(tr).size();
+  if (runs < 2) return;
+  ctx.report.notes.push_back(std::to_string(runs - 1) + " rows after the first are marked "
+                             "'start': " + std::to_string(runs) + " runs, no step taken "
+                             "across the gaps between them");
 }
 
 /// Velocities from poses by the kinematic map; they must be finite, and are checked for
@@ -740,8 +763,8 @@ LogColumns PresentColumns(const Header& h) {
   c.fz = h.Has(kFz);
   c.moments = h.HasAny(kTx, kTy, kTz);
   c.push_point = h.Has(kPx);
-  c.step_info = h.Has(kAx) || h.Has(kAy) || h.HasAny(kPt, kPo, kPr) || h.Has(kSigma) ||
-                h.mode_field >= 0;
+  c.step_info = h.Has(kAx) || h.Has(kAy) || h.HasAny(kPt, kPo, kPr) || h.Has(kSigma);
+  c.mode = h.mode_field >= 0;
   return c;
 }
 
@@ -777,6 +800,7 @@ Trajectory ReadFromLines(const ReadContext& ctx, TextLines& in) {
   std::vector<int> lines;  // the file line of each sample, for messages
   ReadSamples(ctx, in, header, trajectory, lines, known[0]);
   CheckTimeGaps(ctx, trajectory, lines);
+  NoteRuns(ctx, trajectory);
   WarnThetaInDegrees(ctx, trajectory, lines);
   if (!header.Has(kVx)) VelocitiesFromPoses(ctx, trajectory, lines);
   NoteUnknownColumns(ctx);
@@ -817,6 +841,7 @@ Eigen::Vector3d WrittenMoments(const TrajectorySample& s, bool push_point,
 /// lost (non-zero forces or moments), plus poses when push points need them.
 LogColumns WrittenColumns(const Trajectory& tr) {
   LogColumns c = tr.columns;
+  c.mode = c.mode || c.step_info || HasGaps(tr);
   if (!c.pose && !c.velocity) c.pose = c.velocity = true;
   if (c.push_point) c.pose = true;
   for (const TrajectorySample& s : tr.samples) {
@@ -873,7 +898,7 @@ std::vector<const char*> WrittenNames(const LogColumns& c) {
 std::string HeaderLine(const LogColumns& c) {
   std::string h;
   for (const char* name : WrittenNames(c)) h += (h.empty() ? "" : ",") + std::string(name);
-  if (c.step_info) h += std::string(",") + kModeColumn;
+  if (c.mode) h += std::string(",") + kModeColumn;
   return h;
 }
 
@@ -916,7 +941,7 @@ void WriteUnchecked(const Trajectory& tr, std::ostream& out) {
       if (i > 0) line += ',';
       line += FormatNumber(values[i]);
     }
-    if (columns.step_info) line += std::string(",") + ModeName(s.mode);
+    if (columns.mode) line += std::string(",") + WrittenMode(tr, s);
     out << line << '\n';
   }
 }
@@ -1006,7 +1031,7 @@ PushLogColumns ColumnsOf(const Trajectory& trajectory) {
   for (const TrajectorySample& s : trajectory.samples) {
     RowValues(s, written, trajectory.slider.com_height_m, values);
     for (std::size_t i = 0; i < values.size(); ++i) columns.values[i].push_back(values[i]);
-    if (written.step_info) columns.mode.emplace_back(ModeName(s.mode));
+    if (written.mode) columns.mode.emplace_back(WrittenMode(trajectory, s));
   }
   return columns;
 }

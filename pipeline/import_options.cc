@@ -89,7 +89,9 @@ void AddImportOptions(po::options_description* options, po::options_description*
        "the force offset is measured only where the tip is farther than this from the "
        "object's outline; before that, a tip resting on the object is a real pre-load")
       ("max-pose-gap", po::value<double>()->default_value(0.05)->value_name("S"),
-       "reject a file with a longer gap between object poses inside the push")
+       "a longer gap between object poses inside the push splits the log there (its rows "
+       "left out, the next marked 'start'); a file whose gaps leave less of the push than "
+       "--min-push-duration is rejected")
       ("min-push-duration", po::value<double>()->default_value(0.2)->value_name("S"),
        "reject a shorter push")
       ("force-sign", po::value<std::string>()->default_value("auto"),

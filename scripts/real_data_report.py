@@ -39,7 +39,7 @@ def push_name(source):
 
 def reason_category(reason):
     for prefix, category in [
-        ("object_pose gap", "motion-capture gap inside the push longer than --max-pose-gap (50 ms)"),
+        ("object_pose gaps leave", "motion-capture gaps (over --max-pose-gap, 50 ms) leave less of the push than --min-push-duration"),
         ("force channel constant", "force channel constant (dead sensor?)"),
         ("force channel frozen", "force channel frozen (dead sensor?)"),
         ("force offset drift", "force offset drift above --max-offset-drift (0.5 N)"),

@@ -285,15 +285,24 @@ TEST(MitPushImport, FrozenSamplesOutsideThePushAreDroppedAndCounted) {
   EXPECT_LT((*r.report.offset_before_N - spec.offset_before_N).norm(), 0.03);  // not the zeros
 }
 
-TEST(MitPushImport, PoseGapInsideThePushIsRejectedAndOutsideReported) {
-  MitSynthSpec spec;
-  spec.defects.pose_gaps = {{0.7, 0.78}};  // 80 ms during the push
-  ExpectRejected(Import(spec), "object_pose gap of 8");
+TEST(MitPushImport, PoseGapOutsideThePushIsReportedAndLeavesTheLogWhole) {
   MitSynthSpec outside;
   outside.defects.pose_gaps = {{0.02, 0.12}};  // during the rest before
   const MitImportResult r = ImportAccepted(outside);
   EXPECT_GT(r.report.object_pose.largest_gap_s, 0.09);
   EXPECT_LT(r.report.largest_pose_gap_in_window_s, 0.01);
+  EXPECT_EQ(r.report.pose_gaps_split, 0);
+  EXPECT_FALSE(HasGaps(r.log));
+}
+
+TEST(MitPushImport, PoseGapsThatLeaveTooLittleOfThePushAreRejectedNamingThem) {
+  MitSynthSpec spec;
+  spec.defects.pose_gaps = {{0.35, 0.75}, {0.8, 1.15}};  // 0.15 s of the 0.9 s push left
+  const MitImportResult r = Import(spec);
+  ExpectRejected(r, "object_pose gaps leave 0.1");
+  // Both gaps named, each as measured (a pose interval longer at most) from the push's start.
+  EXPECT_NE(r.report.reason.find(" ms at 0.04"), std::string::npos) << r.report.reason;
+  EXPECT_NE(r.report.reason.find(" ms at 0.49"), std::string::npos) << r.report.reason;
 }
 
 TEST(MitPushImport, PusherThatMissesTheObjectIsNoContact) {
@@ -424,6 +433,41 @@ TEST(MitPushImport, IdentifyRecoversTheTruthFromImportedLogsAsFromNativeOnes) {
     EXPECT_NEAR(RelativeError(native, kA, friction), 0.0, kTolNativeA) << "seed " << seed;
     EXPECT_NEAR(RelativeError(native, kB, friction), 0.0, kTolNativeB) << "seed " << seed;
     EXPECT_NEAR(RelativeError(native, kC, friction), 0.0, kTolNativeC) << "seed " << seed;
+  }
+}
+
+// Gaps of 60-400 ms inside the push (it runs from 0.3 s to 1.2 s): the rows inside are left
+// out, the next starts a run, and the fit, whose segments end at the gap, still recovers the
+// friction the recording was simulated with. The gap's own rows are lost: the tolerances are
+// those of an imported log.
+TEST(MitPushImport, PoseGapsInsideThePushSplitTheLogAndTheFitGoesOnAcrossThem) {
+  IdentifyOptions estimator;
+  estimator.method = EstimatorMethod::kTrajectory;
+  const ReducedFriction truth = ReducedFriction::From(MitSynthSpec{}.friction);
+  const std::vector<std::pair<double, double>> gaps = {
+      {0.70, 0.76}, {0.50, 0.60}, {0.85, 1.05}, {0.45, 0.85}};
+  for (const auto& gap : gaps) {
+    SCOPED_TRACE(::testing::Message() << "gap " << gap.first << "-" << gap.second << " s");
+    MitSynthSpec spec;
+    spec.defects.pose_gaps = {gap};
+    const MitImportResult r = ImportAccepted(spec);
+    ASSERT_EQ(r.report.pose_gaps_split, 1);
+    EXPECT_NEAR(r.report.largest_pose_gap_in_window_s, gap.second - gap.first, 0.011);
+    // 100 Hz rows strictly inside the measured gap (the poses either side of it, up to one
+    // 5 ms pose interval outside the dropped span).
+    EXPECT_NEAR(r.report.rows_dropped_in_pose_gaps, 100 * (gap.second - gap.first), 2);
+    const std::vector<std::pair<int, int>> runs = Runs(r.log);
+    ASSERT_EQ(runs.size(), 2u);
+    const double jump = r.log.samples[runs[1].first].t_s - r.log.samples[runs[0].second].t_s;
+    // The rows either side are the last before the gap's last pose and the first after its
+    // next one: the jump is the measured gap plus less than two 10 ms rows.
+    EXPECT_GE(jump, r.report.largest_pose_gap_in_window_s - 1e-9);
+    EXPECT_LT(jump, r.report.largest_pose_gap_in_window_s + 0.02);
+    const EstimateResult fit = Identify(r.log, estimator);
+    ASSERT_TRUE(fit.converged) << fit.message;
+    EXPECT_NEAR(RelativeError(fit, kA, truth), 0.0, kTolImportedA);
+    EXPECT_NEAR(RelativeError(fit, kB, truth), 0.0, kTolImportedB);
+    EXPECT_NEAR(RelativeError(fit, kC, truth), 0.0, kTolImportedC);
   }
 }
 

@@ -254,6 +254,49 @@ TEST(PushLog, PosesOnlyGiveBackwardEulerVelocities) {
   EXPECT_NEAR(tr.samples[2].state.wz, -0.2, kRecomputeTol);
 }
 
+// A motion-capture gap: rows marked `start` after the first begin a new run. The hole
+// before one is no interval (47 median intervals here, an error when unmarked), the run's
+// first velocity from poses is unknown (0), and the writer keeps the marks.
+TEST(PushLog, RowsMarkedStartAfterAGapSplitTheLogIntoRuns) {
+  const std::string rows =
+      "0,0,0,0\n0.01,0.001,0,0.01\n0.02,0.002,0,0.02\n0.03,0.003,0,0.03\n"
+      "0.5,0.05,0.01,0.5\n0.51,0.052,0.01,0.51\n0.52,0.054,0.01,0.52\n";
+  std::string marked = std::string(kSliderMeta) + "t,x,y,theta,mode\n";
+  const char* modes[] = {"start", "slide", "slide", "slide", "start", "slide", "slide"};
+  std::istringstream lines(rows);
+  std::string line;
+  for (int u = 0; std::getline(lines, line); ++u) marked += line + "," + modes[u] + "\n";
+  LogReadReport report;
+  const Trajectory tr = ReadPushLog(WriteFile("runs.csv", marked), {}, &report);
+  EXPECT_TRUE(tr.columns.mode);
+  EXPECT_FALSE(tr.columns.step_info);  // the mode column alone carries no ECP or impulses
+  const std::vector<std::pair<int, int>> runs = {{0, 3}, {4, 6}};
+  EXPECT_EQ(Runs(tr), runs);
+  EXPECT_EQ(tr.samples[4].state.vx, 0.0);  // unknown: no step joins rows 3 and 4
+  EXPECT_EQ(tr.samples[4].state.wz, 0.0);
+  EXPECT_NEAR(tr.samples[5].state.vx, 0.2, kRecomputeTol);
+  EXPECT_NEAR(tr.samples[3].state.wz, 1.0, kRecomputeTol);
+  bool noted = false;
+  for (const auto& note : report.notes) noted = noted || note.find("2 runs") != std::string::npos;
+  EXPECT_TRUE(noted);
+  EXPECT_TRUE(report.warnings.empty());
+
+  const std::string back_path = TempDirectory() + "/runs_back.csv";
+  WritePushLog(tr, back_path);
+  const Trajectory back = ReadPushLog(back_path);
+  EXPECT_EQ(Runs(back), runs);
+  EXPECT_FALSE(back.columns.step_info);
+
+  // Unmarked, the same hole is an error that says how to mark it.
+  ExpectLogError("unmarked_gap.csv", std::string(kSliderMeta) + "t,x,y,theta\n" + rows, 9, "t");
+  try {
+    ReadPushLog(TempDirectory() + "/unmarked_gap.csv");
+  } catch (const LogError& e) {
+    EXPECT_NE(std::string(e.what()).find("mark the row after the gap 'start'"),
+              std::string::npos) << e.what();
+  }
+}
+
 TEST(PushLog, PushPointAddsRCrossFIncludingTiltingMoments) {
   // CM at (1, 2, 0.08); force (3, -1, 0.5) at (0.9, 2.2, 0.15): r = (-0.1, 0.2, 0.07).
   const std::string path = WriteFile(

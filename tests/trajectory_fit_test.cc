@@ -72,6 +72,54 @@ TEST(TrajectoryFit, RecoversWithSubstepsFromACoarselySampledLog) {
   ExpectRecovers(scene, coarse, options);
 }
 
+/// `log` with rows [first, first + count) removed, as a motion-capture gap leaves it; with
+/// `mark`, the row after the hole starts a run (forward_model/trajectory.h).
+Trajectory WithHole(const Trajectory& log, int first, int count, bool mark) {
+  Trajectory out = log;
+  out.samples.erase(out.samples.begin() + first, out.samples.begin() + first + count);
+  if (mark) out.samples[first].mode = SampleMode::kStart;
+  out.columns.mode = mark;
+  return out;
+}
+
+// A hole in a noiseless poses-only log. Marked, no segment and no step spans it and the
+// fit is exact; unmarked, the fit takes one step across it with the force of the row before
+// and lands away from the truth: the mark is what keeps the answer right.
+TEST(TrajectoryFit, AMarkedGapEndsTheSegmentsAndTheFitStaysExact) {
+  const Scene scene = testing::PushedSlider();
+  const Trajectory clean = testing::PosesOnly(SimulateOrFail(scene), "gap");
+  const int rows = static_cast<int>(clean.samples.size());
+  ASSERT_GT(rows, 90);
+  const Trajectory marked = WithHole(clean, 40, 15, true);
+  ASSERT_EQ(Runs(marked).size(), 2u);
+  ExpectRecovers(scene, marked, Options(20));
+  TrajectoryProblem problem({&marked}, Options(20));
+  for (const TrajectorySegment& seg : problem.segments()) {
+    EXPECT_TRUE(seg.last_row < 40 || seg.first_row >= 40) << seg.first_row;
+  }
+  const Trajectory unmarked = WithHole(clean, 40, 15, false);
+  const EstimateResult across = EstimateTrajectory(unmarked, Options(20));
+  const auto truth = Truth(scene);
+  double worst = 0;
+  for (int i = 0; i < 3; ++i) {
+    worst = std::max(worst, std::abs(across.parameters[i].value / truth[i] - 1));
+  }
+  EXPECT_GT(worst, 100 * kExactRelTol);
+}
+
+// The cheap methods leave out the step across the hole (and, poses only, the step after it,
+// whose start velocity is unknown) and say so.
+TEST(TrajectoryFit, TheClosedFormSeedLeavesOutTheStepAcrossAGap) {
+  const Scene scene = testing::PushedSlider();
+  const Trajectory clean = SimulateOrFail(scene);
+  const EstimateResult r = EstimateClosedForm(WithHole(clean, 40, 15, true), Options());
+  bool across = false;
+  for (const auto& [reason, count] : r.steps_excluded) {
+    across = across || (reason == "across a gap in the log" && count == 1);
+  }
+  EXPECT_TRUE(across);
+}
+
 TEST(TrajectoryFit, PureTranslationReportsSpinParameterNotIdentifiableAndRecoversA) {
   const Scene scene = testing::PureTranslation();
   const EstimateResult r = EstimateTrajectory(SimulateOrFail(scene), Options(20));
