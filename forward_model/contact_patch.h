@@ -42,6 +42,10 @@ class ContactPatch {
   std::vector<Eigen::Vector2d> InnerOutline(int circle_segments = 72) const;
   /// Area of the patch itself [m^2] (ring: annulus).
   double Area() const;
+  /// The outer radius of a disk or ring [m]; 0 for the other shapes.
+  double OuterRadius() const {
+    return shape_ == Shape::kDisk || shape_ == Shape::kRing ? radius_m_ : 0.0;
+  }
 
  private:
   ContactPatch() = default;

@@ -3,11 +3,13 @@
 // pushes, the step and the duration. Scene files are read by io/scene_file.h.
 
 #include <Eigen/Core>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "forward_model/contact_patch.h"
 #include "forward_model/planar_state.h"
+#include "forward_model/pusher.h"
 #include "forward_model/slider.h"
 
 namespace slideid {
@@ -43,6 +45,9 @@ struct Scene {
   /// Empty: free sliding. A scene file gives them in [push], [push.1], ... or draws them
   /// from a [program] section (io/scene_file.h).
   std::vector<PushSpec> pushes;
+  /// A position-controlled pusher instead of the force pushes (a scene has one or the
+  /// other): its tip follows its path and the step solves its contact (pusher_step.h).
+  std::optional<Pusher> pusher;
   double dt_s = 0.01;        ///< simulation step [s]
   double duration_s = 1.0;  ///< simulated time [s]
 };

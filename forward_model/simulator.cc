@@ -51,8 +51,14 @@ Trajectory EmptyTrajectory(const Scene& scene) {
   add("e_r_over_e_t", reduced.c);
   add("dt", scene.dt_s);
   if (!scene.source.empty()) traj.extra_metadata.emplace_back("scene", scene.source);
-  traj.columns.push_point = !scene.pushes.empty();
-  traj.columns.force = !scene.pushes.empty();
+  const bool pushed = !scene.pushes.empty() || scene.pusher.has_value();
+  traj.columns.push_point = pushed;
+  traj.columns.force = pushed;
+  if (scene.pusher) {
+    traj.columns.tip = true;
+    traj.tip_radius_m = scene.pusher->tip_radius_m;
+    add("mu_p", scene.pusher->mu);
+  }
   return traj;
 }
 
@@ -63,6 +69,30 @@ void Fail(SimulationSummary* summary, SimulationStatus status, double t,
   summary->message = Format("t = %.6g s: ", t, 0, 0, 0) + message;
 }
 
+/// One step of a pusher-driven scene from `row`, whose applied wrench and push point
+/// become the tip's (held over the step, as a log row's force is).
+StepResult PusherStep(const Scene& scene, const SimulationOptions& options,
+                      TrajectorySample* row, double t_next, TipMode* tip_mode) {
+  const Pusher& pusher = *scene.pusher;
+  PusherStepOptions pusher_options = options.pusher;
+  pusher_options.step = options.step;
+  const PusherStepResult r = SolvePusherStep(
+      scene.slider, ReducedFriction::From(scene.friction), scene.patch, pusher, row->state,
+      pusher.path.PositionAt(row->t_s), pusher.path.PositionAt(t_next), AppliedWrench{},
+      scene.dt_s, pusher_options);
+  row->applied = r.applied;
+  row->push_point_world.reset();
+  if (r.tip_mode != TipMode::kApart) {
+    row->push_point_world = Eigen::Vector3d(
+        r.contact.point_world.x(), r.contact.point_world.y(),
+        pusher.height_m.value_or(scene.slider.com_height_m));
+  }
+  *tip_mode = r.tip_mode;
+  StepResult step = r.step;
+  step.sigma *= scene.friction.e_t;  // the paper's sigma, as SolveStep(FrictionParameters)
+  return step;
+}
+
 }  // namespace
 
 bool SimulationOptions::IsValid(std::string* why) const {
@@ -70,7 +100,9 @@ bool SimulationOptions::IsValid(std::string* why) const {
     if (why) *why = "hull_tolerance_m must be >= 0";
     return false;
   }
-  return step.IsValid(why);
+  PusherStepOptions p = pusher;
+  p.step = step;
+  return p.IsValid(why);
 }
 
 SimulationResult Simulate(const Scene& scene, const SimulationOptions& options) {
@@ -78,6 +110,13 @@ SimulationResult Simulate(const Scene& scene, const SimulationOptions& options) 
   if (!options.IsValid(&why)) throw std::invalid_argument("Simulate: " + why);
   if (!(scene.dt_s > 0) || !(scene.duration_s > 0)) {
     throw std::invalid_argument("Simulate: dt and duration must be > 0");
+  }
+  if (scene.pusher) {
+    if (!scene.pushes.empty()) {
+      throw std::invalid_argument("Simulate: a scene is driven by force pushes or by a pusher, "
+                                  "not both");
+    }
+    if (!scene.pusher->IsValid(&why)) throw std::invalid_argument("Simulate: " + why);
   }
   // The trajectory is kept in memory (~200 bytes a step): beyond this it would not fit.
   const double requested = scene.duration_s / scene.dt_s;
@@ -100,14 +139,18 @@ SimulationResult Simulate(const Scene& scene, const SimulationOptions& options) 
   sample.state = scene.initial;
   sample.mode = SampleMode::kStart;
   sample.applied = PushWrench(scene, 0.0, sample.state, &sample.push_point_world);
+  if (scene.pusher) sample.tip_world = scene.pusher->path.PositionAt(0.0);
   traj.samples.reserve(steps + 1);
   traj.samples.push_back(sample);
 
   for (long u = 0; u < steps; ++u) {
-    const TrajectorySample& prev = traj.samples.back();
+    TrajectorySample& prev = traj.samples.back();
     const double t_next = (u + 1) * scene.dt_s;
-    const StepResult step = SolveStep(scene.slider, scene.friction, prev.state, prev.applied,
-                                      scene.dt_s, options.step);
+    TipMode tip_mode = TipMode::kApart;
+    const StepResult step =
+        scene.pusher ? PusherStep(scene, options, &prev, t_next, &tip_mode)
+                     : SolveStep(scene.slider, scene.friction, prev.state, prev.applied,
+                                 scene.dt_s, options.step);
     if (!step.ok()) {
       Fail(&summary,
            step.status == StepStatus::kLiftOff ? SimulationStatus::kLiftOff
@@ -125,9 +168,12 @@ SimulationResult Simulate(const Scene& scene, const SimulationOptions& options) 
     next.sigma = step.sigma;
     next.mode = step.mode == StepMode::kStick ? SampleMode::kStick : SampleMode::kSlide;
     next.applied = PushWrench(scene, t_next, next.state, &next.push_point_world);
+    if (scene.pusher) next.tip_world = scene.pusher->path.PositionAt(t_next);
     traj.samples.push_back(next);
 
     ++summary.steps;
+    summary.tip_stick_steps += tip_mode == TipMode::kStick;
+    summary.tip_slide_steps += tip_mode == TipMode::kSlide;
     (step.mode == StepMode::kStick ? summary.stick_steps : summary.slide_steps)++;
     if (step.mode == StepMode::kStick) {
       if (summary.rest_time_s < 0) summary.rest_time_s = t_next;

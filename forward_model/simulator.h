@@ -5,6 +5,7 @@
 #include <Eigen/Core>
 #include <string>
 
+#include "forward_model/pusher_step.h"
 #include "forward_model/scene.h"
 #include "forward_model/step_solver.h"
 #include "forward_model/trajectory.h"
@@ -13,6 +14,9 @@ namespace slideid {
 
 struct SimulationOptions {
   StepOptions step;
+  /// The pusher's contact solve of a pusher-driven scene (its `step` is replaced by the
+  /// one above).
+  PusherStepOptions pusher;
   /// How far the ECP may sit outside the hull before it counts as toppling [m]. Covers the
   /// rounding of the ECP (~1e-16 m relative); any real excursion is much larger.
   double hull_tolerance_m = 1e-9;
@@ -33,6 +37,8 @@ struct SimulationSummary {
   double failure_time_s = 0;
   Eigen::Vector2d failure_ecp_world = Eigen::Vector2d::Zero();
   int steps = 0, slide_steps = 0, stick_steps = 0;
+  /// A pusher-driven scene: steps with the tip sticking to the edge, sliding along it.
+  int tip_stick_steps = 0, tip_slide_steps = 0;
   /// Largest signed distance of the ECP to the hull boundary over all steps [m]
   /// (negative: always inside, by at least its magnitude).
   double max_hull_signed_distance_m = -1e300;

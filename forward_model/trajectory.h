@@ -27,6 +27,8 @@ struct TrajectorySample {
   AppliedWrench applied;
   /// Where (fx, fy, fz) acts, world frame [m], when the log has px, py, pz.
   std::optional<Eigen::Vector3d> push_point_world;
+  /// The pusher tip's centre at t, world frame [m], when the log has tip_x, tip_y.
+  std::optional<Eigen::Vector2d> tip_world;
 
   // The step that ended at t (simulated logs; zero on the first row).
   Eigen::Vector2d ecp_world = Eigen::Vector2d::Zero();  ///< ax, ay [m]
@@ -43,6 +45,7 @@ struct LogColumns {
   bool fz = false;         ///< fz
   bool moments = false;    ///< tx, ty, tz (residual moments when push points are written)
   bool push_point = false; ///< px, py, pz
+  bool tip = false;        ///< tip_x, tip_y (the pusher's tip centre)
   bool step_info = true;   ///< ax, ay, pt, po, pr, sigma, mode
   /// The mode column alone (a log whose rows are split into runs by gaps); written whenever
   /// a row after the first starts a run, whatever this says.
@@ -55,6 +58,8 @@ struct Trajectory {
   std::string source;
   SliderProperties slider;
   std::string patch_spec;  ///< "rectangle W L" etc. (log-format.md), empty when unknown
+  /// The pusher tip's radius [m] (`# tip_radius`), when the log has the tip's path.
+  std::optional<double> tip_radius_m;
   std::optional<FrictionParameters> true_friction;  ///< simulated logs only
   /// Further `# key = value` metadata, in order (noise description, scene name, ...).
   std::vector<std::pair<std::string, std::string>> extra_metadata;
