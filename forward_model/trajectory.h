@@ -45,11 +45,11 @@ struct LogColumns {
   bool fz = false;         ///< fz
   bool moments = false;    ///< tx, ty, tz (residual moments when push points are written)
   bool push_point = false; ///< px, py, pz
-  bool tip = false;        ///< tip_x, tip_y (the pusher's tip centre)
   bool step_info = true;   ///< ax, ay, pt, po, pr, sigma, mode
   /// The mode column alone (a log whose rows are split into runs by gaps); written whenever
   /// a row after the first starts a run, whatever this says.
   bool mode = false;
+  bool tip = false;        ///< tip_x, tip_y (the pusher's tip centre)
 };
 
 /// A push log: known slider properties (metadata), optional truth, and samples.
