@@ -61,11 +61,12 @@ constexpr double kMaxGravity_mps2 = 1e2;     // 981 would be cm/s^2
 /// The numeric columns the reader knows; `mode` is the only text column.
 enum Col : int {
   kT, kX, kY, kTheta, kVx, kVy, kWz, kFx, kFy, kFz, kTx, kTy, kTz,
-  kPx, kPy, kPz, kAx, kAy, kPt, kPo, kPr, kSigma, kNumNumeric
+  kPx, kPy, kPz, kAx, kAy, kPt, kPo, kPr, kSigma, kTipX, kTipY, kNumNumeric
 };
 constexpr std::array<const char*, kNumNumeric> kColumnNames = {
     "t",  "x",  "y",  "theta", "vx", "vy", "wz", "fx", "fy", "fz",    "tx",
-    "ty", "tz", "px", "py",    "pz", "ax", "ay", "pt", "po", "pr", "sigma"};
+    "ty", "tz", "px", "py",    "pz", "ax", "ay", "pt", "po", "pr", "sigma",
+    "tip_x", "tip_y"};
 constexpr const char* kModeColumn = "mode";
 
 /// Where each known column sits in the header (field index, -1 when absent).
@@ -94,6 +95,7 @@ struct Metadata {
   std::map<std::string, std::pair<double, int>> numbers;  // key -> (value, line)
   std::optional<std::string> patch;
   int patch_line = 0;
+  std::optional<std::pair<double, int>> tip_radius;  // (value, line)
   std::vector<std::pair<std::string, std::string>> extra;
 };
 
@@ -181,6 +183,13 @@ void ParseCommentLine(const ReadContext& ctx, std::string_view line, int line_no
     if (meta.patch) ctx.Fail(line_no, "", "metadata 'patch' given twice");
     meta.patch = value;
     meta.patch_line = line_no;
+  } else if (key == "tip_radius") {
+    if (meta.tip_radius) ctx.Fail(line_no, "", "metadata 'tip_radius' given twice");
+    const auto number = ParseFiniteNumber(value);
+    if (!number || *number < 0) {
+      ctx.Fail(line_no, "", "metadata 'tip_radius': '" + value + "' is not a number >= 0 (m)");
+    }
+    meta.tip_radius = std::make_pair(*number, line_no);
   } else if (Contains(kSliderKeys, key) || Contains(kTruthKeys, key)) {
     if (meta.numbers.count(key)) ctx.Fail(line_no, "", "metadata '" + key + "' given twice");
     const auto number = ParseFiniteNumber(value);
@@ -231,6 +240,10 @@ void CheckRequiredColumns(const ReadContext& ctx, const Header& h) {
   }
   if (h.Has(kPx) && !h.Has(kX)) {
     ctx.Fail(h.line, "px", "push points need the pose columns x, y, theta to form r");
+  }
+  if (h.Has(kTipX) != h.Has(kTipY)) {
+    ctx.Fail(h.line, h.Has(kTipX) ? "tip_y" : "tip_x",
+             "missing: the pusher tip group needs both tip_x and tip_y");
   }
 }
 
@@ -323,7 +336,7 @@ struct AbsurdLimit {
 constexpr std::array<AbsurdLimit, kNumNumeric> MakeAbsurdLimits() {
   std::array<AbsurdLimit, kNumNumeric> l{};
   for (auto& x : l) x = {0.0, ""};
-  for (Col c : {kX, kY, kPx, kPy, kPz}) l[c] = {kAbsurdPosition_m, "m"};
+  for (Col c : {kX, kY, kPx, kPy, kPz, kTipX, kTipY}) l[c] = {kAbsurdPosition_m, "m"};
   for (Col c : {kVx, kVy}) l[c] = {kAbsurdSpeed_mps, "m/s"};
   l[kWz] = {kAbsurdSpin_radps, "rad/s"};
   for (Col c : {kFx, kFy, kFz}) l[c] = {kAbsurdForce_N, "N"};
@@ -415,6 +428,7 @@ TrajectorySample RowSample(const RawRow& row, const Header& h, double com_height
   s.state = PlanarState{v[kX], v[kY], v[kTheta], v[kVx], v[kVy], v[kWz]};
   s.applied = RowWrench(row, h.Has(kPx), com_height_m);
   if (h.Has(kPx)) s.push_point_world = Eigen::Vector3d(v[kPx], v[kPy], v[kPz]);
+  if (h.Has(kTipX)) s.tip_world = Eigen::Vector2d(v[kTipX], v[kTipY]);
   s.ecp_world = Eigen::Vector2d(v[kAx], v[kAy]);
   s.pt = v[kPt];
   s.po = v[kPo];
@@ -763,6 +777,7 @@ LogColumns PresentColumns(const Header& h) {
   c.fz = h.Has(kFz);
   c.moments = h.HasAny(kTx, kTy, kTz);
   c.push_point = h.Has(kPx);
+  c.tip = h.Has(kTipX);
   c.step_info = h.Has(kAx) || h.Has(kAy) || h.HasAny(kPt, kPo, kPr) || h.Has(kSigma);
   c.mode = h.mode_field >= 0;
   return c;
@@ -793,6 +808,7 @@ Trajectory ReadFromLines(const ReadContext& ctx, TextLines& in) {
     ctx.report.notes.push_back("fz not checked against m g: mass unknown");
   }
   trajectory.patch_spec = CheckedPatch(ctx, meta);
+  if (meta.tip_radius) trajectory.tip_radius_m = meta.tip_radius->first;
   trajectory.extra_metadata = meta.extra;
   ResolveTruth(ctx, meta, trajectory);
   trajectory.columns = PresentColumns(header);
@@ -842,6 +858,9 @@ Eigen::Vector3d WrittenMoments(const TrajectorySample& s, bool push_point,
 LogColumns WrittenColumns(const Trajectory& tr) {
   LogColumns c = tr.columns;
   c.mode = c.mode || c.step_info || HasGaps(tr);
+  // The tip columns only when every row knows the tip (a log carries no missing values).
+  c.tip = c.tip && std::all_of(tr.samples.begin(), tr.samples.end(),
+                               [](const TrajectorySample& s) { return s.tip_world.has_value(); });
   if (!c.pose && !c.velocity) c.pose = c.velocity = true;
   if (c.push_point) c.pose = true;
   for (const TrajectorySample& s : tr.samples) {
@@ -856,6 +875,7 @@ LogColumns WrittenColumns(const Trajectory& tr) {
 
 void CheckMetadataEntry(const Trajectory& tr, const std::string& key, const std::string& value) {
   const bool reserved = Contains(kSliderKeys, key) || (key == "patch" && !tr.patch_spec.empty()) ||
+                        (key == "tip_radius" && tr.tip_radius_m.has_value()) ||
                         (Contains(kTruthKeys, key) && tr.true_friction.has_value());
   if (!IsIdentifier(key) || reserved || value.find('\n') != std::string::npos) {
     throw std::invalid_argument("push log metadata '" + key + "' cannot be written: keys must "
@@ -869,6 +889,7 @@ void WriteMetadata(const Trajectory& tr, std::ostream& out) {
       << FormatNumber(s.inertia_kgm2) << "\n# com_height = " << FormatNumber(s.com_height_m)
       << "\n# gravity = " << FormatNumber(s.gravity_mps2) << "\n";
   if (!tr.patch_spec.empty()) out << "# patch = " << tr.patch_spec << "\n";
+  if (tr.tip_radius_m) out << "# tip_radius = " << FormatNumber(*tr.tip_radius_m) << "\n";
   if (tr.true_friction) {
     const FrictionParameters& f = *tr.true_friction;
     out << "# mu = " << FormatNumber(f.mu) << "\n# e_t = " << FormatNumber(f.e_t)
@@ -891,6 +912,7 @@ std::vector<const char*> WrittenNames(const LogColumns& c) {
   if (c.fz) add({"fz"});
   if (c.push_point) add({"px", "py", "pz"});
   if (c.moments) add({"tx", "ty", "tz"});
+  if (c.tip) add({"tip_x", "tip_y"});
   if (c.step_info) add({"ax", "ay", "pt", "po", "pr", "sigma"});
   return names;
 }
@@ -923,6 +945,7 @@ void RowValues(const TrajectorySample& s, const LogColumns& c, double com_height
     const Eigen::Vector3d m = WrittenMoments(s, c.push_point, com_height_m);
     add({m.x(), m.y(), m.z()});
   }
+  if (c.tip) add({s.tip_world->x(), s.tip_world->y()});  // WrittenColumns: every row has it
   if (c.step_info) add({s.ecp_world.x(), s.ecp_world.y(), s.pt, s.po, s.pr, s.sigma});
 }
 

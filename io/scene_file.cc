@@ -20,6 +20,9 @@ namespace {
 namespace po = boost::program_options;
 
 constexpr double kPi = 3.14159265358979323846;
+// Simulated after a pusher's path ends when [sim] gives no duration [s]: a pushed object
+// stops within a few tens of milliseconds (v / (a g): 0.1 m/s at a = 0.3 takes 34 ms).
+constexpr double kPusherRunOut_s = 0.2;
 
 /// Every key a scene may hold, as Boost names it ("section.key").
 const char* const kKnownKeys[] = {
@@ -41,9 +44,12 @@ const char* const kKnownKeys[] = {
     "program.random", "program.seed",   "program.force",     "program.amplitude_fraction",
     "program.period", "program.duration",                    "program.rest",
     "program.height", "program.spread", "program.through_cm", "program.start",
-    "program.max_lever",  "program.time_grid"};
+    "program.max_lever",  "program.time_grid",
+    "pusher.tip_radius", "pusher.mu",   "pusher.height",     "pusher.point",
+    "pusher.direction",  "pusher.distance", "pusher.speed",  "pusher.start",
+    "pusher.path",       "pusher.start_time"};
 const std::set<std::string> kKnownSections = {"slider", "friction", "patch", "initial", "push",
-                                              "program", "sim",    "log",   "noise"};
+                                              "program", "sim",    "log",   "noise", "pusher"};
 /// The keys of a [push] section, also those of each [push.N].
 const char* const kPushKeys[] = {"point",     "height", "direction", "force",
                                  "amplitude", "period", "start",     "stop"};
@@ -448,6 +454,68 @@ std::vector<PushSpec> ReadPushes(const Reader& r, const Layout& layout, double c
   return pushes;
 }
 
+/// The world point of body point `p` with the slider at `pose`.
+Eigen::Vector2d ToWorld(const PlanarState& pose, const Eigen::Vector2d& p) {
+  const double c = std::cos(pose.theta), s = std::sin(pose.theta);
+  return {pose.x + c * p.x() - s * p.y(), pose.y + s * p.x() + c * p.y()};
+}
+
+/// The tip's path of [pusher]: either a straight push from a point of the outline (`point`,
+/// `direction` in the body frame at the initial pose, `distance`, `speed`), the tip centre
+/// starting one tip radius behind the point; or waypoints (`start`, `path` "x1 y1 x2 y2 ..."
+/// in the world frame, `speed` one for all segments or one each). `start_time` delays it.
+PusherPath ReadPusherPath(const Reader& r, const PlanarState& initial, double tip_radius_m) {
+  using C = Reader::Check;
+  const double start_s = r.Number("pusher.start_time", 0.0, C::kNonNegative);
+  const bool straight = r.Has("pusher.point"), waypoints = r.Has("pusher.path");
+  if (straight == waypoints) {
+    r.Fail(straight ? "pusher.path" : "pusher.point",
+           "[pusher] needs either point, direction, distance and speed (a straight push) or "
+           "start, path and speed (waypoints)");
+  }
+  const std::vector<double> speeds = r.Numbers("pusher.speed");
+  for (double v : speeds) {
+    if (!(v > 0)) r.Fail("pusher.speed", "must be > 0");
+  }
+  try {
+    if (straight) {
+      if (speeds.size() != 1) r.Fail("pusher.speed", "a straight push has one speed");
+      const Eigen::Vector2d d = r.Pair("pusher.direction");
+      if (d.norm() == 0.0) r.Fail("pusher.direction", "must be non-zero");
+      const Eigen::Vector2d dir = (ToWorld(initial, d) - ToWorld(initial, {0, 0})).normalized();
+      const Eigen::Vector2d start = ToWorld(initial, r.Pair("pusher.point")) - tip_radius_m * dir;
+      const double distance = r.Number("pusher.distance", C::kPositive);
+      return PusherPath::Polyline(start_s, start, {start + distance * dir}, speeds);
+    }
+    const std::vector<double> xy = r.Numbers("pusher.path");
+    if (xy.empty() || xy.size() % 2 != 0) {
+      r.Fail("pusher.path", "needs pairs \"x1 y1 x2 y2 ...\" (world frame, m)");
+    }
+    std::vector<Eigen::Vector2d> points;
+    for (size_t i = 0; i + 1 < xy.size(); i += 2) points.emplace_back(xy[i], xy[i + 1]);
+    std::vector<double> each = speeds;
+    if (each.size() == 1) each.assign(points.size(), speeds.front());
+    if (each.size() != points.size()) {
+      r.Fail("pusher.speed", "needs one speed, or one per path segment (" +
+                                 std::to_string(points.size()) + ")");
+    }
+    return PusherPath::Polyline(start_s, r.Pair("pusher.start"), points, each);
+  } catch (const std::invalid_argument& e) {
+    r.Fail(straight ? "pusher.point" : "pusher.path", e.what());
+  }
+}
+
+/// [pusher]: a position-controlled tip (forward_model/pusher.h).
+Pusher ReadPusher(const Reader& r, const PlanarState& initial) {
+  using C = Reader::Check;
+  Pusher p;
+  p.tip_radius_m = r.Number("pusher.tip_radius", p.tip_radius_m, C::kNonNegative);
+  p.mu = r.Number("pusher.mu", p.mu, C::kNonNegative);
+  if (r.Has("pusher.height")) p.height_m = r.Number("pusher.height", C::kNonNegative);
+  p.path = ReadPusherPath(r, initial, p.tip_radius_m);
+  return p;
+}
+
 /// [program]: the random program's spec (random = N is required in the section).
 RandomProgramSpec ReadProgramSpec(const Reader& r) {
   using C = Reader::Check;
@@ -537,6 +605,13 @@ LoggedScene ParseScene(const std::string& ini_text, const std::string& source) {
   scene.patch = ReadPatch(r);
   scene.initial = ReadInitial(r);
   scene.pushes = ReadPushes(r, layout, scene.slider.com_height_m);
+  if (r.HasSection("pusher")) {
+    if (!scene.pushes.empty() || r.HasSection("program")) {
+      r.FailAt("[pusher] cannot be combined with [push] or [program] sections: a scene is "
+               "driven by forces or by a pusher", LineOf(ini_text, "[pusher]"));
+    }
+    scene.pusher = ReadPusher(r, scene.initial);
+  }
   scene.dt_s = r.Number("sim.dt", Reader::Check::kPositive);
   if (r.HasSection("program")) {
     if (!scene.pushes.empty()) {
@@ -553,9 +628,12 @@ LoggedScene ParseScene(const std::string& ini_text, const std::string& source) {
     scene.pushes = program.pushes;
     scene.duration_s = r.Number("sim.duration", program.end_s, Reader::Check::kPositive);
   } else {
-    scene.duration_s = r.Number("sim.duration", Reader::Check::kPositive);
+    // A pusher's scene runs to the end of its path and a little beyond, to the slider's rest.
+    scene.duration_s = scene.pusher && !r.Has("sim.duration")
+                           ? scene.pusher->path.end_s() + kPusherRunOut_s
+                           : r.Number("sim.duration", Reader::Check::kPositive);
   }
-  scene.log = ReadLogSpec(r, !scene.pushes.empty());
+  scene.log = ReadLogSpec(r, !scene.pushes.empty() || scene.pusher.has_value());
   return scene;
 }
 

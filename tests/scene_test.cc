@@ -484,4 +484,42 @@ TEST(Scene, BundledExample3LoadsWithThePapersPush) {
 }
 
 }  // namespace
+// [pusher]: a straight push from a point of the outline, or waypoints, and their errors.
+TEST(Scene, PusherSectionGivesAStraightPushOrWaypoints) {
+  const Scene straight = ParseScene(
+      SceneText("[pusher]\npoint = -0.025 0.01\ndirection = 0 1\ndistance = 0.05\n"
+                "speed = 0.02\nmu = 0.4\ntip_radius = 0.005\nstart_time = 0.1\n"),
+      "scene.ini");
+  ASSERT_TRUE(straight.pusher.has_value());
+  const Pusher& p = *straight.pusher;
+  EXPECT_EQ(p.mu, 0.4);
+  EXPECT_EQ(p.tip_radius_m, 0.005);
+  EXPECT_FALSE(p.height_m.has_value());
+  // One tip radius behind the point along the direction, then 50 mm at 20 mm/s.
+  EXPECT_NEAR((p.path.PositionAt(0.1) - Eigen::Vector2d(-0.025, 0.005)).norm(), 0.0, 1e-15);
+  EXPECT_NEAR((p.path.PositionAt(10) - Eigen::Vector2d(-0.025, 0.055)).norm(), 0.0, 1e-15);
+  EXPECT_NEAR(p.path.end_s(), 0.1 + 2.5, 1e-12);
+  EXPECT_EQ(straight.duration_s, 0.45);  // [sim] duration wins when given
+
+  const Scene waypoints = ParseScene(
+      SceneText("[pusher]\nstart = -0.1 0\npath = -0.03 0 -0.03 0.02\nspeed = 0.1 0.02\n"),
+      "scene.ini");
+  ASSERT_TRUE(waypoints.pusher.has_value());
+  EXPECT_NEAR(waypoints.pusher->path.end_s(), 0.07 / 0.1 + 0.02 / 0.02, 1e-12);
+
+  ExpectError(SceneText("[pusher]\nspeed = 0.1\n"), "[pusher] point", "either point");
+  ExpectError(SceneText("[pusher]\npoint = 0 0\ndirection = 0 0\ndistance = 1\nspeed = 1\n"),
+              "[pusher] direction", "non-zero");
+  ExpectError(SceneText("[pusher]\nstart = 0 0\npath = 1 1 2\nspeed = 1\n"), "[pusher] path",
+              "pairs");
+  ExpectError(SceneText("[pusher]\nstart = 0 0\npath = 1 1 2 2\nspeed = 1 1 1\n"),
+              "[pusher] speed", "one per path segment");
+  ExpectError(SceneText("[pusher]\npoint = 0 0\ndirection = 1 0\ndistance = 1\nspeed = 1\n"
+                        "mu = -1\n"),
+              "[pusher] mu", ">= 0");
+  ExpectError(SceneText("[push]\npoint = 0 0\nforce = 1\n[pusher]\npoint = 0 0\n"
+                        "direction = 1 0\ndistance = 1\nspeed = 1\n"),
+              "[pusher] cannot be combined", "line");
+}
+
 }  // namespace slideid
