@@ -716,6 +716,8 @@ Trajectory BuildLog(const Streams& s, const Offset& offset, double start, double
   log.columns.push_point = true;
   log.columns.step_info = false;
   log.columns.mode = !pose_gaps.empty();
+  log.columns.tip = true;  // the pusher's path: what `predict --drive pusher` replays
+  log.tip_radius_m = o.tip_radius_m;
   std::vector<double> gaps;
   int out_of_contact = 0;
   bool after_gap = false;
@@ -740,6 +742,7 @@ Trajectory BuildLog(const Streams& s, const Offset& offset, double start, double
     sample.applied.tz = wrench.moment_Nm;  // the writer keeps what r x f misses as tz
     sample.push_point_world =
         Eigen::Vector3d(contact.point_world.x(), contact.point_world.y(), o.slider.com_height_m);
+    sample.tip_world = s.TipAt(t);
     sample.mode = log.samples.empty() || after_gap ? SampleMode::kStart : SampleMode::kSlide;
     after_gap = false;
     log.samples.push_back(sample);
@@ -784,7 +787,6 @@ void AddMetadata(const MitImportReport& r, const MitImportOptions& o, const std:
   if (!r.object.empty()) add("object", r.object);
   add("time_origin_unix_s", Format("%.17g", r.time_origin_s));
   add("rate_hz", Format("%.17g", o.rate_hz));
-  add("tip_radius_m", Format("%.17g", o.tip_radius_m));
   add("stream_rates_hz", Format("object_pose %.1f, tip_pose %.1f, ", r.object_pose.median_rate_hz,
                                 r.tip_pose.median_rate_hz) +
                              Format("ft_wrench %.1f", r.ft_wrench.median_rate_hz));
