@@ -123,6 +123,12 @@ struct EstimateResult {
   EstimatorMethod method = EstimatorMethod::kTrajectory;
   TerminationStatus status = TerminationStatus::kConverged;
   std::array<ParameterEstimate, 3> parameters;  ///< a, b, c (ParameterIndex)
+  /// The tip-edge friction mu_p, for logs with the tip's path (estimator/pusher_friction.h);
+  /// examined says whether they had one. Not identifiable when the tip never slides along
+  /// the edge: mu_pusher_lower_bound then says how large it is at least (NaN otherwise).
+  bool mu_pusher_examined = false;
+  ParameterEstimate mu_pusher;
+  double mu_pusher_lower_bound = std::numeric_limits<double>::quiet_NaN();
   std::vector<NuisanceEstimate> nuisance;       ///< force offsets and delays, when fitted
   int steps_total = 0;
   int steps_used = 0;

@@ -19,6 +19,12 @@ constexpr int kMaxBracketDoublings = 60;
 // Broyden's Jacobian is reset to the rigid-body one after this many iterations without a
 // smaller residual.
 constexpr int kBroydenPatience = 4;
+// An overlap of the tip and the slider below this [m] at the end of a step is no overlap:
+// the contact geometry is linearised at the step's start, and rounding leaves about 1e-12 m
+// after each step in contact. Without the allowance, a slider resting against a still tip
+// must be shifted by that picometre, which takes an impulse at its static friction limit,
+// a root the support's step resolves only to its own tolerance.
+constexpr double kGapAllowanceM = 1e-9;
 
 /// The tip's conditions as functions of its impulse: each evaluation is one support step.
 class TipProblem {
@@ -81,6 +87,9 @@ class TipProblem {
   }
 
   double Tolerance() const { return options_.relative_tolerance * scale_; }
+  /// The gap condition's tolerance [m/s]: the relative one, or the allowance over h.
+  double GapTolerance() const { return std::max(Tolerance(), kGapAllowanceM / h_); }
+  double h() const { return h_; }
   double scale() const { return scale_; }
   const Eigen::Matrix2d& rigid() const { return rigid_; }
   /// d gap_rate / d lambda_n of the frictionless support when sliding with lambda_t = s mu
@@ -137,7 +146,9 @@ std::optional<TipProblem::Eval> SolveStick(TipProblem& p, const TipProblem::Eval
       jacobian = p.rigid();
       stalled = 0;
     }
-    if (StickResidual(best) <= p.Tolerance()) return best;
+    if (std::abs(best.gap_rate) <= p.GapTolerance() && std::abs(best.slip) <= p.Tolerance()) {
+      return best;
+    }
   }
   return std::nullopt;
 }
@@ -157,14 +168,14 @@ std::optional<TipProblem::Eval> SolveSlide(TipProblem& p, const TipProblem::Eval
     hi = at(guess);
   }
   if (!hi.step.ok() || hi.gap_rate < 0) return std::nullopt;
-  if (hi.gap_rate <= p.Tolerance()) return hi;
+  if (hi.gap_rate <= p.GapTolerance()) return hi;
   int side = 0;  // Illinois: halve the weight of an end kept twice
   double flo = lo.gap_rate, fhi = hi.gap_rate;
   for (int k = 0; k < max_iterations; ++k) {
     const double ln = (lo.lambda_n * fhi - hi.lambda_n * flo) / (fhi - flo);
     const TipProblem::Eval e = at(ln);
     if (!e.step.ok()) return std::nullopt;
-    if (std::abs(e.gap_rate) <= p.Tolerance()) return e;
+    if (std::abs(e.gap_rate) <= p.GapTolerance()) return e;
     if (e.gap_rate < 0) {
       lo = e;
       flo = e.gap_rate;
@@ -226,7 +237,9 @@ PusherStepResult Finish(const TipProblem& p, const TipProblem::Eval& e, TipMode 
       mode == TipMode::kStick ? std::abs(e.slip)
       : mode == TipMode::kSlide ? std::max(0.0, e.lambda_t * e.slip / std::max(std::abs(e.lambda_t), std::numeric_limits<double>::min()))
                                 : 0.0;
-  const double gap_violation = mode == TipMode::kApart ? std::max(0.0, -e.gap_rate) : std::abs(e.gap_rate);
+  const double gap_violation =
+      std::max(0.0, (mode == TipMode::kApart ? -e.gap_rate : std::abs(e.gap_rate)) -
+                        kGapAllowanceM / p.h());
   r.residual = std::max(slip_violation, gap_violation) / p.scale();
   return r;
 }
@@ -265,7 +278,7 @@ PusherStepResult SolvePusherStep(const SliderProperties& slider, const ReducedFr
   TipProblem p(slider, friction, pusher, state, contact, (tip_end - tip_start) / dt_s, applied,
                dt_s, options);
   const TipProblem::Eval free = p.At(0, 0);
-  if (!free.step.ok() || free.gap_rate >= 0) {
+  if (!free.step.ok() || free.gap_rate >= -kGapAllowanceM / dt_s) {
     PusherStepResult r = Finish(p, free, TipMode::kApart, contact, dt_s);
     r.message = free.step.message;
     return r;

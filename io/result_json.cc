@@ -189,9 +189,14 @@ void ReadInterval(const Json& j, const std::string& path, double* lo, double* hi
   *hi = NumberOrNaN(ci[1], path + "/ci95/1");
 }
 
+ParameterEstimate ReadParameter(const Json& j, const std::string& path);
+
 ParameterEstimate ReadParameterAt(const Json& parent, const std::string& parent_path, int index) {
   const std::string path = parent_path + "/" + ParameterName(index);
-  const Json& j = Object(Member(parent, parent_path, ParameterName(index)), path);
+  return ReadParameter(Object(Member(parent, parent_path, ParameterName(index)), path), path);
+}
+
+ParameterEstimate ReadParameter(const Json& j, const std::string& path) {
   ParameterEstimate p;
   p.value = Field(j, path, "value", NumberOrNaN);
   p.stderr_value = Field(j, path, "stderr", NumberOrNaN);
@@ -299,6 +304,13 @@ Json ResultDoc(const EstimateResult& r) {
   Json heterogeneity = Json::object();
   for (int i = 0; i < 3; ++i) heterogeneity[ParameterName(i)] = HeterogeneityJson(r.heterogeneity[i]);
   doc["heterogeneity"] = heterogeneity;
+  if (r.mu_pusher_examined) {
+    Json mu = ParameterJson(r.mu_pusher);
+    mu["lower_bound"] = NumberOrNull(r.mu_pusher_lower_bound);
+    doc["mu_pusher"] = mu;
+  } else {
+    doc["mu_pusher"] = nullptr;
+  }
   return doc;
 }
 
@@ -375,6 +387,13 @@ EstimateResult ParseResultJson(const std::string& json) {
   for (int i = 0; i < 3; ++i) {
     r.heterogeneity[i] = ReadHeterogeneity(Member(heterogeneity, "/heterogeneity", ParameterName(i)),
                                            std::string("/heterogeneity/") + ParameterName(i));
+  }
+  // Optional: results written before mu_p was estimated have no such key.
+  if (const auto it = root.find("mu_pusher"); it != root.end() && !it->is_null()) {
+    const Json& mu = Object(*it, "/mu_pusher");
+    r.mu_pusher_examined = true;
+    r.mu_pusher = ReadParameter(mu, "/mu_pusher");
+    r.mu_pusher_lower_bound = Field(mu, "/mu_pusher", "lower_bound", NumberOrNaN);
   }
   return r;
 }

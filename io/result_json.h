@@ -15,7 +15,9 @@
 //             "steps_used": 55, "status": "converged", "message": "...",
 //             "e_t_mu": {...}, "e_o_over_e_t": {...}, "e_r_over_e_t": {...}}, ...],
 //   "heterogeneity": {"e_t_mu": {"tested": true, "logs": 12, "q": 30.1, "p_value": 0.001,
-//                     "i2": 0.63, "tau_log": 0.12, "consistent": false}, ...}}
+//                     "i2": 0.63, "tau_log": 0.12, "consistent": false}, ...},
+//   "mu_pusher": null, or for logs with the tip's path {the keys of a parameter,
+//                "lower_bound": 0.21 or null}}
 // Keys in this order, ", " and ": " between items. Numbers are written in the shortest form
 // that reads back to the same double; a number that is not finite is written as null and
 // read back as NaN. A parameter that is not identifiable has null value, stderr and ci95,

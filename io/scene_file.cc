@@ -460,11 +460,30 @@ Eigen::Vector2d ToWorld(const PlanarState& pose, const Eigen::Vector2d& p) {
   return {pose.x + c * p.x() - s * p.y(), pose.y + s * p.x() + c * p.y()};
 }
 
+/// How far back along -direction the tip centre starts from `point` so that the tip just
+/// touches the outline (gap 0): one tip radius for a push along the normal, more for an
+/// oblique one. Bisection on the gap, which grows as the tip backs away.
+double TouchingSetBack(const ContactPatch& patch, const PlanarState& pose,
+                       const Eigen::Vector2d& point, const Eigen::Vector2d& direction,
+                       double tip_radius_m) {
+  auto gap = [&](double back) {
+    return ContactWithTip(patch, pose, point - back * direction, tip_radius_m).gap_m;
+  };
+  double lo = 0, hi = std::max(tip_radius_m, 1e-6);
+  for (int k = 0; k < 60 && gap(hi) < 0; ++k) hi *= 2;
+  for (int k = 0; k < 100 && hi - lo > 1e-15; ++k) {
+    const double mid = 0.5 * (lo + hi);
+    (gap(mid) < 0 ? lo : hi) = mid;
+  }
+  return hi;
+}
+
 /// The tip's path of [pusher]: either a straight push from a point of the outline (`point`,
 /// `direction` in the body frame at the initial pose, `distance`, `speed`), the tip centre
-/// starting one tip radius behind the point; or waypoints (`start`, `path` "x1 y1 x2 y2 ..."
+/// starting behind the point along the direction, just touching; or waypoints (`start`, `path` "x1 y1 x2 y2 ..."
 /// in the world frame, `speed` one for all segments or one each). `start_time` delays it.
-PusherPath ReadPusherPath(const Reader& r, const PlanarState& initial, double tip_radius_m) {
+PusherPath ReadPusherPath(const Reader& r, const PlanarState& initial, const ContactPatch& patch,
+                          double tip_radius_m) {
   using C = Reader::Check;
   const double start_s = r.Number("pusher.start_time", 0.0, C::kNonNegative);
   const bool straight = r.Has("pusher.point"), waypoints = r.Has("pusher.path");
@@ -483,7 +502,9 @@ PusherPath ReadPusherPath(const Reader& r, const PlanarState& initial, double ti
       const Eigen::Vector2d d = r.Pair("pusher.direction");
       if (d.norm() == 0.0) r.Fail("pusher.direction", "must be non-zero");
       const Eigen::Vector2d dir = (ToWorld(initial, d) - ToWorld(initial, {0, 0})).normalized();
-      const Eigen::Vector2d start = ToWorld(initial, r.Pair("pusher.point")) - tip_radius_m * dir;
+      const Eigen::Vector2d point = ToWorld(initial, r.Pair("pusher.point"));
+      const Eigen::Vector2d start =
+          point - TouchingSetBack(patch, initial, point, dir, tip_radius_m) * dir;
       const double distance = r.Number("pusher.distance", C::kPositive);
       return PusherPath::Polyline(start_s, start, {start + distance * dir}, speeds);
     }
@@ -506,13 +527,13 @@ PusherPath ReadPusherPath(const Reader& r, const PlanarState& initial, double ti
 }
 
 /// [pusher]: a position-controlled tip (forward_model/pusher.h).
-Pusher ReadPusher(const Reader& r, const PlanarState& initial) {
+Pusher ReadPusher(const Reader& r, const PlanarState& initial, const ContactPatch& patch) {
   using C = Reader::Check;
   Pusher p;
   p.tip_radius_m = r.Number("pusher.tip_radius", p.tip_radius_m, C::kNonNegative);
   p.mu = r.Number("pusher.mu", p.mu, C::kNonNegative);
   if (r.Has("pusher.height")) p.height_m = r.Number("pusher.height", C::kNonNegative);
-  p.path = ReadPusherPath(r, initial, p.tip_radius_m);
+  p.path = ReadPusherPath(r, initial, patch, p.tip_radius_m);
   return p;
 }
 
@@ -610,7 +631,7 @@ LoggedScene ParseScene(const std::string& ini_text, const std::string& source) {
       r.FailAt("[pusher] cannot be combined with [push] or [program] sections: a scene is "
                "driven by forces or by a pusher", LineOf(ini_text, "[pusher]"));
     }
-    scene.pusher = ReadPusher(r, scene.initial);
+    scene.pusher = ReadPusher(r, scene.initial, scene.patch);
   }
   scene.dt_s = r.Number("sim.dt", Reader::Check::kPositive);
   if (r.HasSection("program")) {

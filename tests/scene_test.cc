@@ -487,7 +487,7 @@ TEST(Scene, BundledExample3LoadsWithThePapersPush) {
 // [pusher]: a straight push from a point of the outline, or waypoints, and their errors.
 TEST(Scene, PusherSectionGivesAStraightPushOrWaypoints) {
   const Scene straight = ParseScene(
-      SceneText("[pusher]\npoint = -0.025 0.01\ndirection = 0 1\ndistance = 0.05\n"
+      SceneText("[pusher]\npoint = -0.025 0.01\ndirection = 1 0\ndistance = 0.05\n"
                 "speed = 0.02\nmu = 0.4\ntip_radius = 0.005\nstart_time = 0.1\n"),
       "scene.ini");
   ASSERT_TRUE(straight.pusher.has_value());
@@ -495,11 +495,19 @@ TEST(Scene, PusherSectionGivesAStraightPushOrWaypoints) {
   EXPECT_EQ(p.mu, 0.4);
   EXPECT_EQ(p.tip_radius_m, 0.005);
   EXPECT_FALSE(p.height_m.has_value());
-  // One tip radius behind the point along the direction, then 50 mm at 20 mm/s.
-  EXPECT_NEAR((p.path.PositionAt(0.1) - Eigen::Vector2d(-0.025, 0.005)).norm(), 0.0, 1e-15);
-  EXPECT_NEAR((p.path.PositionAt(10) - Eigen::Vector2d(-0.025, 0.055)).norm(), 0.0, 1e-15);
+  // One tip radius behind the point along the normal, then 50 mm at 20 mm/s.
+  EXPECT_NEAR((p.path.PositionAt(0.1) - Eigen::Vector2d(-0.030, 0.01)).norm(), 0.0, 1e-12);
+  EXPECT_NEAR((p.path.PositionAt(10) - Eigen::Vector2d(0.020, 0.01)).norm(), 0.0, 1e-12);
   EXPECT_NEAR(p.path.end_s(), 0.1 + 2.5, 1e-12);
   EXPECT_EQ(straight.duration_s, 0.45);  // [sim] duration wins when given
+
+  // Oblique, at 45 degrees: the tip starts just touching, r sqrt(2) back along the direction.
+  const Scene oblique = ParseScene(
+      SceneText("[pusher]\npoint = -0.025 0\ndirection = 1 1\ndistance = 0.01\n"
+                "speed = 0.02\ntip_radius = 0.005\n"),
+      "scene.ini");
+  EXPECT_NEAR((oblique.pusher->path.PositionAt(0) - Eigen::Vector2d(-0.030, -0.005)).norm(), 0.0,
+              1e-12);
 
   const Scene waypoints = ParseScene(
       SceneText("[pusher]\nstart = -0.1 0\npath = -0.03 0 -0.03 0.02\nspeed = 0.1 0.02\n"),

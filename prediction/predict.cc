@@ -1,0 +1,254 @@
+#include "prediction/predict.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <stdexcept>
+#include <tuple>
+
+#include "forward_model/contact_patch.h"
+
+namespace slideid {
+namespace {
+
+// Travel below this [m] is no travel: the per-100-mm errors and the fraction of the
+// displacement are left at 0 rather than divided by it.
+constexpr double kNoTravelM = 1e-9;
+
+std::string Named(const Trajectory& log) { return log.source.empty() ? "the log" : log.source; }
+
+/// The first row's state, with the velocity a poses-only log implies (as ReplayLog).
+PlanarState StartState(const Trajectory& log) {
+  PlanarState s = log.samples[0].state;
+  if (log.columns.velocity) return s;
+  const TrajectorySample &a = log.samples[0], &b = log.samples[1];
+  const double h = b.t_s - a.t_s;
+  s.vx = (b.state.x - a.state.x) / h;
+  s.vy = (b.state.y - a.state.y) / h;
+  s.wz = (b.state.theta - a.state.theta) / h;
+  return s;
+}
+
+/// The pusher the log describes: its tip's path, radius and mu_p.
+Pusher LoggedPusher(const Trajectory& log, double mu_pusher) {
+  const bool every_row = std::all_of(log.samples.begin(), log.samples.end(),
+                                     [](const TrajectorySample& s) { return s.tip_world.has_value(); });
+  if (!log.columns.tip || !every_row) {
+    throw std::invalid_argument(Named(log) + ": the pusher drive needs the tip's path (columns "
+                                "tip_x, tip_y); use the force drive, or add them");
+  }
+  if (!log.tip_radius_m) {
+    throw std::invalid_argument(Named(log) + ": the pusher drive needs the tip's radius "
+                                "(metadata '# tip_radius = ...' [m])");
+  }
+  if (log.patch_spec.empty()) {
+    throw std::invalid_argument(Named(log) + ": the pusher drive needs the outline the tip "
+                                "touches (metadata '# patch = ...')");
+  }
+  std::vector<double> times;
+  std::vector<Eigen::Vector2d> points;
+  for (const TrajectorySample& s : log.samples) {
+    times.push_back(s.t_s);
+    points.push_back(*s.tip_world);
+  }
+  Pusher pusher;
+  pusher.path = PusherPath(times, points);
+  pusher.tip_radius_m = *log.tip_radius_m;
+  pusher.mu = mu_pusher;
+  return pusher;
+}
+
+void Count(const PusherStepResult& r, SimulationSummary* summary) {
+  ++summary->steps;
+  (r.step.mode == StepMode::kStick ? summary->stick_steps : summary->slide_steps)++;
+  summary->tip_stick_steps += r.tip_mode == TipMode::kStick;
+  summary->tip_slide_steps += r.tip_mode == TipMode::kSlide;
+  summary->max_step_residual = std::max(summary->max_step_residual, r.residual);
+  summary->max_step_iterations = std::max(summary->max_step_iterations, r.iterations);
+}
+
+/// The log replayed by its pusher: each interval in `substeps` steps, rows at its times.
+SimulationResult ReplayPusher(const Trajectory& log, const ReducedFriction& friction,
+                              const Pusher& pusher, const PredictionOptions& options) {
+  const ContactPatch patch = ContactPatch::Parse(log.patch_spec);
+  SimulationResult result;
+  Trajectory& out = result.trajectory;
+  out.source = log.source;
+  out.slider = log.slider;
+  out.patch_spec = log.patch_spec;
+  out.tip_radius_m = log.tip_radius_m;
+  out.true_friction = friction.ToFrictionParameters();
+  out.columns = LogColumns{};
+  out.columns.force = out.columns.push_point = out.columns.tip = true;
+  TrajectorySample row;
+  row.t_s = log.samples[0].t_s;
+  row.state = StartState(log);
+  row.mode = SampleMode::kStart;
+  row.tip_world = log.samples[0].tip_world;
+  out.samples.push_back(row);
+  for (size_t u = 0; u + 1 < log.samples.size(); ++u) {
+    const double t0 = log.samples[u].t_s, h = (log.samples[u + 1].t_s - t0) / options.substeps;
+    PlanarState state = out.samples.back().state;
+    Eigen::Vector2d impulse = Eigen::Vector2d::Zero();
+    PusherStepResult r;
+    for (int k = 0; k < options.substeps; ++k) {
+      const double t = t0 + k * h;
+      r = SolvePusherStep(log.slider, friction, patch, pusher, state, pusher.path.PositionAt(t),
+                          pusher.path.PositionAt(t + h), AppliedWrench{}, h, options.step);
+      if (!r.ok()) {
+        result.summary.status = SimulationStatus::kNoConvergence;
+        result.summary.failure_time_s = t;
+        result.summary.message = "t = " + std::to_string(t) + " s: " + r.message;
+        return result;
+      }
+      Count(r, &result.summary);
+      impulse += r.impulse_world;
+      state = r.step.state;
+      if (k == 0 && r.tip_mode != TipMode::kApart) {
+        out.samples.back().push_point_world = Eigen::Vector3d(
+            r.contact.point_world.x(), r.contact.point_world.y(), log.slider.com_height_m);
+      }
+    }
+    // The row's force: the interval's mean, at the first step's contact (as a log holds it).
+    TrajectorySample& held = out.samples.back();
+    const Eigen::Vector2d force = impulse / (log.samples[u + 1].t_s - t0);
+    if (held.push_point_world) {
+      const Eigen::Vector3d arm = *held.push_point_world -
+                                  Eigen::Vector3d(held.state.x, held.state.y, log.slider.com_height_m);
+      held.applied = WrenchFromForceAt(force.x(), force.y(), 0.0, arm.x(), arm.y(), arm.z());
+    }
+    TrajectorySample next;
+    next.t_s = log.samples[u + 1].t_s;
+    next.state = state;
+    next.mode = r.step.mode == StepMode::kStick ? SampleMode::kStick : SampleMode::kSlide;
+    next.tip_world = log.samples[u + 1].tip_world;
+    next.ecp_world = r.step.ecp_world;
+    out.samples.push_back(next);
+  }
+  return result;
+}
+
+bool AnyForce(const Trajectory& log) {
+  return std::any_of(log.samples.begin(), log.samples.end(), [](const TrajectorySample& s) {
+    return s.applied.fx != 0 || s.applied.fy != 0 || s.applied.tz != 0;
+  });
+}
+
+/// The travel of the pusher over the first `rows` rows, and what it is the travel of.
+std::pair<double, std::string> Travel(const Trajectory& log, size_t rows) {
+  auto path_length = [&](auto point) {
+    double length = 0;
+    for (size_t u = 1; u < rows; ++u) {
+      const auto a = point(log.samples[u - 1]), b = point(log.samples[u]);
+      if (a && b) length += (*b - *a).norm();
+    }
+    return length;
+  };
+  if (log.columns.tip) {
+    return {path_length([](const TrajectorySample& s) { return s.tip_world; }), "tip"};
+  }
+  if (log.columns.push_point) {
+    return {path_length([](const TrajectorySample& s) -> std::optional<Eigen::Vector2d> {
+              if (!s.push_point_world) return std::nullopt;
+              return s.push_point_world->head<2>().eval();
+            }),
+            "push point"};
+  }
+  return {path_length([](const TrajectorySample& s) -> std::optional<Eigen::Vector2d> {
+            return Eigen::Vector2d(s.state.x, s.state.y);
+          }),
+          "object"};
+}
+
+}  // namespace
+
+bool PredictionOptions::IsValid(std::string* why) const {
+  auto fail = [why](const char* text) {
+    if (why) *why = text;
+    return false;
+  };
+  if (substeps < 1) return fail("substeps must be >= 1");
+  if (!(part_position_m > 0) || !(part_rotation_rad > 0)) {
+    return fail("the parting thresholds must be > 0");
+  }
+  return step.IsValid(why);
+}
+
+PredictionErrors CompareWithLog(const Trajectory& log, const Trajectory& predicted,
+                                const PredictionOptions& options) {
+  PredictionErrors e;
+  const size_t rows = std::min(log.samples.size(), predicted.samples.size());
+  if (rows == 0) return e;
+  for (size_t u = 0; u < rows; ++u) {
+    const PlanarState &p = predicted.samples[u].state, &q = log.samples[u].state;
+    const double position = std::hypot(p.x - q.x, p.y - q.y);
+    const double rotation = std::abs(p.theta - q.theta);
+    e.mean_position_m += position / rows;
+    e.mean_rotation_rad += rotation / rows;
+    if (!e.parting_time_s &&
+        (position > options.part_position_m || rotation > options.part_rotation_rad)) {
+      e.parting_time_s = log.samples[u].t_s - log.samples[0].t_s;
+    }
+    e.final_position_m = position;
+    e.final_rotation_rad = rotation;
+  }
+  std::tie(e.travel_m, e.travel_of) = Travel(log, rows);
+  if (e.travel_m > kNoTravelM) {
+    e.final_position_per_100mm_m = e.final_position_m * 0.1 / e.travel_m;
+    e.final_rotation_per_100mm_rad = e.final_rotation_rad * 0.1 / e.travel_m;
+  }
+  const PlanarState &first = log.samples.front().state, &last = log.samples[rows - 1].state;
+  e.logged_displacement_m = std::hypot(last.x - first.x, last.y - first.y);
+  if (e.logged_displacement_m > kNoTravelM) {
+    e.final_position_fraction = e.final_position_m / e.logged_displacement_m;
+  }
+  return e;
+}
+
+Prediction PredictPush(const Trajectory& log, const ReducedFriction& friction,
+                       std::optional<double> mu_pusher, const PredictionOptions& options) {
+  std::string why;
+  if (!options.IsValid(&why)) throw std::invalid_argument("prediction options: " + why);
+  if (log.samples.size() < 2) {
+    throw std::invalid_argument(Named(log) + ": a prediction needs at least 2 rows");
+  }
+  Prediction p;
+  p.drive = options.drive;
+  if (options.drive == PredictionDrive::kPusher) {
+    if (!mu_pusher) {
+      throw std::invalid_argument("the pusher drive needs the tip-edge friction mu_p (a fit's "
+                                  "mu_pusher, or --mu-pusher)");
+    }
+    p.mu_pusher = *mu_pusher;
+    const SimulationResult r = ReplayPusher(log, friction, LoggedPusher(log, *mu_pusher), options);
+    p.predicted = r.trajectory;
+    p.summary = r.summary;
+  } else {
+    if (!AnyForce(log)) {
+      throw std::invalid_argument(Named(log) + ": the force drive needs logged forces (fx, fy); "
+                                  "this log has none");
+    }
+    SimulationOptions sim;
+    sim.step = options.step.step;
+    const SimulationResult r =
+        ReplayLog(log, friction.ToFrictionParameters(), options.substeps, sim);
+    p.predicted = r.trajectory;
+    p.summary = r.summary;
+  }
+  p.predicted.source = log.source;
+  p.errors = CompareWithLog(log, p.predicted, options);
+  return p;
+}
+
+const char* ToString(PredictionDrive drive) {
+  return drive == PredictionDrive::kPusher ? "pusher" : "force";
+}
+
+bool ParsePredictionDrive(const std::string& text, PredictionDrive* drive) {
+  if (text == "pusher") *drive = PredictionDrive::kPusher;
+  else if (text == "force") *drive = PredictionDrive::kForce;
+  else return false;
+  return true;
+}
+
+}  // namespace slideid

@@ -1,0 +1,175 @@
+// Prediction (prediction/predict.h): a push replayed from its first state with a friction,
+// by the pusher's path or by the logged force, and its errors against the log.
+
+#include "prediction/predict.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "datasets/sensor_model.h"
+#include "forward_model/simulator.h"
+#include "tests/estimator_test_support.h"
+
+namespace slideid {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+/// A 90 mm square pushed at 50 mm/s by a tip sliding along its edge for part of the push.
+Scene PushedSquare() {
+  Scene scene;
+  scene.slider = {0.837, 1.13e-3, 0.0065, 9.81};
+  scene.friction = ReducedFriction{0.3, 1.2, 0.035}.ToFrictionParameters();
+  scene.patch = ContactPatch::Rectangle(0.09, 0.09);
+  scene.dt_s = 1e-3;
+  Pusher p;
+  p.tip_radius_m = 0.00475;
+  p.mu = 0.25;
+  const Eigen::Vector2d start(-0.045 - 0.00475, 0.02);
+  p.path = PusherPath::Polyline(0.0, start, {start + Eigen::Vector2d(0.06, 0.02)}, {0.05});
+  scene.pusher = p;
+  scene.duration_s = p.path.end_s() + 0.1;
+  return scene;
+}
+
+Trajectory Logged(const Scene& scene, int every) {
+  LogSpec spec;
+  spec.log_every = every;
+  spec.motion = LogMotion::kPoses;
+  return MakeLog(testing::SimulateOrFail(scene), spec);
+}
+
+// The truth and the simulation's own step reproduce the log: the pusher drive repeats what
+// made it (to the solver's tolerance), and so does the force drive of a log that holds each
+// step's force.
+TEST(Predict, TheTruthReproducesItsOwnLogByEitherDrive) {
+  const Scene scene = PushedSquare();
+  const ReducedFriction truth = ReducedFriction::From(scene.friction);
+  Trajectory log = testing::SimulateOrFail(scene);
+  log.columns.velocity = true;  // the simulator's own start velocity (0)
+  PredictionOptions options;
+  const Prediction pusher = PredictPush(log, truth, 0.25, options);
+  ASSERT_TRUE(pusher.summary.ok()) << pusher.summary.message;
+  EXPECT_GT(pusher.summary.tip_slide_steps, 10);
+  EXPECT_LT(pusher.errors.final_position_m, 1e-9);
+  EXPECT_LT(pusher.errors.final_rotation_rad, 1e-9);
+  EXPECT_FALSE(pusher.errors.parting_time_s.has_value());
+  options.drive = PredictionDrive::kForce;
+  const Prediction force = PredictPush(log, truth, std::nullopt, options);
+  ASSERT_TRUE(force.summary.ok()) << force.summary.message;
+  EXPECT_LT(force.errors.final_position_m, 1e-9);
+  EXPECT_LT(force.errors.final_rotation_rad, 1e-9);
+}
+
+// A 100 Hz log of the 1 ms simulation, predicted at the log's rate with 10 substeps: the
+// pusher's path alone gives the motion back. A wrong friction, or a wrong mu_p, lands
+// farther away than the truth.
+TEST(Predict, TheTruthPredictsBetterThanAWrongFriction) {
+  const Scene scene = PushedSquare();
+  const Trajectory log = Logged(scene, 10);
+  const ReducedFriction truth = ReducedFriction::From(scene.friction);
+  PredictionOptions options;
+  options.substeps = 10;
+  const Prediction right = PredictPush(log, truth, 0.25, options);
+  ASSERT_TRUE(right.summary.ok()) << right.summary.message;
+  EXPECT_LT(right.errors.final_position_m, 2e-4);
+  EXPECT_LT(right.errors.final_rotation_rad, 0.2 * kPi / 180);
+  ReducedFriction low_c = truth;
+  low_c.c *= 0.7;
+  const Prediction wrong_c = PredictPush(log, low_c, 0.25, options);
+  EXPECT_GT(wrong_c.errors.final_rotation_rad, 5 * right.errors.final_rotation_rad);
+  const Prediction wrong_mu_p = PredictPush(log, truth, 0.6, options);
+  EXPECT_GT(wrong_mu_p.errors.final_position_m + 0.05 * wrong_mu_p.errors.final_rotation_rad,
+            5 * (right.errors.final_position_m + 0.05 * right.errors.final_rotation_rad));
+}
+
+// The errors against a trajectory shifted by a known amount from some row on.
+TEST(Predict, ErrorsAreTheDistancesAtTheRowsAndTheFirstRowPastAThreshold) {
+  Trajectory log;
+  log.columns.tip = true;
+  for (int u = 0; u <= 10; ++u) {
+    TrajectorySample s;
+    s.t_s = 0.1 * u;
+    s.state.x = 0.01 * u;  // 100 mm over the log
+    s.tip_world = Eigen::Vector2d(0.01 * u - 0.05, 0.0);
+    log.samples.push_back(s);
+  }
+  Trajectory predicted = log;
+  for (int u = 6; u <= 10; ++u) {
+    predicted.samples[u].state.y = 0.002 * (u - 5);         // 2 mm per row from row 6
+    predicted.samples[u].state.theta = 0.01 * (u - 5);
+  }
+  const PredictionErrors e = CompareWithLog(log, predicted, PredictionOptions{});
+  EXPECT_NEAR(e.final_position_m, 0.010, 1e-15);
+  EXPECT_NEAR(e.final_rotation_rad, 0.05, 1e-15);
+  EXPECT_NEAR(e.travel_m, 0.1, 1e-15);
+  EXPECT_EQ(e.travel_of, "tip");
+  EXPECT_NEAR(e.final_position_per_100mm_m, 0.010, 1e-15);
+  EXPECT_NEAR(e.logged_displacement_m, 0.1, 1e-15);
+  EXPECT_NEAR(e.final_position_fraction, 0.1, 1e-14);
+  EXPECT_NEAR(e.mean_position_m, 0.002 * (1 + 2 + 3 + 4 + 5) / 11, 1e-15);
+  ASSERT_TRUE(e.parting_time_s.has_value());
+  EXPECT_NEAR(*e.parting_time_s, 0.8, 1e-12);  // row 8: 6 mm, the first past 5 mm
+}
+
+TEST(Predict, ALogThatCannotBeDrivenThatWaySaysWhatIsMissing) {
+  const Scene scene = PushedSquare();
+  Trajectory log = Logged(scene, 10);
+  log.source = "push.csv";
+  const ReducedFriction f{0.3, 1.2, 0.035};
+  auto message = [&](const Trajectory& l, std::optional<double> mu_p, PredictionDrive drive) {
+    PredictionOptions o;
+    o.drive = drive;
+    try {
+      PredictPush(l, f, mu_p, o);
+    } catch (const std::invalid_argument& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  EXPECT_NE(message(log, std::nullopt, PredictionDrive::kPusher).find("mu_p"), std::string::npos);
+  Trajectory no_tip = log;
+  no_tip.columns.tip = false;
+  EXPECT_NE(message(no_tip, 0.25, PredictionDrive::kPusher).find("push.csv: the pusher drive needs "
+                                                                "the tip's path"),
+            std::string::npos);
+  Trajectory no_radius = log;
+  no_radius.tip_radius_m.reset();
+  EXPECT_NE(message(no_radius, 0.25, PredictionDrive::kPusher).find("tip_radius"), std::string::npos);
+  Trajectory no_patch = log;
+  no_patch.patch_spec.clear();
+  EXPECT_NE(message(no_patch, 0.25, PredictionDrive::kPusher).find("patch"), std::string::npos);
+  Trajectory no_force = log;
+  for (TrajectorySample& s : no_force.samples) s.applied = AppliedWrench{};
+  EXPECT_NE(message(no_force, std::nullopt, PredictionDrive::kForce).find("no"), std::string::npos);
+}
+
+// The tool: a friction from identify's JSON or from options, the table or JSON, the
+// predicted log written, usage errors exit 2.
+TEST(PredictTool, PredictsFromOptionsAndWritesTheTrajectory) {
+  const Scene scene = PushedSquare();
+  const std::string log_path = testing::TempPath("predict_push.csv");
+  WritePushLog(Logged(scene, 10), log_path);
+  const std::string out = testing::TempPath("predicted.csv");
+  const testing::ToolRun run = testing::RunTool(
+      "predict", "--log " + log_path + " --mu 0.3 --b 1.2 --c 0.035 --mu-pusher 0.25 "
+                 "--substeps 10 --json --out " + out);
+  ASSERT_EQ(run.code, 0) << run.all();
+  EXPECT_NE(run.all().find("\"drive\":\"pusher\""), std::string::npos) << run.all();
+  EXPECT_NE(run.all().find("\"final_position_m\""), std::string::npos) << run.all();
+  const Trajectory predicted = ReadPushLog(out);
+  EXPECT_GT(predicted.samples.size(), 100u);
+  EXPECT_EQ(testing::RunTool("predict", "--log " + log_path + " --b 1 --c 0.03").code, 2);
+  EXPECT_EQ(testing::RunTool("predict", "--log " + log_path +
+                                            " --mu 0.3 --b 1 --c 0.03 --drive sideways").code,
+            2);
+  // No mu_p for the pusher drive: bad input, naming it.
+  const testing::ToolRun no_mu_p =
+      testing::RunTool("predict", "--log " + log_path + " --mu 0.3 --b 1 --c 0.03");
+  EXPECT_EQ(no_mu_p.code, 1);
+  EXPECT_NE(no_mu_p.all().find("mu_p"), std::string::npos) << no_mu_p.all();
+}
+
+}  // namespace
+}  // namespace slideid
