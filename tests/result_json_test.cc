@@ -180,7 +180,7 @@ TEST(ResultJson, KeepsTheDocumentedKeysOrderAndLayout) {
             "\"e_o_over_e_t\": {\"tested\": false, \"logs\": 0, \"q\": null, \"p_value\": null, "
             "\"i2\": null, \"tau_log\": null, \"consistent\": true}, "
             "\"e_r_over_e_t\": {\"tested\": false, \"logs\": 0, \"q\": null, \"p_value\": null, "
-            "\"i2\": null, \"tau_log\": null, \"consistent\": true}}}");
+            "\"i2\": null, \"tau_log\": null, \"consistent\": true}}, \"mu_pusher\": null}");
 }
 
 TEST(ResultJson, BatchLinesWrapTheResultOrTheErrorWithTheFileFirst) {
