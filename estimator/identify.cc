@@ -5,6 +5,7 @@
 #include "estimator/closed_form.h"
 #include "estimator/equation_error.h"
 #include "estimator/log_diagnostics.h"
+#include "estimator/pusher_friction.h"
 #include "estimator/trajectory_fit.h"
 
 namespace slideid {
@@ -22,16 +23,17 @@ EstimateResult Identify(const Trajectory& log, const IdentifyOptions& options) {
     r.message = *dead;
     return r;
   }
+  EstimateResult r;
   switch (options.method) {
-    case EstimatorMethod::kClosedForm: return EstimateClosedForm(log, options);
-    case EstimatorMethod::kEquationError: return EstimateEquationError(log, options);
-    case EstimatorMethod::kTrajectory: return EstimateTrajectory(log, options);
+    case EstimatorMethod::kClosedForm: r = EstimateClosedForm(log, options); break;
+    case EstimatorMethod::kEquationError: r = EstimateEquationError(log, options); break;
+    case EstimatorMethod::kTrajectory: r = EstimateTrajectory(log, options); break;
     case EstimatorMethod::kQuasiStatic:
       throw std::invalid_argument("the quasi-static method fits wrench-twist pairs "
                                   "(EstimateQuasiStatic), not a push log");
   }
-  throw std::invalid_argument(std::string("method ") + ToString(options.method) +
-                              " does not take push logs");
+  AddPusherFriction({&log}, &r);  // mu_p, from the tip's path where the log has it
+  return r;
 }
 
 EstimateResult Identify(const std::vector<Trajectory>& logs, const IdentifyOptions& options) {
@@ -51,14 +53,19 @@ EstimateResult Identify(const std::vector<Trajectory>& logs, const IdentifyOptio
       }
     }
   }
+  EstimateResult r;
   switch (options.method) {
-    case EstimatorMethod::kClosedForm: return EstimateClosedForm(logs, options);
-    case EstimatorMethod::kEquationError: return EstimateEquationError(logs, options);
-    case EstimatorMethod::kTrajectory: return EstimateTrajectory(logs, options);
-    case EstimatorMethod::kQuasiStatic: break;
+    case EstimatorMethod::kClosedForm: r = EstimateClosedForm(logs, options); break;
+    case EstimatorMethod::kEquationError: r = EstimateEquationError(logs, options); break;
+    case EstimatorMethod::kTrajectory: r = EstimateTrajectory(logs, options); break;
+    case EstimatorMethod::kQuasiStatic:
+      throw std::invalid_argument(std::string("method ") + ToString(options.method) +
+                                  " does not take push logs");
   }
-  throw std::invalid_argument(std::string("method ") + ToString(options.method) +
-                              " does not take push logs");
+  std::vector<const Trajectory*> pointers;
+  for (const Trajectory& log : logs) pointers.push_back(&log);
+  AddPusherFriction(pointers, &r);
+  return r;
 }
 
 }  // namespace slideid

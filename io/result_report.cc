@@ -97,7 +97,16 @@ std::string FormatReport(const EstimateResult& r, const std::optional<ReducedFri
     out << "\n";
     ReportReasons(out, p.verdict, p.reason, p.note);
   }
-  out << "(e_t_mu = e_t mu; e_o_over_e_t = e_o/e_t; e_r_over_e_t = e_r/e_t [m])\n";
+  if (r.mu_pusher_examined) {
+    const ParameterEstimate& p = r.mu_pusher;
+    std::snprintf(line, sizeof line, "%-14s %12s %12s %27s  %-16s\n", "mu_pusher",
+                  Number(p.value).c_str(), Number(p.stderr_value).c_str(),
+                  Interval(p.ci95_lo, p.ci95_hi).c_str(), ToString(p.verdict));
+    out << line;
+    ReportReasons(out, p.verdict, p.reason, p.note);
+  }
+  out << "(e_t_mu = e_t mu; e_o_over_e_t = e_o/e_t; e_r_over_e_t = e_r/e_t [m]"
+      << (r.mu_pusher_examined ? "; mu_pusher = the tip-edge friction coefficient" : "") << ")\n";
   if (!r.nuisance.empty()) {
     out << "sensor nuisances:\n";
     for (const NuisanceEstimate& n : r.nuisance) {

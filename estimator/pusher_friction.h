@@ -1,0 +1,64 @@
+#pragma once
+// The tip-edge friction mu_p from logs that carry the pusher tip's path (tip_x, tip_y,
+// '# tip_radius', '# patch'). Its evidence is the angle between the measured force and the
+// edge's normal: while the tip slides along the edge, Coulomb's law puts the force on the
+// edge of its friction cone, |f_t| / f_n = mu_p, the tangential part opposing the slip;
+// while it sticks, the ratio only stays inside the cone. So mu_p is the median ratio over
+// the rows where the tip slides (the slip, the contact point's velocity along the edge
+// relative to the tip, read in the body frame over a few rows, beyond its noise and against
+// the tangential force), with an interval from the medians of consecutive batches of them. A log whose tip never slides
+// gives only a lower bound, a high quantile of the ratio while it sticks, and says so.
+
+#include <cstdint>
+#include <limits>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "estimator/estimate.h"
+#include "forward_model/trajectory.h"
+
+namespace slideid {
+
+struct PusherFrictionOptions {
+  /// The tip touches when its centre is within tip radius + this of the outline [m]
+  /// (motion capture and machining: about 1-2 mm).
+  double contact_tolerance_m = 2e-3;
+  /// A row pushes when the force into the edge exceeds this fraction of the logs' typical
+  /// push (the 90th percentile of their non-zero forces).
+  double min_force_fraction = 0.1;
+  /// The tip slides when the slip exceeds this many standard deviations of its noise (from
+  /// the pose noise the log shows) and this fraction of the tip's speed.
+  double slip_sigmas = 3.0;
+  double min_slip_fraction = 0.1;
+  /// The slip is the tip's drift along the edge over rows u - k .. u + k: k = 5 makes its
+  /// noise from 0.2 mm of pose noise at 100 Hz 2.8 mm/s, against 28 mm/s over one row.
+  int slip_half_window_rows = 5;
+  /// Fewer sliding rows than this identify nothing: mu_p gets a lower bound only.
+  int min_sliding_rows = 8;
+  /// The interval: the sliding rows cut into consecutive batches of at least this many
+  /// rows, at most max_batches of them.
+  int batch_rows = 10;
+  int max_batches = 10;
+  /// The lower bound from a tip that sticks: this quantile of |f_t| / f_n.
+  double sticking_quantile = 0.95;
+
+  bool IsValid(std::string* why) const;
+};
+
+struct PusherFrictionResult {
+  ParameterEstimate mu;  ///< identifiable when the tip slides in enough rows
+  double lower_bound = std::numeric_limits<double>::quiet_NaN();  ///< when it only sticks
+  int contact_rows = 0;  ///< rows where the tip pushes the edge
+  int sliding_rows = 0;  ///< of which the tip slides along it
+};
+
+/// mu_p from the logs that have the tip's path, radius and the object's outline; nullopt
+/// when none has. Throws std::invalid_argument for invalid options.
+std::optional<PusherFrictionResult> EstimatePusherFriction(
+    const std::vector<const Trajectory*>& logs, const PusherFrictionOptions& options = {});
+
+/// Sets result->mu_pusher* from EstimatePusherFriction (untouched when no log has a tip).
+void AddPusherFriction(const std::vector<const Trajectory*>& logs, EstimateResult* result);
+
+}  // namespace slideid
