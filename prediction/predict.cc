@@ -14,6 +14,9 @@ namespace {
 // Travel below this [m] is no travel: the per-100-mm errors and the fraction of the
 // displacement are left at 0 rather than divided by it.
 constexpr double kNoTravelM = 1e-9;
+// Rows push when their force exceeds this fraction of the log's typical (90th percentile)
+// force: the tip registration reads the contact gap there.
+constexpr double kPushingFraction = 0.1;
 
 std::string Named(const Trajectory& log) { return log.source.empty() ? "the log" : log.source; }
 
@@ -56,6 +59,28 @@ Pusher LoggedPusher(const Trajectory& log, double mu_pusher) {
   pusher.tip_radius_m = *log.tip_radius_m;
   pusher.mu = mu_pusher;
   return pusher;
+}
+
+/// The tip radius at which the tip touches the outline, on the median, where the log
+/// pushes (force above kPushingFraction of its 90th percentile); the logged one when no
+/// row pushes.
+double RegisteredTipRadius(const Trajectory& log, const ContactPatch& patch) {
+  std::vector<double> forces;
+  for (const TrajectorySample& s : log.samples) {
+    const double f = std::hypot(s.applied.fx, s.applied.fy);
+    if (f > 0) forces.push_back(f);
+  }
+  if (forces.empty()) return *log.tip_radius_m;
+  std::sort(forces.begin(), forces.end());
+  const double pushing = kPushingFraction * forces[static_cast<size_t>(0.9 * (forces.size() - 1))];
+  std::vector<double> gaps;
+  for (const TrajectorySample& s : log.samples) {
+    if (std::hypot(s.applied.fx, s.applied.fy) <= pushing) continue;
+    gaps.push_back(ContactWithTip(patch, s.state, *s.tip_world, *log.tip_radius_m).gap_m);
+  }
+  if (gaps.empty()) return *log.tip_radius_m;
+  std::nth_element(gaps.begin(), gaps.begin() + gaps.size() / 2, gaps.end());
+  return std::max(0.0, *log.tip_radius_m + gaps[gaps.size() / 2]);
 }
 
 void Count(const PusherStepResult& r, SimulationSummary* summary) {
@@ -220,7 +245,12 @@ Prediction PredictPush(const Trajectory& log, const ReducedFriction& friction,
                                   "mu_pusher, or --mu-pusher)");
     }
     p.mu_pusher = *mu_pusher;
-    const SimulationResult r = ReplayPusher(log, friction, LoggedPusher(log, *mu_pusher), options);
+    Pusher pusher = LoggedPusher(log, *mu_pusher);
+    if (options.register_tip) {
+      pusher.tip_radius_m = RegisteredTipRadius(log, ContactPatch::Parse(log.patch_spec));
+    }
+    p.tip_radius_m = pusher.tip_radius_m;
+    const SimulationResult r = ReplayPusher(log, friction, pusher, options);
     p.predicted = r.trajectory;
     p.summary = r.summary;
   } else {

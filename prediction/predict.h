@@ -33,6 +33,12 @@ struct PredictionOptions {
   double part_position_m = 5e-3;
   double part_rotation_rad = 5.0 * 3.14159265358979323846 / 180.0;
   PusherStepOptions step;  ///< the step solves (the pusher's and, inside, the support's)
+  /// Pusher drive: the tip radius is set so that the tip touches the outline, on the
+  /// median, in the rows where the log pushes (the logged radius plus the median gap there).
+  /// The outline placed at the motion-capture pose and the robot's tip disagree by a
+  /// millimetre or two on real logs (the MIT pushes: contact gap -1.3 to +1.1 mm per push),
+  /// which would leave the tip pushing air or buried in the edge.
+  bool register_tip = true;
 
   bool IsValid(std::string* why) const;
 };
@@ -63,6 +69,7 @@ struct Prediction {
   SimulationSummary summary;   ///< the simulation's status; not ok: the errors cover less
   PredictionDrive drive = PredictionDrive::kPusher;
   double mu_pusher = 0;        ///< used (pusher drive)
+  double tip_radius_m = 0;     ///< used (pusher drive): the log's, or registered
 };
 
 /// Predicts `log` with `friction` (and `mu_pusher`, the tip-edge friction, for the pusher

@@ -103,6 +103,7 @@ nlohmann::json ErrorsJson(const Prediction& p, const Friction& f) {
   j["e_o_over_e_t"] = f.reduced.b;
   j["e_r_over_e_t"] = f.reduced.c;
   j["mu_pusher"] = p.drive == PredictionDrive::kPusher ? nlohmann::json(p.mu_pusher) : nlohmann::json();
+  j["tip_radius_m"] = p.drive == PredictionDrive::kPusher ? nlohmann::json(p.tip_radius_m) : nlohmann::json();
   j["ok"] = p.summary.ok();
   j["message"] = p.summary.message;
   j["rows_predicted"] = p.predicted.samples.size();
@@ -145,6 +146,9 @@ int main(int argc, char** argv) {
         ("drive", po::value<std::string>(),
          "pusher or force (default: pusher when the log has tip_x, tip_y, else force)")
         ("substeps", po::value<int>()->default_value(1), "simulation steps per log interval")
+        ("no-register-tip",
+         "use the log's tip radius as it is (by default it is set so that the tip touches the "
+         "outline, on the median, where the log pushes)")
         ("out", po::value<std::string>()->value_name("PRED.csv"),
          "write the predicted trajectory as a push log")
         ("json", "print the errors as one JSON object instead of the table");
@@ -171,6 +175,7 @@ int main(int argc, char** argv) {
       throw po::error("--drive must be pusher or force");
     }
     options.substeps = vm["substeps"].as<int>();
+    options.register_tip = !vm.count("no-register-tip");
     std::string why;
     if (!options.IsValid(&why)) throw po::error(why);
     const Prediction p = PredictPush(log, friction.reduced, friction.mu_pusher, options);
@@ -188,7 +193,14 @@ int main(int argc, char** argv) {
       std::cout << "predict " << log_path << ", driven by the " << ToString(p.drive)
                 << ": a = " << friction.reduced.a << ", b = " << friction.reduced.b
                 << ", c = " << friction.reduced.c * 1e3 << " mm";
-      if (p.drive == PredictionDrive::kPusher) std::cout << ", mu_p = " << p.mu_pusher;
+      if (p.drive == PredictionDrive::kPusher) {
+        std::cout << ", mu_p = " << p.mu_pusher << ", tip radius " << Fixed(p.tip_radius_m * 1e3, 2)
+                  << " mm";
+        if (log.tip_radius_m && p.tip_radius_m != *log.tip_radius_m) {
+          std::cout << " (registered: the log's " << Fixed(*log.tip_radius_m * 1e3, 2)
+                    << " mm plus the median contact gap while pushing)";
+        }
+      }
       std::cout << "\n";
       if (!p.summary.ok()) {
         std::cout << "DOUBTFUL: the prediction stopped part way (" << p.summary.message
