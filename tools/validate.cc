@@ -1,0 +1,204 @@
+// validate: cross-validation of the identified friction over logs (prediction/validate.h).
+// Each fold is fitted pooled on the other logs and predicts its own pushes; the pushes'
+// own fits (an oracle) and the textbook friction are predicted beside it.
+
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <iostream>
+#include <nlohmann/json.hpp>
+
+#include "io/push_log.h"
+#include "pipeline/identify_files.h"
+#include "prediction/validate.h"
+#include "tools/tool_support.h"
+
+namespace po = boost::program_options;
+using namespace slideid;
+
+namespace {
+
+constexpr double kRadToDeg = 180.0 / 3.14159265358979323846;
+
+std::string Fixed(double value, int digits) {
+  char buffer[64];
+  std::snprintf(buffer, sizeof buffer, "%.*f", digits, value);
+  return buffer;
+}
+
+std::string Summary(const ErrorSummary& s, double scale, int digits) {
+  if (s.pushes == 0) return "-";
+  return Fixed(s.median * scale, digits) + " [" + Fixed(s.q25 * scale, digits) + ", " +
+         Fixed(s.q75 * scale, digits) + "] " + Fixed(s.worst * scale, digits);
+}
+
+nlohmann::json SummaryJson(const ErrorSummary& s) {
+  return {{"pushes", s.pushes}, {"median", s.median}, {"q25", s.q25}, {"q75", s.q75},
+          {"worst", s.worst}};
+}
+
+nlohmann::json ResultJson(const ValidationResult& r) {
+  nlohmann::json j;
+  j["drive"] = ToString(r.drive);
+  j["folds"] = r.folds;
+  j["logs"] = r.logs;
+  j["seconds"] = r.seconds;
+  j["fold_fits"] = nlohmann::json::array();
+  for (const FoldFit& f : r.fold_fits) {
+    j["fold_fits"].push_back({{"fold", f.fold}, {"held_out", f.held_out}, {"ok", f.ok},
+                              {"error", f.error}, {"e_t_mu", f.friction.a},
+                              {"e_o_over_e_t", f.friction.b}, {"e_r_over_e_t", f.friction.c},
+                              {"mu_pusher", f.mu_pusher}, {"mu_pusher_from", f.mu_pusher_from}});
+  }
+  j["methods"] = nlohmann::json::array();
+  for (const MethodValidation& m : r.methods) {
+    nlohmann::json method = {{"method", m.method},
+                             {"failed", m.failed},
+                             {"final_position_m", SummaryJson(m.final_position_m)},
+                             {"final_rotation_rad", SummaryJson(m.final_rotation_rad)},
+                             {"final_position_per_100mm_m", SummaryJson(m.final_position_per_100mm_m)},
+                             {"final_position_fraction", SummaryJson(m.final_position_fraction)}};
+    method["pushes"] = nlohmann::json::array();
+    for (const PushPrediction& p : m.pushes) {
+      const PredictionErrors& e = p.errors;
+      method["pushes"].push_back(
+          {{"log", p.log}, {"fold", p.fold}, {"ok", p.ok}, {"error", p.error},
+           {"final_position_m", e.final_position_m}, {"final_rotation_rad", e.final_rotation_rad},
+           {"mean_position_m", e.mean_position_m}, {"mean_rotation_rad", e.mean_rotation_rad},
+           {"final_position_per_100mm_m", e.final_position_per_100mm_m},
+           {"final_rotation_per_100mm_rad", e.final_rotation_per_100mm_rad},
+           {"final_position_fraction", e.final_position_fraction},
+           {"travel_m", e.travel_m},
+           {"parting_time_s", e.parting_time_s ? nlohmann::json(*e.parting_time_s) : nlohmann::json()}});
+    }
+    j["methods"].push_back(method);
+  }
+  return j;
+}
+
+void WriteCsv(const ValidationResult& r, const std::string& path) {
+  const std::string tmp = path + ".tmp";
+  {
+    std::ofstream out(tmp);
+    out << "method,log,fold,ok,final_position_mm,final_rotation_deg,final_position_per_100mm_mm,"
+           "final_position_percent,mean_position_mm,mean_rotation_deg,parting_time_s,error\n";
+    for (const MethodValidation& m : r.methods) {
+      for (const PushPrediction& p : m.pushes) {
+        const PredictionErrors& e = p.errors;
+        std::string error = p.error;
+        std::replace(error.begin(), error.end(), '"', '\'');
+        out << m.method << ",\"" << p.log << "\"," << p.fold << "," << (p.ok ? "yes" : "no") << ","
+            << e.final_position_m * 1e3 << "," << e.final_rotation_rad * kRadToDeg << ","
+            << e.final_position_per_100mm_m * 1e3 << "," << 100 * e.final_position_fraction << ","
+            << e.mean_position_m * 1e3 << "," << e.mean_rotation_rad * kRadToDeg << ","
+            << (e.parting_time_s ? Fixed(*e.parting_time_s, 3) : "") << ",\"" << error << "\"\n";
+      }
+    }
+    if (!out) throw std::runtime_error(path + ": cannot write");
+  }
+  if (std::rename(tmp.c_str(), path.c_str()) != 0) throw std::runtime_error(path + ": cannot write");
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  return tools::RunTool("validate", [&]() -> int {
+    po::options_description opts(
+        "validate: cross-validation over push logs. Each fold fits a, b, c and mu_p pooled on\n"
+        "the other logs and predicts its own pushes from their first state (predict); each\n"
+        "push's own fit (an oracle: how well the model fits it at all) and the textbook\n"
+        "friction (a = 0.25, b = 1, c from a uniform pressure, mu_p = 0.25) are predicted\n"
+        "beside it. The summary gives the median [IQR] worst of each error.\n\n"
+        "Usage: validate --logs DIR|GLOB [--folds K | --leave-one-out] [--drive pusher|force]\n\n"
+        "Options");
+    opts.add_options()
+        ("help,h", "print this help and exit")
+        ("version", "print the version and exit")
+        ("logs", po::value<std::string>()->value_name("DIR|GLOB"), "the push logs (required)")
+        ("folds", po::value<int>()->value_name("K"), "K folds, the logs dealt round-robin")
+        ("leave-one-out", "one fold per log (the default)")
+        ("drive", po::value<std::string>(),
+         "pusher or force (default: pusher when every log has the tip's path, else force)")
+        ("mu-pusher", po::value<double>()->value_name("MU_P"), "mu_p for every prediction")
+        ("substeps", po::value<int>()->default_value(1), "simulation steps per log interval")
+        ("threads", po::value<int>()->default_value(1), "folds and pushes in parallel")
+        ("skip-bad", "leave out logs that cannot be read, with a warning")
+        ("json", po::value<std::string>()->value_name("OUT.json"), "write everything as JSON")
+        ("csv", po::value<std::string>()->value_name("OUT.csv"), "write the per-push table");
+    po::variables_map vm;
+    po::store(po::parse_command_line(argc, argv, opts), vm);
+    po::notify(vm);
+    if (vm.count("help")) {
+      std::cout << opts << "\nExit codes: 0 ok, 1 bad input, 2 usage, 4 a file not writable.\n";
+      return tools::FlushStdout("validate");
+    }
+    if (vm.count("version")) {
+      std::cout << "validate (slideid) " << SLIDEID_VERSION << "\n";
+      return tools::FlushStdout("validate");
+    }
+    if (!vm.count("logs")) throw po::error("the option '--logs' is required");
+    if (vm.count("folds") && vm.count("leave-one-out")) {
+      throw po::error("--folds and --leave-one-out exclude each other");
+    }
+    std::vector<Trajectory> logs;
+    for (const std::string& path : ExpandFiles(vm["logs"].as<std::string>())) {
+      try {
+        logs.push_back(ReadPushLog(path));
+      } catch (const std::exception& e) {
+        if (!vm.count("skip-bad")) throw;
+        std::cerr << "validate: warning: skipped " << e.what() << "\n";
+      }
+    }
+    ValidationOptions options;
+    options.folds = vm.count("folds") ? vm["folds"].as<int>() : 0;
+    const bool all_tip = std::all_of(logs.begin(), logs.end(),
+                                     [](const Trajectory& l) { return l.columns.tip; });
+    options.prediction.drive = all_tip ? PredictionDrive::kPusher : PredictionDrive::kForce;
+    if (vm.count("drive") &&
+        !ParsePredictionDrive(vm["drive"].as<std::string>(), &options.prediction.drive)) {
+      throw po::error("--drive must be pusher or force");
+    }
+    if (vm.count("mu-pusher")) options.mu_pusher = vm["mu-pusher"].as<double>();
+    options.prediction.substeps = vm["substeps"].as<int>();
+    options.threads = vm["threads"].as<int>();
+    std::string why;
+    if (!options.IsValid(&why)) throw po::error(why);
+    const ValidationResult r = Validate(logs, options);
+
+    std::cout << "validate: " << r.logs.size() << " logs, " << r.folds << " folds ("
+              << (options.folds == 0 ? "leave-one-out" : "round-robin") << "), driven by the "
+              << ToString(r.drive) << ", " << Fixed(r.seconds, 2) << " s\n";
+    std::cout << "errors: median [IQR] worst over the pushes predicted\n";
+    std::printf("%-10s %7s  %-28s  %-28s  %-28s  %-26s\n", "method", "failed",
+                "final position [mm]", "final rotation [deg]", "position per 100 mm [mm]",
+                "position / displacement [%]");
+    for (const MethodValidation& m : r.methods) {
+      std::printf("%-10s %7d  %-28s  %-28s  %-28s  %-26s\n", m.method.c_str(), m.failed,
+                  Summary(m.final_position_m, 1e3, 1).c_str(),
+                  Summary(m.final_rotation_rad, kRadToDeg, 1).c_str(),
+                  Summary(m.final_position_per_100mm_m, 1e3, 1).c_str(),
+                  Summary(m.final_position_fraction, 100, 1).c_str());
+    }
+    for (const MethodValidation& m : r.methods) {
+      for (const PushPrediction& p : m.pushes) {
+        if (!p.ok) std::cout << "  " << m.method << ": " << p.log << ": " << p.error << "\n";
+      }
+    }
+    try {
+      if (vm.count("csv")) WriteCsv(r, vm["csv"].as<std::string>());
+      if (vm.count("json")) {
+        const std::string path = vm["json"].as<std::string>();
+        std::ofstream out(path + ".tmp");
+        out << ResultJson(r).dump() << "\n";
+        out.close();
+        if (!out || std::rename((path + ".tmp").c_str(), path.c_str()) != 0) {
+          throw std::runtime_error(path + ": cannot write");
+        }
+      }
+    } catch (const std::runtime_error& e) {
+      std::cerr << "validate: error: " << e.what() << "\n";
+      return tools::kExitIo;
+    }
+    return tools::FlushStdout("validate");
+  });
+}
