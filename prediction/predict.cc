@@ -111,12 +111,22 @@ SimulationResult ReplayPusher(const Trajectory& log, const ReducedFriction& fric
   row.mode = SampleMode::kStart;
   row.tip_world = log.samples[0].tip_world;
   out.samples.push_back(row);
+  std::vector<double> intervals;
   for (size_t u = 0; u + 1 < log.samples.size(); ++u) {
-    const double t0 = log.samples[u].t_s, h = (log.samples[u + 1].t_s - t0) / options.substeps;
+    intervals.push_back(log.samples[u + 1].t_s - log.samples[u].t_s);
+  }
+  std::nth_element(intervals.begin(), intervals.begin() + intervals.size() / 2, intervals.end());
+  const double median = intervals[intervals.size() / 2];
+  for (size_t u = 0; u + 1 < log.samples.size(); ++u) {
+    // A long interval (a gap in the record) is stepped at the log's usual rate: the tip's
+    // path goes on across it, and one step of its length would not follow the contact.
+    const double t0 = log.samples[u].t_s, span = log.samples[u + 1].t_s - t0;
+    const int steps = options.substeps * std::max(1, static_cast<int>(std::ceil(span / median - 1e-9)));
+    const double h = span / steps;
     PlanarState state = out.samples.back().state;
     Eigen::Vector2d impulse = Eigen::Vector2d::Zero();
     PusherStepResult r;
-    for (int k = 0; k < options.substeps; ++k) {
+    for (int k = 0; k < steps; ++k) {
       const double t = t0 + k * h;
       r = SolvePusherStep(log.slider, friction, patch, pusher, state, pusher.path.PositionAt(t),
                           pusher.path.PositionAt(t + h), AppliedWrench{}, h, options.step);

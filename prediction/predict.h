@@ -26,7 +26,8 @@ enum class PredictionDrive {
 
 struct PredictionOptions {
   PredictionDrive drive = PredictionDrive::kPusher;
-  /// Simulation steps per log interval (each interval divided evenly).
+  /// Simulation steps per log interval (each interval divided evenly; an interval longer
+  /// than the median, a gap in the record, gets this many per median interval in it).
   int substeps = 1;
   /// The prediction and the log part at the first row where the position error passes
   /// this [m] or the rotation error passes part_rotation_rad.

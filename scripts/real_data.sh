@@ -18,7 +18,7 @@ data=$(cd "$data" && pwd)
 cd "$(dirname "$0")/.."
 bin=${SLIDEID_BIN_DIR:-build/bin}
 work=${WORK:-build/real-data}
-for tool in import-log identify; do
+for tool in import-log identify validate; do
   [ -x "$bin/$tool" ] || { echo "real_data: no $bin/$tool: run scripts/build.sh"; exit 1; }
 done
 rm -rf "$work"
@@ -90,6 +90,20 @@ mit_rect1_pooled() {
   fi
 }
 
+# Cross-validation over the rect1 pushes: leave-one-out, by the pusher's path and by the
+# logged force, with the pushes' own fits and the textbook friction beside (validate).
+mit_rect1_validate() {
+  [ -d "$work/mit_rect1" ] || { echo "real_data: mit_rect1_validate: no imported logs; skipped"; return 0; }
+  local drive code
+  for drive in pusher force; do
+    code=0
+    "$bin/validate" --logs "$work/mit_rect1" --skip-bad --drive "$drive" --threads 2 \
+      --json "$work/mit_rect1.validate.$drive.json" --csv "$work/mit_rect1.validate.$drive.csv" \
+      > "$work/mit_rect1.validate.$drive.txt" 2>&1 || code=$?
+    echo "real_data: mit_rect1_validate: $drive: exit $code"
+  done
+}
+
 # The tripod logs: one wrench-twist file per configuration, fitted by the quasi-static
 # method (scripts/real_data_tripod.sh prints the section's markdown).
 zhou_tripod() {
@@ -99,7 +113,7 @@ zhou_tripod() {
 }
 
 shopt -s nullglob
-sections=(mit_rect1 mit_rect1_pooled mit_hex zhou_tripod)
+sections=(mit_rect1 mit_rect1_pooled mit_rect1_validate mit_hex zhou_tripod)
 for section in "${sections[@]}"; do "$section"; done
 /usr/bin/python3 scripts/real_data_report.py --work "$work" --doc docs/real-data.md \
   --sections "${sections[@]}"

@@ -10,6 +10,7 @@ A new data set is one more function in SECTIONS (name -> function returning mark
 import argparse
 import csv
 import json
+import math
 import os
 import re
 import statistics
@@ -346,6 +347,63 @@ def pooled_section(title):
     return section
 
 
+def validate_section(title):
+    def section(work, name):
+        out = ["### " + title, ""]
+        results = {}
+        for drive in ("pusher", "force"):
+            path = os.path.join(work, "mit_rect1.validate.{}.json".format(drive))
+            if os.path.exists(path):
+                results[drive] = json.load(open(path))
+        if not results:
+            return out + ["Not run (no imported logs)."]
+        any_result = next(iter(results.values()))
+        out += ["`validate --logs build/real-data/mit_rect1 --skip-bad --drive pusher|force` over "
+                "the {} imported rect1 pushes, leave-one-out: each fold fits a, b, c and mu_p "
+                "pooled on the other {} pushes and predicts the held-out push from its first "
+                "state; each push's own fit (an oracle) and the textbook friction (a = 0.25, "
+                "b = 1, c = 34.4 mm from a uniform pressure, mu_p = 0.25) predict the same pushes. "
+                "Median [IQR] worst of the final errors:".format(
+                    len(any_result["logs"]), len(any_result["logs"]) - 1), "",
+                "| drive | friction | failed | final position [mm] | final rotation [deg] | "
+                "position per 100 mm of tip travel [mm] | position / displacement [%] |",
+                "|---|---|---|---|---|---|---|"]
+
+        def cell(s, scale):
+            if s["pushes"] == 0:
+                return "-"
+            return "{} [{}, {}] {}".format(fmt(s["median"] * scale), fmt(s["q25"] * scale),
+                                           fmt(s["q75"] * scale), fmt(s["worst"] * scale))
+        for drive, r in results.items():
+            for m in r["methods"]:
+                out.append("| {} | {} | {} | {} | {} | {} | {} |".format(
+                    drive, m["method"], m["failed"], cell(m["final_position_m"], 1e3),
+                    cell(m["final_rotation_rad"], 180 / math.pi),
+                    cell(m["final_position_per_100mm_m"], 1e3),
+                    cell(m["final_position_fraction"], 100)))
+        for drive, r in results.items():
+            fits = [f for f in r["fold_fits"] if f["ok"]]
+            if not fits:
+                continue
+            methods = {m["method"]: m for m in r["methods"]}
+            fold_median = methods["folds"]["final_position_m"]["median"] * 1e3
+            own = methods.get("own fit")
+            out += ["", "{} drive: {} of {} fold fits converged; across them a {}, b {}, c {} mm, "
+                    "mu_p {} ({}); {:.1f} s.".format(
+                        drive.capitalize(), len(fits), len(r["fold_fits"]),
+                        spread([f["e_t_mu"] for f in fits]), spread([f["e_o_over_e_t"] for f in fits]),
+                        spread([f["e_r_over_e_t"] * 1e3 for f in fits]),
+                        spread([f["mu_pusher"] for f in fits]),
+                        ", ".join(sorted(set(f["mu_pusher_from"] for f in fits))), r["seconds"])]
+            if own and own["final_position_m"]["pushes"]:
+                own_median = own["final_position_m"]["median"] * 1e3
+                out[-1] += (" What pooling costs (the folds' median final position error less the "
+                            "own fits'): {} mm; what the model does not explain (the own fits' "
+                            "median): {} mm.".format(fmt(fold_median - own_median), fmt(own_median)))
+        return out
+    return section
+
+
 def markdown_section(title, file_name):
     def section(work, name):
         path = os.path.join(work, file_name)
@@ -358,6 +416,7 @@ def markdown_section(title, file_name):
 SECTIONS = {
     "mit_rect1": mit_section("MIT push dataset: rect1 on plywood, 100 mm/s"),
     "mit_rect1_pooled": pooled_section("MIT rect1 on plywood: every push pooled"),
+    "mit_rect1_validate": validate_section("MIT rect1 on plywood: predicting held-out pushes"),
     "mit_hex": mit_section("MIT push dataset: hex on plywood, 150 mm/s"),
     "zhou_tripod": markdown_section("Zhou et al. ICRA 2016 tripod logs: quasi-static pairs",
                                     "zhou_tripod.md"),
@@ -372,7 +431,7 @@ def main():
     args = parser.parse_args()
     lines = [BEGIN, "", "## Results on the real files (generated)", "",
              "Written by `bash scripts/real_data.sh` from the files in `../shared/data/real-pushes` "
-             "(imported with `datasets/mit_objects.csv`: estimated masses, see above), identified "
+             "(imported with `datasets/mit_objects.csv`: the paper's masses, see above), identified "
              "with `identify --json` at its defaults. Reported as they come out: nothing is "
              "tuned to them.", ""]
     for name in args.sections:

@@ -104,6 +104,24 @@ TEST(Predict, TheTipIsRegisteredToTheOutlineWhereTheLogPushes) {
   EXPECT_GT(as_logged.errors.final_position_m, 3 * registered.errors.final_position_m);
 }
 
+// A 150 ms hole in the record (rows left out, the next marked start): the prediction steps
+// across it at the log's rate, following the tip's path, and lands where the full log does.
+TEST(Predict, AGapInTheRecordIsSteppedAtTheLogsRate) {
+  const Scene scene = PushedSquare();
+  const Trajectory full = Logged(scene, 10);
+  Trajectory holed = full;
+  holed.samples.erase(holed.samples.begin() + 30, holed.samples.begin() + 45);
+  holed.samples[30].mode = SampleMode::kStart;
+  PredictionOptions options;
+  options.substeps = 10;
+  const ReducedFriction truth = ReducedFriction::From(scene.friction);
+  const Prediction whole = PredictPush(full, truth, 0.25, options);
+  const Prediction across = PredictPush(holed, truth, 0.25, options);
+  ASSERT_TRUE(across.summary.ok()) << across.summary.message;
+  EXPECT_EQ(across.summary.steps, whole.summary.steps);  // 10 per 10 ms, the hole included
+  EXPECT_NEAR(across.errors.final_position_m, whole.errors.final_position_m, 1e-6);
+}
+
 // The errors against a trajectory shifted by a known amount from some row on.
 TEST(Predict, ErrorsAreTheDistancesAtTheRowsAndTheFirstRowPastAThreshold) {
   Trajectory log;

@@ -144,6 +144,7 @@ int main(int argc, char** argv) {
     for (const std::string& path : ExpandFiles(vm["logs"].as<std::string>())) {
       try {
         logs.push_back(ReadPushLog(path));
+        if (logs.back().source.empty()) logs.back().source = path;
       } catch (const std::exception& e) {
         if (!vm.count("skip-bad")) throw;
         std::cerr << "validate: warning: skipped " << e.what() << "\n";
