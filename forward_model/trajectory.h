@@ -1,6 +1,6 @@
 #pragma once
 // The one data type that flows end to end: simulate makes it, the push-log CSV writer and
-// reader round-trip it (io/push_log.h; docs: shared log-format.md), identify reads it.
+// reader round-trip it (io/push_log.h; docs/log-format.md), identify reads it.
 
 #include <Eigen/Core>
 #include <optional>

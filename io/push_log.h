@@ -1,5 +1,5 @@
 #pragma once
-// Reading and writing push logs in the CSV format of docs/log-format.md (shared docs).
+// Reading and writing push logs in the CSV format of docs/log-format.md.
 // The reader uses fast-cpp-csv-parser; columns are found by name in any order.
 
 #include <iosfwd>

@@ -1,5 +1,5 @@
 // identify: estimate the friction parameters (a = e_t mu, b = e_o/e_t, c = e_r/e_t) of a
-// sliding object from one push log or several (docs: shared log-format.md; exit codes and
+// sliding object from one push log or several (docs/log-format.md; exit codes and
 // what counts as bad input: docs/robustness.md).
 
 #include <glog/logging.h>

@@ -1,5 +1,5 @@
 // simulate: run a scene file through the forward model and write the trajectory as a
-// push log (docs: shared log-format.md), sampled, with the columns and the noise that the
+// push log (docs/log-format.md), sampled, with the columns and the noise that the
 // scene's [sim] log_every, [log] and [noise] (or the options) ask for.
 
 #include <cstdio>
