@@ -1,5 +1,6 @@
 #include "forward_model/simulator.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <stdexcept>
@@ -90,6 +91,7 @@ StepResult PusherStep(const Scene& scene, const SimulationOptions& options,
   *tip_mode = r.tip_mode;
   StepResult step = r.step;
   step.sigma *= scene.friction.e_t;  // the paper's sigma, as SolveStep(FrictionParameters)
+  step.residual = std::max(step.residual, r.residual);  // the summary's worst: either solve's
   return step;
 }
 

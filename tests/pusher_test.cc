@@ -290,5 +290,45 @@ TEST(Pusher, TheLogCarriesTheTipsPathAndRadius) {
   EXPECT_TRUE(mu_p);
 }
 
+// Extremes: a 1 g slider hit at 1 m/s, a 100 kg one, a pointed tip (radius 0), mu_p = 10,
+// a disk and a hexagon, steps of 0.1 ms and 20 ms: every step converges and meets the tip's
+// conditions, and the slider ends ahead of where it started.
+TEST(Pusher, ExtremeSlidersTipsAndStepsConvergeAndMeetTheirConditions) {
+  struct Case {
+    double mass, speed, radius, mu_p, dt;
+    ContactPatch patch;
+  };
+  const std::vector<Eigen::Vector2d> hexagon = {
+      {0.0605, 0}, {0.03025, 0.0524}, {-0.03025, 0.0524}, {-0.0605, 0}, {-0.03025, -0.0524},
+      {0.03025, -0.0524}};
+  const std::vector<Case> cases = {
+      {0.001, 1.0, kTip, 0.25, 1e-3, ContactPatch::Rectangle(0.09, 0.09)},
+      {100.0, 0.05, kTip, 0.25, 1e-3, ContactPatch::Rectangle(0.09, 0.09)},
+      {0.8, 0.1, 0.0, 0.25, 1e-3, ContactPatch::Rectangle(0.09, 0.09)},
+      {0.8, 0.1, kTip, 10.0, 1e-3, ContactPatch::Rectangle(0.09, 0.09)},
+      {0.8, 0.1, kTip, 0.3, 1e-4, ContactPatch::Disk(0.05)},
+      {0.8, 0.1, kTip, 0.3, 2e-2, ContactPatch::Polygon(hexagon)},
+      {0.001, 1.0, 0.0, 10.0, 2e-2, ContactPatch::Disk(0.05)}};
+  for (size_t k = 0; k < cases.size(); ++k) {
+    const Case& c = cases[k];
+    Scene scene = SquareScene();
+    scene.slider.mass_kg = c.mass;
+    scene.slider.inertia_kgm2 = c.mass * 0.09 * 0.09 / 6;
+    scene.patch = c.patch;
+    scene.dt_s = c.dt;
+    Pusher p;
+    p.tip_radius_m = c.radius;
+    p.mu = c.mu_p;
+    const Eigen::Vector2d start(-0.0605 - c.radius - 0.002, 0.01);
+    p.path = PusherPath::Polyline(0.0, start, {start + Eigen::Vector2d(0.05, 0.02)}, {c.speed});
+    scene.pusher = p;
+    scene.duration_s = p.path.end_s() + 0.05;
+    const SimulationResult r = Simulate(scene);
+    ASSERT_TRUE(r.summary.ok()) << "case " << k << ": " << r.summary.message;
+    EXPECT_LE(r.summary.max_step_residual, 1e-9) << "case " << k;
+    EXPECT_GT(r.trajectory.samples.back().state.x, 0.005) << "case " << k;
+  }
+}
+
 }  // namespace
 }  // namespace slideid

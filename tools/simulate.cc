@@ -23,6 +23,12 @@ void PrintSummary(const SimulationResult& result, const Scene& scene) {
   std::printf("scene       %s\n", scene.source.c_str());
   std::printf("steps       %d (%d slide, %d stick), dt = %g s\n", s.steps, s.slide_steps,
               s.stick_steps, scene.dt_s);
+  if (scene.pusher) {
+    std::printf("pusher      tip sticking to the edge in %d steps, sliding along it in %d, "
+                "apart in %d\n",
+                s.tip_stick_steps, s.tip_slide_steps,
+                s.steps - s.tip_stick_steps - s.tip_slide_steps);
+  }
   std::printf("final       t = %.4f s  x = %.6f m  y = %.6f m  theta = %.6f rad\n",
               result.trajectory.samples.back().t_s, last.x, last.y, last.theta);
   std::printf("            vx = %.6f m/s  vy = %.6f m/s  wz = %.6f rad/s\n", last.vx, last.vy,
