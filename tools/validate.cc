@@ -6,11 +6,10 @@
 #include <cstdio>
 #include <fstream>
 #include <iostream>
-#include <nlohmann/json.hpp>
 
 #include "io/push_log.h"
 #include "pipeline/identify_files.h"
-#include "prediction/validate.h"
+#include "pipeline/predict_options.h"
 #include "tools/tool_support.h"
 
 namespace po = boost::program_options;
@@ -30,50 +29,6 @@ std::string Summary(const ErrorSummary& s, double scale, int digits) {
   if (s.pushes == 0) return "-";
   return Fixed(s.median * scale, digits) + " [" + Fixed(s.q25 * scale, digits) + ", " +
          Fixed(s.q75 * scale, digits) + "] " + Fixed(s.worst * scale, digits);
-}
-
-nlohmann::json SummaryJson(const ErrorSummary& s) {
-  return {{"pushes", s.pushes}, {"median", s.median}, {"q25", s.q25}, {"q75", s.q75},
-          {"worst", s.worst}};
-}
-
-nlohmann::json ResultJson(const ValidationResult& r) {
-  nlohmann::json j;
-  j["drive"] = ToString(r.drive);
-  j["folds"] = r.folds;
-  j["logs"] = r.logs;
-  j["seconds"] = r.seconds;
-  j["fold_fits"] = nlohmann::json::array();
-  for (const FoldFit& f : r.fold_fits) {
-    j["fold_fits"].push_back({{"fold", f.fold}, {"held_out", f.held_out}, {"ok", f.ok},
-                              {"error", f.error}, {"e_t_mu", f.friction.a},
-                              {"e_o_over_e_t", f.friction.b}, {"e_r_over_e_t", f.friction.c},
-                              {"mu_pusher", f.mu_pusher}, {"mu_pusher_from", f.mu_pusher_from}});
-  }
-  j["methods"] = nlohmann::json::array();
-  for (const MethodValidation& m : r.methods) {
-    nlohmann::json method = {{"method", m.method},
-                             {"failed", m.failed},
-                             {"final_position_m", SummaryJson(m.final_position_m)},
-                             {"final_rotation_rad", SummaryJson(m.final_rotation_rad)},
-                             {"final_position_per_100mm_m", SummaryJson(m.final_position_per_100mm_m)},
-                             {"final_position_fraction", SummaryJson(m.final_position_fraction)}};
-    method["pushes"] = nlohmann::json::array();
-    for (const PushPrediction& p : m.pushes) {
-      const PredictionErrors& e = p.errors;
-      method["pushes"].push_back(
-          {{"log", p.log}, {"fold", p.fold}, {"ok", p.ok}, {"error", p.error},
-           {"final_position_m", e.final_position_m}, {"final_rotation_rad", e.final_rotation_rad},
-           {"mean_position_m", e.mean_position_m}, {"mean_rotation_rad", e.mean_rotation_rad},
-           {"final_position_per_100mm_m", e.final_position_per_100mm_m},
-           {"final_rotation_per_100mm_rad", e.final_rotation_per_100mm_rad},
-           {"final_position_fraction", e.final_position_fraction},
-           {"travel_m", e.travel_m},
-           {"parting_time_s", e.parting_time_s ? nlohmann::json(*e.parting_time_s) : nlohmann::json()}});
-    }
-    j["methods"].push_back(method);
-  }
-  return j;
 }
 
 void WriteCsv(const ValidationResult& r, const std::string& path) {
@@ -115,16 +70,10 @@ int main(int argc, char** argv) {
         ("help,h", "print this help and exit")
         ("version", "print the version and exit")
         ("logs", po::value<std::string>()->value_name("DIR|GLOB"), "the push logs (required)")
-        ("folds", po::value<int>()->value_name("K"), "K folds, the logs dealt round-robin")
-        ("leave-one-out", "one fold per log (the default)")
-        ("drive", po::value<std::string>(),
-         "pusher or force (default: pusher when every log has the tip's path, else force)")
-        ("mu-pusher", po::value<double>()->value_name("MU_P"), "mu_p for every prediction")
-        ("substeps", po::value<int>()->default_value(1), "simulation steps per log interval")
-        ("threads", po::value<int>()->default_value(1), "folds and pushes in parallel")
         ("skip-bad", "leave out logs that cannot be read, with a warning")
         ("json", po::value<std::string>()->value_name("OUT.json"), "write everything as JSON")
         ("csv", po::value<std::string>()->value_name("OUT.csv"), "write the per-push table");
+    cli::AddValidateOptions(&opts);
     po::variables_map vm;
     po::store(po::parse_command_line(argc, argv, opts), vm);
     po::notify(vm);
@@ -137,9 +86,6 @@ int main(int argc, char** argv) {
       return tools::FlushStdout("validate");
     }
     if (!vm.count("logs")) throw po::error("the option '--logs' is required");
-    if (vm.count("folds") && vm.count("leave-one-out")) {
-      throw po::error("--folds and --leave-one-out exclude each other");
-    }
     std::vector<Trajectory> logs;
     for (const std::string& path : ExpandFiles(vm["logs"].as<std::string>())) {
       try {
@@ -150,20 +96,9 @@ int main(int argc, char** argv) {
         std::cerr << "validate: warning: skipped " << e.what() << "\n";
       }
     }
-    ValidationOptions options;
-    options.folds = vm.count("folds") ? vm["folds"].as<int>() : 0;
     const bool all_tip = std::all_of(logs.begin(), logs.end(),
                                      [](const Trajectory& l) { return l.columns.tip; });
-    options.prediction.drive = all_tip ? PredictionDrive::kPusher : PredictionDrive::kForce;
-    if (vm.count("drive") &&
-        !ParsePredictionDrive(vm["drive"].as<std::string>(), &options.prediction.drive)) {
-      throw po::error("--drive must be pusher or force");
-    }
-    if (vm.count("mu-pusher")) options.mu_pusher = vm["mu-pusher"].as<double>();
-    options.prediction.substeps = vm["substeps"].as<int>();
-    options.threads = vm["threads"].as<int>();
-    std::string why;
-    if (!options.IsValid(&why)) throw po::error(why);
+    const ValidationOptions options = cli::ReadValidateOptions(vm, all_tip);
     const ValidationResult r = Validate(logs, options);
 
     std::cout << "validate: " << r.logs.size() << " logs, " << r.folds << " folds ("
@@ -190,7 +125,7 @@ int main(int argc, char** argv) {
       if (vm.count("json")) {
         const std::string path = vm["json"].as<std::string>();
         std::ofstream out(path + ".tmp");
-        out << ResultJson(r).dump() << "\n";
+        out << cli::ValidationJson(r) << "\n";
         out.close();
         if (!out || std::rename((path + ".tmp").c_str(), path.c_str()) != 0) {
           throw std::runtime_error(path + ": cannot write");

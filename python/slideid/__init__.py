@@ -19,6 +19,9 @@ estimates) are issued as slideid.SlideidWarning.
 Many logs: log_files lists them as identify --batch does, identify_file gives one plain dict
 per file, result_row a flat table row of it, read_results reads the JSON lines of identify
 --batch; slideid.dask (import it, with python3-distributed) runs them on a Dask cluster.
+
+What a friction predicts: predict replays a push with it (by the pusher's path or the force),
+validate cross-validates over logs; both return the tools' JSON.
 """
 
 import sys
@@ -42,6 +45,7 @@ from ._log import (
     simulate,
     write_log,
 )
+from ._predict import predict, validate
 from ._results import ROW_FIELDS, log_files, read_results, result_row
 
 __all__ = [
@@ -59,9 +63,11 @@ __all__ = [
     "log_files",
     "make_dataset",
     "make_log",
+    "predict",
     "read_log",
     "read_results",
     "result_row",
     "simulate",
+    "validate",
     "write_log",
 ]

@@ -71,4 +71,5 @@ PYBIND11_MODULE(_core, m) {
   sp::BindIdentify(m);
   sp::BindSimulate(m);
   sp::BindImport(m);
+  sp::BindPredict(m);
 }
