@@ -1,0 +1,165 @@
+// What prediction costs, as ratios against a baseline measured in the same run:
+//  - one pusher-driven step (SolvePusherStep: the tip's contact solved around the support's
+//    step) against one force-driven step (SolveStep) from the same states;
+//  - leave-one-out cross-validation (validate, folds only) over N synthetic pushes against
+//    one pooled fit of the same pushes.
+// Each benchmark is Google Benchmark's; main() prints the ratios of their median times at
+// the end. Usage: prediction_benchmark [--pushes N] [google benchmark flags].
+
+#include <benchmark/benchmark.h>
+
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "datasets/sensor_model.h"
+#include "estimator/identify.h"
+#include "forward_model/pusher_step.h"
+#include "forward_model/simulator.h"
+#include "prediction/validate.h"
+
+namespace slideid {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+int pushes = 8;  // --pushes
+
+/// Push k: a 90 mm square pushed 50 mm at 50 mm/s from its left edge at a varied point and
+/// angle, logged at 100 Hz with motion-capture noise.
+Scene PushScene(int k) {
+  Scene scene;
+  scene.slider = {0.837, 1.13e-3, 0.0065, 9.81};
+  scene.friction = ReducedFriction{0.3, 1.2, 0.035}.ToFrictionParameters();
+  scene.patch = ContactPatch::Rectangle(0.09, 0.09);
+  scene.dt_s = 1e-3;
+  const double offset = -0.025 + 0.01 * (k % 6), angle = (-40.0 + 16.0 * (k % 6)) * kPi / 180;
+  Pusher p;
+  p.mu = 0.3;
+  const Eigen::Vector2d d(std::cos(angle), std::sin(angle));
+  const Eigen::Vector2d start = Eigen::Vector2d(-0.045, offset) - p.tip_radius_m / std::cos(angle) * d;
+  p.path = PusherPath::Polyline(0.0, start, {start + 0.05 * d}, {0.05});
+  scene.pusher = p;
+  scene.duration_s = p.path.end_s() + 0.1;
+  return scene;
+}
+
+std::vector<Trajectory> Logs(int n) {
+  std::vector<Trajectory> logs;
+  for (int k = 0; k < n; ++k) {
+    LogSpec spec;
+    spec.log_every = 10;
+    spec.motion = LogMotion::kPoses;
+    spec.noise.pose_m = 2e-4;
+    spec.noise.angle_rad = 2e-3;
+    spec.noise.force_relative = 0.02;
+    spec.noise.seed = 100 + k;
+    logs.push_back(MakeLog(Simulate(PushScene(k)).trajectory, spec));
+    logs.back().source = "push" + std::to_string(k);
+  }
+  return logs;
+}
+
+/// The states and tip moves of a simulated push, one per 1 ms step while the tip touches.
+struct StepCase {
+  PlanarState state;
+  Eigen::Vector2d tip_start, tip_end;
+  AppliedWrench applied;  ///< the tip's force over the step, for the force-driven step
+};
+
+std::vector<StepCase> StepCases() {
+  std::vector<StepCase> cases;
+  for (int k = 0; k < 6; ++k) {
+    const Scene scene = PushScene(k);
+    const SimulationResult r = Simulate(scene);
+    for (size_t u = 0; u + 1 < r.trajectory.samples.size(); ++u) {
+      const TrajectorySample& s = r.trajectory.samples[u];
+      if (s.applied.IsZero()) continue;
+      cases.push_back({s.state, *s.tip_world, *r.trajectory.samples[u + 1].tip_world, s.applied});
+    }
+  }
+  return cases;
+}
+
+void BM_ForceDrivenStep(benchmark::State& state) {
+  static const std::vector<StepCase> cases = StepCases();
+  const Scene scene = PushScene(0);
+  const ReducedFriction f = ReducedFriction::From(scene.friction);
+  size_t i = 0;
+  for (auto _ : state) {
+    const StepCase& c = cases[i++ % cases.size()];
+    benchmark::DoNotOptimize(SolveStep(scene.slider, f, c.state, c.applied, scene.dt_s));
+  }
+}
+BENCHMARK(BM_ForceDrivenStep);
+
+void BM_PusherDrivenStep(benchmark::State& state) {
+  static const std::vector<StepCase> cases = StepCases();
+  const Scene scene = PushScene(0);
+  const ReducedFriction f = ReducedFriction::From(scene.friction);
+  size_t i = 0;
+  for (auto _ : state) {
+    const StepCase& c = cases[i++ % cases.size()];
+    benchmark::DoNotOptimize(SolvePusherStep(scene.slider, f, scene.patch, *scene.pusher, c.state,
+                                             c.tip_start, c.tip_end, AppliedWrench{}, scene.dt_s));
+  }
+}
+BENCHMARK(BM_PusherDrivenStep);
+
+void BM_PooledFit(benchmark::State& state) {
+  static const std::vector<Trajectory> logs = Logs(pushes);
+  for (auto _ : state) benchmark::DoNotOptimize(Identify(logs, IdentifyOptions{}));
+}
+BENCHMARK(BM_PooledFit)->Unit(benchmark::kMillisecond)->Iterations(3);
+
+void BM_ValidateLeaveOneOut(benchmark::State& state) {
+  static const std::vector<Trajectory> logs = Logs(pushes);
+  ValidationOptions options;
+  options.own_fit = options.textbook = false;
+  for (auto _ : state) benchmark::DoNotOptimize(Validate(logs, options));
+}
+BENCHMARK(BM_ValidateLeaveOneOut)->Unit(benchmark::kMillisecond)->Iterations(1);
+
+/// Keeps each benchmark's real time per iteration, to print the ratios at the end.
+class RatioReporter : public benchmark::ConsoleReporter {
+ public:
+  std::map<std::string, double> seconds;
+  void ReportRuns(const std::vector<Run>& runs) override {
+    for (const Run& run : runs) {
+      seconds[run.benchmark_name()] = run.GetAdjustedRealTime() /
+                                      benchmark::GetTimeUnitMultiplier(run.time_unit);
+    }
+    ConsoleReporter::ReportRuns(runs);
+  }
+};
+
+}  // namespace
+}  // namespace slideid
+
+int main(int argc, char** argv) {
+  std::vector<char*> args;
+  for (int i = 0; i < argc; ++i) {
+    if (std::strcmp(argv[i], "--pushes") == 0 && i + 1 < argc) {
+      slideid::pushes = std::max(2, std::atoi(argv[++i]));
+      continue;
+    }
+    args.push_back(argv[i]);
+  }
+  int n = static_cast<int>(args.size());
+  benchmark::Initialize(&n, args.data());
+  slideid::RatioReporter reporter;
+  benchmark::RunSpecifiedBenchmarks(&reporter);
+  const auto& s = reporter.seconds;
+  auto ratio = [&](const char* a, const char* b) {
+    const auto x = s.find(a), y = s.find(b);
+    if (x == s.end() || y == s.end() || !(y->second > 0)) return;
+    std::printf("ratio %s / %s = %.2f\n", a, b, x->second / y->second);
+  };
+  ratio("BM_PusherDrivenStep", "BM_ForceDrivenStep");
+  std::printf("(leave-one-out over %d pushes, folds only, one thread)\n", slideid::pushes);
+  ratio("BM_ValidateLeaveOneOut/iterations:1", "BM_PooledFit/iterations:3");
+  benchmark::Shutdown();
+  return 0;
+}
