@@ -144,6 +144,8 @@ void WritePlotData(const Trajectory& log, const Trajectory* fit, const PlotOptio
   patch << "# x y: patch outlines at every " << every << "th row\n";
   push << "# x y dx dy: push point and force (scaled)\n";
   std::optional<PlanarState> last_drawn;
+  std::ostringstream overlay_patch;
+  overlay_patch << "# x y: the overlay's patch outlines at the same rows\n";
   for (size_t u = 0; u < log.samples.size(); u += every) {
     const bool moved = !last_drawn ||
                        std::hypot(poses[u].x - last_drawn->x, poses[u].y - last_drawn->y) >
@@ -151,6 +153,9 @@ void WritePlotData(const Trajectory& log, const Trajectory* fit, const PlotOptio
                        std::abs(poses[u].theta - last_drawn->theta) > kSameAngle_rad;
     if (!moved) continue;
     last_drawn = poses[u];
+    if (shape && fit && options.overlay_patches && u < fit->samples.size()) {
+      WriteOutline(overlay_patch, shape->Outline(), fit->samples[u].state);
+    }
     if (shape) {
       WriteOutline(patch, shape->Outline(), poses[u]);
       const auto inner = shape->InnerOutline();
@@ -182,6 +187,7 @@ void WritePlotData(const Trajectory& log, const Trajectory* fit, const PlotOptio
     for (const TrajectorySample& s : fit->samples) fit_poses.push_back(s.state);
     WriteMotion(f, *fit, fit_poses);
     WriteFile(dir + "/fit.dat", f.str());
+    WriteFile(dir + "/fit_patch.dat", overlay_patch.str() + "\n");
   }
 }
 
@@ -229,9 +235,13 @@ std::string PlotScript(const Trajectory& log, const Trajectory* fit, const PlotO
                     " using 1:2:3:4 with vectors head filled size screen 0.008,20 lc rgb "
                     "'#2ca02c' lw 1.5 title 'push'");
   }
+  if (fit && has_patch && o.overlay_patches) {
+    plots.push_back(file("fit_patch.dat") + " using 1:2 with lines dt 2 lc rgb '#f5b971' lw 1 "
+                    "title 'patch (" + o.overlay_name + ")'");
+  }
   if (fit) {
-    plots.push_back(file("fit.dat") +
-                    " using 2:3 with lines dt 2 lc rgb '#ff7f0e' lw 2 title 'CM (fit)'");
+    plots.push_back(file("fit.dat") + " using 2:3 with lines dt 2 lc rgb '#ff7f0e' lw 2 title "
+                    "'CM (" + o.overlay_name + ")'");
   }
   plots.push_back(file("path.dat") +
                   " every ::0::0 using 2:3 with points pt 7 ps 1.2 lc rgb 'black' title 'start'");
@@ -249,7 +259,7 @@ std::string PlotScript(const Trajectory& log, const Trajectory* fit, const PlotO
       << (log.columns.velocity ? "log" : "log (from poses)") << "'";
     if (fit) {
       s << ", " << file("fit.dat") << " using 1:" << 5 + k
-        << " with lines dt 2 lc rgb '#ff7f0e' lw 2 title 'fit'";
+        << " with lines dt 2 lc rgb '#ff7f0e' lw 2 title '" << o.overlay_name << "'";
     }
     s << "\n";
   }

@@ -24,6 +24,11 @@ struct PlotOptions {
   /// When not empty, the script and data files are written here and kept (for debugging or
   /// editing the figure); otherwise a temporary directory is used and removed.
   std::string work_dir;
+  /// What the overlaid trajectory is called in the legends ("fit": a replay with identified
+  /// parameters; "prediction": what predict wrote), and whether its patch is drawn at the
+  /// log's snapshot rows too (dashed), so that its turning shows beside the log's.
+  std::string overlay_name = "fit";
+  bool overlay_patches = false;
 
   bool IsValid(std::string* why) const;
 };

@@ -59,6 +59,29 @@ TEST(PlotLog, ScriptDrawsPathPatchEcpPushAndVelocities) {
   EXPECT_EQ(count, 4u);
 }
 
+// A prediction overlaid: its path, velocities and patches, named in the legends.
+TEST(PlotLog, APredictionIsOverlaidWithItsPatches) {
+  PlotOptions o;
+  o.out_png = "/tmp/x.png";
+  o.overlay_name = "prediction";
+  o.overlay_patches = true;
+  const Trajectory log = PushedLog();
+  Trajectory shifted = log;
+  for (TrajectorySample& s : shifted.samples) s.state.theta += 0.1;
+  const std::string script = PlotScript(log, &shifted, o, "/data", "prediction: p.csv");
+  EXPECT_NE(script.find("'/data/fit_patch.dat'"), std::string::npos);
+  EXPECT_NE(script.find("'patch (prediction)'"), std::string::npos);
+  EXPECT_NE(script.find("'CM (prediction)'"), std::string::npos);
+  EXPECT_EQ(script.find("'fit'"), std::string::npos);
+  const std::string dir = testing::TempPath("overlay");
+  ASSERT_EQ(std::system(("mkdir -p " + dir).c_str()), 0);
+  WritePlotData(log, &shifted, o, dir);
+  // The overlay's outlines: as many as the log's, at its turned poses.
+  const std::string logged = ReadText(dir + "/patch.dat"), predicted = ReadText(dir + "/fit_patch.dat");
+  EXPECT_GT(predicted.size(), 100u);
+  EXPECT_NE(predicted, logged);
+}
+
 TEST(PlotLog, PatchSnapshotsArePlacedAtThePose) {
   Trajectory log = PushedLog();
   log.samples.resize(3);

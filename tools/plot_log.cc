@@ -24,7 +24,8 @@ int main(int argc, char** argv) {
         "the ECP of every step (when the log has ax, ay) and the push as arrows. Right: vx, vy\n"
         "and wz against time. With --fit, also the trajectory replayed from the log's first\n"
         "state under the logged forces with the identified parameters.\n\n"
-        "Usage: plot-log LOG.csv --out FIG.png [--fit RESULT.json] [options]\n\nOptions");
+        "Usage: plot-log LOG.csv --out FIG.png [--fit RESULT.json | --prediction PRED.csv]\n"
+        "       [options]\n\nOptions");
     PlotOptions defaults;
     opts.add_options()
         ("help,h", "print this help and exit")
@@ -34,6 +35,8 @@ int main(int argc, char** argv) {
         ("fit", po::value<std::string>()->value_name("RESULT.json"),
          "identify --json output: overlay the replay with its parameters (held values where "
          "not identifiable)")
+        ("prediction", po::value<std::string>()->value_name("PRED.csv"),
+         "what predict --out wrote: overlay the predicted path and patches")
         ("substeps", po::value<int>()->default_value(1)->value_name("N"),
          "forward-model steps per log interval for the replay (use identify's)")
         ("every", po::value<int>()->default_value(0)->value_name("K"),
@@ -72,6 +75,9 @@ int main(int argc, char** argv) {
     std::string why;
     if (!options.IsValid(&why)) throw po::error(why);
     if (vm["substeps"].as<int>() < 1) throw po::error("--substeps must be >= 1");
+    if (vm.count("fit") && vm.count("prediction")) {
+      throw po::error("--fit and --prediction exclude each other: draw one overlay");
+    }
 
     LogReadOptions read;
     read.require_slider_properties = vm.count("fit") > 0;  // the replay needs them
@@ -95,6 +101,13 @@ int main(int argc, char** argv) {
       char buf[160];
       std::snprintf(buf, sizeof buf, "fit: a = %.4g, b = %.4g, c = %.4g m", r.a, r.b, r.c);
       fit_label = buf;
+    }
+    if (vm.count("prediction")) {
+      const std::string path = vm["prediction"].as<std::string>();
+      fit = ReadPushLog(path);
+      options.overlay_name = "prediction";
+      options.overlay_patches = true;
+      fit_label = "prediction: " + path;
     }
     try {
       PlotLog(log, fit ? &*fit : nullptr, options, fit_label);
