@@ -174,7 +174,16 @@ void AddDatasetOptions(po::options_description* o, const DatasetSpec& d) {
        "them, as a pusher commanded at the log rate)")
       ("dt", po::value<double>()->default_value(d.dt_s, G(d.dt_s))->value_name("S"), "simulation step [s]")
       ("max-redraws", po::value<int>()->default_value(d.max_redraws)->value_name("N"),
-       "redraws allowed per log when a draw tips the slider (ECP leaves the patch hull)");
+       "redraws allowed per log when a draw tips the slider (ECP leaves the patch hull)")
+      ("drive", po::value<std::string>()->default_value("force"),
+       "force: each log a random program of force pushes; pusher: each log one straight push "
+       "by a round tip (4.75 mm) from a random heading and offset, its path in the log "
+       "(tip_x, tip_y)");
+  const PusherDraw p;
+  AddRange(o, "mu-pusher-range", p.mu, "pusher drive: tip-edge friction mu_p");
+  AddRange(o, "tip-speed-range", p.speed_mps, "pusher drive: tip speed [m/s]");
+  AddRange(o, "push-distance-range", p.distance_m,
+           "pusher drive: distance pushed after the tip meets the slider [m]");
   AddLogOptions(o, &d.log, /*with_seed=*/false);
 }
 
@@ -207,6 +216,16 @@ DatasetSpec DatasetSpecFromOptions(const po::variables_map& vm) {
   s.align_pushes = vm.count("unaligned-pushes") == 0;
   s.dt_s = vm["dt"].as<double>();
   s.max_redraws = vm["max-redraws"].as<int>();
+  const std::string drive = vm["drive"].as<std::string>();
+  if (drive == "pusher") {
+    PusherDraw p;
+    p.mu = RangeOption(vm, "mu-pusher-range");
+    p.speed_mps = RangeOption(vm, "tip-speed-range");
+    p.distance_m = RangeOption(vm, "push-distance-range");
+    s.pusher = p;
+  } else if (drive != "force") {
+    throw po::error("--drive must be force or pusher");
+  }
   ApplyLogOptions(vm, &s.log);
   std::string why;
   if (!s.IsValid(&why)) throw po::error(why);

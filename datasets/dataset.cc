@@ -12,6 +12,14 @@
 namespace slideid {
 namespace {
 
+constexpr double kPi = 3.14159265358979323846;
+// A pusher-driven log's tip starts this far outside the slider's reach [m], marches towards
+// it in steps of kPusherMarchM to find where it meets the outline, and the simulation runs
+// kPusherRunOutS past the path's end, for the slider to stop.
+constexpr double kPusherClearanceM = 0.005;
+constexpr double kPusherMarchM = 1e-4;
+constexpr double kPusherRunOutS = 0.2;
+
 std::string Format(double v, const char* fmt = "%.17g") {
   char buf[40];
   std::snprintf(buf, sizeof buf, fmt, v);
@@ -151,6 +159,16 @@ bool DatasetSpec::IsValid(std::string* why) const {
   if (!RangeOk(e_r_m, true)) return fail("e_r range must be 0 < LO <= HI");
   if (!(dt_s > 0.0 && std::isfinite(dt_s))) return fail("dt must be > 0");
   if (max_redraws < 0) return fail("max-redraws must be >= 0");
+  if (pusher) {
+    if (!RangeOk(pusher->mu, false)) return fail("mu-pusher range must be 0 <= LO <= HI");
+    if (!RangeOk(pusher->speed_mps, true)) return fail("tip-speed range must be 0 < LO <= HI");
+    if (!RangeOk(pusher->distance_m, true)) return fail("push-distance range must be 0 < LO <= HI");
+    if (!(pusher->offset_fraction.lo >= -1 && pusher->offset_fraction.hi <= 1 &&
+          pusher->offset_fraction.lo <= pusher->offset_fraction.hi)) {
+      return fail("the pusher's offset fraction must lie in [-1, 1]");
+    }
+    if (!(pusher->tip_radius_m >= 0)) return fail("tip radius must be >= 0");
+  }
   try {
     PatchRange::Parse(patch.ToString());
   } catch (const std::invalid_argument& e) {
@@ -160,6 +178,50 @@ bool DatasetSpec::IsValid(std::string* why) const {
 }
 
 // ---- drawing ----
+
+namespace {
+
+/// The pusher of a pusher-driven log, drawn from its own stream (seeded by the dataset's
+/// seed and the log's index and attempt), so that the other draws stay those of a
+/// force-driven dataset with the same seed.
+Pusher DrawPusher(const PusherDraw& d, const ContactPatch& patch, std::uint64_t seed, int index,
+                  int attempt) {
+  std::seed_seq seq{static_cast<std::uint32_t>(seed), static_cast<std::uint32_t>(seed >> 32),
+                    static_cast<std::uint32_t>(index), static_cast<std::uint32_t>(attempt),
+                    0x70757368u};
+  std::mt19937_64 rng(seq);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  const auto draw = [&](const ValueRange& r) { return r.lo + (r.hi - r.lo) * unit(rng); };
+  double reach = 0, half = 0;  // the outline's farthest point, and its smallest half-size
+  const std::vector<Eigen::Vector2d> outline = patch.Outline();
+  Eigen::Vector2d lo = outline.front(), hi = outline.front();
+  for (const Eigen::Vector2d& p : outline) {
+    reach = std::max(reach, p.norm());
+    lo = lo.cwiseMin(p);
+    hi = hi.cwiseMax(p);
+  }
+  half = 0.5 * (hi - lo).minCoeff();
+  const double heading = 2 * kPi * unit(rng);
+  const Eigen::Vector2d along(std::cos(heading), std::sin(heading)), across(-along.y(), along.x());
+  Pusher p;
+  p.tip_radius_m = d.tip_radius_m;
+  p.mu = draw(d.mu);
+  const double speed = draw(d.speed_mps), distance = draw(d.distance_m);
+  const double offset = draw(d.offset_fraction) * half;
+  // From just outside the slider's reach (the slider at the origin, at rest) to `distance`
+  // beyond where the tip meets the outline, found by marching along the line.
+  const double approach = reach + d.tip_radius_m + kPusherClearanceM;
+  const Eigen::Vector2d start = -approach * along + offset * across;
+  double meets = 0;
+  while (meets < 2 * approach &&
+         ContactWithTip(patch, PlanarState{}, start + meets * along, d.tip_radius_m).gap_m > 0) {
+    meets += kPusherMarchM;
+  }
+  p.path = PusherPath::Polyline(0.0, start, {start + (meets + distance) * along}, {speed});
+  return p;
+}
+
+}  // namespace
 
 DatasetEntry DrawDatasetLog(const DatasetSpec& spec, int index, Trajectory* log) {
   std::string why;
@@ -206,10 +268,15 @@ DatasetEntry DrawDatasetLog(const DatasetSpec& spec, int index, Trajectory* log)
     scene.slider.inertia_kgm2 =
         spec.inertia_kgm2 ? spec.inertia_kgm2->lo + (spec.inertia_kgm2->hi - spec.inertia_kgm2->lo) * inertia_draw
                           : UniformInertia(scene.patch, scene.slider.mass_kg);
-    const PushProgram pushes =
-        RandomPushProgram(program, scene.patch, scene.slider, scene.friction);
-    scene.pushes = pushes.pushes;
-    scene.duration_s = pushes.end_s;
+    if (spec.pusher) {
+      scene.pusher = DrawPusher(*spec.pusher, scene.patch, spec.seed, index, attempt);
+      scene.duration_s = scene.pusher->path.end_s() + kPusherRunOutS;
+    } else {
+      const PushProgram pushes =
+          RandomPushProgram(program, scene.patch, scene.slider, scene.friction);
+      scene.pushes = pushes.pushes;
+      scene.duration_s = pushes.end_s;
+    }
     const SimulationResult sim = Simulate(scene);
     if (!sim.summary.ok()) {
       entry.redraw_reasons.push_back(tag + ToString(sim.summary.status) + ": " +

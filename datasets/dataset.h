@@ -38,6 +38,19 @@ std::string ToString(const ValueRange& range);  ///< "LO:HI"
 /// height does not change I_z) [kg m^2]. Ring: the annulus.
 double UniformInertia(const ContactPatch& patch, double mass_kg);
 
+/// A pusher-driven dataset's draws: each log one straight push by a round tip, coming in
+/// from outside the slider along a random heading with a random lateral offset (so that it
+/// meets the outline at a random point and angle), then pushing on.
+struct PusherDraw {
+  ValueRange mu{0.1, 0.6};            ///< tip-edge friction mu_p
+  ValueRange speed_mps{0.02, 0.1};    ///< tip speed
+  ValueRange distance_m{0.03, 0.08};  ///< pushed after touching
+  /// Lateral offset of the tip's line from the CM, as a fraction of the patch's smallest
+  /// half-size (so that the tip meets the slider).
+  ValueRange offset_fraction{-0.6, 0.6};
+  double tip_radius_m = 0.00475;
+};
+
 /// What a dataset draws from, and how each log is made.
 struct DatasetSpec {
   int count = 10;          ///< logs to make (>= 1)
@@ -62,6 +75,9 @@ struct DatasetSpec {
   /// log_every), as when a robot commands its pusher at its logging rate; false: anywhere,
   /// so a log row's force can be off for part of an interval at each switch.
   bool align_pushes = true;
+  /// Set: every log is driven by a pusher (instead of the push program), and records the
+  /// tip's path (tip_x, tip_y) and its radius.
+  std::optional<PusherDraw> pusher;
   /// A draw that tips the slider (ECP outside the hull), lifts it or fails to converge is
   /// redrawn, with its reason recorded, up to this many times per log.
   int max_redraws = 50;

@@ -20,7 +20,7 @@ std::string Format(double v) {
 }  // namespace
 
 std::string TruthCsvHeader() {
-  return "file,mass,inertia,com_height,mu,e_t,e_o,e_r,a,b,c,noise,patch,rows,redraws";
+  return "file,mass,inertia,com_height,mu,e_t,e_o,e_r,a,b,c,noise,patch,rows,redraws,mu_p";
 }
 
 std::string TruthCsvRow(const DatasetEntry& e) {
@@ -32,8 +32,10 @@ std::string TruthCsvRow(const DatasetEntry& e) {
                    r.b, r.c}) {
     row += "," + Format(v);
   }
+  // mu_p: the tip-edge friction of a pusher-driven log; empty for a force-driven one.
   return row + "," + e.scene.log.noise.Describe() + "," + e.scene.patch.Spec() + "," +
-         std::to_string(e.rows) + "," + std::to_string(e.redraw_reasons.size());
+         std::to_string(e.rows) + "," + std::to_string(e.redraw_reasons.size()) + "," +
+         (e.scene.pusher ? Format(e.scene.pusher->mu) : std::string());
 }
 
 DatasetSummary MakeDataset(const DatasetSpec& spec, const std::string& directory) {

@@ -58,6 +58,40 @@ TEST(Dataset, SameSeedAndIndexGiveTheSameLogAndOthersDiffer) {
   EXPECT_NE(Written(a), Written(d));
 }
 
+// A pusher-driven dataset: each log one straight push by a round tip, its path and radius
+// in the log, mu_p in its range; the slider and friction drawn as the force-driven dataset of
+// the same seed draws them (the pusher has a stream of its own).
+TEST(Dataset, APusherDrivenDatasetLogsTheTipAndKeepsTheOtherDraws) {
+  DatasetSpec force = Small();
+  force.log.noise = NoiseSpec{};
+  DatasetSpec pusher = force;
+  pusher.pusher = PusherDraw{};
+  for (int index = 0; index < 3; ++index) {
+    Trajectory by_force, by_pusher;
+    const DatasetEntry f = DrawDatasetLog(force, index, &by_force);
+    const DatasetEntry p = DrawDatasetLog(pusher, index, &by_pusher);
+    EXPECT_EQ(p.scene.slider.mass_kg, f.scene.slider.mass_kg);
+    EXPECT_EQ(p.scene.friction.mu, f.scene.friction.mu);
+    ASSERT_TRUE(p.scene.pusher.has_value());
+    EXPECT_TRUE(p.scene.pushes.empty());
+    EXPECT_GE(p.scene.pusher->mu, 0.1);
+    EXPECT_LE(p.scene.pusher->mu, 0.6);
+    EXPECT_TRUE(by_pusher.columns.tip);
+    ASSERT_TRUE(by_pusher.tip_radius_m.has_value());
+    int pushing = 0;
+    for (const TrajectorySample& s : by_pusher.samples) pushing += s.applied.fx != 0 || s.applied.fy != 0;
+    EXPECT_GT(pushing, 10) << "the tip meets the slider";
+    // Written and read back, the tip's path is there.
+    std::istringstream text(Written(by_pusher));
+    EXPECT_NE(text.str().find("tip_x,tip_y"), std::string::npos);
+  }
+  DatasetSpec bad = pusher;
+  bad.pusher->speed_mps = {0.0, 0.1};
+  std::string why;
+  EXPECT_FALSE(bad.IsValid(&why));
+  EXPECT_NE(why.find("tip-speed"), std::string::npos) << why;
+}
+
 TEST(Dataset, DrawsStayInTheirRangesAndInertiaFollowsThePatch) {
   DatasetSpec spec = Small();
   spec.count = 6;
@@ -138,7 +172,7 @@ TEST(Dataset, MakeDatasetWritesTheLogsAndATruthManifest) {
   std::istringstream truth(ReadText(dir + "/truth.csv"));
   std::string line;
   std::getline(truth, line);
-  EXPECT_EQ(line, "file,mass,inertia,com_height,mu,e_t,e_o,e_r,a,b,c,noise,patch,rows,redraws");
+  EXPECT_EQ(line, "file,mass,inertia,com_height,mu,e_t,e_o,e_r,a,b,c,noise,patch,rows,redraws,mu_p");
   for (int i = 0; i < 3; ++i) {
     ASSERT_TRUE(std::getline(truth, line));
     std::vector<std::string> f;
