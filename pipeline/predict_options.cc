@@ -46,7 +46,8 @@ void AddPredictOptions(po::options_description* options) {
       ("mu-pusher", po::value<double>()->value_name("MU_P"),
        "tip-edge friction coefficient (the pusher drive needs it)")
       ("drive", po::value<std::string>(),
-       "pusher or force (default: pusher when the log has tip_x, tip_y, else force)")
+       "pusher, force or quasi-static (the tip's path through the quasi-static ellipsoid "
+       "model; default: pusher when the log has tip_x, tip_y, else force)")
       ("substeps", po::value<int>()->default_value(1), "simulation steps per log interval")
       ("no-register-tip",
        "use the log's tip radius as it is (by default it is set so that the tip touches the "
@@ -90,7 +91,7 @@ PredictRequest ReadPredictOptions(const po::variables_map& vm) {
   if (vm.count("drive")) {
     PredictionDrive drive;
     if (!ParsePredictionDrive(vm["drive"].as<std::string>(), &drive)) {
-      throw po::error("--drive must be pusher or force");
+      throw po::error("--drive must be pusher, force or quasi-static");
     }
     r.drive = drive;
   }
@@ -128,7 +129,8 @@ void AddValidateOptions(po::options_description* options) {
       ("folds", po::value<int>()->value_name("K"), "K folds, the logs dealt round-robin")
       ("leave-one-out", "one fold per log (the default)")
       ("drive", po::value<std::string>(),
-       "pusher or force (default: pusher when every log has the tip's path, else force)")
+       "pusher or force (default: pusher when every log has the tip's path, else force); "
+       "the pusher drive also runs the folds' friction through the quasi-static model")
       ("mu-pusher", po::value<double>()->value_name("MU_P"), "mu_p for every prediction")
       ("substeps", po::value<int>()->default_value(1), "simulation steps per log interval")
       ("threads", po::value<int>()->default_value(1), "folds and pushes in parallel");
@@ -141,7 +143,9 @@ ValidationOptions ReadValidateOptions(const po::variables_map& vm, bool all_tip)
   ValidationOptions o;
   o.folds = vm.count("folds") ? vm["folds"].as<int>() : 0;
   o.prediction.drive = all_tip ? PredictionDrive::kPusher : PredictionDrive::kForce;
-  if (vm.count("drive") && !ParsePredictionDrive(vm["drive"].as<std::string>(), &o.prediction.drive)) {
+  if (vm.count("drive") &&
+      (!ParsePredictionDrive(vm["drive"].as<std::string>(), &o.prediction.drive) ||
+       o.prediction.drive == PredictionDrive::kQuasiStatic)) {
     throw po::error("--drive must be pusher or force");
   }
   if (vm.count("mu-pusher")) o.mu_pusher = vm["mu-pusher"].as<double>();

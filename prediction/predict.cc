@@ -6,6 +6,8 @@
 #include <stdexcept>
 #include <tuple>
 
+#include <Eigen/Dense>
+
 #include "forward_model/contact_patch.h"
 
 namespace slideid {
@@ -83,6 +85,16 @@ double RegisteredTipRadius(const Trajectory& log, const ContactPatch& patch) {
   return std::max(0.0, *log.tip_radius_m + gaps[gaps.size() / 2]);
 }
 
+/// The median interval between rows [s]: a longer one is a gap, stepped at this rate.
+double MedianInterval(const Trajectory& log) {
+  std::vector<double> intervals;
+  for (size_t u = 0; u + 1 < log.samples.size(); ++u) {
+    intervals.push_back(log.samples[u + 1].t_s - log.samples[u].t_s);
+  }
+  std::nth_element(intervals.begin(), intervals.begin() + intervals.size() / 2, intervals.end());
+  return intervals[intervals.size() / 2];
+}
+
 void Count(const PusherStepResult& r, SimulationSummary* summary) {
   ++summary->steps;
   (r.step.mode == StepMode::kStick ? summary->stick_steps : summary->slide_steps)++;
@@ -111,12 +123,7 @@ SimulationResult ReplayPusher(const Trajectory& log, const ReducedFriction& fric
   row.mode = SampleMode::kStart;
   row.tip_world = log.samples[0].tip_world;
   out.samples.push_back(row);
-  std::vector<double> intervals;
-  for (size_t u = 0; u + 1 < log.samples.size(); ++u) {
-    intervals.push_back(log.samples[u + 1].t_s - log.samples[u].t_s);
-  }
-  std::nth_element(intervals.begin(), intervals.begin() + intervals.size() / 2, intervals.end());
-  const double median = intervals[intervals.size() / 2];
+  const double median = MedianInterval(log);
   for (size_t u = 0; u + 1 < log.samples.size(); ++u) {
     // A long interval (a gap in the record) is stepped at the log's usual rate: the tip's
     // path goes on across it, and one step of its length would not follow the contact.
@@ -158,6 +165,88 @@ SimulationResult ReplayPusher(const Trajectory& log, const ReducedFriction& fric
     next.mode = r.step.mode == StepMode::kStick ? SampleMode::kStick : SampleMode::kSlide;
     next.tip_world = log.samples[u + 1].tip_world;
     next.ecp_world = r.step.ecp_world;
+    out.samples.push_back(next);
+  }
+  return result;
+}
+
+/// One quasi-static step: the slider's twist (world frame, about the CM) when the tip moves
+/// at `tip_velocity` to its end position, where it meets the slider at `contact` (at the
+/// slider's pose now): the overlap there is what the slider must move out of.
+/// The twist lies along the limit surface's normal at the tip's wrench, A J^T f with
+/// A = diag(1, 1/b^2, 1/c^2) (the ellipsoid of model.md, world axes, a scaled out); the
+/// contact point moves with the tip (sticking) when that needs a force inside the friction
+/// cone, else along the cone's edge with the tip's normal speed. A tip that does not reach
+/// the slider leaves it still: without inertia nothing else moves it.
+Eigen::Vector3d QuasiStaticTwist(const ReducedFriction& f, const TipContact& contact,
+                                 const PlanarState& pose, const Eigen::Vector2d& tip_velocity,
+                                 double mu_pusher, double h) {
+  const Eigen::Vector2d n_in = -contact.normal_world, t(-n_in.y(), n_in.x());
+  // The contact is taken with the tip at the step's end: the slider's contact point must
+  // move out of the overlap over the step, and the tip's own motion is already in it.
+  if (!(contact.gap_m < 0)) return Eigen::Vector3d::Zero();
+  const double normal_speed = -contact.gap_m / h;
+  const Eigen::Vector2d r = contact.point_world - Eigen::Vector2d(pose.x, pose.y);
+  Eigen::Matrix<double, 2, 3> J;
+  J << 1, 0, -r.y(), 0, 1, r.x();
+  const Eigen::Vector3d A(1.0, 1.0 / (f.b * f.b), 1.0 / (f.c * f.c));
+  const Eigen::Matrix2d M = J * A.asDiagonal() * J.transpose();  // positive definite
+  const Eigen::Vector2d stick = normal_speed * n_in + tip_velocity.dot(t) * t;
+  const Eigen::Vector2d force = M.ldlt().solve(stick);
+  if (std::abs(force.dot(t)) <= mu_pusher * force.dot(n_in)) {
+    return A.asDiagonal() * (J.transpose() * force);
+  }
+  const double side = force.dot(t) > 0 ? 1.0 : -1.0;
+  const Eigen::Vector2d edge = n_in + side * mu_pusher * t;
+  const Eigen::Vector3d twist = A.asDiagonal() * (J.transpose() * edge);
+  const double rate = n_in.dot(J * twist);  // > 0: M is positive definite, edge . n_in = 1
+  return twist * (normal_speed / rate);
+}
+
+/// The log replayed by its pusher through the quasi-static model, stepped as ReplayPusher.
+SimulationResult ReplayQuasiStatic(const Trajectory& log, const ReducedFriction& friction,
+                                   const Pusher& pusher, const PredictionOptions& options) {
+  const ContactPatch patch = ContactPatch::Parse(log.patch_spec);
+  SimulationResult result;
+  Trajectory& out = result.trajectory;
+  out.source = log.source;
+  out.slider = log.slider;
+  out.patch_spec = log.patch_spec;
+  out.tip_radius_m = log.tip_radius_m;
+  out.columns = LogColumns{};
+  out.columns.velocity = out.columns.tip = true;
+  out.columns.step_info = false;
+  TrajectorySample row;
+  row.t_s = log.samples[0].t_s;
+  row.state = log.samples[0].state;
+  row.state.vx = row.state.vy = row.state.wz = 0;
+  row.tip_world = log.samples[0].tip_world;
+  out.samples.push_back(row);
+  const double median = MedianInterval(log);
+  for (size_t u = 0; u + 1 < log.samples.size(); ++u) {
+    const double t0 = log.samples[u].t_s, span = log.samples[u + 1].t_s - t0;
+    const int steps = options.substeps * std::max(1, static_cast<int>(std::ceil(span / median - 1e-9)));
+    const double h = span / steps;
+    PlanarState q = out.samples.back().state;
+    for (int k = 0; k < steps; ++k) {
+      const double t = t0 + k * h;
+      const Eigen::Vector2d from = pusher.path.PositionAt(t), to = pusher.path.PositionAt(t + h);
+      const TipContact contact = ContactWithTip(patch, q, to, pusher.tip_radius_m);
+      const Eigen::Vector3d v =
+          QuasiStaticTwist(friction, contact, q, (to - from) / h, pusher.mu, h);
+      q.x += h * v.x();
+      q.y += h * v.y();
+      q.theta += h * v.z();
+      q.vx = v.x();
+      q.vy = v.y();
+      q.wz = v.z();
+      ++result.summary.steps;
+    }
+    TrajectorySample next;
+    next.t_s = log.samples[u + 1].t_s;
+    next.state = q;
+    next.mode = SampleMode::kSlide;
+    next.tip_world = log.samples[u + 1].tip_world;
     out.samples.push_back(next);
   }
   return result;
@@ -249,7 +338,7 @@ Prediction PredictPush(const Trajectory& log, const ReducedFriction& friction,
   }
   Prediction p;
   p.drive = options.drive;
-  if (options.drive == PredictionDrive::kPusher) {
+  if (options.drive != PredictionDrive::kForce) {
     if (!mu_pusher) {
       throw std::invalid_argument("the pusher drive needs the tip-edge friction mu_p (a fit's "
                                   "mu_pusher, or --mu-pusher)");
@@ -260,7 +349,9 @@ Prediction PredictPush(const Trajectory& log, const ReducedFriction& friction,
       pusher.tip_radius_m = RegisteredTipRadius(log, ContactPatch::Parse(log.patch_spec));
     }
     p.tip_radius_m = pusher.tip_radius_m;
-    const SimulationResult r = ReplayPusher(log, friction, pusher, options);
+    const SimulationResult r = options.drive == PredictionDrive::kPusher
+                                   ? ReplayPusher(log, friction, pusher, options)
+                                   : ReplayQuasiStatic(log, friction, pusher, options);
     p.predicted = r.trajectory;
     p.summary = r.summary;
   } else {
@@ -281,12 +372,18 @@ Prediction PredictPush(const Trajectory& log, const ReducedFriction& friction,
 }
 
 const char* ToString(PredictionDrive drive) {
-  return drive == PredictionDrive::kPusher ? "pusher" : "force";
+  switch (drive) {
+    case PredictionDrive::kPusher: return "pusher";
+    case PredictionDrive::kForce: return "force";
+    case PredictionDrive::kQuasiStatic: return "quasi-static";
+  }
+  return "?";
 }
 
 bool ParsePredictionDrive(const std::string& text, PredictionDrive* drive) {
   if (text == "pusher") *drive = PredictionDrive::kPusher;
   else if (text == "force") *drive = PredictionDrive::kForce;
+  else if (text == "quasi-static") *drive = PredictionDrive::kQuasiStatic;
   else return false;
   return true;
 }

@@ -22,6 +22,12 @@ namespace slideid {
 enum class PredictionDrive {
   kPusher,  ///< the tip follows the log's tip_x, tip_y; the contact force is predicted
   kForce,   ///< the logged force is applied as logged (world frame, at the logged point)
+  /// The tip's path through the quasi-static ellipsoid model of the pushing literature
+  /// (Lynch, Maekawa and Tanie 1992; Lynch and Mason 1996): no inertia, the slider's twist
+  /// along the limit surface's normal at the tip's wrench, the tip sticking inside the
+  /// motion cone and sliding on its edge outside it; the ECP under the CM. Only b, c and
+  /// mu_p matter: a scales out.
+  kQuasiStatic,
 };
 
 struct PredictionOptions {
@@ -87,7 +93,7 @@ PredictionErrors CompareWithLog(const Trajectory& log, const Trajectory& predict
                                 const PredictionOptions& options);
 
 const char* ToString(PredictionDrive drive);
-/// "pusher" or "force"; false for anything else.
+/// "pusher", "force" or "quasi-static"; false for anything else.
 bool ParsePredictionDrive(const std::string& text, PredictionDrive* drive);
 
 }  // namespace slideid

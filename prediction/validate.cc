@@ -187,6 +187,24 @@ ValidationResult Validate(const std::vector<Trajectory>& logs, const ValidationO
   SummariseMethod(&folds);
   result.methods.push_back(folds);
 
+  if (options.quasi_static && options.prediction.drive == PredictionDrive::kPusher) {
+    MethodValidation quasi{"quasi-static"};
+    quasi.pushes.resize(n);
+    PredictionOptions qs = options.prediction;
+    qs.drive = PredictionDrive::kQuasiStatic;
+    ParallelFor(n, options.threads, [&](int i) {
+      const FoldFit& fit = result.fold_fits[i % result.folds];
+      if (fit.ok) {
+        quasi.pushes[i] = Predict(logs[i], i, fit.fold, fit.friction, fit.mu_pusher, qs);
+      } else {
+        quasi.pushes[i].log = result.logs[i];
+        quasi.pushes[i].fold = fit.fold;
+        quasi.pushes[i].error = fit.error;
+      }
+    });
+    SummariseMethod(&quasi);
+    result.methods.push_back(quasi);
+  }
   if (options.own_fit) {
     MethodValidation own{"own fit"};
     own.pushes.resize(n);

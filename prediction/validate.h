@@ -5,7 +5,9 @@
 //  - "own fit", an oracle: each push predicted with the friction fitted on it alone (how
 //    well the model can fit that push at all);
 //  - "textbook": a = 0.25, b = 1, c from a uniform pressure over the outline, mu_p = 0.25
-//    (what a user without an identification would take).
+//    (what a user without an identification would take);
+//  - "quasi-static": the folds' friction through the quasi-static ellipsoid model (pusher
+//    drive only; prediction/predict.h), what the pushing literature predicts with.
 // The gap between the folds and the own fits is what pooling costs; the own fits' errors
 // are what the model cannot explain.
 
@@ -28,6 +30,9 @@ struct ValidationOptions {
   std::optional<double> mu_pusher;
   bool own_fit = true;   ///< the oracle baseline
   bool textbook = true;  ///< the textbook baseline
+  /// The pusher drive: also the folds' friction through the quasi-static model (what the
+  /// pushing literature predicts with).
+  bool quasi_static = true;
   int threads = 1;       ///< folds fitted and pushes predicted in parallel
 
   bool IsValid(std::string* why) const;
@@ -64,7 +69,7 @@ struct ErrorSummary {
 /// One method's predictions and their summaries (final position [m], final rotation [rad],
 /// final position per 100 mm of travel [m], final position over the displacement).
 struct MethodValidation {
-  std::string method;  ///< "folds", "own fit", "textbook"
+  std::string method;  ///< "folds", "own fit", "textbook", "quasi-static"
   std::vector<PushPrediction> pushes;
   int failed = 0;
   ErrorSummary final_position_m, final_rotation_rad, final_position_per_100mm_m,

@@ -361,7 +361,8 @@ def validate_section(title):
         out += ["`validate --logs build/real-data/mit_rect1 --skip-bad --drive pusher|force` over "
                 "the {} imported rect1 pushes, leave-one-out: each fold fits a, b, c and mu_p "
                 "pooled on the other {} pushes and predicts the held-out push from its first "
-                "state; each push's own fit (an oracle) and the textbook friction (a = 0.25, "
+                "state; the folds' friction through the quasi-static ellipsoid model (pusher drive), "
+                "each push's own fit (an oracle) and the textbook friction (a = 0.25, "
                 "b = 1, c = 34.4 mm from a uniform pressure, mu_p = 0.25) predict the same pushes. "
                 "Median [IQR] worst of the final errors:".format(
                     len(any_result["logs"]), len(any_result["logs"]) - 1), "",

@@ -122,6 +122,37 @@ TEST(Predict, AGapInTheRecordIsSteppedAtTheLogsRate) {
   EXPECT_NEAR(across.errors.final_position_m, whole.errors.final_position_m, 1e-6);
 }
 
+// The quasi-static model is the dynamic one's slow limit: a push at 2 mm/s, sticking and
+// sliding at the tip, anisotropic friction, no CM height; the two drives land within 2% of
+// the displacement and 1 deg of each other. At 300 mm/s they part: the slider slides on
+// after the tip stops (v^2 / (2 a g) = 15 mm), which a model without inertia cannot do.
+TEST(Predict, TheQuasiStaticModelIsTheSlowLimitOfTheDynamicOne) {
+  for (const double speed : {0.002, 0.3}) {
+    Scene scene = PushedSquare();
+    scene.slider.com_height_m = 0;
+    const Eigen::Vector2d start(-0.045 - 0.00475, 0.02);
+    scene.pusher->path = PusherPath::Polyline(0.0, start, {start + Eigen::Vector2d(0.03, 0.012)},
+                                              {speed});
+    scene.duration_s = scene.pusher->path.end_s() + 0.05;
+    scene.dt_s = speed < 0.01 ? 1e-2 : 1e-3;
+    Trajectory log = testing::SimulateOrFail(scene);
+    const ReducedFriction truth = ReducedFriction::From(scene.friction);
+    PredictionOptions options;
+    options.register_tip = false;
+    options.drive = PredictionDrive::kQuasiStatic;
+    options.substeps = 4;
+    const Prediction qs = PredictPush(log, truth, 0.25, options);
+    ASSERT_TRUE(qs.summary.ok()) << qs.summary.message;
+    SCOPED_TRACE(::testing::Message() << "speed " << speed);
+    if (speed < 0.01) {
+      EXPECT_LT(qs.errors.final_position_fraction, 0.02);
+      EXPECT_LT(qs.errors.final_rotation_rad, 1.0 * kPi / 180);
+    } else {
+      EXPECT_GT(qs.errors.final_position_fraction, 0.1);
+    }
+  }
+}
+
 // The errors against a trajectory shifted by a known amount from some row on.
 TEST(Predict, ErrorsAreTheDistancesAtTheRowsAndTheFirstRowPastAThreshold) {
   Trajectory log;

@@ -94,7 +94,10 @@ TEST(Validate, LeaveOneOutFindsTheFrictionAndPredictsHeldOutPushes) {
   const MethodValidation& folds = Method(r, "folds");
   const MethodValidation& own = Method(r, "own fit");
   const MethodValidation& textbook = Method(r, "textbook");
+  const MethodValidation& quasi = Method(r, "quasi-static");
   EXPECT_EQ(folds.failed, 0);
+  EXPECT_EQ(quasi.failed, 0);
+  EXPECT_EQ(quasi.pushes.size(), logs.size());
   for (size_t i = 0; i < folds.pushes.size(); ++i) {
     EXPECT_EQ(folds.pushes[i].fold, static_cast<int>(i));
     EXPECT_EQ(folds.pushes[i].log, logs[i].source);

@@ -75,5 +75,5 @@ def test_validate_equals_the_tools_json(push_files):
     assert result == cli
     assert result["folds"] == 2
     methods = {m["method"]: m for m in result["methods"]}
-    assert set(methods) == {"folds", "own fit", "textbook"}
+    assert set(methods) == {"folds", "quasi-static", "own fit", "textbook"}
     assert methods["folds"]["failed"] == 0
