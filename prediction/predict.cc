@@ -66,7 +66,7 @@ Pusher LoggedPusher(const Trajectory& log, double mu_pusher) {
 /// The tip radius at which the tip touches the outline, on the median, where the log
 /// pushes (force above kPushingFraction of its 90th percentile); the logged one when no
 /// row pushes.
-double RegisteredTipRadius(const Trajectory& log, const ContactPatch& patch) {
+double RegisteredRadius(const Trajectory& log, const ContactPatch& patch) {
   std::vector<double> forces;
   for (const TrajectorySample& s : log.samples) {
     const double f = std::hypot(s.applied.fx, s.applied.fy);
@@ -286,6 +286,18 @@ std::pair<double, std::string> Travel(const Trajectory& log, size_t rows) {
 
 }  // namespace
 
+double RegisteredTipRadius(const Trajectory& log) {
+  LoggedPusher(log, 0.0);  // throws, naming what is missing
+  return RegisteredRadius(log, ContactPatch::Parse(log.patch_spec));
+}
+
+PlanarState PredictionStart(const Trajectory& log) {
+  if (log.samples.size() < 2) {
+    throw std::invalid_argument(Named(log) + ": a prediction needs at least 2 rows");
+  }
+  return StartState(log);
+}
+
 bool PredictionOptions::IsValid(std::string* why) const {
   auto fail = [why](const char* text) {
     if (why) *why = text;
@@ -346,7 +358,7 @@ Prediction PredictPush(const Trajectory& log, const ReducedFriction& friction,
     p.mu_pusher = *mu_pusher;
     Pusher pusher = LoggedPusher(log, *mu_pusher);
     if (options.register_tip) {
-      pusher.tip_radius_m = RegisteredTipRadius(log, ContactPatch::Parse(log.patch_spec));
+      pusher.tip_radius_m = RegisteredRadius(log, ContactPatch::Parse(log.patch_spec));
     }
     p.tip_radius_m = pusher.tip_radius_m;
     const SimulationResult r = options.drive == PredictionDrive::kPusher

@@ -88,6 +88,15 @@ struct Prediction {
 Prediction PredictPush(const Trajectory& log, const ReducedFriction& friction,
                        std::optional<double> mu_pusher, const PredictionOptions& options = {});
 
+/// The tip radius at which the log's tip touches the outline, on the median, in the rows
+/// where the log pushes (PredictionOptions::register_tip); the logged radius when no row
+/// pushes. The log must have the tip's path, its radius and a patch.
+double RegisteredTipRadius(const Trajectory& log);
+
+/// The first row's state, its velocity for a poses-only log the second row's backward
+/// difference (as ReplayLog starts).
+PlanarState PredictionStart(const Trajectory& log);
+
 /// The errors of `predicted` against `log` (rows matched by index; the shorter decides).
 PredictionErrors CompareWithLog(const Trajectory& log, const Trajectory& predicted,
                                 const PredictionOptions& options);

@@ -102,6 +102,16 @@ mit_rect1_validate() {
       > "$work/mit_rect1.validate.$drive.txt" 2>&1 || code=$?
     echo "real_data: mit_rect1_validate: $drive: exit $code"
   done
+  # MuJoCo with the same folds' friction and the same tip path (a benchmark program).
+  if [ -x "$bin/mujoco_baseline" ] && [ -s "$work/mit_rect1.validate.pusher.json" ]; then
+    code=0
+    "$bin/mujoco_baseline" --validation "$work/mit_rect1.validate.pusher.json" \
+      --json "$work/mit_rect1.validate.mujoco.json" > "$work/mit_rect1.validate.mujoco.txt" 2>&1 \
+      || code=$?
+    echo "real_data: mit_rect1_validate: mujoco: exit $code"
+  else
+    echo "real_data: mit_rect1_validate: no $bin/mujoco_baseline (libmujoco-dev); no MuJoCo row"
+  fi
 }
 
 # The tripod logs: one wrench-twist file per configuration, fitted by the quasi-static

@@ -375,6 +375,9 @@ def validate_section(title):
                 return "-"
             return "{} [{}, {}] {}".format(fmt(s["median"] * scale), fmt(s["q25"] * scale),
                                            fmt(s["q75"] * scale), fmt(s["worst"] * scale))
+        mujoco_path = os.path.join(work, "mit_rect1.validate.mujoco.json")
+        if "pusher" in results and os.path.exists(mujoco_path):
+            results["pusher"]["methods"].append(json.load(open(mujoco_path)))
         for drive, r in results.items():
             for m in r["methods"]:
                 out.append("| {} | {} | {} | {} | {} | {} | {} |".format(

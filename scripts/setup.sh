@@ -13,6 +13,7 @@ packages=(
   nlohmann-json3-dev     # JSON: the identify result, imported MIT push files (io/)
   libgtest-dev           # unit and recovery tests
   libbenchmark-dev       # step and estimator benchmarks
+  libmujoco-dev          # MuJoCo 2.2: the prediction baseline (benchmarks/mujoco_baseline.cc)
   gnuplot-nox            # plot-log
   pybind11-dev python3-dev python3-numpy  # the Python module, for Debian's /usr/bin/python3
   python3-pytest         # the Python module's tests
