@@ -4,7 +4,8 @@
 //  - leave-one-out cross-validation (validate, folds only) over N synthetic pushes against
 //    one pooled fit of the same pushes.
 // Each benchmark is Google Benchmark's; main() prints the ratios of their median times at
-// the end. Usage: prediction_benchmark [--pushes N] [google benchmark flags].
+// the end. Usage: prediction_benchmark [--pushes N | --logs DIR] [google benchmark flags]
+// (--logs: the logs of a directory, e.g. the imported rect1 pushes, instead of N synthetic).
 
 #include <benchmark/benchmark.h>
 
@@ -19,13 +20,16 @@
 #include "estimator/identify.h"
 #include "forward_model/pusher_step.h"
 #include "forward_model/simulator.h"
+#include "io/push_log.h"
+#include "pipeline/identify_files.h"
 #include "prediction/validate.h"
 
 namespace slideid {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
-int pushes = 8;  // --pushes
+int pushes = 8;              // --pushes
+std::string logs_directory;  // --logs: real logs instead of the synthetic pushes
 
 /// Push k: a 90 mm square pushed 50 mm at 50 mm/s from its left edge at a varied point and
 /// angle, logged at 100 Hz with motion-capture noise.
@@ -48,6 +52,10 @@ Scene PushScene(int k) {
 
 std::vector<Trajectory> Logs(int n) {
   std::vector<Trajectory> logs;
+  if (!logs_directory.empty()) {
+    for (const std::string& path : ExpandFiles(logs_directory)) logs.push_back(ReadPushLog(path));
+    return logs;
+  }
   for (int k = 0; k < n; ++k) {
     LogSpec spec;
     spec.log_every = 10;
@@ -145,6 +153,10 @@ int main(int argc, char** argv) {
       slideid::pushes = std::max(2, std::atoi(argv[++i]));
       continue;
     }
+    if (std::strcmp(argv[i], "--logs") == 0 && i + 1 < argc) {
+      slideid::logs_directory = argv[++i];
+      continue;
+    }
     args.push_back(argv[i]);
   }
   int n = static_cast<int>(args.size());
@@ -158,7 +170,10 @@ int main(int argc, char** argv) {
     std::printf("ratio %s / %s = %.2f\n", a, b, x->second / y->second);
   };
   ratio("BM_PusherDrivenStep", "BM_ForceDrivenStep");
-  std::printf("(leave-one-out over %d pushes, folds only, one thread)\n", slideid::pushes);
+  std::printf("(leave-one-out over %s, folds only, one thread)\n",
+              slideid::logs_directory.empty()
+                  ? (std::to_string(slideid::pushes) + " synthetic pushes").c_str()
+                  : slideid::logs_directory.c_str());
   ratio("BM_ValidateLeaveOneOut/iterations:1", "BM_PooledFit/iterations:3");
   benchmark::Shutdown();
   return 0;

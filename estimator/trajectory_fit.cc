@@ -1190,12 +1190,11 @@ EstimateResult EstimateTrajectory(const Trajectory& log, const IdentifyOptions& 
   return std::move(outcome.result);
 }
 
-EstimateResult EstimateTrajectory(const std::vector<Trajectory>& logs,
-                                  const IdentifyOptions& options) {
-  std::string why;
-  if (!options.trajectory.IsValid(&why)) throw std::invalid_argument(why);
-  if (logs.empty()) throw std::invalid_argument("no logs to fit");
-  if (logs.size() == 1) return EstimateTrajectory(logs[0], options);
+namespace {
+
+/// The pooled fit of EstimateTrajectory(logs), its problem kept (null when the fit left
+/// none) for fits of subsets to start from.
+FitOutcome EstimatePooled(const std::vector<Trajectory>& logs, const IdentifyOptions& options) {
   const auto t0 = std::chrono::steady_clock::now();
 
   // Every log on its own: its own estimate, and the seeds of the pooled fit. The pooled
@@ -1250,6 +1249,70 @@ EstimateResult EstimateTrajectory(const std::vector<Trajectory>& logs,
   }
   result.logs = std::move(log_results);
   for (int i = 0; i < 3; ++i) result.heterogeneity[i] = TestHeterogeneity(result.logs, i);
+  result.seconds = Seconds(t0);
+  return {std::move(result), std::move(pooled.problem)};
+}
+
+}  // namespace
+
+EstimateResult EstimateTrajectory(const std::vector<Trajectory>& logs,
+                                  const IdentifyOptions& options) {
+  std::string why;
+  if (!options.trajectory.IsValid(&why)) throw std::invalid_argument(why);
+  if (logs.empty()) throw std::invalid_argument("no logs to fit");
+  if (logs.size() == 1) return EstimateTrajectory(logs[0], options);
+  return EstimatePooled(logs, options).result;
+}
+
+struct PooledTrajectoryFit::Impl {
+  std::vector<Trajectory> logs;  // the problem points into these
+  IdentifyOptions options;
+  FitOutcome pooled;
+};
+
+PooledTrajectoryFit::PooledTrajectoryFit(std::vector<Trajectory> logs,
+                                         const IdentifyOptions& options)
+    : impl_(new Impl) {
+  std::string why;
+  if (!options.trajectory.IsValid(&why)) throw std::invalid_argument(why);
+  if (logs.size() < 2) throw std::invalid_argument("a pooled fit needs at least 2 logs");
+  impl_->logs = std::move(logs);
+  impl_->options = options;
+  impl_->pooled = EstimatePooled(impl_->logs, options);
+}
+
+PooledTrajectoryFit::~PooledTrajectoryFit() = default;
+
+const EstimateResult& PooledTrajectoryFit::result() const { return impl_->pooled.result; }
+
+EstimateResult PooledTrajectoryFit::FitSubset(const std::vector<int>& subset) const {
+  const auto t0 = std::chrono::steady_clock::now();
+  std::vector<const Trajectory*> logs;
+  for (int k : subset) {
+    if (k < 0 || k >= static_cast<int>(impl_->logs.size())) {
+      throw std::invalid_argument("FitSubset: log index " + std::to_string(k) + " out of range");
+    }
+    logs.push_back(&impl_->logs[k]);
+  }
+  if (logs.empty()) throw std::invalid_argument("FitSubset: no logs");
+  const TrajectoryProblem* full = impl_->pooled.problem.get();
+  const EstimateResult& r = impl_->pooled.result;
+  if (!full || !r.converged) {  // nothing to start from: a fit of its own
+    std::vector<Trajectory> own;
+    for (const Trajectory* log : logs) own.push_back(*log);
+    return own.size() == 1 ? EstimateTrajectory(own[0], impl_->options)
+                           : EstimateTrajectory(own, impl_->options);
+  }
+  FitStart start;
+  for (int i = 0; i < 3; ++i) {
+    const ParameterEstimate& p = r.parameters[i];
+    start.friction[i] = p.identifiable ? p.value : p.held_at;
+  }
+  for (int k : subset) {
+    start.states.emplace_back(full, k);
+    start.nuisances.emplace_back(full, k);
+  }
+  EstimateResult result = Fit(logs, impl_->options, &start).result;
   result.seconds = Seconds(t0);
   return result;
 }

@@ -22,6 +22,7 @@
 
 #include <ceres/cost_function.h>
 
+#include <memory>
 #include <vector>
 
 #include "estimator/estimate.h"
@@ -41,6 +42,28 @@ EstimateResult EstimateTrajectory(const Trajectory& log, const IdentifyOptions& 
 /// fit) and result.heterogeneity whether they agree. One log: as EstimateTrajectory(log).
 EstimateResult EstimateTrajectory(const std::vector<Trajectory>& logs,
                                   const IdentifyOptions& options);
+
+/// A pooled fit kept, to start fits of subsets of its logs from: cross-validation's folds.
+/// A subset's fit starts at the pooled friction and at each log's pooled segment states and
+/// skips the logs' own fits (which only seed a pooled fit and test its heterogeneity), so
+/// it costs one pooled solve from nearby. Its result has no per-log fits (logs empty).
+class PooledTrajectoryFit {
+ public:
+  /// The pooled fit of `logs` (at least 2), as EstimateTrajectory(logs, options).
+  PooledTrajectoryFit(std::vector<Trajectory> logs, const IdentifyOptions& options);
+  ~PooledTrajectoryFit();
+  PooledTrajectoryFit(const PooledTrajectoryFit&) = delete;
+  PooledTrajectoryFit& operator=(const PooledTrajectoryFit&) = delete;
+
+  const EstimateResult& result() const;
+  /// The pooled fit of the logs `subset` (indices into the logs given), started here; a fit
+  /// of their own when the full fit did not converge. Thread-safe: it only reads this.
+  EstimateResult FitSubset(const std::vector<int>& subset) const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
 
 /// The cost of one shooting segment (rows first_row..last_row of `log`, which must outlive
 /// it), parameter blocks as estimator/segment_cost.h says. Exposed for derivative checks.

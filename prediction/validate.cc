@@ -1,6 +1,7 @@
 #include "prediction/validate.h"
 
 #include <algorithm>
+#include <memory>
 #include <chrono>
 #include <cmath>
 #include <stdexcept>
@@ -8,6 +9,8 @@
 
 #include "estimator/identify.h"
 #include "estimator/parallel_for.h"
+#include "estimator/pusher_friction.h"
+#include "estimator/trajectory_fit.h"
 
 namespace slideid {
 namespace {
@@ -21,10 +24,10 @@ std::string NameOf(const Trajectory& log, size_t k) {
 
 /// The friction a fit found: each parameter's value, or where it was held when the logs
 /// do not determine it (the value the fit used).
-ReducedFriction FrictionOf(const EstimateResult& r) {
+ReducedFriction FrictionOf(const std::array<ParameterEstimate, 3>& parameters) {
   std::array<double, 3> v{};
   for (int i = 0; i < 3; ++i) {
-    const ParameterEstimate& p = r.parameters[i];
+    const ParameterEstimate& p = parameters[i];
     v[i] = p.identifiable ? p.value : p.held_at;
   }
   return {v[0], v[1], v[2]};
@@ -150,6 +153,13 @@ ValidationResult Validate(const std::vector<Trajectory>& logs, const ValidationO
   IdentifyOptions fit_options = options.identify;
   fit_options.threads = 1;  // the folds run in parallel instead
 
+  // With the trajectory method, one pooled fit of every log starts the folds' fits (each a
+  // pooled solve from nearby: PooledTrajectoryFit) and gives every log's own fit.
+  std::unique_ptr<PooledTrajectoryFit> full;
+  if (fit_options.method == EstimatorMethod::kTrajectory) {
+    full = std::make_unique<PooledTrajectoryFit>(logs, fit_options);
+  }
+
   // The folds: fit on the others, predict the held-out pushes.
   result.fold_fits.resize(result.folds);
   MethodValidation folds{"folds"};
@@ -158,16 +168,26 @@ ValidationResult Validate(const std::vector<Trajectory>& logs, const ValidationO
     FoldFit& fit = result.fold_fits[k];
     fit.fold = k;
     std::vector<Trajectory> train;
+    std::vector<int> train_index;
+    std::vector<const Trajectory*> train_logs;
     for (int i = 0; i < n; ++i) {
       if (i % result.folds == k) {
         fit.held_out.push_back(result.logs[i]);
       } else {
-        train.push_back(logs[i]);
+        train_index.push_back(i);
+        train_logs.push_back(&logs[i]);
+        if (!full) train.push_back(logs[i]);
       }
     }
     try {
-      const EstimateResult r = Identify(train, fit_options);
-      fit.friction = FrictionOf(r);
+      EstimateResult r;
+      if (full) {
+        r = full->FitSubset(train_index);
+        AddPusherFriction(train_logs, &r);
+      } else {
+        r = Identify(train, fit_options);
+      }
+      fit.friction = FrictionOf(r.parameters);
       std::tie(fit.mu_pusher, fit.mu_pusher_from) = MuPusherOf(r, options);
       fit.ok = r.converged && Usable(fit.friction);
       if (!fit.ok) fit.error = "the fold's fit did not converge: " + r.message;
@@ -210,8 +230,19 @@ ValidationResult Validate(const std::vector<Trajectory>& logs, const ValidationO
     own.pushes.resize(n);
     ParallelFor(n, options.threads, [&](int i) {
       try {
-        const EstimateResult r = Identify(logs[i], fit_options);
-        const ReducedFriction f = FrictionOf(r);
+        // The pooled fit's own fit of each log (with its mu_p), or a fit of the log alone.
+        EstimateResult r;
+        if (full && i < static_cast<int>(full->result().logs.size())) {
+          const LogResult& own_fit = full->result().logs[i];
+          r.parameters = own_fit.parameters;
+          r.converged = own_fit.status == TerminationStatus::kConverged ||
+                        own_fit.status == TerminationStatus::kConvergedWithCaveats;
+          r.message = own_fit.message;
+          AddPusherFriction({&logs[i]}, &r);
+        } else {
+          r = Identify(logs[i], fit_options);
+        }
+        const ReducedFriction f = FrictionOf(r.parameters);
         if (!r.converged || !Usable(f)) {
           own.pushes[i].log = result.logs[i];
           own.pushes[i].error = "its own fit did not converge: " + r.message;
