@@ -158,7 +158,8 @@ int main(int argc, char** argv) {
     return 1;
   }
   const Json v = Json::parse(in);
-  MethodValidation mujoco{"mujoco"};
+  MethodValidation mujoco;
+  mujoco.method = "mujoco";
   std::vector<double> position, rotation, per_100mm, fraction;
   for (const Json& fold : v.at("fold_fits")) {
     if (!fold.at("ok").get<bool>()) continue;

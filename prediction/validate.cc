@@ -162,7 +162,8 @@ ValidationResult Validate(const std::vector<Trajectory>& logs, const ValidationO
 
   // The folds: fit on the others, predict the held-out pushes.
   result.fold_fits.resize(result.folds);
-  MethodValidation folds{"folds"};
+  MethodValidation folds;
+  folds.method = "folds";
   folds.pushes.resize(n);
   ParallelFor(result.folds, options.threads, [&](int k) {
     FoldFit& fit = result.fold_fits[k];
@@ -208,7 +209,8 @@ ValidationResult Validate(const std::vector<Trajectory>& logs, const ValidationO
   result.methods.push_back(folds);
 
   if (options.quasi_static && options.prediction.drive == PredictionDrive::kPusher) {
-    MethodValidation quasi{"quasi-static"};
+    MethodValidation quasi;
+  quasi.method = "quasi-static";
     quasi.pushes.resize(n);
     PredictionOptions qs = options.prediction;
     qs.drive = PredictionDrive::kQuasiStatic;
@@ -226,7 +228,8 @@ ValidationResult Validate(const std::vector<Trajectory>& logs, const ValidationO
     result.methods.push_back(quasi);
   }
   if (options.own_fit) {
-    MethodValidation own{"own fit"};
+    MethodValidation own;
+  own.method = "own fit";
     own.pushes.resize(n);
     ParallelFor(n, options.threads, [&](int i) {
       try {
@@ -258,7 +261,8 @@ ValidationResult Validate(const std::vector<Trajectory>& logs, const ValidationO
     result.methods.push_back(own);
   }
   if (options.textbook) {
-    MethodValidation textbook{"textbook"};
+    MethodValidation textbook;
+  textbook.method = "textbook";
     textbook.pushes.resize(n);
     ParallelFor(n, options.threads, [&](int i) {
       if (logs[i].patch_spec.empty()) {
