@@ -210,7 +210,7 @@ ValidationResult Validate(const std::vector<Trajectory>& logs, const ValidationO
 
   if (options.quasi_static && options.prediction.drive == PredictionDrive::kPusher) {
     MethodValidation quasi;
-  quasi.method = "quasi-static";
+    quasi.method = "quasi-static";
     quasi.pushes.resize(n);
     PredictionOptions qs = options.prediction;
     qs.drive = PredictionDrive::kQuasiStatic;
@@ -229,7 +229,7 @@ ValidationResult Validate(const std::vector<Trajectory>& logs, const ValidationO
   }
   if (options.own_fit) {
     MethodValidation own;
-  own.method = "own fit";
+    own.method = "own fit";
     own.pushes.resize(n);
     ParallelFor(n, options.threads, [&](int i) {
       try {
@@ -262,7 +262,7 @@ ValidationResult Validate(const std::vector<Trajectory>& logs, const ValidationO
   }
   if (options.textbook) {
     MethodValidation textbook;
-  textbook.method = "textbook";
+    textbook.method = "textbook";
     textbook.pushes.resize(n);
     ParallelFor(n, options.threads, [&](int i) {
       if (logs[i].patch_spec.empty()) {
