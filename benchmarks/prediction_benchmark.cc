@@ -16,7 +16,7 @@
 #include <string>
 #include <vector>
 
-#include "datasets/sensor_model.h"
+#include "fixtures/pushed_square.h"
 #include "estimator/identify.h"
 #include "forward_model/pusher_step.h"
 #include "forward_model/simulator.h"
@@ -27,28 +27,10 @@
 namespace slideid {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 int pushes = 8;              // --pushes
 std::string logs_directory;  // --logs: real logs instead of the synthetic pushes
 
-/// Push k: a 90 mm square pushed 50 mm at 50 mm/s from its left edge at a varied point and
-/// angle, logged at 100 Hz with motion-capture noise.
-Scene PushScene(int k) {
-  Scene scene;
-  scene.slider = {0.837, 1.13e-3, 0.0065, 9.81};
-  scene.friction = ReducedFriction{0.3, 1.2, 0.035}.ToFrictionParameters();
-  scene.patch = ContactPatch::Rectangle(0.09, 0.09);
-  scene.dt_s = 1e-3;
-  const double offset = -0.025 + 0.01 * (k % 6), angle = (-40.0 + 16.0 * (k % 6)) * kPi / 180;
-  Pusher p;
-  p.mu = 0.3;
-  const Eigen::Vector2d d(std::cos(angle), std::sin(angle));
-  const Eigen::Vector2d start = Eigen::Vector2d(-0.045, offset) - p.tip_radius_m / std::cos(angle) * d;
-  p.path = PusherPath::Polyline(0.0, start, {start + 0.05 * d}, {0.05});
-  scene.pusher = p;
-  scene.duration_s = p.path.end_s() + 0.1;
-  return scene;
-}
+Scene PushScene(int k) { return testing::PushedSquareScene(testing::PushOfSet(k)); }
 
 std::vector<Trajectory> Logs(int n) {
   std::vector<Trajectory> logs;
@@ -57,14 +39,7 @@ std::vector<Trajectory> Logs(int n) {
     return logs;
   }
   for (int k = 0; k < n; ++k) {
-    LogSpec spec;
-    spec.log_every = 10;
-    spec.motion = LogMotion::kPoses;
-    spec.noise.pose_m = 2e-4;
-    spec.noise.angle_rad = 2e-3;
-    spec.noise.force_relative = 0.02;
-    spec.noise.seed = 100 + k;
-    logs.push_back(MakeLog(Simulate(PushScene(k)).trajectory, spec));
+    logs.push_back(testing::NoisyPushLog(PushScene(k), 100 + k));
     logs.back().source = "push" + std::to_string(k);
   }
   return logs;

@@ -95,6 +95,34 @@ double MedianInterval(const Trajectory& log) {
   return intervals[intervals.size() / 2];
 }
 
+/// Steps over log interval u: `substeps` per median interval in it, so that a long one (a
+/// gap in the record) is stepped at the log's usual rate; the tip's path goes on across it,
+/// and one step of its length would not follow the contact.
+int StepsOver(const Trajectory& log, size_t u, double median, int substeps) {
+  const double span = log.samples[u + 1].t_s - log.samples[u].t_s;
+  return substeps * std::max(1, static_cast<int>(std::ceil(span / median - 1e-9)));
+}
+
+/// A predicted trajectory of `log`, its first row at `start`: the log's slider, outline
+/// and tip, with the pose, the velocity and the tip's path (each replay adds its own).
+Trajectory PredictionShell(const Trajectory& log, const PlanarState& start) {
+  Trajectory out;
+  out.source = log.source;
+  out.slider = log.slider;
+  out.patch_spec = log.patch_spec;
+  out.tip_radius_m = log.tip_radius_m;
+  out.columns = LogColumns{};
+  out.columns.force = out.columns.step_info = false;
+  out.columns.tip = true;
+  TrajectorySample row;
+  row.t_s = log.samples[0].t_s;
+  row.state = start;
+  row.mode = SampleMode::kStart;
+  row.tip_world = log.samples[0].tip_world;
+  out.samples.push_back(row);
+  return out;
+}
+
 void Count(const PusherStepResult& r, SimulationSummary* summary) {
   ++summary->steps;
   (r.step.mode == StepMode::kStick ? summary->stick_steps : summary->slide_steps)++;
@@ -110,26 +138,14 @@ SimulationResult ReplayPusher(const Trajectory& log, const ReducedFriction& fric
   const ContactPatch patch = ContactPatch::Parse(log.patch_spec);
   SimulationResult result;
   Trajectory& out = result.trajectory;
-  out.source = log.source;
-  out.slider = log.slider;
-  out.patch_spec = log.patch_spec;
-  out.tip_radius_m = log.tip_radius_m;
+  out = PredictionShell(log, StartState(log));
   out.true_friction = friction.ToFrictionParameters();
-  out.columns = LogColumns{};
-  out.columns.force = out.columns.push_point = out.columns.tip = true;
-  TrajectorySample row;
-  row.t_s = log.samples[0].t_s;
-  row.state = StartState(log);
-  row.mode = SampleMode::kStart;
-  row.tip_world = log.samples[0].tip_world;
-  out.samples.push_back(row);
+  out.columns.force = out.columns.push_point = true;
   const double median = MedianInterval(log);
   for (size_t u = 0; u + 1 < log.samples.size(); ++u) {
-    // A long interval (a gap in the record) is stepped at the log's usual rate: the tip's
-    // path goes on across it, and one step of its length would not follow the contact.
-    const double t0 = log.samples[u].t_s, span = log.samples[u + 1].t_s - t0;
-    const int steps = options.substeps * std::max(1, static_cast<int>(std::ceil(span / median - 1e-9)));
-    const double h = span / steps;
+    const double t0 = log.samples[u].t_s;
+    const int steps = StepsOver(log, u, median, options.substeps);
+    const double h = (log.samples[u + 1].t_s - t0) / steps;
     PlanarState state = out.samples.back().state;
     Eigen::Vector2d impulse = Eigen::Vector2d::Zero();
     PusherStepResult r;
@@ -209,24 +225,14 @@ SimulationResult ReplayQuasiStatic(const Trajectory& log, const ReducedFriction&
   const ContactPatch patch = ContactPatch::Parse(log.patch_spec);
   SimulationResult result;
   Trajectory& out = result.trajectory;
-  out.source = log.source;
-  out.slider = log.slider;
-  out.patch_spec = log.patch_spec;
-  out.tip_radius_m = log.tip_radius_m;
-  out.columns = LogColumns{};
-  out.columns.velocity = out.columns.tip = true;
-  out.columns.step_info = false;
-  TrajectorySample row;
-  row.t_s = log.samples[0].t_s;
-  row.state = log.samples[0].state;
-  row.state.vx = row.state.vy = row.state.wz = 0;
-  row.tip_world = log.samples[0].tip_world;
-  out.samples.push_back(row);
+  PlanarState start = log.samples[0].state;
+  start.vx = start.vy = start.wz = 0;  // without inertia, no motion but the tip's
+  out = PredictionShell(log, start);
   const double median = MedianInterval(log);
   for (size_t u = 0; u + 1 < log.samples.size(); ++u) {
-    const double t0 = log.samples[u].t_s, span = log.samples[u + 1].t_s - t0;
-    const int steps = options.substeps * std::max(1, static_cast<int>(std::ceil(span / median - 1e-9)));
-    const double h = span / steps;
+    const double t0 = log.samples[u].t_s;
+    const int steps = StepsOver(log, u, median, options.substeps);
+    const double h = (log.samples[u + 1].t_s - t0) / steps;
     PlanarState q = out.samples.back().state;
     for (int k = 0; k < steps; ++k) {
       const double t = t0 + k * h;

@@ -8,7 +8,7 @@
 
 #include <cmath>
 
-#include "datasets/sensor_model.h"
+#include "fixtures/pushed_square.h"
 #include "estimator/identify.h"
 #include "io/result_json.h"
 #include "tests/estimator_test_support.h"
@@ -18,35 +18,18 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 
-/// A 90 mm square pushed 60 mm at 50 mm/s from its left edge, `angle` off the normal.
+/// The fixture's square pushed 60 mm at 50 mm/s from its left edge, `angle` off the normal.
 Scene PushAt(double angle_rad, double mu_p, double offset_m) {
-  Scene scene;
-  scene.slider = {0.837, 1.13e-3, 0.0065, 9.81};
-  scene.friction = ReducedFriction{0.3, 1.2, 0.035}.ToFrictionParameters();
-  scene.patch = ContactPatch::Rectangle(0.09, 0.09);
-  scene.dt_s = 1e-3;
-  Pusher p;
-  p.tip_radius_m = 0.00475;
-  p.mu = mu_p;
-  const Eigen::Vector2d direction(std::cos(angle_rad), std::sin(angle_rad));
-  // Touching at the start: a flat edge, so the centre sits r / cos(angle) back along it.
-  const Eigen::Vector2d start =
-      Eigen::Vector2d(-0.045, offset_m) - p.tip_radius_m / std::cos(angle_rad) * direction;
-  p.path = PusherPath::Polyline(0.0, start, {start + 0.06 * direction}, {0.05});
-  scene.pusher = p;
-  scene.duration_s = p.path.end_s() + 0.1;
-  return scene;
+  testing::SquarePush push;
+  push.angle_rad = angle_rad;
+  push.mu_pusher = mu_p;
+  push.offset_m = offset_m;
+  push.distance_m = 0.06;
+  return testing::PushedSquareScene(push);
 }
 
 Trajectory NoisyLog(const Scene& scene, std::uint64_t seed) {
-  LogSpec spec;
-  spec.log_every = 10;  // 100 Hz
-  spec.motion = LogMotion::kPoses;
-  spec.noise.pose_m = 2e-4;
-  spec.noise.angle_rad = 2e-3;
-  spec.noise.force_relative = 0.02;
-  spec.noise.seed = seed;
-  return MakeLog(testing::SimulateOrFail(scene), spec);
+  return testing::NoisyPushLog(scene, seed);
 }
 
 // The tip slides along the edge (pushed 60 deg off the normal, outside the motion cone for

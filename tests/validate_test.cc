@@ -8,41 +8,19 @@
 
 #include <cmath>
 
-#include "datasets/sensor_model.h"
+#include "fixtures/pushed_square.h"
 #include "tests/estimator_test_support.h"
 
 namespace slideid {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
-const ReducedFriction kTruth{0.3, 1.2, 0.035};
-constexpr double kMuP = 0.3;
+const ReducedFriction kTruth = testing::SquarePush{}.friction;
+constexpr double kMuP = 0.3;  // testing::PushOfSet's
 
-/// Push k of a set: a 90 mm square pushed 50 mm from its left edge at various points and
-/// angles (some sliding along the edge), logged at 100 Hz with motion-capture noise.
+/// Push k of the fixture's set, logged at 100 Hz with noise, named push<k>.csv.
 Trajectory Push(int k) {
-  Scene scene;
-  scene.slider = {0.837, 1.13e-3, 0.0065, 9.81};
-  scene.friction = kTruth.ToFrictionParameters();
-  scene.patch = ContactPatch::Rectangle(0.09, 0.09);
-  scene.dt_s = 1e-3;
-  const double offset = -0.025 + 0.01 * (k % 6), angle = (-40.0 + 16.0 * (k % 6)) * kPi / 180;
-  Pusher p;
-  p.tip_radius_m = 0.00475;
-  p.mu = kMuP;
-  const Eigen::Vector2d d(std::cos(angle), std::sin(angle));
-  const Eigen::Vector2d start = Eigen::Vector2d(-0.045, offset) - p.tip_radius_m / std::cos(angle) * d;
-  p.path = PusherPath::Polyline(0.0, start, {start + 0.05 * d}, {0.05});
-  scene.pusher = p;
-  scene.duration_s = p.path.end_s() + 0.1;
-  LogSpec spec;
-  spec.log_every = 10;
-  spec.motion = LogMotion::kPoses;
-  spec.noise.pose_m = 2e-4;
-  spec.noise.angle_rad = 2e-3;
-  spec.noise.force_relative = 0.02;
-  spec.noise.seed = 100 + k;
-  Trajectory log = MakeLog(testing::SimulateOrFail(scene), spec);
+  Trajectory log = testing::NoisyPushLog(testing::PushedSquareScene(testing::PushOfSet(k)), 100 + k);
   log.source = "push" + std::to_string(k) + ".csv";
   return log;
 }

@@ -17,13 +17,8 @@ using namespace slideid;
 
 namespace {
 
-constexpr double kRadToDeg = 180.0 / 3.14159265358979323846;
-
-std::string Fixed(double value, int digits) {
-  char buffer[64];
-  std::snprintf(buffer, sizeof buffer, "%.*f", digits, value);
-  return buffer;
-}
+using tools::Fixed;
+using tools::kRadToDeg;
 
 void PrintErrors(const Prediction& p) {
   const PredictionErrors& e = p.errors;

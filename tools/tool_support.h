@@ -28,6 +28,15 @@ class BadInput : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+constexpr double kRadToDeg = 180.0 / 3.14159265358979323846;
+
+/// `value` with `digits` decimals, for the tools' tables.
+inline std::string Fixed(double value, int digits) {
+  char buffer[64];
+  std::snprintf(buffer, sizeof buffer, "%.*f", digits, value);
+  return buffer;
+}
+
 /// Flushes standard output; a failed write (a full disk, a closed pipe) is kExitIo.
 inline int FlushStdout(const char* tool) {
   std::cout.flush();
