@@ -13,6 +13,7 @@
 #include <sstream>
 
 #include "datasets/push_program.h"
+#include "io/pusher_path_csv.h"
 
 namespace slideid {
 namespace {
@@ -47,7 +48,7 @@ const char* const kKnownKeys[] = {
     "program.max_lever",  "program.time_grid",
     "pusher.tip_radius", "pusher.mu",   "pusher.height",     "pusher.point",
     "pusher.direction",  "pusher.distance", "pusher.speed",  "pusher.start",
-    "pusher.path",       "pusher.start_time"};
+    "pusher.path",       "pusher.start_time",     "pusher.path_file"};
 const std::set<std::string> kKnownSections = {"slider", "friction", "patch", "initial", "push",
                                               "program", "sim",    "log",   "noise", "pusher"};
 /// The keys of a [push] section, also those of each [push.N].
@@ -483,14 +484,27 @@ double TouchingSetBack(const ContactPatch& patch, const PlanarState& pose,
 /// starting behind the point along the direction, just touching; or waypoints (`start`, `path` "x1 y1 x2 y2 ..."
 /// in the world frame, `speed` one for all segments or one each). `start_time` delays it.
 PusherPath ReadPusherPath(const Reader& r, const PlanarState& initial, const ContactPatch& patch,
-                          double tip_radius_m) {
+                          double tip_radius_m, const std::string& directory) {
   using C = Reader::Check;
   const double start_s = r.Number("pusher.start_time", 0.0, C::kNonNegative);
   const bool straight = r.Has("pusher.point"), waypoints = r.Has("pusher.path");
-  if (straight == waypoints) {
-    r.Fail(straight ? "pusher.path" : "pusher.point",
-           "[pusher] needs either point, direction, distance and speed (a straight push) or "
-           "start, path and speed (waypoints)");
+  const bool file = r.Has("pusher.path_file");
+  if (straight + waypoints + file != 1) {
+    r.Fail(straight ? (waypoints ? "pusher.path" : "pusher.path_file") : "pusher.point",
+           "[pusher] needs one of: point, direction, distance and speed (a straight push); "
+           "start, path and speed (waypoints); or path_file (a CSV of t, x, y)");
+  }
+  if (file) {
+    std::string path = r.Text("pusher.path_file");
+    if (!path.empty() && path.front() != '/' && !directory.empty()) path = directory + "/" + path;
+    try {
+      const PusherPath read = ReadPusherPathCsv(path);
+      std::vector<double> times = read.times_s();
+      for (double& t : times) t += start_s;
+      return PusherPath(times, read.points_m());
+    } catch (const std::exception& e) {
+      r.Fail("pusher.path_file", e.what());
+    }
   }
   const std::vector<double> speeds = r.Numbers("pusher.speed");
   for (double v : speeds) {
@@ -527,13 +541,14 @@ PusherPath ReadPusherPath(const Reader& r, const PlanarState& initial, const Con
 }
 
 /// [pusher]: a position-controlled tip (forward_model/pusher.h).
-Pusher ReadPusher(const Reader& r, const PlanarState& initial, const ContactPatch& patch) {
+Pusher ReadPusher(const Reader& r, const PlanarState& initial, const ContactPatch& patch,
+                  const std::string& directory) {
   using C = Reader::Check;
   Pusher p;
   p.tip_radius_m = r.Number("pusher.tip_radius", p.tip_radius_m, C::kNonNegative);
   p.mu = r.Number("pusher.mu", p.mu, C::kNonNegative);
   if (r.Has("pusher.height")) p.height_m = r.Number("pusher.height", C::kNonNegative);
-  p.path = ReadPusherPath(r, initial, patch, p.tip_radius_m);
+  p.path = ReadPusherPath(r, initial, patch, p.tip_radius_m, directory);
   return p;
 }
 
@@ -631,7 +646,10 @@ LoggedScene ParseScene(const std::string& ini_text, const std::string& source) {
       r.FailAt("[pusher] cannot be combined with [push] or [program] sections: a scene is "
                "driven by forces or by a pusher", LineOf(ini_text, "[pusher]"));
     }
-    scene.pusher = ReadPusher(r, scene.initial, scene.patch);
+    // A path file is found beside the scene file (source is its path when it has one).
+    const auto slash = source.find_last_of('/');
+    scene.pusher = ReadPusher(r, scene.initial, scene.patch,
+                              slash == std::string::npos ? std::string(".") : source.substr(0, slash));
   }
   scene.dt_s = r.Number("sim.dt", Reader::Check::kPositive);
   if (r.HasSection("program")) {

@@ -5,6 +5,8 @@
 #include "datasets/push_program.h"
 
 #include <cmath>
+#include <cstdlib>
+#include <fstream>
 #include <string>
 
 namespace slideid {
@@ -515,7 +517,7 @@ TEST(Scene, PusherSectionGivesAStraightPushOrWaypoints) {
   ASSERT_TRUE(waypoints.pusher.has_value());
   EXPECT_NEAR(waypoints.pusher->path.end_s(), 0.07 / 0.1 + 0.02 / 0.02, 1e-12);
 
-  ExpectError(SceneText("[pusher]\nspeed = 0.1\n"), "[pusher] point", "either point");
+  ExpectError(SceneText("[pusher]\nspeed = 0.1\n"), "[pusher] point", "needs one of");
   ExpectError(SceneText("[pusher]\npoint = 0 0\ndirection = 0 0\ndistance = 1\nspeed = 1\n"),
               "[pusher] direction", "non-zero");
   ExpectError(SceneText("[pusher]\nstart = 0 0\npath = 1 1 2\nspeed = 1\n"), "[pusher] path",
@@ -528,6 +530,36 @@ TEST(Scene, PusherSectionGivesAStraightPushOrWaypoints) {
   ExpectError(SceneText("[push]\npoint = 0 0\nforce = 1\n[pusher]\npoint = 0 0\n"
                         "direction = 1 0\ndistance = 1\nspeed = 1\n"),
               "[pusher] cannot be combined", "line");
+}
+
+// [pusher] path_file: the tip's path from a CSV of t, x, y beside the scene file, shifted by
+// start_time; a bad file is an error naming the key, the file, the line and the column.
+TEST(Scene, PusherPathFileIsReadBesideTheScene) {
+  const std::string dir = ::testing::TempDir() + "/pusher_path_scene";
+  ASSERT_EQ(std::system(("mkdir -p " + dir).c_str()), 0);
+  std::ofstream(dir + "/path.csv") << "# the tip\nt,x,y,note\n0,-0.04,0,a\n0.5,-0.02,0.001,b\n"
+                                      "1.5,0.01,0.002,c\n";
+  std::ofstream(dir + "/scene.ini") << SceneText("[pusher]\npath_file = path.csv\nstart_time = 0.25\n");
+  const Scene scene = LoadScene(dir + "/scene.ini");
+  ASSERT_TRUE(scene.pusher.has_value());
+  EXPECT_EQ(scene.pusher->path.times_s().front(), 0.25);
+  EXPECT_EQ(scene.pusher->path.end_s(), 1.75);
+  EXPECT_EQ(scene.pusher->path.PositionAt(0.75), Eigen::Vector2d(-0.02, 0.001));
+
+  std::ofstream(dir + "/back.csv") << "t,x,y\n0,0,0\n0.5,0,0\n0.5,1,1\n";
+  std::ofstream(dir + "/back.ini") << SceneText("[pusher]\npath_file = back.csv\n");
+  try {
+    LoadScene(dir + "/back.ini");
+    ADD_FAILURE() << "no error";
+  } catch (const SceneError& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("[pusher] path_file"), std::string::npos) << what;
+    EXPECT_NE(what.find("back.csv:4: column 't'"), std::string::npos) << what;
+  }
+  std::ofstream(dir + "/noy.csv") << "t,x\n0,0\n";
+  std::ofstream(dir + "/noy.ini") << SceneText("[pusher]\npath_file = noy.csv\n");
+  EXPECT_THROW(LoadScene(dir + "/noy.ini"), SceneError);
+  ExpectError(SceneText("[pusher]\npath_file = p.csv\npoint = 0 0\n"), "[pusher]", "one of");
 }
 
 }  // namespace slideid
