@@ -756,6 +756,10 @@ struct FitStart {
   std::vector<std::pair<const TrajectoryProblem*, int>> states;
   /// Per log: the problem whose fitted nuisances start the log's own, and its index there.
   std::vector<std::pair<const TrajectoryProblem*, int>> nuisances;
+  /// The start is a converged robust fit of nearly these logs (a fold's from the pooled
+  /// fit of all): the least-squares stage, there to leave far seeds' false minima, is
+  /// skipped and the robust solve starts at once.
+  bool settled = false;
 };
 
 void ApplyStart(const FitStart& start, TrajectoryProblem* problem) {
@@ -883,8 +887,10 @@ FitOutcome Fit(const std::vector<const Trajectory*>& logs, const IdentifyOptions
     iterations += static_cast<int>(problem.Solve(stage, /*stage=*/true).iterations.size());
     SeedDelays(&problem, topt.max_delay_s);
   }
-  summary = problem.Solve(free, /*stage=*/topt.loss != RobustLoss::kNone);
-  iterations += static_cast<int>(summary.iterations.size());
+  if (!(start && start->settled) || topt.loss == RobustLoss::kNone) {
+    summary = problem.Solve(free, /*stage=*/topt.loss != RobustLoss::kNone);
+    iterations += static_cast<int>(summary.iterations.size());
+  }
   SecondStart second;
   if (!start && topt.second_start) {
     second = TrySecondStart(&problem, free, /*stage=*/topt.loss != RobustLoss::kNone);
@@ -1312,6 +1318,7 @@ EstimateResult PooledTrajectoryFit::FitSubset(const std::vector<int>& subset) co
     start.states.emplace_back(full, k);
     start.nuisances.emplace_back(full, k);
   }
+  start.settled = true;
   EstimateResult result = Fit(logs, impl_->options, &start).result;
   result.seconds = Seconds(t0);
   return result;
