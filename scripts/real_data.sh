@@ -99,7 +99,10 @@ mit_rect1_validate() {
     code=0
     "$bin/validate" --logs "$work/mit_rect1" --skip-bad --drive "$drive" --threads 2 \
       --json "$work/mit_rect1.validate.$drive.json" --csv "$work/mit_rect1.validate.$drive.csv" \
+      --plot "$work/mit_rect1.validate.$drive.png" \
       > "$work/mit_rect1.validate.$drive.txt" 2>&1 || code=$?
+    [ "$drive" != pusher ] || [ ! -s "$work/mit_rect1.validate.$drive.png" ] \
+      || cp "$work/mit_rect1.validate.$drive.png" docs/real-data-rect1-validate.png
     echo "real_data: mit_rect1_validate: $drive: exit $code"
   done
   # MuJoCo with the same folds' friction and the same tip path (a benchmark program).

@@ -404,6 +404,10 @@ def validate_section(title):
                 out[-1] += (" What pooling costs (the folds' median final position error less the "
                             "own fits'): {} mm; what the model does not explain (the own fits' "
                             "median): {} mm.".format(fmt(fold_median - own_median), fmt(own_median)))
+            if drive == "pusher" and os.path.exists("docs/real-data-rect1-validate.png"):
+                out += ["", "![rect1 leave-one-out, pusher drive: each push's final errors by "
+                        "friction, medians and quartiles](real-data-rect1-validate.png)"]
+
         return out
     return section
 

@@ -4,9 +4,12 @@
 
 #include "prediction/validate.h"
 
+#include "pipeline/validate_plot.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <sstream>
 
 #include "fixtures/pushed_square.h"
 #include "tests/estimator_test_support.h"
@@ -120,6 +123,22 @@ TEST(Validate, TooFewLogsOrBadOptionsAreRejected) {
   ValidationOptions bad;
   bad.folds = 1;
   EXPECT_THROW(Validate(Pushes(2), bad), std::invalid_argument);
+}
+
+TEST(Validate, ThePlotDrawsEachFrictionsPushesAndQuartiles) {
+  const ValidationResult r = Validate(Pushes(3), ValidationOptions{});
+  const std::string dir = testing::TempPath("validate_plot");
+  ASSERT_EQ(std::system(("mkdir -p " + dir).c_str()), 0);
+  const std::string script = ValidationPlotScript(r, dir, "/tmp/v.png", "t");
+  for (const char* m : {"\"folds\" 0", "\"quasi-static\" 1", "\"own fit\" 2", "\"textbook\" 3"}) {
+    EXPECT_NE(script.find(m), std::string::npos) << m;
+  }
+  EXPECT_NE(script.find("final rotation error [deg]"), std::string::npos);
+  // One point per predicted push and method, one summary row per method.
+  std::istringstream points(testing::ReadText(dir + "/errors.dat"));
+  int rows = 0;
+  for (std::string line; std::getline(points, line);) rows += !line.empty() && line[0] != '#';
+  EXPECT_EQ(rows, 3 * 4);
 }
 
 TEST(ValidateTool, WritesTheSummaryTheTableAndTheJson) {

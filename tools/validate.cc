@@ -10,6 +10,7 @@
 #include "io/push_log.h"
 #include "pipeline/identify_files.h"
 #include "pipeline/predict_options.h"
+#include "pipeline/validate_plot.h"
 #include "tools/tool_support.h"
 
 namespace po = boost::program_options;
@@ -67,7 +68,9 @@ int main(int argc, char** argv) {
         ("logs", po::value<std::string>()->value_name("DIR|GLOB"), "the push logs (required)")
         ("skip-bad", "leave out logs that cannot be read, with a warning")
         ("json", po::value<std::string>()->value_name("OUT.json"), "write everything as JSON")
-        ("csv", po::value<std::string>()->value_name("OUT.csv"), "write the per-push table");
+        ("csv", po::value<std::string>()->value_name("OUT.csv"), "write the per-push table")
+        ("plot", po::value<std::string>()->value_name("FIG.png"),
+         "draw each friction's errors, push by push, with medians and quartiles (gnuplot)");
     cli::AddValidateOptions(&opts);
     po::variables_map vm;
     po::store(po::parse_command_line(argc, argv, opts), vm);
@@ -125,6 +128,9 @@ int main(int argc, char** argv) {
         if (!out || std::rename((path + ".tmp").c_str(), path.c_str()) != 0) {
           throw std::runtime_error(path + ": cannot write");
         }
+      }
+      if (vm.count("plot")) {
+        PlotValidation(r, vm["plot"].as<std::string>(), "validate " + vm["logs"].as<std::string>());
       }
     } catch (const std::runtime_error& e) {
       std::cerr << "validate: error: " << e.what() << "\n";
