@@ -1,4 +1,4 @@
-# Installing slideid (`cmake --install build --prefix P`, README "CMake package"): the
+# Installing slideid (`cmake --install build --prefix P`, docs/install.md, "CMake package"): the
 # libraries, their headers under P/include/slideid (included as "estimator/estimate.h"), the
 # tools, the scenes and the bundled log, and a CMake package, so that another project can
 #   find_package(slideid REQUIRED)

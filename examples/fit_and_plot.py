@@ -2,7 +2,7 @@
 
     PYTHONPATH=build/python /usr/bin/python3 examples/fit_and_plot.py [LOG.csv] [--out DIR]
 
-(Debian's /usr/bin/python3: the interpreter slideid is built for; README "Python".) Without
+(Debian's /usr/bin/python3: the interpreter slideid is built for; docs/python.md.) Without
 LOG.csv it fits the bundled datasets/logs/default_push.csv. It prints the estimates, then
 writes to DIR (default fit_output/):
   result.json    the result, exactly as `identify --json` prints it
@@ -29,7 +29,7 @@ def fit(log_path, out_dir):
     log = slideid.read_log(log_path)
     print(f"{log.source}: {log.rows} rows, m = {log.mass} kg, columns {', '.join(log.columns)}")
 
-    # Options are identify's (README, "identify"): substeps=4 simulates at 4x the log rate.
+    # Options are identify's (docs/identify.md): substeps=4 simulates at 4x the log rate.
     result = slideid.identify(log, substeps=4)
     print(result)
     if result.truth:  # simulated logs record the friction they were made with

@@ -304,7 +304,7 @@ def pooled_section(title):
         out += ["`identify --logs build/real-data/mit_rect1 --skip-bad` over the {} imported rect1 "
                 "pushes ({} skipped), a, b, c shared by all, each log with its own segment states; "
                 "the interval is the wider of the cluster-robust (CR2) ones over segments and over "
-                "logs, README \"How sure: the intervals\" and \"Several logs\"; ? = suspect (the "
+                "logs, docs/identify.md, \"How sure: the intervals\" and \"Several logs\"; ? = suspect (the "
                 "reason: residuals / log noise above 3).".format(
                     len(used), len(logs) - len(used)), ""]
         out += ["| fit | a | b | c [mm] | residuals / log noise | nuisances | time |",
@@ -338,7 +338,7 @@ def pooled_section(title):
                 "force on the object; the importer has already removed the offset it measured before "
                 "and after each push (import report above), so a fitted offset is what remains, or "
                 "what the fit prefers to call one: an imported push runs in one direction without a "
-                "rest, where an offset along it and friction act alike (README, \"Sensor "
+                "rest, where an offset along it and friction act alike (docs/identify.md, \"Sensor "
                 "nuisances\")."]
         if os.path.exists("docs/real-data-rect1-pooled.png"):
             out += ["", "![rect1 pooled: each push's estimate and interval, and the pooled one]"

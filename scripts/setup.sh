@@ -17,7 +17,7 @@ packages=(
   gnuplot-nox            # plot-log
   pybind11-dev python3-dev python3-numpy  # the Python module, for Debian's /usr/bin/python3
   python3-pytest         # the Python module's tests
-  python3-distributed    # slideid.dask: many logs on a Dask cluster (README, "Scale-out")
+  python3-distributed    # slideid.dask: many logs on a Dask cluster (docs/scale-out.md)
   clang libclang-rt-14-dev  # fuzz targets: libFuzzer and clang's sanitizer runtimes (scripts/fuzz.sh)
 )
 

@@ -300,7 +300,7 @@ TEST(CheapMethods, EquationErrorIntervalsAreCalibratedOnNoisyVelocities) {
 }
 
 
-// ---- the full Monte Carlo (README "Which estimator"; run on demand) ---------------------
+// ---- the full Monte Carlo (docs/identify.md, "Which estimator"; run on demand) ---------------------
 
 /// One condition of the coverage table.
 struct Condition {

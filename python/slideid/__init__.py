@@ -1,6 +1,6 @@
 """slideid: the friction of a sliding object, identified from pushing logs.
 
-Python interface to the slideid libraries (README, "Python"). Arrays are numpy arrays;
+Python interface to the slideid libraries (docs/python.md). Arrays are numpy arrays;
 results are plain Python objects whose ``to_dict()`` is exactly the JSON of
 ``identify --json``. Options are the command-line options of the tools, with ``_`` for ``-``
 (``fit_force_bias=True`` is ``--fit-force-bias``), checked as the tools check them.
@@ -33,7 +33,7 @@ except ImportError as error:  # most likely another interpreter than the one it 
     raise ImportError(
         f"slideid did not load in {sys.executable} ({error}). It is built for one interpreter, "
         "Debian's /usr/bin/python3 unless configured otherwise, which needs python3-numpy "
-        "(README, \"Python\")") from error
+        "(docs/python.md)") from error
 from ._identify import Record, Result, identify, identify_file
 from ._log import (
     Log,

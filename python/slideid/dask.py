@@ -9,7 +9,7 @@ complete, into a table or written to a file line by line.
 
 From a shell: ``python3 -m slideid.dask --batch DIR|GLOB --out results.jsonl
 [--scheduler ADDRESS | --scheduler-file FILE | --local-workers N] [identify's options]``
-(README, "Scale-out").
+(docs/scale-out.md).
 
 Files are sent in tasks of several logs (a short log fits in milliseconds, less than a
 task's round trip through the scheduler), and only a few tasks per worker thread are out
