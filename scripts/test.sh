@@ -4,12 +4,13 @@
 # /usr/bin/python3) and the CMake package test (tests/consumer against a fresh install).
 # Then the robustness passes of docs/robustness.md: each fuzzer for 30 s (scripts/fuzz.sh)
 # and the whole suite under ASan + UBSan (scripts/sanitizers.sh).
-# First, that every relative link in README.md and docs/ resolves (scripts/check_links.py).
+# After the build, that every relative link in README.md and docs/ resolves
+# (scripts/check_links.py).
 # SLIDEID_QUICK=1 skips the robustness passes.
 set -euo pipefail
 cd "$(dirname "$0")/.."
+bash scripts/build.sh  # installs what is missing first (scripts/setup.sh), python3 included
 /usr/bin/python3 scripts/check_links.py  # every relative link of README.md and docs/ resolves
-bash scripts/build.sh
 (cd build && ctest --output-on-failure -j"$(nproc)")
 if [ "${SLIDEID_QUICK:-0}" != 1 ]; then
   bash scripts/fuzz.sh 30
