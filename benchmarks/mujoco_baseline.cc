@@ -37,12 +37,12 @@
 #include "io/push_log.h"
 #include "prediction/predict.h"
 #include "prediction/validate.h"
+#include "forward_model/constants.h"
 
 namespace slideid {
 namespace {
 
 using Json = nlohmann::json;
-constexpr double kRadToDeg = 180.0 / 3.14159265358979323846;
 // The support's sphere: small, so that its one contact sits under the CM [m].
 constexpr double kSupportRadius = 1e-3;
 

@@ -8,11 +8,11 @@
 
 #include "datasets/sensor_model.h"
 #include "forward_model/simulator.h"
+#include "forward_model/constants.h"
 
 namespace slideid {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 // A pusher-driven log's tip starts this far outside the slider's reach [m], marches towards
 // it in steps of kPusherMarchM to find where it meets the outline, and the simulation runs
 // kPusherRunOutS past the path's end, for the slider to stop.

@@ -13,11 +13,11 @@
 #include <stdexcept>
 
 #include "forward_model/contact_patch.h"
+#include "forward_model/constants.h"
 
 namespace slideid {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 /// Force arrows are drawn this long, for the largest force of the log, in patch sizes.
 constexpr double kArrowPatchSizes = 1.0;
 /// A snapshot is skipped when the slider moved less than this fraction of the patch size

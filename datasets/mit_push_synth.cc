@@ -7,11 +7,11 @@
 #include <stdexcept>
 
 #include "forward_model/simulator.h"
+#include "forward_model/constants.h"
 
 namespace slideid {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 
 double Wrap(double theta) { return std::remainder(theta, 2.0 * kPi); }
 

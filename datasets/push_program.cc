@@ -1,4 +1,5 @@
 #include "datasets/push_program.h"
+#include "forward_model/constants.h"
 
 #include <algorithm>
 #include <cmath>
@@ -8,7 +9,6 @@
 namespace slideid {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 // Default force range in multiples of the sliding limit a m g: above 1 the push slides the
 // slider; 1.6 keeps accelerations (and speeds, below ~1.5 m/s) moderate.
 constexpr double kForceLoOverLimit = 1.1;

@@ -11,6 +11,7 @@
 #include "datasets/push_program.h"
 #include "datasets/sensor_model.h"
 #include "forward_model/simulator.h"
+#include "forward_model/constants.h"
 
 namespace slideid {
 namespace {
@@ -168,7 +169,7 @@ SuiteLog MakeSuiteLog(int index, std::uint64_t seed, const SceneSuiteLimits& lim
     } else {
       const double slide_s = std::min(kSlideFraction * rows * interval_s, kMaxThrow_mps / (a * g));
       rows = std::max(limits.min_rows, std::min(rows, static_cast<int>(slide_s / kSlideFraction / interval_s)));
-      const double speed = a * g * slide_s, heading = d.Uniform(-M_PI, M_PI);
+      const double speed = a * g * slide_s, heading = d.Uniform(-kPi, kPi);
       scene.initial.vx = speed * std::cos(heading);
       scene.initial.vy = speed * std::sin(heading);
       scene.initial.wz = (d.Chance(0.5) ? 1 : -1) * d.Uniform(3.0, 25.0);

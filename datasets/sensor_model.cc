@@ -5,11 +5,11 @@
 #include <stdexcept>
 
 #include "datasets/noise.h"
+#include "forward_model/constants.h"
 
 namespace slideid {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 // A delayed time t - d that lies within this fraction of a simulated step after a row's
 // time counts as that row's: t - d computed in floating point lands a few ulps short of the
 // row when d is a whole number of steps, and would otherwise pick the row before.

@@ -1,4 +1,5 @@
 #include "forward_model/contact_patch.h"
+#include "forward_model/constants.h"
 
 #include <algorithm>
 #include <cmath>
@@ -13,7 +14,6 @@ namespace {
 
 using Vec2 = Eigen::Vector2d;
 
-constexpr double kPi = 3.14159265358979323846;
 
 std::string FormatDouble(double v) {
   char buffer[32];

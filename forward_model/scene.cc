@@ -1,4 +1,5 @@
 #include "forward_model/scene.h"
+#include "forward_model/constants.h"
 
 #include <algorithm>
 #include <cmath>
@@ -6,7 +7,6 @@
 namespace slideid {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 
 }  // namespace
 

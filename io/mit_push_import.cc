@@ -10,11 +10,11 @@
 
 #include "forward_model/contact_patch.h"
 #include "forward_model/planar_state.h"
+#include "forward_model/constants.h"
 
 namespace slideid {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 constexpr double kHalfPi = kPi / 2;
 // A stream needs this many rows after cleanup for rates, speeds and interpolation to mean
 // anything (40 ms at 250 Hz; the real streams hold 87-313).

@@ -31,6 +31,7 @@
 #include <utility>
 #include <vector>
 
+#include "forward_model/constants.h"
 #include "forward_model/slider.h"
 #include "forward_model/trajectory.h"
 #include "io/mit_push_json.h"
@@ -71,7 +72,7 @@ struct MitImportOptions {
   /// A step of theta between consecutive samples above this is a tracking jump, repaired
   /// when it is near a multiple of pi/2 [rad]. 10 deg: pdproc uses 8-15 deg by speed; the
   /// real rect1 pushes turn by at most 6.4 deg between samples (over a 78 ms gap).
-  double theta_jump_rad = 10.0 * 3.14159265358979323846 / 180.0;
+  double theta_jump_rad = 10.0 * kPi / 180.0;
   /// The tip touches the object when its centre is within tip_radius + this of the
   /// outline [m]: motion-capture error and the plate's machining (about 1-2 mm).
   double contact_tolerance_m = 2e-3;

@@ -1,4 +1,5 @@
 #include "io/mit_push_report.h"
+#include "forward_model/constants.h"
 
 #include <cerrno>
 #include <cstdio>
@@ -11,7 +12,6 @@
 namespace slideid {
 namespace {
 
-constexpr double kRadToDeg = 180.0 / 3.14159265358979323846;
 
 std::string Number(double value) {
   char buffer[64];

@@ -18,12 +18,12 @@
 
 #include "forward_model/contact_patch.h"
 #include "io/text_lines.h"
+#include "forward_model/constants.h"
 
 namespace slideid {
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 constexpr double kTwoPi = 2.0 * kPi;
 constexpr double kDefaultGravity = 9.81;  // log-format.md: gravity defaults to 9.81 m/s^2
 // Writer: the residual moment is nudged by at most this many ulps so that the reader's sum

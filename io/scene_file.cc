@@ -14,13 +14,13 @@
 
 #include "datasets/push_program.h"
 #include "io/pusher_path_csv.h"
+#include "forward_model/constants.h"
 
 namespace slideid {
 namespace {
 
 namespace po = boost::program_options;
 
-constexpr double kPi = 3.14159265358979323846;
 // Simulated after a pusher's path ends when [sim] gives no duration [s]: a pushed object
 // stops within a few tens of milliseconds (v / (a g): 0.1 m/s at a = 0.3 takes 34 ms).
 constexpr double kPusherRunOut_s = 0.2;

@@ -10,11 +10,11 @@
 #include <stdexcept>
 
 #include "io/text_lines.h"
+#include "forward_model/constants.h"
 
 namespace slideid {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 constexpr double kDegPerRad = 180.0 / kPi;
 /// Quaternions in the logs are unit to their printed precision (the tool's 3 decimals leave
 /// |q| - 1 up to 7e-4); one off by more than 1% is not a rotation that was meant.

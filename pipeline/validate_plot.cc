@@ -6,11 +6,11 @@
 #include <stdexcept>
 
 #include "datasets/log_plot.h"
+#include "forward_model/constants.h"
 
 namespace slideid {
 namespace {
 
-constexpr double kRadToDeg = 180.0 / 3.14159265358979323846;
 
 void Write(const std::string& path, const std::string& text) {
   std::ofstream out(path);

@@ -12,6 +12,7 @@
 #include <optional>
 #include <string>
 
+#include "forward_model/constants.h"
 #include "forward_model/pusher_step.h"
 #include "forward_model/simulator.h"
 #include "forward_model/slider.h"
@@ -38,7 +39,7 @@ struct PredictionOptions {
   /// The prediction and the log part at the first row where the position error passes
   /// this [m] or the rotation error passes part_rotation_rad.
   double part_position_m = 5e-3;
-  double part_rotation_rad = 5.0 * 3.14159265358979323846 / 180.0;
+  double part_rotation_rad = 5.0 * kPi / 180.0;
   PusherStepOptions step;  ///< the step solves (the pusher's and, inside, the support's)
   /// Pusher drive: the tip radius is set so that the tip touches the outline, on the
   /// median, in the rows where the log pushes (the logged radius plus the median gap there).

@@ -23,11 +23,11 @@
 #include "io/push_log.h"
 #include "io/scene_file.h"
 #include "tests/estimator_test_support.h"
+#include "forward_model/constants.h"
 
 namespace slideid {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 constexpr const char* kSliderMeta = "# mass = 0.5\n# inertia = 2e-4\n# com_height = 0.08\n";
 
 /// A fresh directory for this test process's files.

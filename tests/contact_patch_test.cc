@@ -1,4 +1,5 @@
 #include "forward_model/contact_patch.h"
+#include "forward_model/constants.h"
 
 #include <gtest/gtest.h>
 
@@ -14,7 +15,6 @@ using Vec2 = Eigen::Vector2d;
 
 /// Distances here are sums of a few products of short decimals: exact to a few ulps.
 constexpr double kTol = 1e-12;
-constexpr double kPi = 3.14159265358979323846;
 
 /// An L-shaped patch (non-convex): a 2 x 2 square with the top-right 1 x 1 quarter cut away.
 std::vector<Vec2> LShape() {

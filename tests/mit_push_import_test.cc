@@ -14,11 +14,11 @@
 #include "io/mit_push_import.h"
 #include "io/mit_push_json.h"
 #include "tests/estimator_test_support.h"
+#include "forward_model/constants.h"
 
 namespace slideid {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 
 MitImportOptions Options(const MitSynthSpec& spec) {
   MitImportOptions o;

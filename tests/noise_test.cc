@@ -13,11 +13,11 @@
 #include "datasets/sensor_model.h"
 #include "io/push_log.h"
 #include "tests/estimator_test_support.h"
+#include "forward_model/constants.h"
 
 namespace slideid {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 // Statistics over kRows samples: the sample mean of N(0, s^2) has standard deviation
 // s / sqrt(N), the sample standard deviation about s / sqrt(2 N). Five of those is a
 // tolerance a correct generator fails with probability ~1e-6 (the seed is fixed anyway).

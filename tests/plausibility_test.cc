@@ -12,6 +12,7 @@
 #include "estimator/identifiability.h"
 #include "estimator/identify.h"
 #include "estimator/plausibility.h"
+#include "forward_model/constants.h"
 
 namespace slideid {
 namespace {
@@ -64,7 +65,7 @@ TEST(Plausibility, ALogItsModelCannotFollowIsStillSuspect) {
   Trajectory log;
   DrawDatasetLog(spec, 0, &log);
   for (TrajectorySample& s : log.samples) {
-    const double f = 1.0 + 0.6 * std::sin(2 * M_PI * 2.0 * s.t_s);
+    const double f = 1.0 + 0.6 * std::sin(2 * kPi * 2.0 * s.t_s);
     s.applied.fx *= f;
     s.applied.fy *= f;
     s.applied.tz *= f;

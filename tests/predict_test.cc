@@ -11,11 +11,11 @@
 #include "fixtures/pushed_square.h"
 #include "forward_model/simulator.h"
 #include "tests/estimator_test_support.h"
+#include "forward_model/constants.h"
 
 namespace slideid {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 
 /// The fixture's square pushed 63 mm at 50 mm/s, 18 deg off the edge's normal: the tip
 /// slides along the edge for part of the push.

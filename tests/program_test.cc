@@ -8,11 +8,11 @@
 #include <cmath>
 
 #include "forward_model/simulator.h"
+#include "forward_model/constants.h"
 
 namespace slideid {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 // Geometry recomputed by another route (sin, acos of products): exact to ulps.
 constexpr double kGeometryTol = 1e-12;
 

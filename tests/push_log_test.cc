@@ -1,6 +1,7 @@
 #include "io/push_log.h"
 #include "forward_model/simulator.h"
 #include "tests/estimator_test_support.h"
+#include "forward_model/constants.h"
 
 #include <Eigen/Geometry>
 #include <gtest/gtest.h>
@@ -18,7 +19,6 @@
 namespace slideid {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 // Tolerance for values the test recomputes by a different arithmetic route than the reader.
 constexpr double kRecomputeTol = 1e-12;
 
@@ -520,7 +520,7 @@ std::string WithThetaInDegrees(const std::string& text, bool wrap) {
     for (int i = 0; std::getline(cells, cell, ','); ++i) {
       double value = std::stod(cell);
       if (i == column) {
-        value *= 180.0 / M_PI;
+        value *= 180.0 / kPi;
         if (wrap) value = std::remainder(value, 360.0);
         cell = std::to_string(value);
       }

@@ -12,11 +12,11 @@
 #include "estimator/identify.h"
 #include "io/result_json.h"
 #include "tests/estimator_test_support.h"
+#include "forward_model/constants.h"
 
 namespace slideid {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 
 /// The fixture's square pushed 60 mm at 50 mm/s from its left edge, `angle` off the normal.
 Scene PushAt(double angle_rad, double mu_p, double offset_m) {

@@ -12,11 +12,11 @@
 #include "forward_model/simulator.h"
 #include "io/push_log.h"
 #include "tests/estimator_test_support.h"
+#include "forward_model/constants.h"
 
 namespace slideid {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 constexpr double kHalfSide = 0.045;  // a 90 mm square, like the MIT rect1
 constexpr double kTip = 0.00475;
 

@@ -17,13 +17,13 @@
 #include "io/zhou_tripod_synth.h"
 #include "io/zhou_tripod_import.h"
 #include "tests/estimator_test_support.h"
+#include "forward_model/constants.h"
 
 namespace slideid {
 namespace {
 
 using testing::ExpectRecovers;
 
-constexpr double kPi = 3.14159265358979323846;
 // Exact pairs fit exactly up to the solver's convergence and rounding (fixtures/tolerances.h).
 using testing::kExactRelTol;
 // Pairs from simulated pushes average the wrench and take one twist over a push of ~10 mm

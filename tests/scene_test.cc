@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include "datasets/push_program.h"
+#include "forward_model/constants.h"
 
 #include <cmath>
 #include <cstdlib>
@@ -14,7 +15,6 @@ namespace {
 
 /// Wrench components are a few products of short decimals and cos/sin: exact to ulps.
 constexpr double kTol = 1e-12;
-constexpr double kPi = 3.14159265358979323846;
 
 std::string ScenePath(const std::string& name) {
   return std::string(SLIDEID_SOURCE_DIR) + "/datasets/scenes/" + name;

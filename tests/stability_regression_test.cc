@@ -17,6 +17,7 @@
 #include "forward_model/simulator.h"
 #include "forward_model/step_solver.h"
 #include "tests/estimator_test_support.h"
+#include "forward_model/constants.h"
 
 namespace slideid {
 namespace {
@@ -134,7 +135,7 @@ TEST(StabilityRegression, StartsOneUlpOutsideTheEllipsoidStickOrSlideNeverFail) 
     for (bool pushed : {false, true}) {
       for (double r : {0.0, 0.5}) {
         for (int k = 0; k < 40; ++k) {
-          const double phi = -M_PI + 2 * M_PI * (k + 0.5) / 40;
+          const double phi = -kPi + 2 * kPi * (k + 0.5) / 40;
           for (double b : {0.1, 1.0, 10.0}) {
             const Case c = BoundaryStart(factor, 0.3, b, 1e-4, 1e-5, 1e-3, 0.0, pushed, r, phi);
             SCOPED_TRACE(::testing::Message() << "factor 1+" << factor - 1 << " b " << b
@@ -160,7 +161,7 @@ TEST(StabilityRegression, RowWithZeroExactValueIsNotReportedAsResidualOne) {
   // measured against its own rounding residue, said 1 for a correct solution.
   for (double factor : {1 + 1e-12, 1 + 1e-8}) {
     for (int k = 0; k < 20; ++k) {
-      const double phi = -M_PI + 2 * M_PI * (k + 0.5) / 20;
+      const double phi = -kPi + 2 * kPi * (k + 0.5) / 20;
       const Case c = BoundaryStart(factor, 1e-3, 0.1, 1e-4, 1e-5, 1e-3, 50.0, true, 0.0, phi);
       SCOPED_TRACE(::testing::Message() << "factor 1+" << factor - 1 << " phi " << phi);
       EXPECT_EQ(SolveAndCheck(c, false).mode, StepMode::kSlide);

@@ -13,11 +13,11 @@
 
 #include "fixtures/pushed_square.h"
 #include "tests/estimator_test_support.h"
+#include "forward_model/constants.h"
 
 namespace slideid {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 const ReducedFriction kTruth = testing::SquarePush{}.friction;
 constexpr double kMuP = 0.3;  // testing::PushOfSet's
 

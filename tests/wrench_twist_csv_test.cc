@@ -3,6 +3,7 @@
 // trip, and an error naming the file, line and column for each kind of bad input).
 
 #include "io/wrench_twist_csv.h"
+#include "forward_model/constants.h"
 
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -17,7 +18,6 @@
 namespace slideid {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 // Values recomputed by another arithmetic route than the code under test: rounding only.
 constexpr double kRecomputeTol = 1e-12;
 

@@ -19,11 +19,11 @@
 #include "io/wrench_twist_csv.h"
 #include "io/zhou_tripod_import.h"
 #include "io/zhou_tripod_log.h"
+#include "forward_model/constants.h"
 
 namespace slideid {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 constexpr double kRecomputeTol = 1e-12;
 // Angles through a written quaternion and atan2: a few ulps of the shortest decimal text.
 constexpr double kPoseRoundTripTol_rad = 1e-9;

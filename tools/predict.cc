@@ -18,7 +18,6 @@ using namespace slideid;
 namespace {
 
 using tools::Fixed;
-using tools::kRadToDeg;
 
 void PrintErrors(const Prediction& p) {
   const PredictionErrors& e = p.errors;

@@ -11,6 +11,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "forward_model/constants.h"
+
 namespace slideid::tools {
 
 enum ExitCode : int {
@@ -27,8 +29,6 @@ class BadInput : public std::runtime_error {
  public:
   using std::runtime_error::runtime_error;
 };
-
-constexpr double kRadToDeg = 180.0 / 3.14159265358979323846;
 
 /// `value` with `digits` decimals, for the tools' tables.
 inline std::string Fixed(double value, int digits) {

@@ -19,7 +19,6 @@ using namespace slideid;
 namespace {
 
 using tools::Fixed;
-using tools::kRadToDeg;
 
 std::string Summary(const ErrorSummary& s, double scale, int digits) {
   if (s.pushes == 0) return "-";
