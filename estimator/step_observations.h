@@ -1,6 +1,6 @@
 #pragma once
 // Per-step quantities of a push log that the cheap estimators use: the measured friction
-// impulses and ECP velocities of model.md, "Appendix A (identification), corrected", the
+// impulses and ECP velocities of model.md, "Appendix A, corrected", the
 // noise they carry, and which steps are sliding steps that can inform an estimate.
 
 #include <Eigen/Core>

@@ -1,5 +1,5 @@
 #pragma once
-// One backward-Euler step of the planar sliding model (docs: shared model.md, "One step").
+// One backward-Euler step of the planar sliding model (docs/model.md, "One step").
 //
 // The step first decides stick or slide from the impulse that would stop the slider. While
 // sliding it solves the paper's four equations in (p_t, p_o, p_r, sigma), written on the
