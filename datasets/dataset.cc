@@ -293,8 +293,8 @@ DatasetEntry DrawDatasetLog(const DatasetSpec& spec, int index, Trajectory* log)
   }
   std::string reasons;
   for (const std::string& r : entry.redraw_reasons) reasons += "\n  " + r;
-  throw std::runtime_error("dataset: " + entry.file + ": no valid draw in " +
-                           std::to_string(spec.max_redraws + 1) + " attempts:" + reasons);
+  throw NoValidDraw("dataset: " + entry.file + ": no valid draw in " +
+                    std::to_string(spec.max_redraws + 1) + " attempts:" + reasons);
 }
 
 }  // namespace slideid

@@ -6,6 +6,7 @@
 
 #include <cstdint>
 #include <optional>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -95,8 +96,15 @@ struct DatasetEntry {
   std::vector<std::string> redraw_reasons;  ///< one per rejected draw, in order
 };
 
+/// Every draw of a log tipped the slider, lifted it or failed to converge: the message names
+/// the log and lists each draw's reason. A numerical outcome, not bad input or I/O.
+class NoValidDraw : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
 /// Draws log `index` of the dataset: the scene (redrawn while it tips), simulated and
-/// logged. Deterministic in (spec, index). Throws std::runtime_error when max_redraws is
+/// logged. Deterministic in (spec, index). Throws NoValidDraw when max_redraws is
 /// exhausted, std::invalid_argument for an invalid spec.
 DatasetEntry DrawDatasetLog(const DatasetSpec& spec, int index, Trajectory* log);
 

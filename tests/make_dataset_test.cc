@@ -153,12 +153,13 @@ TEST(Dataset, ADrawThatTipsIsRedrawnWithItsReasonRecorded) {
   Trajectory again;
   EXPECT_EQ(DrawDatasetLog(spec, 0, &again).redraw_reasons, e.redraw_reasons);
   EXPECT_EQ(Written(log), Written(again));
-  // With no redraws allowed the draw fails, naming the log and the reason.
+  // With no redraws allowed the draw fails, as NoValidDraw (the tools' numerical outcome,
+  // told apart by its type), naming the log and the reason.
   spec.max_redraws = 0;
   try {
     DrawDatasetLog(spec, 0, &again);
     ADD_FAILURE() << "no error";
-  } catch (const std::runtime_error& error) {
+  } catch (const NoValidDraw& error) {
     EXPECT_NE(std::string(error.what()).find("log_0000.csv"), std::string::npos);
     EXPECT_NE(std::string(error.what()).find("toppling"), std::string::npos);
   }

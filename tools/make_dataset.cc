@@ -45,10 +45,12 @@ int main(int argc, char** argv) {
     DatasetSummary summary;
     try {
       summary = MakeDataset(spec, dir);
+    } catch (const NoValidDraw& e) {
+      std::cerr << "make-dataset: " << e.what() << "\n";
+      return tools::kExitNumerical;
     } catch (const std::runtime_error& e) {
       std::cerr << "make-dataset: " << e.what() << "\n";
-      const bool redraws = std::string(e.what()).find("no valid draw") != std::string::npos;
-      return redraws ? tools::kExitNumerical : tools::kExitIo;
+      return tools::kExitIo;
     }
     if (vm.count("quiet")) return tools::kExitOk;
     for (const DatasetEntry& e : summary.entries) {

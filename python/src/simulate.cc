@@ -104,9 +104,9 @@ py::list MakeDatasetEntries(const py::kwargs& keywords) {
     try {
       py::gil_scoped_release release;
       summary = MakeDataset(spec, dir);
+    } catch (const NoValidDraw& e) {
+      throw NumericalError(e.what());
     } catch (const std::runtime_error& e) {
-      const bool redraws = std::string(e.what()).find("no valid draw") != std::string::npos;
-      if (redraws) throw NumericalError(e.what());
       throw WriteFailure(e.what());
     }
     for (const DatasetEntry& e : summary.entries) {
@@ -122,7 +122,7 @@ py::list MakeDatasetEntries(const py::kwargs& keywords) {
     try {
       py::gil_scoped_release release;
       entry = DrawDatasetLog(spec, i, &handle->log);
-    } catch (const std::runtime_error& e) {  // no valid draw in max_redraws
+    } catch (const NoValidDraw& e) {
       throw NumericalError(e.what());
     }
     handle->log.source = entry.file;
