@@ -1,10 +1,11 @@
 #include "datasets/push_program.h"
-#include "forward_model/constants.h"
 
 #include <algorithm>
 #include <cmath>
 #include <random>
 #include <stdexcept>
+
+#include "forward_model/constants.h"
 
 namespace slideid {
 namespace {

@@ -1,5 +1,4 @@
 #include "forward_model/contact_patch.h"
-#include "forward_model/constants.h"
 
 #include <algorithm>
 #include <cmath>
@@ -8,6 +7,8 @@
 #include <limits>
 #include <sstream>
 #include <stdexcept>
+
+#include "forward_model/constants.h"
 
 namespace slideid {
 namespace {

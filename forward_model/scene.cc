@@ -1,8 +1,9 @@
 #include "forward_model/scene.h"
-#include "forward_model/constants.h"
 
 #include <algorithm>
 #include <cmath>
+
+#include "forward_model/constants.h"
 
 namespace slideid {
 namespace {

@@ -1,5 +1,4 @@
 #include "io/mit_push_report.h"
-#include "forward_model/constants.h"
 
 #include <cerrno>
 #include <cstdio>
@@ -8,6 +7,8 @@
 #include <functional>
 #include <stdexcept>
 #include <utility>
+
+#include "forward_model/constants.h"
 
 namespace slideid {
 namespace {

@@ -28,24 +28,11 @@
 namespace slideid {
 namespace {
 
+using testing::WriteFile;
+
 constexpr const char* kSliderMeta = "# mass = 0.5\n# inertia = 2e-4\n# com_height = 0.08\n";
 
 /// A fresh directory for this test process's files.
-const std::string& Dir() {
-  static const std::string dir = [] {
-    std::string pattern = ::testing::TempDir() + "bad_input_test_XXXXXX";
-    if (mkdtemp(pattern.data()) == nullptr) std::abort();
-    return pattern;
-  }();
-  return dir;
-}
-
-std::string WriteFile(const std::string& name, const std::string& content) {
-  const std::string path = Dir() + "/" + name;
-  std::ofstream(path, std::ios::binary) << content;
-  return path;
-}
-
 using testing::ReadText;
 
 bool Exists(const std::string& path) { return std::filesystem::exists(path); }
@@ -61,7 +48,7 @@ ToolRun Identify(const std::string& args) { return RunTool("identify", args); }
 
 /// A log of a pushed slider as `simulate` would write it, in `path`.
 std::string PushedLog(const std::string& name) {
-  const std::string path = Dir() + "/" + name;
+  const std::string path = testing::TempDirectory() + "/" + name;
   WritePushLog(testing::SimulateOrFail(testing::PushedSlider()), path);
   return path;
 }
@@ -98,7 +85,7 @@ void ExpectError(const std::string& name, const std::string& content, int line,
   const std::string what = e.what();
   EXPECT_EQ(e.line(), line) << what;
   EXPECT_EQ(e.column(), column) << what;
-  EXPECT_TRUE(Contains(what, Dir() + "/" + name + ":" + std::to_string(line) + ": ")) << what;
+  EXPECT_TRUE(Contains(what, testing::TempDirectory() + "/" + name + ":" + std::to_string(line) + ": ")) << what;
   EXPECT_TRUE(Contains(what, fragment)) << "wanted '" << fragment << "' in: " << what;
 }
 
@@ -167,10 +154,10 @@ TEST(BadLog, OverlongLineIsAnErrorNamingItsLineInFilesAndInMemory) {
 
 TEST(BadLog, DirectoryIsAnErrorSayingSo) {
   try {
-    ReadPushLog(Dir());
+    ReadPushLog(testing::TempDirectory());
     ADD_FAILURE() << "no LogError";
   } catch (const LogError& e) {
-    EXPECT_TRUE(Contains(e.what(), Dir() + ":0: ")) << e.what();
+    EXPECT_TRUE(Contains(e.what(), testing::TempDirectory() + ":0: ")) << e.what();
     EXPECT_TRUE(Contains(e.what(), "directory")) << e.what();
   }
 }
@@ -305,7 +292,7 @@ TEST(BadLog, MissingFinalLineBreakIsReadWithANote) {
 
 /// Everything ReadPushLog and ParsePushLog say about a text, as one string.
 std::string Outcome(const std::string& text, bool from_file) {
-  const std::string path = Dir() + "/same.csv";
+  const std::string path = testing::TempDirectory() + "/same.csv";
   if (from_file) std::ofstream(path, std::ios::binary) << text;
   LogReadOptions options;
   options.require_slider_properties = false;
@@ -390,7 +377,7 @@ TEST(IdentifyBadLog, EveryMalformedLogExitsOneNamingFileLineAndColumn) {
 
 TEST(IdentifyBadLog, CrlfBomAndWrappedThetaGiveTheSameEstimateAsTheCleanLog) {
   Trajectory log = testing::SimulateOrFail(testing::FreeSlideWithSpin());
-  const std::string clean = Dir() + "/clean.csv";
+  const std::string clean = testing::TempDirectory() + "/clean.csv";
   WritePushLog(log, clean);
   // Windows line ends and a BOM, as a spreadsheet saves it.
   std::string text = ReadText(clean), crlf = "\xEF\xBB\xBF";
@@ -398,7 +385,7 @@ TEST(IdentifyBadLog, CrlfBomAndWrappedThetaGiveTheSameEstimateAsTheCleanLog) {
   const std::string windows = WriteFile("windows.csv", crlf);
   // theta wrapped to (-pi, pi], as a tracker reports it (this log spins through pi).
   for (TrajectorySample& s : log.samples) s.state.theta = std::remainder(s.state.theta, 2 * kPi);
-  const std::string wrapped = Dir() + "/wrapped.csv";
+  const std::string wrapped = testing::TempDirectory() + "/wrapped.csv";
   WritePushLog(log, wrapped);
   const ToolRun a = Identify("--log " + clean + " --method equation-error --json");
   const ToolRun b = Identify("--log " + windows + " --method equation-error --json");
@@ -419,7 +406,7 @@ TEST(IdentifyBadLog, AbsurdMagnitudesWarnOnStderrWithoutVerboseAndNeverPrintNaN)
     s.state.y *= 1e3;
     s.applied.fx *= 1e6;
   }
-  const std::string path = Dir() + "/millimetres.csv";
+  const std::string path = testing::TempDirectory() + "/millimetres.csv";
   WritePushLog(log, path);
   for (const char* method : {"closed-form", "equation-error", "trajectory"}) {
     const ToolRun r = Identify("--log " + path + " --method " + method);
@@ -498,7 +485,7 @@ TEST(IdentifyOptions, HelpVersionAndCompatibleOptionsSucceed) {
 
 TEST(IdentifyOptions, UnwritableResidualsFileExitsFour) {
   const std::string log = PushedLog("residuals_io.csv");
-  const ToolRun r = Identify("--log " + log + " --method closed-form --residuals " + Dir() +
+  const ToolRun r = Identify("--log " + log + " --method closed-form --residuals " + testing::TempDirectory() +
                          "/no_such_dir/residuals.csv");
   EXPECT_EQ(r.code, 4) << r.err;
   EXPECT_TRUE(Contains(r.err, "no_such_dir/residuals.csv")) << r.err;
@@ -521,14 +508,14 @@ std::string NoisyVelocityLog(const std::string& name) {
     s.state.wz += 2e-2 * noise(rng);
   }
   log.columns.step_info = false;
-  const std::string path = Dir() + "/" + name;
+  const std::string path = testing::TempDirectory() + "/" + name;
   WritePushLog(log, path);
   return path;
 }
 
 TEST(NumericalFailure, FitCutOffByTheIterationLimitExitsThreeAndWritesNoResiduals) {
   const std::string log = NoisyVelocityLog("noisy.csv");
-  const std::string residuals = Dir() + "/residuals_failed.csv";
+  const std::string residuals = testing::TempDirectory() + "/residuals_failed.csv";
   const ToolRun failed = Identify("--log " + log + " --method equation-error --max-iterations 1 " +
                               "--residuals " + residuals);
   EXPECT_EQ(failed.code, 3) << failed.out << failed.err;
@@ -565,7 +552,7 @@ wz = 10
 dt = 0.01
 duration = 0.45
 )");
-  const std::string out = Dir() + "/tipping.csv";
+  const std::string out = testing::TempDirectory() + "/tipping.csv";
   const ToolRun r = RunTool("simulate", "--scene " + ini + " --out " + out);
   EXPECT_EQ(r.code, 3) << r.err;
   EXPECT_TRUE(Contains(r.err, "ECP")) << r.err;
@@ -674,7 +661,7 @@ TEST(BadScene, ParseSceneNamesTheFileAndTheKey) {
 TEST(BadScene, SimulateExitsOneNamingTheFileAndTheKeyAndWritesNoLog) {
   for (const BadSceneCase& c : BadScenes()) {
     const std::string ini = WriteFile(c.name, c.text);
-    const std::string out = Dir() + "/" + c.name + ".csv";
+    const std::string out = testing::TempDirectory() + "/" + c.name + ".csv";
     const ToolRun r = RunTool("simulate", "--scene " + ini + " --out " + out);
     EXPECT_EQ(r.code, 1) << c.name << ": " << r.err;
     EXPECT_TRUE(Contains(r.err, ini)) << c.name << ": " << r.err;
@@ -696,7 +683,7 @@ TEST(BadScene, SimulateUsageErrorsExitTwo) {
   const ToolRun ok = RunTool("simulate", "--scene " + ini);
   EXPECT_EQ(ok.code, 0) << ok.err;
   const ToolRun unwritable =
-      RunTool("simulate", "--scene " + ini + " --out " + Dir() + "/no_such_dir/log.csv");
+      RunTool("simulate", "--scene " + ini + " --out " + testing::TempDirectory() + "/no_such_dir/log.csv");
   EXPECT_EQ(unwritable.code, 4) << unwritable.err;
 }
 

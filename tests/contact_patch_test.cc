@@ -1,5 +1,4 @@
 #include "forward_model/contact_patch.h"
-#include "forward_model/constants.h"
 
 #include <gtest/gtest.h>
 
@@ -7,6 +6,8 @@
 #include <stdexcept>
 #include <string>
 #include <vector>
+
+#include "forward_model/constants.h"
 
 namespace slideid {
 namespace {

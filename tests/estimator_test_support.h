@@ -40,6 +40,19 @@ inline std::string TempPath(const std::string& name) {
 }
 
 /// The whole content of a file ("" when it cannot be read).
+/// The directory TempPath's files go in (made once per test process).
+inline std::string TempDirectory() {
+  const std::string probe = TempPath("");
+  return probe.substr(0, probe.size() - 1);  // without the trailing '/'
+}
+
+/// Writes `content`, bytes as given, to TempPath(name); returns the path.
+inline std::string WriteFile(const std::string& name, const std::string& content) {
+  const std::string path = TempPath(name);
+  std::ofstream(path, std::ios::binary) << content;
+  return path;
+}
+
 inline std::string ReadText(const std::string& path) {
   std::ostringstream text;
   text << std::ifstream(path, std::ios::binary).rdbuf();

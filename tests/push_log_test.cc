@@ -1,7 +1,6 @@
 #include "io/push_log.h"
 #include "forward_model/simulator.h"
 #include "tests/estimator_test_support.h"
-#include "forward_model/constants.h"
 
 #include <Eigen/Geometry>
 #include <gtest/gtest.h>
@@ -16,28 +15,18 @@
 #include <string>
 #include <vector>
 
+#include "forward_model/constants.h"
+
 namespace slideid {
 namespace {
+
+using testing::TempDirectory;
+using testing::WriteFile;
 
 // Tolerance for values the test recomputes by a different arithmetic route than the reader.
 constexpr double kRecomputeTol = 1e-12;
 
 /// A fresh directory for this test process's files.
-const std::string& TempDirectory() {
-  static const std::string dir = [] {
-    std::string pattern = ::testing::TempDir() + "push_log_test_XXXXXX";
-    if (mkdtemp(pattern.data()) == nullptr) std::abort();
-    return pattern;
-  }();
-  return dir;
-}
-
-std::string WriteFile(const std::string& name, const std::string& content) {
-  const std::string path = TempDirectory() + "/" + name;
-  std::ofstream(path, std::ios::binary) << content;
-  return path;
-}
-
 bool FileExists(const std::string& path) { return std::ifstream(path).good(); }
 
 using testing::ReadText;

@@ -3,12 +3,13 @@
 #include <gtest/gtest.h>
 
 #include "datasets/push_program.h"
-#include "forward_model/constants.h"
 
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
 #include <string>
+
+#include "forward_model/constants.h"
 
 namespace slideid {
 namespace {

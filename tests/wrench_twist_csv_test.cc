@@ -3,7 +3,6 @@
 // trip, and an error naming the file, line and column for each kind of bad input).
 
 #include "io/wrench_twist_csv.h"
-#include "forward_model/constants.h"
 
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -15,26 +14,17 @@
 #include <sstream>
 #include <string>
 
+#include "forward_model/constants.h"
+#include "tests/estimator_test_support.h"
+
 namespace slideid {
 namespace {
 
+using testing::TempDirectory;
+using testing::WriteFile;
+
 // Values recomputed by another arithmetic route than the code under test: rounding only.
 constexpr double kRecomputeTol = 1e-12;
-
-const std::string& TempDirectory() {
-  static const std::string dir = [] {
-    std::string pattern = ::testing::TempDir() + "wrench_twist_test_XXXXXX";
-    if (mkdtemp(pattern.data()) == nullptr) std::abort();
-    return pattern;
-  }();
-  return dir;
-}
-
-std::string WriteFile(const std::string& name, const std::string& content) {
-  const std::string path = TempDirectory() + "/" + name;
-  std::ofstream(path, std::ios::binary) << content;
-  return path;
-}
 
 WrenchTwistData SampleData() {
   WrenchTwistData d;

@@ -15,6 +15,7 @@
 #include <string>
 
 #include "io/zhou_tripod_synth.h"
+#include "tests/estimator_test_support.h"
 #include "estimator/quasi_static_fit.h"
 #include "io/wrench_twist_csv.h"
 #include "io/zhou_tripod_import.h"
@@ -23,6 +24,8 @@
 
 namespace slideid {
 namespace {
+
+using testing::TempDirectory;
 
 constexpr double kRecomputeTol = 1e-12;
 // Angles through a written quaternion and atan2: a few ulps of the shortest decimal text.
@@ -42,15 +45,6 @@ constexpr double kImportContactTol_m = 0.001;
 constexpr double kImportedFitRelTol = 0.015;
 
 const ReducedFriction kTruth{0.3, 1.0, 0.04};
-
-const std::string& TempDirectory() {
-  static const std::string dir = [] {
-    std::string pattern = ::testing::TempDir() + "zhou_tripod_test_XXXXXX";
-    if (mkdtemp(pattern.data()) == nullptr) std::abort();
-    return pattern;
-  }();
-  return dir;
-}
 
 /// A file in a folder named like the dataset's (the folder gives the support layout).
 std::string PathIn(const std::string& folder, const std::string& name) {
