@@ -38,7 +38,8 @@ TipContact PolygonContact(const std::vector<Eigen::Vector2d>& ring, const Eigen:
   Eigen::Vector2d edge_normal = Eigen::Vector2d::UnitX();
   for (size_t i = 0; i + 1 < ring.size(); ++i) {
     const Eigen::Vector2d a = ring[i], e = ring[i + 1] - ring[i];
-    const double length2 = e.squaredNorm();  // > 0: a valid patch has no repeated vertex
+    const double length2 = e.squaredNorm();
+    if (length2 == 0.0) continue;  // a repeated vertex (a closing point) is no edge
     const double s = std::clamp((p - a).dot(e) / length2, 0.0, 1.0);
     const Eigen::Vector2d q = a + s * e;
     const double d = (p - q).norm();

@@ -8,9 +8,10 @@
 #include <limits>
 #include <stdexcept>
 
+#include "forward_model/constants.h"
 #include "forward_model/contact_patch.h"
 #include "forward_model/planar_state.h"
-#include "forward_model/constants.h"
+#include "forward_model/pusher.h"
 
 namespace slideid {
 namespace {
@@ -59,8 +60,6 @@ constexpr double kMaxRows = 1e6;
 // 1e-5 m) then makes at most 0.5 mm/s of speed noise, far below the still threshold, while
 // a push (0.1-0.2 s to reach its speed) is still resolved.
 constexpr double kSpeedHalfWindowS = 0.02;
-// Circles (disk and ring outlines) as polygons: 720 segments sit within 1e-5 R of the circle.
-constexpr int kCircleSegments = 720;
 
 /// Linear interpolation of column k of sorted `rows` at t (clamped at the ends).
 double Interpolate(const std::vector<MitStreamRow>& rows, double t, int k) {
@@ -218,13 +217,6 @@ void RepairTheta(std::vector<MitStreamRow>* pose, double threshold, MitImportRep
   }
 }
 
-/// The outline of the object in its frame as a closed polygon, counter-clockwise.
-std::vector<Eigen::Vector2d> ClosedOutline(const ContactPatch& patch) {
-  std::vector<Eigen::Vector2d> outline = patch.Outline(kCircleSegments);
-  if ((outline.front() - outline.back()).norm() > 0.0) outline.push_back(outline.front());
-  return outline;
-}
-
 /// Where the tip is relative to the object at one time.
 struct Contact {
   double gap_m;                 ///< centre to outline (negative inside) minus tip radius
@@ -232,50 +224,12 @@ struct Contact {
   Eigen::Vector2d normal_in;    ///< unit, world: from the tip into the object
 };
 
-bool Inside(const std::vector<Eigen::Vector2d>& poly, const Eigen::Vector2d& p) {
-  bool inside = false;
-  for (std::size_t i = 0, j = poly.size() - 2; i + 1 < poly.size(); j = i++) {
-    const Eigen::Vector2d &a = poly[i], &b = poly[j];
-    if ((a.y() > p.y()) != (b.y() > p.y()) &&
-        p.x() < (b.x() - a.x()) * (p.y() - a.y()) / (b.y() - a.y()) + a.x()) {
-      inside = !inside;
-    }
-  }
-  return inside;
-}
-
-Contact ContactAt(const std::vector<Eigen::Vector2d>& outline, const Eigen::Vector3d& pose,
-                  const Eigen::Vector2d& tip_world, double tip_radius) {
-  const Eigen::Rotation2Dd rotation(pose.z());
-  const Eigen::Vector2d c = rotation.inverse() * (tip_world - pose.head<2>());
-  double best = std::numeric_limits<double>::infinity();
-  Eigen::Vector2d nearest = outline.front(), edge_inward(1, 0);
-  for (std::size_t i = 0; i + 1 < outline.size(); ++i) {
-    const Eigen::Vector2d a = outline[i], e = outline[i + 1] - a;
-    const double length2 = e.squaredNorm();
-    if (length2 == 0.0) continue;
-    const double s = std::clamp((c - a).dot(e) / length2, 0.0, 1.0);
-    const Eigen::Vector2d q = a + s * e;
-    if ((c - q).norm() < best) {
-      best = (c - q).norm();
-      nearest = q;
-      edge_inward = Eigen::Vector2d(-e.y(), e.x()).normalized();  // left of a CCW edge
-    }
-  }
-  const bool inside = Inside(outline, c);
-  Eigen::Vector2d normal = inside ? Eigen::Vector2d(c - nearest) : Eigen::Vector2d(nearest - c);
-  // On the outline itself the direction is undefined: take the edge's inward normal.
-  normal = normal.norm() > 1e-12 ? Eigen::Vector2d(normal.normalized()) : edge_inward;
-  return {(inside ? -best : best) - tip_radius, pose.head<2>() + rotation * nearest,
-          rotation * normal};
-}
-
 /// The recording after cleanup, with what later steps evaluate at any time.
 class Streams {
  public:
   Streams(const MitPushRecording& r, const MitImportOptions& o)
       : object(r.object_pose), tip(r.tip_pose), ft(r.ft_wrench), options_(o),
-        outline_(ClosedOutline(ContactPatch::Parse(o.patch_spec))) {}
+        patch_(ContactPatch::Parse(o.patch_spec)) {}
 
   std::vector<MitStreamRow> object, tip, ft;
 
@@ -283,8 +237,12 @@ class Streams {
     return {Interpolate(object, t, 1), Interpolate(object, t, 2), Interpolate(object, t, 3)};
   }
   Eigen::Vector2d TipAt(double t) const { return {Interpolate(tip, t, 1), Interpolate(tip, t, 2)}; }
+  /// The tip against the outline (forward_model/pusher.h, as the pusher-driven model sees it).
   Contact ContactAtTime(double t) const {
-    return ContactAt(outline_, PoseAt(t), TipAt(t), options_.tip_radius_m);
+    const Eigen::Vector3d pose = PoseAt(t);
+    const TipContact c = ContactWithTip(patch_, PlanarState{pose.x(), pose.y(), pose.z()},
+                                        TipAt(t), options_.tip_radius_m);
+    return {c.gap_m, c.point_world, -c.normal_world};
   }
   /// Tip velocity by a central difference over +-kSpeedHalfWindowS, inside the stream [m/s].
   Eigen::Vector2d TipVelocityAt(double t) const {
@@ -298,7 +256,7 @@ class Streams {
 
  private:
   const MitImportOptions& options_;
-  std::vector<Eigen::Vector2d> outline_;
+  ContactPatch patch_;
 };
 
 /// A force sample with what the push detection needs.
