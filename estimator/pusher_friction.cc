@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "estimator/log_diagnostics.h"
+#include "estimator/pooling.h"
 #include "estimator/robust_statistics.h"
 #include "forward_model/contact_patch.h"
 #include "forward_model/pusher.h"
@@ -16,8 +17,6 @@ namespace {
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 // Fewer batches than this give an interval too rough to trust: the estimate is suspect.
 constexpr int kMinBatches = 4;
-// The typical push: this quantile of the non-zero forces of the logs.
-constexpr double kTypicalPushQuantile = 0.9;
 
 /// One row where the tip pushes the edge: |f_t| / f_n, and whether the tip slides.
 struct ContactRow {
@@ -30,13 +29,6 @@ bool HasTip(const Trajectory& log) {
          log.samples.size() >= 2 &&
          std::all_of(log.samples.begin(), log.samples.end(),
                      [](const TrajectorySample& s) { return s.tip_world.has_value(); });
-}
-
-void AddPushes(const Trajectory& log, std::vector<double>* pushes) {
-  for (const TrajectorySample& s : log.samples) {
-    const double f = std::hypot(s.applied.fx, s.applied.fy);
-    if (f > 0) pushes->push_back(f);
-  }
 }
 
 /// The tip centre in the body frame of row u [m].
@@ -94,25 +86,10 @@ std::vector<ContactRow> ContactRows(const Trajectory& log, double min_force_N,
   return rows;
 }
 
-double Quantile(std::vector<double> x, double q) {
-  std::sort(x.begin(), x.end());
-  const double at = q * (x.size() - 1);
-  const size_t i = static_cast<size_t>(std::floor(at));
-  const size_t j = std::min(i + 1, x.size() - 1);
-  return x[i] + (at - i) * (x[j] - x[i]);
-}
-
 std::string Rounded(double v) {
   char buffer[32];
   std::snprintf(buffer, sizeof buffer, "%.3g", v);
   return buffer;
-}
-
-/// Student's t quantile 0.975 on `dof` degrees of freedom (dof >= 1).
-double TQuantile975(int dof) {
-  static const double kTable[] = {12.706, 4.303, 3.182, 2.776, 2.571, 2.447, 2.365, 2.306,
-                                  2.262,  2.228, 2.201, 2.179, 2.160, 2.145, 2.131};
-  return dof <= 15 ? kTable[dof - 1] : 1.96 + 2.4 / dof;
 }
 
 /// mu_p from the sliding rows' |ratio| (in log order): their median, and its standard error
@@ -133,7 +110,7 @@ ParameterEstimate FromSliding(const std::vector<double>& ratios, const PusherFri
   for (double m : medians) mean += m / batches;
   for (double m : medians) square += (m - mean) * (m - mean) / (batches - 1);
   p.stderr_value = std::sqrt(square / batches);
-  const double half = TQuantile975(batches - 1) * p.stderr_value;
+  const double half = StudentT95(batches - 1) * p.stderr_value;
   p.ci95_lo = p.value - half;
   p.ci95_hi = p.value + half;
   p.note = "median |f_t| / f_n over " + std::to_string(ratios.size()) +
@@ -150,6 +127,17 @@ ParameterEstimate FromSliding(const std::vector<double>& ratios, const PusherFri
 }
 
 }  // namespace
+
+double TypicalPush(const std::vector<const Trajectory*>& logs) {
+  std::vector<double> pushes;
+  for (const Trajectory* log : logs) {
+    for (const TrajectorySample& s : log->samples) {
+      const double f = std::hypot(s.applied.fx, s.applied.fy);
+      if (f > 0) pushes.push_back(f);
+    }
+  }
+  return pushes.empty() ? 0.0 : Quantile(pushes, kTypicalPushQuantile);
+}
 
 bool PusherFrictionOptions::IsValid(std::string* why) const {
   auto fail = [why](const char* text) {
@@ -178,16 +166,11 @@ std::optional<PusherFrictionResult> EstimatePusherFriction(
   std::string why;
   if (!options.IsValid(&why)) throw std::invalid_argument(why);
   std::vector<const Trajectory*> with_tip;
-  std::vector<double> pushes;
   for (const Trajectory* log : logs) {
-    if (!HasTip(*log)) continue;
-    with_tip.push_back(log);
-    AddPushes(*log, &pushes);
+    if (HasTip(*log)) with_tip.push_back(log);
   }
   if (with_tip.empty()) return std::nullopt;
-  // The typical push, not the largest: a tip that meets the object at speed logs one
-  // impact row many times the push.
-  const double typical = pushes.empty() ? 0.0 : Quantile(pushes, kTypicalPushQuantile);
+  const double typical = TypicalPush(with_tip);
   PusherFrictionResult r;
   std::vector<double> sliding, all;
   for (const Trajectory* log : with_tip) {

@@ -53,6 +53,12 @@ struct PusherFrictionResult {
   int sliding_rows = 0;  ///< of which the tip slides along it
 };
 
+/// The typical push of `logs` [N]: the kTypicalPushQuantile quantile of their non-zero
+/// horizontal forces, 0 without any. Not the largest: a tip that meets the object at speed
+/// logs one impact row many times the push.
+constexpr double kTypicalPushQuantile = 0.9;
+double TypicalPush(const std::vector<const Trajectory*>& logs);
+
 /// mu_p from the logs that have the tip's path, radius and the object's outline; nullopt
 /// when none has. Throws std::invalid_argument for invalid options.
 std::optional<PusherFrictionResult> EstimatePusherFriction(

@@ -1,5 +1,6 @@
 #pragma once
-// Order statistics the estimators share: the median and the MAD scale.
+// Order statistics the estimators, importers and predictions share: the median, quantiles
+// and the MAD scale.
 
 #include <algorithm>
 #include <vector>
@@ -17,6 +18,16 @@ inline double Median(std::vector<double> x) {
   if (n % 2 == 1) return upper;
   const double lower = *std::max_element(x.begin(), x.begin() + n / 2);
   return 0.5 * (lower + upper);
+}
+
+/// The q-quantile of `x` (0 <= q <= 1), linear between order statistics: the value at
+/// position q (n - 1) of the sorted values; `x` must not be empty.
+inline double Quantile(std::vector<double> x, double q) {
+  std::sort(x.begin(), x.end());
+  const double at = q * static_cast<double>(x.size() - 1);
+  const size_t i = static_cast<size_t>(at);
+  if (i + 1 >= x.size()) return x.back();
+  return x[i] + (at - static_cast<double>(i)) * (x[i + 1] - x[i]);
 }
 
 }  // namespace slideid

@@ -8,6 +8,7 @@
 #include <limits>
 #include <stdexcept>
 
+#include "estimator/robust_statistics.h"
 #include "forward_model/constants.h"
 #include "forward_model/contact_patch.h"
 #include "forward_model/planar_state.h"
@@ -71,16 +72,6 @@ double Interpolate(const std::vector<MitStreamRow>& rows, double t, int k) {
   const double w = (t - (*lo)[0]) / ((*hi)[0] - (*lo)[0]);  // rows strictly increase in t
   return (*lo)[k] + w * ((*hi)[k] - (*lo)[k]);
 }
-
-double Quantile(std::vector<double> x, double q) {
-  std::sort(x.begin(), x.end());
-  const double position = q * static_cast<double>(x.size() - 1);
-  const std::size_t i = static_cast<std::size_t>(position);
-  if (i + 1 >= x.size()) return x.back();
-  return x[i] + (position - static_cast<double>(i)) * (x[i + 1] - x[i]);
-}
-
-double Median(std::vector<double> x) { return Quantile(std::move(x), 0.5); }
 
 std::string Format(const char* format, double a, double b = 0, double c = 0) {
   char buffer[256];

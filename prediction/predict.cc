@@ -8,6 +8,8 @@
 
 #include <Eigen/Dense>
 
+#include "estimator/pusher_friction.h"
+#include "estimator/robust_statistics.h"
 #include "forward_model/contact_patch.h"
 
 namespace slideid {
@@ -16,8 +18,8 @@ namespace {
 // Travel below this [m] is no travel: the per-100-mm errors and the fraction of the
 // displacement are left at 0 rather than divided by it.
 constexpr double kNoTravelM = 1e-9;
-// Rows push when their force exceeds this fraction of the log's typical (90th percentile)
-// force: the tip registration reads the contact gap there.
+// Rows push when their force exceeds this fraction of the log's typical push
+// (estimator/pusher_friction.h): the tip registration reads the contact gap there.
 constexpr double kPushingFraction = 0.1;
 
 std::string Named(const Trajectory& log) { return log.source.empty() ? "the log" : log.source; }
@@ -67,22 +69,14 @@ Pusher LoggedPusher(const Trajectory& log, double mu_pusher) {
 /// pushes (force above kPushingFraction of its 90th percentile); the logged one when no
 /// row pushes.
 double RegisteredRadius(const Trajectory& log, const ContactPatch& patch) {
-  std::vector<double> forces;
-  for (const TrajectorySample& s : log.samples) {
-    const double f = std::hypot(s.applied.fx, s.applied.fy);
-    if (f > 0) forces.push_back(f);
-  }
-  if (forces.empty()) return *log.tip_radius_m;
-  std::sort(forces.begin(), forces.end());
-  const double pushing = kPushingFraction * forces[static_cast<size_t>(0.9 * (forces.size() - 1))];
+  const double pushing = kPushingFraction * TypicalPush({&log});
   std::vector<double> gaps;
   for (const TrajectorySample& s : log.samples) {
     if (std::hypot(s.applied.fx, s.applied.fy) <= pushing) continue;
     gaps.push_back(ContactWithTip(patch, s.state, *s.tip_world, *log.tip_radius_m).gap_m);
   }
-  if (gaps.empty()) return *log.tip_radius_m;
-  std::nth_element(gaps.begin(), gaps.begin() + gaps.size() / 2, gaps.end());
-  return std::max(0.0, *log.tip_radius_m + gaps[gaps.size() / 2]);
+  if (gaps.empty()) return *log.tip_radius_m;  // no force: nothing to register to
+  return std::max(0.0, *log.tip_radius_m + Median(gaps));
 }
 
 /// The median interval between rows [s]: a longer one is a gap, stepped at this rate.

@@ -10,6 +10,7 @@
 #include "estimator/identify.h"
 #include "estimator/parallel_for.h"
 #include "estimator/pusher_friction.h"
+#include "estimator/robust_statistics.h"
 #include "estimator/trajectory_fit.h"
 
 namespace slideid {
@@ -84,13 +85,6 @@ void SummariseMethod(MethodValidation* m) {
   m->final_position_fraction = slideid::Summarise(fraction);
 }
 
-double Quantile(const std::vector<double>& sorted, double q) {
-  const double at = q * (sorted.size() - 1);
-  const size_t i = static_cast<size_t>(std::floor(at));
-  const size_t j = std::min(i + 1, sorted.size() - 1);
-  return sorted[i] + (at - i) * (sorted[j] - sorted[i]);
-}
-
 }  // namespace
 
 bool ValidationOptions::IsValid(std::string* why) const {
@@ -108,11 +102,10 @@ ErrorSummary Summarise(std::vector<double> values) {
   ErrorSummary s;
   s.pushes = static_cast<int>(values.size());
   if (values.empty()) return s;
-  std::sort(values.begin(), values.end());
   s.median = Quantile(values, 0.5);
   s.q25 = Quantile(values, 0.25);
   s.q75 = Quantile(values, 0.75);
-  s.worst = values.back();
+  s.worst = *std::max_element(values.begin(), values.end());
   return s;
 }
 
