@@ -96,7 +96,7 @@ Trajectory Simulate(const Trajectory& log, const ReducedFriction& f, double mu_p
   std::remove(path.c_str());
   if (!m) throw std::runtime_error(std::string("MuJoCo: ") + error);
   mjData* d = mj_makeData(m);
-  const PlanarState s0 = PredictionStart(log);
+  const PlanarState s0 = ReplayStart(log);
   d->qpos[0] = s0.x;
   d->qpos[1] = s0.y;
   d->qpos[3] = s0.theta;

@@ -91,12 +91,7 @@ StepNoise ReadStepNoise(const Trajectory& log) {
     n.delta_end_spin_cov = n.spin_radps * n.spin_radps;
     return n;
   }
-  std::vector<double> intervals;
-  for (size_t u = 0; u + 1 < log.samples.size(); ++u) {
-    if (!StartsRun(log, u + 1)) intervals.push_back(log.samples[u + 1].t_s - log.samples[u].t_s);
-  }
-  if (intervals.empty()) return n;
-  const double h = Median(intervals);
+  const double h = MedianInterval(log);
   if (!(h > 0)) return n;
   const double pose = ZeroIfNaN(d.pose_noise_m), angle = ZeroIfNaN(d.angle_noise_rad);
   n.velocity_mps = std::sqrt(2.0) * pose / h;

@@ -290,14 +290,6 @@ SecondStart TrySecondStart(TrajectoryProblem* problem, const std::vector<bool>& 
 // log intervals within +-max_delay_s; at most this many points either side of zero.
 constexpr int kMaxDelayScanSteps = 50;
 
-double MedianInterval(const Trajectory& log) {
-  std::vector<double> h;
-  for (size_t u = 1; u < log.samples.size(); ++u) {
-    h.push_back(log.samples[u].t_s - log.samples[u - 1].t_s);
-  }
-  return h.empty() ? 0.0 : Median(h);
-}
-
 void SeedDelays(TrajectoryProblem* problem, double max_delay_s) {
   for (int i = 3; i < problem->num_global(); ++i) {
     if (problem->GlobalName(i) != "delay_s") continue;

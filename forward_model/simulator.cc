@@ -199,6 +199,17 @@ SimulationResult Simulate(const Scene& scene, const SimulationOptions& options) 
   return result;
 }
 
+PlanarState ReplayStart(const Trajectory& log) {
+  PlanarState s = log.samples[0].state;
+  if (log.columns.velocity) return s;
+  const PlanarState& b = log.samples[1].state;
+  const double dt = log.samples[1].t_s - log.samples[0].t_s;
+  s.vx = (b.x - s.x) / dt;
+  s.vy = (b.y - s.y) / dt;
+  s.wz = (b.theta - s.theta) / dt;
+  return s;
+}
+
 SimulationResult ReplayLog(const Trajectory& log, const FrictionParameters& friction,
                            int substeps, const SimulationOptions& options) {
   std::string why;
@@ -213,14 +224,7 @@ SimulationResult ReplayLog(const Trajectory& log, const FrictionParameters& fric
   traj.columns = log.columns;
   traj.columns.pose = traj.columns.velocity = traj.columns.step_info = true;
   TrajectorySample first = log.samples.front();
-  if (!log.columns.velocity) {
-    const PlanarState& a = log.samples[0].state;
-    const PlanarState& b = log.samples[1].state;
-    const double dt = log.samples[1].t_s - log.samples[0].t_s;
-    first.state.vx = (b.x - a.x) / dt;
-    first.state.vy = (b.y - a.y) / dt;
-    first.state.wz = (b.theta - a.theta) / dt;
-  }
+  first.state = ReplayStart(log);
   first.mode = SampleMode::kStart;
   traj.samples.push_back(first);
   for (size_t u = 0; u + 1 < log.samples.size(); ++u) {

@@ -70,6 +70,11 @@ SimulationResult Simulate(const Scene& scene, const SimulationOptions& options =
 SimulationResult ReplayLog(const Trajectory& log, const FrictionParameters& friction,
                            int substeps = 1, const SimulationOptions& options = {});
 
+/// Where ReplayLog starts (and predictions with it): the first row's state, its velocity for
+/// a log without velocity columns the second row's backward difference (the first row's is
+/// unknown). The log must have at least 2 rows.
+PlanarState ReplayStart(const Trajectory& log);
+
 const char* ToString(SimulationStatus status);
 
 }  // namespace slideid

@@ -1,5 +1,7 @@
 #include "forward_model/trajectory.h"
 
+#include <algorithm>
+
 namespace slideid {
 
 bool StartsRun(const Trajectory& log, std::size_t row) {
@@ -21,6 +23,19 @@ std::vector<std::pair<int, int>> Runs(const Trajectory& log) {
     runs.back().second = u;
   }
   return runs;
+}
+
+double MedianInterval(const Trajectory& log) {
+  std::vector<double> h;
+  for (std::size_t u = 1; u < log.samples.size(); ++u) {
+    if (!StartsRun(log, u)) h.push_back(log.samples[u].t_s - log.samples[u - 1].t_s);
+  }
+  if (h.empty()) return 0.0;
+  const std::size_t n = h.size();
+  std::nth_element(h.begin(), h.begin() + n / 2, h.end());
+  const double upper = h[n / 2];
+  if (n % 2 == 1) return upper;
+  return 0.5 * (*std::max_element(h.begin(), h.begin() + n / 2) + upper);
 }
 
 void SetVelocitiesFromPoses(Trajectory* log) {

@@ -77,6 +77,10 @@ bool HasGaps(const Trajectory& log);
 /// it has none. Empty for an empty log.
 std::vector<std::pair<int, int>> Runs(const Trajectory& log);
 
+/// The median interval between consecutive rows [s] (the mean of the two middle ones for an
+/// even count), gaps before a run's start left out; 0 for a log of fewer than 2 rows.
+double MedianInterval(const Trajectory& log);
+
 /// Overwrites every sample's velocity by the backward-Euler kinematic map of the poses,
 /// v^{u+1} = (q^{u+1} - q^u) / (t_{u+1} - t_u) (log-format.md); a run's first row's is set to
 /// 0 (unknown). What a poses-only log means, wherever it came from.

@@ -24,18 +24,6 @@ constexpr double kPushingFraction = 0.1;
 
 std::string Named(const Trajectory& log) { return log.source.empty() ? "the log" : log.source; }
 
-/// The first row's state, with the velocity a poses-only log implies (as ReplayLog).
-PlanarState StartState(const Trajectory& log) {
-  PlanarState s = log.samples[0].state;
-  if (log.columns.velocity) return s;
-  const TrajectorySample &a = log.samples[0], &b = log.samples[1];
-  const double h = b.t_s - a.t_s;
-  s.vx = (b.state.x - a.state.x) / h;
-  s.vy = (b.state.y - a.state.y) / h;
-  s.wz = (b.state.theta - a.state.theta) / h;
-  return s;
-}
-
 /// The pusher the log describes: its tip's path, radius and mu_p.
 Pusher LoggedPusher(const Trajectory& log, double mu_pusher) {
   const bool every_row = std::all_of(log.samples.begin(), log.samples.end(),
@@ -77,16 +65,6 @@ double RegisteredRadius(const Trajectory& log, const ContactPatch& patch) {
   }
   if (gaps.empty()) return *log.tip_radius_m;  // no force: nothing to register to
   return std::max(0.0, *log.tip_radius_m + Median(gaps));
-}
-
-/// The median interval between rows [s]: a longer one is a gap, stepped at this rate.
-double MedianInterval(const Trajectory& log) {
-  std::vector<double> intervals;
-  for (size_t u = 0; u + 1 < log.samples.size(); ++u) {
-    intervals.push_back(log.samples[u + 1].t_s - log.samples[u].t_s);
-  }
-  std::nth_element(intervals.begin(), intervals.begin() + intervals.size() / 2, intervals.end());
-  return intervals[intervals.size() / 2];
 }
 
 /// Steps over log interval u: `substeps` per median interval in it, so that a long one (a
@@ -132,7 +110,7 @@ SimulationResult ReplayPusher(const Trajectory& log, const ReducedFriction& fric
   const ContactPatch patch = ContactPatch::Parse(log.patch_spec);
   SimulationResult result;
   Trajectory& out = result.trajectory;
-  out = PredictionShell(log, StartState(log));
+  out = PredictionShell(log, ReplayStart(log));
   out.true_friction = friction.ToFrictionParameters();
   out.columns.force = out.columns.push_point = true;
   const double median = MedianInterval(log);
@@ -289,13 +267,6 @@ std::pair<double, std::string> Travel(const Trajectory& log, size_t rows) {
 double RegisteredTipRadius(const Trajectory& log) {
   LoggedPusher(log, 0.0);  // throws, naming what is missing
   return RegisteredRadius(log, ContactPatch::Parse(log.patch_spec));
-}
-
-PlanarState PredictionStart(const Trajectory& log) {
-  if (log.samples.size() < 2) {
-    throw std::invalid_argument(Named(log) + ": a prediction needs at least 2 rows");
-  }
-  return StartState(log);
 }
 
 bool PredictionOptions::IsValid(std::string* why) const {

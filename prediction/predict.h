@@ -81,11 +81,10 @@ struct Prediction {
 };
 
 /// Predicts `log` with `friction` (and `mu_pusher`, the tip-edge friction, for the pusher
-/// drive). The start: the first row's pose and velocity (poses only: the second row's
-/// backward-Euler velocity, as ReplayLog). Throws std::invalid_argument when the log cannot
-/// be driven that way: fewer than 2 rows; the pusher drive without the tip columns, a
-/// tip radius, a patch (the outline the tip touches) or mu_pusher; the force drive
-/// without forces. Numerical failures are in the summary.
+/// drive), from ReplayStart (forward_model/simulator.h). Throws std::invalid_argument when
+/// the log cannot be driven that way: fewer than 2 rows; the pusher drive without the tip
+/// columns, a tip radius, a patch (the outline the tip touches) or mu_pusher; the force
+/// drive without forces. Numerical failures are in the summary.
 Prediction PredictPush(const Trajectory& log, const ReducedFriction& friction,
                        std::optional<double> mu_pusher, const PredictionOptions& options = {});
 
@@ -93,10 +92,6 @@ Prediction PredictPush(const Trajectory& log, const ReducedFriction& friction,
 /// where the log pushes (PredictionOptions::register_tip); the logged radius when no row
 /// pushes. The log must have the tip's path, its radius and a patch.
 double RegisteredTipRadius(const Trajectory& log);
-
-/// The first row's state, its velocity for a poses-only log the second row's backward
-/// difference (as ReplayLog starts).
-PlanarState PredictionStart(const Trajectory& log);
 
 /// The errors of `predicted` against `log` (rows matched by index; the shorter decides).
 PredictionErrors CompareWithLog(const Trajectory& log, const Trajectory& predicted,
