@@ -54,8 +54,6 @@ class TipProblem {
     const double wnn = cn_.dot(m_inv.cwiseProduct(cn_)), wtt = ct_.dot(m_inv.cwiseProduct(ct_));
     const double wnt = cn_.dot(m_inv.cwiseProduct(ct_));
     rigid_ << wnn, -wnt, -wnt, wtt;
-    wnn_ = wnn;
-    wnt_ = wnt;
     const Eigen::Vector3d v0(state.vx, state.vy, state.wz);
     scale_ = std::max({tip_velocity.norm(), std::abs(cn_.dot(v0)), std::abs(ct_.dot(v0)),
                        std::abs(contact.gap_m) / h, friction.a * slider.gravity_mps2 * h,
@@ -94,7 +92,7 @@ class TipProblem {
   const Eigen::Matrix2d& rigid() const { return rigid_; }
   /// d gap_rate / d lambda_n of the frictionless support when sliding with lambda_t = s mu
   /// lambda_n (> 0 for any mu when the contact normal passes near the CM).
-  double RigidGapSlope(double s_mu) const { return wnn_ - s_mu * wnt_; }
+  double RigidGapSlope(double s_mu) const { return rigid_(0, 0) + s_mu * rigid_(0, 1); }
   int evaluations() const { return evaluations_; }
   const Eigen::Vector2d& n() const { return n_; }
   const Eigen::Vector2d& t() const { return t_; }
@@ -108,7 +106,7 @@ class TipProblem {
   const PusherStepOptions& options_;
   TipContact contact_;
   Eigen::Vector2d n_, t_, arm_;
-  double rz_ = 0, tip_slip_ = 0, wnn_ = 0, wnt_ = 0, scale_ = 1;
+  double rz_ = 0, tip_slip_ = 0, scale_ = 1;
   Eigen::Vector3d cn_, ct_;
   Eigen::Matrix2d rigid_;
   std::optional<Eigen::Vector4d> warm_;

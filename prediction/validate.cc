@@ -66,6 +66,15 @@ PushPrediction Predict(const Trajectory& log, size_t index, int fold, const Redu
   return p;
 }
 
+/// A push that was not predicted, and why (it counts as failed in its method's summary).
+PushPrediction Unpredicted(const std::string& log, int fold, const std::string& why) {
+  PushPrediction p;
+  p.log = log;
+  p.fold = fold;
+  p.error = why;
+  return p;
+}
+
 void SummariseMethod(MethodValidation* m) {
   std::vector<double> position, rotation, per_100mm, fraction;
   m->failed = 0;
@@ -192,9 +201,7 @@ ValidationResult Validate(const std::vector<Trajectory>& logs, const ValidationO
       if (fit.ok) {
         folds.pushes[i] = Predict(logs[i], i, k, fit.friction, fit.mu_pusher, options.prediction);
       } else {
-        folds.pushes[i].log = result.logs[i];
-        folds.pushes[i].fold = k;
-        folds.pushes[i].error = fit.error;
+        folds.pushes[i] = Unpredicted(result.logs[i], k, fit.error);
       }
     }
   });
@@ -212,9 +219,7 @@ ValidationResult Validate(const std::vector<Trajectory>& logs, const ValidationO
       if (fit.ok) {
         quasi.pushes[i] = Predict(logs[i], i, fit.fold, fit.friction, fit.mu_pusher, qs);
       } else {
-        quasi.pushes[i].log = result.logs[i];
-        quasi.pushes[i].fold = fit.fold;
-        quasi.pushes[i].error = fit.error;
+        quasi.pushes[i] = Unpredicted(result.logs[i], fit.fold, fit.error);
       }
     });
     SummariseMethod(&quasi);
@@ -240,14 +245,13 @@ ValidationResult Validate(const std::vector<Trajectory>& logs, const ValidationO
         }
         const ReducedFriction f = FrictionOf(r.parameters);
         if (!r.converged || !Usable(f)) {
-          own.pushes[i].log = result.logs[i];
-          own.pushes[i].error = "its own fit did not converge: " + r.message;
+          own.pushes[i] =
+              Unpredicted(result.logs[i], -1, "its own fit did not converge: " + r.message);
           return;
         }
         own.pushes[i] = Predict(logs[i], i, -1, f, MuPusherOf(r, options).first, options.prediction);
       } catch (const std::exception& e) {
-        own.pushes[i].log = result.logs[i];
-        own.pushes[i].error = e.what();
+        own.pushes[i] = Unpredicted(result.logs[i], -1, e.what());
       }
     });
     SummariseMethod(&own);
@@ -259,8 +263,8 @@ ValidationResult Validate(const std::vector<Trajectory>& logs, const ValidationO
     textbook.pushes.resize(n);
     ParallelFor(n, options.threads, [&](int i) {
       if (logs[i].patch_spec.empty()) {
-        textbook.pushes[i].log = result.logs[i];
-        textbook.pushes[i].error = "no patch: the textbook c needs the outline";
+        textbook.pushes[i] =
+            Unpredicted(result.logs[i], -1, "no patch: the textbook c needs the outline");
         return;
       }
       const ReducedFriction f = TextbookFriction(ContactPatch::Parse(logs[i].patch_spec));
