@@ -13,11 +13,9 @@
 namespace slideid {
 namespace {
 
-// A pusher-driven log's tip starts this far outside the slider's reach [m], marches towards
-// it in steps of kPusherMarchM to find where it meets the outline, and the simulation runs
-// kPusherRunOutS past the path's end, for the slider to stop.
+// A pusher-driven log's tip starts this far outside the slider's reach [m], and the
+// simulation runs kPusherRunOutS past the path's end, for the slider to stop.
 constexpr double kPusherClearanceM = 0.005;
-constexpr double kPusherMarchM = 1e-4;
 constexpr double kPusherRunOutS = 0.2;
 
 std::string Format(double v, const char* fmt = "%.17g") {
@@ -209,14 +207,11 @@ Pusher DrawPusher(const PusherDraw& d, const ContactPatch& patch, std::uint64_t 
   const double speed = draw(d.speed_mps), distance = draw(d.distance_m);
   const double offset = draw(d.offset_fraction) * half;
   // From just outside the slider's reach (the slider at the origin, at rest) to `distance`
-  // beyond where the tip meets the outline, found by marching along the line.
+  // beyond where the tip meets the outline.
   const double approach = reach + d.tip_radius_m + kPusherClearanceM;
   const Eigen::Vector2d start = -approach * along + offset * across;
-  double meets = 0;
-  while (meets < 2 * approach &&
-         ContactWithTip(patch, PlanarState{}, start + meets * along, d.tip_radius_m).gap_m > 0) {
-    meets += kPusherMarchM;
-  }
+  const double meets =
+      TravelToTouch(patch, PlanarState{}, start, along, d.tip_radius_m, 2 * approach);
   p.path = PusherPath::Polyline(0.0, start, {start + (meets + distance) * along}, {speed});
   return p;
 }

@@ -12,6 +12,10 @@ namespace {
 // Below this distance [m] the tip centre sits on the outline and the direction to it is
 // rounding: the edge's own outward normal is used instead.
 constexpr double kOnOutlineM = 1e-12;
+// TravelToTouch stops within this of the outline [m], after at most this many steps (each
+// step covers the gap: a line grazing the outline converges slowest).
+constexpr double kTouchTolerance_m = 1e-14;
+constexpr int kMaxTouchSteps = 10000;
 
 Eigen::Vector2d Rotate(double theta, const Eigen::Vector2d& v) {
   const double c = std::cos(theta), s = std::sin(theta);
@@ -146,6 +150,18 @@ TipContact ContactWithTip(const ContactPatch& patch, const PlanarState& pose,
   world.normal_world = Rotate(pose.theta, body.normal_world);
   world.gap_m = body.gap_m - tip_radius_m;
   return world;
+}
+
+double TravelToTouch(const ContactPatch& patch, const PlanarState& pose,
+                     const Eigen::Vector2d& from, const Eigen::Vector2d& direction,
+                     double tip_radius_m, double max_m) {
+  double travel = 0;
+  for (int k = 0; k < kMaxTouchSteps && travel < max_m; ++k) {
+    const double gap = ContactWithTip(patch, pose, from + travel * direction, tip_radius_m).gap_m;
+    if (gap <= kTouchTolerance_m) return travel;
+    travel += gap;
+  }
+  return std::min(travel, max_m);
 }
 
 }  // namespace slideid

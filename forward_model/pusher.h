@@ -69,4 +69,12 @@ struct TipContact {
 TipContact ContactWithTip(const ContactPatch& patch, const PlanarState& pose,
                           const Eigen::Vector2d& tip_centre_world, double tip_radius_m);
 
+/// How far the tip's centre travels from `from` along the unit `direction` before the tip
+/// touches `patch`'s outline, the slider at `pose` [m]; `max_m` when it does not within
+/// that. Steps by the gap itself, which, being a distance, never steps past the outline
+/// (sphere tracing), until the gap is below 1e-14 m. `from` must leave the tip apart.
+double TravelToTouch(const ContactPatch& patch, const PlanarState& pose,
+                     const Eigen::Vector2d& from, const Eigen::Vector2d& direction,
+                     double tip_radius_m, double max_m);
+
 }  // namespace slideid

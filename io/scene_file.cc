@@ -461,22 +461,17 @@ Eigen::Vector2d ToWorld(const PlanarState& pose, const Eigen::Vector2d& p) {
   return {pose.x + c * p.x() - s * p.y(), pose.y + s * p.x() + c * p.y()};
 }
 
-/// How far back along -direction the tip centre starts from `point` so that the tip just
-/// touches the outline (gap 0): one tip radius for a push along the normal, more for an
-/// oblique one. Bisection on the gap, which grows as the tip backs away.
-double TouchingSetBack(const ContactPatch& patch, const PlanarState& pose,
-                       const Eigen::Vector2d& point, const Eigen::Vector2d& direction,
-                       double tip_radius_m) {
-  auto gap = [&](double back) {
-    return ContactWithTip(patch, pose, point - back * direction, tip_radius_m).gap_m;
-  };
-  double lo = 0, hi = std::max(tip_radius_m, 1e-6);
-  for (int k = 0; k < 60 && gap(hi) < 0; ++k) hi *= 2;
-  for (int k = 0; k < 100 && hi - lo > 1e-15; ++k) {
-    const double mid = 0.5 * (lo + hi);
-    (gap(mid) < 0 ? lo : hi) = mid;
-  }
-  return hi;
+/// Where the tip centre starts so that, moving along `direction` towards `point` (on the
+/// outline), the tip just touches the outline: from beyond the patch's reach, the travel to
+/// the touch (TravelToTouch).
+Eigen::Vector2d TouchingStart(const ContactPatch& patch, const PlanarState& pose,
+                              const Eigen::Vector2d& point, const Eigen::Vector2d& direction,
+                              double tip_radius_m) {
+  double reach = 0;
+  for (const Eigen::Vector2d& p : patch.Outline()) reach = std::max(reach, p.norm());
+  const double back = 2 * reach + tip_radius_m + 1e-3;  // the tip apart from the slider there
+  const Eigen::Vector2d from = point - back * direction;
+  return from + TravelToTouch(patch, pose, from, direction, tip_radius_m, back) * direction;
 }
 
 /// The tip's path of [pusher]: either a straight push from a point of the outline (`point`,
@@ -517,8 +512,7 @@ PusherPath ReadPusherPath(const Reader& r, const PlanarState& initial, const Con
       if (d.norm() == 0.0) r.Fail("pusher.direction", "must be non-zero");
       const Eigen::Vector2d dir = (ToWorld(initial, d) - ToWorld(initial, {0, 0})).normalized();
       const Eigen::Vector2d point = ToWorld(initial, r.Pair("pusher.point"));
-      const Eigen::Vector2d start =
-          point - TouchingSetBack(patch, initial, point, dir, tip_radius_m) * dir;
+      const Eigen::Vector2d start = TouchingStart(patch, initial, point, dir, tip_radius_m);
       const double distance = r.Number("pusher.distance", C::kPositive);
       return PusherPath::Polyline(start_s, start, {start + distance * dir}, speeds);
     }

@@ -246,6 +246,12 @@ TEST(Pusher, ContactGeometryOfBoxesAndDisks) {
   c = ContactWithTip(disk, PlanarState{}, {0.0, 0.06}, 0.004);
   EXPECT_NEAR(c.gap_m, 0.006, 1e-12);
   EXPECT_NEAR(c.normal_world.y(), 1.0, 1e-12);
+  // The travel to the touch: head-on to a box's edge, obliquely to a disk, or a miss.
+  EXPECT_NEAR(TravelToTouch(box, PlanarState{}, {-0.1, 0.01}, {1, 0}, 0.005, 1.0), 0.05, 1e-13);
+  const Eigen::Vector2d d = Eigen::Vector2d(1, 1).normalized();
+  const double s = TravelToTouch(disk, PlanarState{}, {-0.1, -0.1}, d, 0.004, 1.0);
+  EXPECT_NEAR((Eigen::Vector2d(-0.1, -0.1) + s * d).norm(), 0.054, 1e-13);
+  EXPECT_EQ(TravelToTouch(box, PlanarState{}, {-0.1, 0.2}, {1, 0}, 0.005, 0.5), 0.5);
 }
 
 TEST(Pusher, BadPathsAndPushersAreRejectedNamingWhat) {
