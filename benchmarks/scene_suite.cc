@@ -92,6 +92,7 @@ std::string TallyLine(const std::string& name, const Tally& t) {
   s << "| " << name << " | " << t.logs << " | " << t.determined << " | " << Percent(t.basin, t.determined)
     << " | " << Percent(t.within3, t.determined) << " | " << Percent(t.suspect, t.determined)
     << " | " << Percent(t.ok_within3, t.determined)
+    << " | " << Percent(t.within3_interval, t.determined)
     << " | " << Percent(t.narrow_ok, t.narrow);
   for (int i = 0; i < 3; ++i) s << " | " << Percent(t.covered[i], t.intervals[i]);
   s << " |\n";
@@ -135,8 +136,8 @@ std::string Report(const Config& c, const std::vector<Row>& rows) {
     << (c.choices.second_start ? " with the second start" : "")
     << (c.choices.cross_check ? "" : " without the cross-check") << ".\n\n";
   s << "| logs | count | identified | best basin | all within 3 SE | some suspect | "
-       "ok ones within 3 SE | narrow within 1.5% | a covered | b covered | c covered |\n"
-       "|---|---|---|---|---|---|---|---|---|---|---|\n";
+       "ok ones within 3 SE | within 3 interval SE | narrow within 1.5% | a covered | b covered | c covered |\n"
+       "|---|---|---|---|---|---|---|---|---|---|---|---|\n";
   s << TallyLine("**all**", all);
   for (const auto& group : groups) {
     for (const auto& [name, tally] : group) s << TallyLine(name, tally);
@@ -205,7 +206,8 @@ int Main(int argc, char** argv) {
   if (!c.csv_path.empty()) {
     std::ofstream out(c.csv_path);
     out << "index,what,determined,in_best_basin,best_from,default_cost,best_cost,max_abs_z,"
-           "narrow_but_off,err_a,err_b,err_c,z_a,z_b,z_c,cov_a,cov_b,cov_c,seconds,status\n";
+           "narrow_but_off,err_a,err_b,err_c,z_a,z_b,z_c,cov_a,cov_b,cov_c,seconds,status,"
+           "max_abs_z_interval\n";
     for (const Row& r : rows) {
       const suite::Outcome& o = r.o;
       out << r.index << ',' << r.what << ',' << o.determined << ',' << o.in_best_basin << ','
@@ -214,7 +216,8 @@ int Main(int argc, char** argv) {
       for (int i = 0; i < 3; ++i) out << ',' << (o.identifiable[i] ? Fmt("%.5f", o.rel_error[i]) : "-");
       for (int i = 0; i < 3; ++i) out << ',' << (o.identifiable[i] ? Fmt("%.3f", o.z[i]) : "-");
       for (int i = 0; i < 3; ++i) out << ',' << (o.identifiable[i] ? (o.covered[i] ? "1" : "0") : "-");
-      out << ',' << Fmt("%.4f", o.seconds) << ',' << (r.failure.empty() ? ToString(o.fit.status) : "failed") << '\n';
+      out << ',' << Fmt("%.4f", o.seconds) << ',' << (r.failure.empty() ? ToString(o.fit.status) : "failed") << ','
+          << Fmt("%.3f", o.max_abs_z_interval) << '\n';
     }
     if (!out) throw std::runtime_error("cannot write " + c.csv_path);
   }

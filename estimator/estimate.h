@@ -55,6 +55,11 @@ struct ParameterEstimate {
   double stderr_value = std::numeric_limits<double>::quiet_NaN();  ///< standard error
   double ci95_lo = std::numeric_limits<double>::quiet_NaN();
   double ci95_hi = std::numeric_limits<double>::quiet_NaN();
+  /// The trajectory fit: the value at its cost's minimum, before the model-mismatch
+  /// correction moved it to `value` (equal to it when none was applied). Which minimum
+  /// the fit ended in is judged on this one (fixtures/suite_check.h). NaN for the other
+  /// methods and when not identifiable.
+  double minimum_value = std::numeric_limits<double>::quiet_NaN();
   /// The value it was held at when not identifiable (it then does not affect the fit).
   double held_at = std::numeric_limits<double>::quiet_NaN();
   /// Why it is suspect or not identifiable (empty when ok).

@@ -18,7 +18,10 @@
 //        others); remove it and re-test the rest;
 //  (iii) over what remains, the marginal standard error sqrt(s^2 (H_S^-1)_ii) of each
 //        log-parameter; while the largest exceeds kMaxLogStdErr, that parameter is not
-//        identifiable; remove it and recompute (removing one can shrink the others' errors).
+//        identifiable; remove it and recompute (removing one can shrink the others' errors);
+//  (iv)  but a shrink that comes only from holding a removed parameter is not information:
+//        each remaining one's error is recomputed with the removed ones free within
+//        kMaxLogStdErr (a Gaussian prior of that width); one beyond it is not identifiable.
 
 #include <Eigen/Core>
 #include <array>
@@ -61,12 +64,18 @@ struct ParameterIdentifiability {
   /// One-sigma error of the parameter in the units it was assessed in (of log(parameter)
   /// for a, b, c: dimensionless), NaN when not identifiable.
   double stderr_log;
+  /// The same with the parameters rule (iii) gave up free within their thresholds (rule
+  /// (iv)); at least stderr_log. The excess of its square over stderr_log's is the variance
+  /// that holding them hides, which an interval should carry. NaN when not identifiable.
+  double stderr_log_partners_free;
   std::string note;  ///< why not identifiable (empty when it is)
 };
 
-/// Rules (i)-(iii) for any number of parameters (a, b, c in log form and sensor nuisances
+/// Rules (i)-(iv) for any number of parameters (a, b, c in log form and sensor nuisances
 /// in their own units), parameter i undetermined under (iii) when its standard error
-/// exceeds max_stderr[i]. Where (ii) or (iii) must give one up, the one of lowest
+/// exceeds max_stderr[i], and under (iv) when it does so once the parameters (iii) gave up
+/// (of its priority or higher) are free within their own max_stderr: it was determined
+/// only by holding them (identifiability.cc). Where (ii) or (iii) must give one up, the one of lowest
 /// `priority` goes first (then the largest eigenvector component, or the furthest beyond
 /// its threshold): a sensor nuisance confounded with a, say, is held rather than a. `fisher`
 /// is n x n symmetric; `active`, `max_stderr` and `priority` (empty: all equal) have n
@@ -78,7 +87,7 @@ std::vector<ParameterIdentifiability> AssessIdentifiability(const Eigen::MatrixX
                                                            const std::vector<double>& max_stderr,
                                                            const std::vector<int>& priority = {});
 
-/// Applies rules (i)-(iii) to `fisher_log` (3x3 symmetric, in order log a, log b, log c)
+/// Applies rules (i)-(iv) to `fisher_log` (3x3 symmetric, in order log a, log b, log c)
 /// with residual variance `residual_variance` (>= 0). Parameters with active[i] == false
 /// are reported not identifiable with the note "held constant by the caller" and do not
 /// take part. Throws std::invalid_argument for a non-finite H or a negative variance.

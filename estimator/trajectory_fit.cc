@@ -430,6 +430,9 @@ constexpr double kMinNuisanceInformation = 1e-6;
 // refused, and the estimate marked suspect.
 constexpr double kMaxMismatchShift = 0.1;
 
+// An interval widened by less than this factor for held partners says nothing in its note.
+constexpr double kNoticeableWidening = 1.01;
+
 // A log's mismatch is corrected only when it has at least this many segments.
 constexpr int kMinCorrectionSegments = 8;
 
@@ -983,8 +986,21 @@ FitOutcome Fit(const std::vector<const Trajectory*>& logs, const IdentifyOptions
       continue;
     }
     const Interval& iv = interval_of[i];
-    result.parameters[i] = EstimateFromLog(value_of[i], iv.stderr_value, iv.quantile);
+    // With a friction parameter held (not identifiable), this one's value depends on where
+    // the held one sits: the variance that holding it hides is added (identifiability.h,
+    // rule (iv)).
+    const double free_se = verdict[i].stderr_log_partners_free, held_se = verdict[i].stderr_log;
+    const double hidden = free_se * free_se - held_se * held_se;
+    const double stderr_log =
+        hidden > 0 ? std::sqrt(iv.stderr_value * iv.stderr_value + hidden) : iv.stderr_value;
+    result.parameters[i] = EstimateFromLog(value_of[i], stderr_log, iv.quantile);
+    result.parameters[i].minimum_value = std::exp(problem.global(i));
     result.parameters[i].note = iv.note;
+    if (stderr_log > kNoticeableWidening * iv.stderr_value) {
+      result.parameters[i].note += Format("; widened %.2gx for the friction parameters held "
+                                          "(not identifiable) over their plausible range",
+                                          stderr_log / iv.stderr_value);
+    }
     if (!choice.correction.empty() && !choice.correction_refused) {
       result.parameters[i].note += Format("; %+.2g%% ", 100 * std::expm1(value_of[i] - problem.global(i))) +
                                    choice.correction;

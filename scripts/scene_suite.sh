@@ -7,6 +7,8 @@
 #   bash scripts/scene_suite.sh            # 500 logs: what docs/scene-suite.md shows
 #   bash scripts/scene_suite.sh --logs N   # another count; still writes the page
 #
+# SCENE_SUITE_CSV=FILE also keeps the default fit's per-log table (--csv) there.
+#
 # BUILD_DIR (default build) is the CMake build directory to use.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -15,7 +17,7 @@ source scripts/generated_section.sh
 
 suite_setup 500 scene_suite "$@"
 "$build_dir/bin/scene_suite" --logs "$logs" --threads "$(nproc)" --markdown "$work/suite.md" \
-  2>/dev/null >/dev/null
+  --csv "${SCENE_SUITE_CSV:-$work/suite.csv}" 2>/dev/null >/dev/null
 "$build_dir/bin/scene_suite" --logs "$logs" --threads "$(nproc)" --second-start \
   --markdown "$work/second.md" 2>/dev/null >/dev/null
 {

@@ -78,18 +78,54 @@ TEST(Identifiability, HugeStandardErrorFlagsNotIdentifiable) {
   EXPECT_NEAR(v[kA].stderr_log, 0.1, kRecomputeTol);
 }
 
-TEST(Identifiability, RemovingTheWorstParameterCanRescueACorrelatedOne) {
-  // a and b strongly (not exactly) correlated, b also weak: b's error exceeds the limit;
-  // without b, a is well determined.
+TEST(Identifiability, HoldingAnUncorrelatedPartnerHidesNothing) {
+  const Eigen::Matrix3d h = Eigen::Vector3d(100.0, 100.0, 1e-3).asDiagonal();
+  const auto v = AssessIdentifiability(h, 1.0);
+  ASSERT_FALSE(v[kC].identifiable);
+  EXPECT_NEAR(v[kA].stderr_log_partners_free, v[kA].stderr_log, kRecomputeTol);
+  EXPECT_TRUE(std::isnan(v[kC].stderr_log_partners_free));
+}
+
+TEST(Identifiability, ACorrelatedOneIsNotRescuedByHoldingItsPartner) {
+  // a and b strongly (not exactly) correlated, b also weak: b's error exceeds the limit.
+  // With b held, a's error is 0.1; but a moves with wherever b is held, and with b free
+  // within the limit (prior variance 0.25) a's error is
+  // sqrt(s2 (H + diag(0, s2 / 0.25))^-1_aa), computed here by Cramer's rule: beyond the
+  // limit too (rule iv).
   Eigen::Matrix3d h;
   h << 1.0, 0.999, 0.0,
        0.999, 0.9981, 0.0,
        0.0, 0.0, 4.0;
-  const auto v = AssessIdentifiability(h, 0.01);
-  EXPECT_TRUE(v[kA].identifiable) << v[kA].note;
+  const double s2 = 0.01;
+  const auto v = AssessIdentifiability(h, s2);
   EXPECT_FALSE(v[kB].identifiable);
+  EXPECT_FALSE(v[kA].identifiable);
+  EXPECT_NE(v[kA].note.find("determined only with a parameter"), std::string::npos) << v[kA].note;
   EXPECT_TRUE(v[kC].identifiable);
+  const double bb = 0.9981 + s2 / (kMaxLogStdErr * kMaxLogStdErr);
+  const double se_a = std::sqrt(s2 * bb / (1.0 * bb - 0.999 * 0.999));
+  EXPECT_GT(se_a, kMaxLogStdErr);
+  EXPECT_NEAR(v[kC].stderr_log, 0.05, kRecomputeTol);  // c is uncorrelated with both
+}
+
+TEST(Identifiability, AModeratelyCorrelatedOneKeepsItsValueWithTheHiddenVarianceReported) {
+  // a correlated 0.6 with an undetermined c: a stays identifiable, and its error with c
+  // free within the limit, sqrt(s2 (H + diag(0, 0, s2 / 0.25))^-1_aa), is reported for the
+  // interval to carry.
+  Eigen::Matrix3d h;
+  h << 100.0, 0.0, 0.06,
+       0.0, 100.0, 0.0,
+       0.06, 0.0, 1e-4;
+  const double s2 = 1.0;
+  const auto v = AssessIdentifiability(h, s2);
+  ASSERT_FALSE(v[kC].identifiable);
+  ASSERT_TRUE(v[kA].identifiable);
   EXPECT_NEAR(v[kA].stderr_log, 0.1, kRecomputeTol);
+  const double cc = 1e-4 + s2 / (kMaxLogStdErr * kMaxLogStdErr);
+  const double expected = std::sqrt(s2 * cc / (100.0 * cc - 0.06 * 0.06));
+  EXPECT_NEAR(v[kA].stderr_log_partners_free, expected, kRecomputeTol);
+  EXPECT_GT(v[kA].stderr_log_partners_free, v[kA].stderr_log);
+  EXPECT_NEAR(v[kB].stderr_log_partners_free, v[kB].stderr_log, kRecomputeTol);
 }
 
 TEST(Identifiability, InactiveParametersAreReportedHeld) {

@@ -55,19 +55,26 @@ TEST(SceneSuite, DefaultFitOnWidelyDrawnLogs) {
               "narrow ok %d/%d\n", c.determined, 100 * basin, 100 * within3, 100 * ok_within3,
               c.narrow_ok, c.narrow);
   // Goal 99.5%; measured when written: see the message above and docs/scene-suite.md.
-  EXPECT_GE(basin, 0.85);  // 87.0% (67/77) when written
+  EXPECT_GE(basin, 0.97);  // 100% (75/75) when written (87.0% as judged before 2026-11-25)
   // Goal 99%.
-  EXPECT_GE(within3, 0.90);  // 93.5% (72/77) when written
+  EXPECT_GE(within3, 0.95);  // 97.3% (73/75) when written
   // Estimates left "ok" (not suspect) beyond 3 standard errors: fewer still.
   EXPECT_GE(ok_within3, within3);
-  EXPECT_GE(ok_within3, 0.95);  // 97.4% (75/77) when written; goal 99%
+  EXPECT_GE(ok_within3, 0.97);  // 98.7% (74/75) when written; goal 99%
   // Goal met: a parameter whose interval is under +-1% is within 1.5%.
   EXPECT_EQ(c.narrow_ok, c.narrow);
+  // Coverage: each parameter's at least 88%; over all three (about 210 intervals) at most
+  // 99%. One parameter's 70 intervals all hold the truth in 3% of draws even when
+  // calibrated at 95% (0.95^70), so an upper bound is asked of the pool, where calibrated
+  // intervals exceed 99% with probability 0.15% (binomial, 210 at 95%).
+  int intervals = 0, covered = 0;
   for (int i = 0; i < 3; ++i) {
     const double coverage = double(c.covered[i]) / c.intervals[i];
     EXPECT_GE(coverage, 0.88) << ParameterName(i);
-    EXPECT_LE(coverage, 0.99) << ParameterName(i);
+    intervals += c.intervals[i];
+    covered += c.covered[i];
   }
+  EXPECT_LE(double(covered) / intervals, 0.99);
 }
 
 // The cross-check (TrajectoryOptions::cross_check): suite log 471, a 176-row free slide of a
@@ -90,6 +97,24 @@ TEST(SceneSuite, CrossCheckMarksAnEstimateThatDependsOnTheSegmentation) {
   EXPECT_NE(checked.parameters[kA].reason.find("depends on how the log is cut"), std::string::npos)
       << checked.parameters[kA].reason;
   EXPECT_EQ(checked.status, TerminationStatus::kConvergedWithCaveats);
+}
+
+// Rule (iv) of identifiability.h: suite log 100, 0.2 s of pushing a tall box. The fit gives
+// up a (standard error 0.87 in logs) and holds it where it stopped; b, computed with a held,
+// came out 0.87 [0.74, 1.03] "ok" for a truth of 1.51. With a free over its plausible range
+// b is not determined either: every parameter the fit still reports holds the truth.
+TEST(SceneSuite, AParameterDeterminedOnlyByHoldingAnotherIsNotReportedAsKnown) {
+  const SuiteLog made = MakeSuiteLog(100);
+  ASSERT_EQ(made.log.samples.size(), 217u) << made.Describe();
+  const EstimateResult r = Identify(made.log, IdentifyOptions{});
+  ASSERT_FALSE(r.parameters[kA].identifiable) << "the log no longer shows the problem";
+  for (int i = 0; i < 3; ++i) {
+    const ParameterEstimate& p = r.parameters[i];
+    if (!p.identifiable) continue;
+    EXPECT_TRUE(p.ci95_lo <= made.truth[i] && made.truth[i] <= p.ci95_hi)
+        << ParameterName(i) << " " << p.value << " [" << p.ci95_lo << ", " << p.ci95_hi
+        << "], truth " << made.truth[i] << "; " << p.note;
+  }
 }
 
 // The same from the command line: identify marks the estimate, --no-cross-check does not.
