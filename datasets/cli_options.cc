@@ -33,14 +33,14 @@ const NoiseOption kNoiseOptions[] = {
     {"noise-spin", &NoiseSpec::spin_radps, "Gaussian std of wz [rad/s]"},
     {"noise-force-relative", &NoiseSpec::force_relative,
      "Gaussian std of fx, fy as a fraction of the force"},
-    {"noise-force", &NoiseSpec::force_N, "Gaussian std of fx, fy [N]"},
+    {"noise-force", &NoiseSpec::force_n, "Gaussian std of fx, fy [N]"},
     {"noise-push-point", &NoiseSpec::push_point_m, "Gaussian std of px, py [m]"},
     {"noise-outlier-fraction", &NoiseSpec::outlier_fraction,
      "fraction of rows whose pose jumps (motion-capture glitch)"},
     {"noise-outlier", &NoiseSpec::outlier_m, "size of such a jump [m]"},
-    {"force-bias-x", &NoiseSpec::force_bias_x_N,
+    {"force-bias-x", &NoiseSpec::force_bias_x_n,
      "constant offset of the force channel's fx, also at rest [N] (any sign)"},
-    {"force-bias-y", &NoiseSpec::force_bias_y_N,
+    {"force-bias-y", &NoiseSpec::force_bias_y_n,
      "constant offset of the force channel's fy, also at rest [N] (any sign)"},
     {"force-delay", &NoiseSpec::force_delay_s,
      "delay of the push stream against the poses: the force logged at t is the one at "
@@ -204,7 +204,7 @@ DatasetSpec DatasetSpecFromOptions(const po::variables_map& vm) {
   s.e_o = RangeOption(vm, "e-o-range");
   s.e_r_m = RangeOption(vm, "e-r-range");
   s.program.count = vm["pushes"].as<int>();
-  if (vm.count("force-range")) s.program.force_N = RangeOption(vm, "force-range");
+  if (vm.count("force-range")) s.program.force_n = RangeOption(vm, "force-range");
   s.program.amplitude_fraction = RangeOption(vm, "amplitude-range");
   s.program.period_s = RangeOption(vm, "period-range");
   s.program.duration_s = RangeOption(vm, "push-duration-range");

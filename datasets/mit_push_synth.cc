@@ -38,18 +38,18 @@ Scene MakeScene(const MitSynthSpec& spec) {
   push.point_body = spec.push_point_body;
   push.direction_body = spec.push_direction_body.normalized();
   push.height_m = spec.slider.com_height_m;
-  const double friction_N = spec.friction.mu * spec.friction.e_t * spec.slider.mass_kg *
+  const double friction_n = spec.friction.mu * spec.friction.e_t * spec.slider.mass_kg *
                             spec.slider.gravity_mps2;
-  push.force_N = spec.force_ratio * friction_N;
-  push.amplitude_N = spec.amplitude_ratio * friction_N;
+  push.force_n = spec.force_ratio * friction_n;
+  push.amplitude_n = spec.amplitude_ratio * friction_n;
   push.period_s = spec.period_s;
   push.start_s = spec.rest_before_s;
   push.stop_s = spec.rest_before_s + spec.push_s;
   scene.pushes.push_back(push);
-  if (spec.preload_N > 0) {
+  if (spec.preload_n > 0) {
     PushSpec preload = push;
-    preload.force_N = spec.preload_N;
-    preload.amplitude_N = 0;
+    preload.force_n = spec.preload_n;
+    preload.amplitude_n = 0;
     preload.start_s = 0;
     preload.stop_s = spec.rest_before_s;
     scene.pushes.push_back(preload);
@@ -170,11 +170,11 @@ MitSynthResult MakeMitPushRecording(const MitSynthSpec& spec) {
   const Eigen::Rotation2Dd frame(d.force_frame_rad);
   for (double t : Clock(inset, end - inset, spec.ft_rate_hz, spec.clock_jitter, &rng)) {
     const double w = std::clamp((t - push_start) / (push_stop - push_start), 0.0, 1.0);
-    const Eigen::Vector2d offset = spec.offset_before_N + w * (spec.offset_after_N - spec.offset_before_N);
+    const Eigen::Vector2d offset = spec.offset_before_n + w * (spec.offset_after_n - spec.offset_before_n);
     Eigen::Vector2d f = frame * ((spec.store_reaction ? -1.0 : 1.0) * truth.Force(t)) + offset;
-    f += spec.force_noise_N * Eigen::Vector2d(gauss(rng), gauss(rng));
-    if (d.saturation_N > 0) {
-      f = f.cwiseMax(-d.saturation_N).cwiseMin(d.saturation_N);
+    f += spec.force_noise_n * Eigen::Vector2d(gauss(rng), gauss(rng));
+    if (d.saturation_n > 0) {
+      f = f.cwiseMax(-d.saturation_n).cwiseMin(d.saturation_n);
     }
     r.ft_wrench.push_back({spec.t_epoch_s + t, f.x(), f.y(), 1e-3 * gauss(rng)});
   }

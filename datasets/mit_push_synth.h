@@ -31,7 +31,7 @@ struct MitSynthDefects {
   /// symmetric marker set re-assigned); the latest entry before a row applies.
   std::vector<std::pair<double, int>> quarter_turns;
   bool dead_force = false;  ///< every ft_wrench row repeats the first one
-  double saturation_N = 0;  ///< > 0: fx and fy clipped to +-saturation_N
+  double saturation_n = 0;  ///< > 0: fx and fy clipped to +-saturation_n
   /// object_pose rows in [first, second) [s after the start] dropped (motion-capture gaps).
   std::vector<std::pair<double, double>> pose_gaps;
   /// Every glitch_every-th object pose (0: none) is moved glitch_m away in x: a marker swap.
@@ -62,7 +62,7 @@ struct MitSynthSpec {
   double rest_clearance_m = 0.0;
   /// Before the push the tip presses the object with this force along the push direction
   /// [N] (a pre-load; below what friction holds, so the object stays still).
-  double preload_N = 0.0;
+  double preload_n = 0.0;
   double sim_dt_s = 1e-3;
   Eigen::Vector3d initial_pose{0.35, -0.05, 3.0};  ///< x, y [m], theta [rad] (crosses pi)
   double object_rate_hz = 200, tip_rate_hz = 237, ft_rate_hz = 250;
@@ -74,8 +74,8 @@ struct MitSynthSpec {
   double tip_radius_m = 0.00475;
   double pose_noise_m = 3e-4, angle_noise_rad = 3e-3;  ///< motion capture
   double tip_noise_m = 1e-5;                            ///< robot
-  double force_noise_N = 0.05;                          ///< per force sample
-  Eigen::Vector2d offset_before_N{-1.5, -0.5}, offset_after_N{-1.5, -0.5};
+  double force_noise_n = 0.05;                          ///< per force sample
+  Eigen::Vector2d offset_before_n{-1.5, -0.5}, offset_after_n{-1.5, -0.5};
   bool store_reaction = true;  ///< ft_wrench holds minus the force on the object
   MitSynthDefects defects;
   std::uint64_t seed = 1;

@@ -35,7 +35,7 @@ double Residual(double total, double at_point, double scale) {
 void ApplyNoise(Trajectory* log, const NoiseSpec& noise) {
   std::string why;
   if (!noise.IsValid(&why)) throw std::invalid_argument("ApplyNoise: " + why);
-  const bool force_noise = noise.force_relative != 0 || noise.force_N != 0;
+  const bool force_noise = noise.force_relative != 0 || noise.force_n != 0;
   const bool pose_moves_r =
       log->columns.pose && (noise.pose_m != 0 || noise.outlier_fraction != 0);
   const bool point_moves = noise.push_point_m != 0;
@@ -73,9 +73,9 @@ void ApplyNoise(Trajectory* log, const NoiseSpec& noise) {
     const AppliedWrench f_true = w;
     AppliedWrench f = w;
     if (force_noise) {
-      f.fx += noise.force_relative * w.fx * n[6] + noise.force_N * n[7];
-      f.fy += noise.force_relative * w.fy * n[8] + noise.force_N * n[9];
-      if (w.fz != 0) f.fz += noise.force_relative * w.fz * m[0] + noise.force_N * m[1];
+      f.fx += noise.force_relative * w.fx * n[6] + noise.force_n * n[7];
+      f.fy += noise.force_relative * w.fy * n[8] + noise.force_n * n[9];
+      if (w.fz != 0) f.fz += noise.force_relative * w.fz * m[0] + noise.force_n * m[1];
     }
     if (s.push_point_world) {
       if (!force_noise && !pose_moves_r && !point_moves) continue;

@@ -17,7 +17,7 @@ Trajectory AddNoise(const Trajectory& log, const NoiseSpec& noise);
 ///
 /// Per row, in this order from one seed: pose (x, y += pose_m N(0,1); theta += angle_rad
 /// N(0,1), on the unwrapped angle), velocity (vx, vy, wz), force (fx, fy += force_relative
-/// |f| N + force_N N; fz likewise when non-zero), outlier (with probability
+/// |f| N + force_n N; fz likewise when non-zero), outlier (with probability
 /// outlier_fraction the pose jumps by outlier_m in a uniform direction and theta by
 /// outlier_m / 0.05 rad). A pusher out of contact reads 0: rows without force get no
 /// force noise. Moments: when the row has a push point, the total moment is recomputed as

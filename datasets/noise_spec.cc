@@ -20,7 +20,7 @@ std::vector<std::pair<const char*, double>> Fields(const NoiseSpec& n) {
           {"velocity_mps", n.velocity_mps},
           {"spin_radps", n.spin_radps},
           {"force_relative", n.force_relative},
-          {"force_N", n.force_N},
+          {"force_n", n.force_n},
           {"push_point_m", n.push_point_m},
           {"outlier_fraction", n.outlier_fraction},
           {"outlier_m", n.outlier_m}};
@@ -28,8 +28,8 @@ std::vector<std::pair<const char*, double>> Fields(const NoiseSpec& n) {
 
 /// The push stream's defects with their metadata names (without the noise_ prefix).
 std::vector<std::pair<const char*, double>> AllDefects(const NoiseSpec& n) {
-  return {{"force_bias_x_N", n.force_bias_x_N},
-          {"force_bias_y_N", n.force_bias_y_N},
+  return {{"force_bias_x_n", n.force_bias_x_n},
+          {"force_bias_y_n", n.force_bias_y_n},
           {"force_delay_s", n.force_delay_s}};
 }
 
@@ -45,12 +45,12 @@ std::vector<std::pair<const char*, double>> Defects(const NoiseSpec& n) {
 }  // namespace
 
 bool NoiseSpec::HasDefects() const {
-  return force_bias_x_N != 0 || force_bias_y_N != 0 || force_delay_s != 0;
+  return force_bias_x_n != 0 || force_bias_y_n != 0 || force_delay_s != 0;
 }
 
 bool NoiseSpec::IsZero() const {
   return pose_m == 0 && angle_rad == 0 && velocity_mps == 0 && spin_radps == 0 &&
-         force_relative == 0 && force_N == 0 && push_point_m == 0 &&
+         force_relative == 0 && force_n == 0 && push_point_m == 0 &&
          outlier_fraction == 0;
 }
 

@@ -22,7 +22,7 @@ struct NoiseSpec {
   double spin_radps = 0.0;      ///< on wz [rad/s]
   double force_relative = 0.0;  ///< on fx, fy, fz as a fraction of the value (moments too
                                 ///< when the row has no push point)
-  double force_N = 0.0;         ///< on fx, fy, fz [N]; moments follow as r x f at a push point
+  double force_n = 0.0;         ///< on fx, fy, fz [N]; moments follow as r x f at a push point
   /// On px, py [m]: where the pusher touches, as its tracker reports it (rows with a push
   /// point only); the moments follow as r x f from the reported point.
   double push_point_m = 0.0;
@@ -32,8 +32,8 @@ struct NoiseSpec {
   /// Force offset [N]: what the force channel reads with no force on the object. Every row's
   /// logged (fx, fy) is the true one plus (x, y), rows without a push included; the offset
   /// acts at the row's push point (its moment about the CM follows), at the CM without one.
-  double force_bias_x_N = 0.0;
-  double force_bias_y_N = 0.0;  ///< see force_bias_x_N [N]
+  double force_bias_x_n = 0.0;
+  double force_bias_y_n = 0.0;  ///< see force_bias_x_n [N]
   /// Delay of the push stream against the poses [s]: the wrench logged at t (force, push
   /// point and moments about the CM) is the true one at t - delay; before the first
   /// simulated row the first row's, after the last the last row's. Negative: it leads.
@@ -47,10 +47,10 @@ struct NoiseSpec {
   /// defect is not finite.
   bool IsValid(std::string* why) const;
   /// `# noise_* = value` metadata entries describing this noise, then the defects that are
-  /// set (`noise_force_bias_x_N`, `noise_force_bias_y_N`, `noise_force_delay_s`).
+  /// set (`noise_force_bias_x_n`, `noise_force_bias_y_n`, `noise_force_delay_s`).
   std::vector<std::pair<std::string, std::string>> Metadata() const;
   /// One line without commas, "pose_m=0.0003 angle_rad=0.003 ... seed=7" (manifests), then
-  /// " force_bias_x_N=... force_delay_s=..." for the defects that are set.
+  /// " force_bias_x_n=... force_delay_s=..." for the defects that are set.
   std::string Describe() const;
 };
 

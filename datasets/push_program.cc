@@ -46,7 +46,7 @@ bool RandomProgramSpec::IsValid(std::string* why) const {
     return false;
   };
   if (count < 1) return fail("program: count = " + std::to_string(count) + ": must be >= 1");
-  if (force_N && !RangeOk(*force_N, false)) return fail("program: force range needs lo <= hi");
+  if (force_n && !RangeOk(*force_n, false)) return fail("program: force range needs lo <= hi");
   if (!RangeOk(amplitude_fraction, true)) {
     return fail("program: amplitude range needs 0 <= lo <= hi");
   }
@@ -79,9 +79,9 @@ PushProgram RandomPushProgram(const RandomProgramSpec& spec, const ContactPatch&
                               const FrictionParameters& friction) {
   std::string why;
   if (!spec.IsValid(&why)) throw std::invalid_argument("RandomPushProgram: " + why);
-  const double limit_N = ReducedFriction::From(friction).a * slider.mass_kg * slider.gravity_mps2;
+  const double limit_n = ReducedFriction::From(friction).a * slider.mass_kg * slider.gravity_mps2;
   const ValueRange force =
-      spec.force_N.value_or(ValueRange{kForceLoOverLimit * limit_N, kForceHiOverLimit * limit_N});
+      spec.force_n.value_or(ValueRange{kForceLoOverLimit * limit_n, kForceHiOverLimit * limit_n});
   const ValueRange height = spec.height_m.value_or(
       ValueRange{kHeightLoOverCom * slider.com_height_m, kHeightHiOverCom * slider.com_height_m});
   const std::vector<Eigen::Vector2d> outline = patch.Outline();
@@ -118,8 +118,8 @@ PushProgram RandomPushProgram(const RandomProgramSpec& spec, const ContactPatch&
     const double c = std::cos(turn), s = std::sin(turn);
     p.direction_body = Eigen::Vector2d(c * to_cm.x() - s * to_cm.y(), s * to_cm.x() + c * to_cm.y());
     p.height_m = spec.through_cm ? slider.com_height_m : z;
-    p.force_N = magnitude;
-    p.amplitude_N = amplitude;
+    p.force_n = magnitude;
+    p.amplitude_n = amplitude;
     p.period_s = period;
     p.start_s = t;
     p.stop_s = t + duration;

@@ -32,7 +32,7 @@ struct RandomProgramSpec {
   int count = 6;                 ///< number of pushes (>= 1)
   std::uint64_t seed = 1;
   /// Constant part of the push [N]. Default: 1.1 to 1.6 times the sliding limit a m g.
-  std::optional<ValueRange> force_N;
+  std::optional<ValueRange> force_n;
   ValueRange amplitude_fraction{0.0, 0.3};  ///< cosine amplitude / constant force
   ValueRange period_s{0.15, 0.5};           ///< cosine period [s]
   ValueRange duration_s{0.2, 0.6};          ///< how long each push lasts [s]

@@ -67,14 +67,14 @@ void FillRows(const SlideSums& sums, double dt, const Eigen::Vector2d& contact_b
   row.dtheta_rad = dtheta;
   row.contact_x_m = contact_body.x();
   row.contact_y_m = contact_body.y();
-  row.peak_force_N = sums.peak;
+  row.peak_force_n = sums.peak;
   row.samples = sums.steps;
   const Eigen::Vector2d f_world = sums.force_world / sums.steps;
   const Eigen::Vector2d v_world = moved / duration;
   out.world_row.pair = {f_world.x(), f_world.y(),      0.0, moment, v_world.x(),
                         v_world.y(), dtheta / duration};
   out.world_row.duration_s = duration;
-  out.world_row.peak_force_N = sums.peak;
+  out.world_row.peak_force_n = sums.peak;
   out.world_row.samples = sums.steps;
 }
 

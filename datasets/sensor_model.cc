@@ -102,13 +102,13 @@ void DelayPushStream(Trajectory* log, double delay_s) {
 
 /// Adds the force offset (NoiseSpec::force_bias_*) to every row: at the row's push point,
 /// whose lever is taken from the logged (noisy) pose as a reader takes it, else at the CM.
-void AddForceBias(Trajectory* log, double bias_x_N, double bias_y_N) {
+void AddForceBias(Trajectory* log, double bias_x_n, double bias_y_n) {
   for (TrajectorySample& s : log->samples) {
     Eigen::Vector3d r = Eigen::Vector3d::Zero();
     if (s.push_point_world) {
       r = *s.push_point_world - Eigen::Vector3d(s.state.x, s.state.y, log->slider.com_height_m);
     }
-    const AppliedWrench o = WrenchFromForceAt(bias_x_N, bias_y_N, 0.0, r.x(), r.y(), r.z());
+    const AppliedWrench o = WrenchFromForceAt(bias_x_n, bias_y_n, 0.0, r.x(), r.y(), r.z());
     s.applied.fx += o.fx;
     s.applied.fy += o.fy;
     s.applied.tx += o.tx;
@@ -154,8 +154,8 @@ Trajectory MakeLog(const Trajectory& simulated, const LogSpec& spec) {
   c.moments = pushed && spec.push == LogPush::kMoments;
   c.step_info = spec.step_info.value_or(spec.noise.IsZero() && !spec.noise.HasDefects());
   if (!spec.noise.IsZero()) ApplyNoise(&log, spec.noise);
-  if (spec.noise.force_bias_x_N != 0.0 || spec.noise.force_bias_y_N != 0.0) {
-    AddForceBias(&log, spec.noise.force_bias_x_N, spec.noise.force_bias_y_N);
+  if (spec.noise.force_bias_x_n != 0.0 || spec.noise.force_bias_y_n != 0.0) {
+    AddForceBias(&log, spec.noise.force_bias_x_n, spec.noise.force_bias_y_n);
     c.force = true;
   }
   if (!spec.noise.IsZero() || spec.noise.HasDefects()) {

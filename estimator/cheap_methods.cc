@@ -17,7 +17,7 @@ LogSteps ReadLogSteps(const Trajectory& log) {
   s.log = &log;
   s.steps = ExtractStepObservations(log);
   s.noise = ReadStepNoise(log);
-  s.max_push_N = DiagnoseLog(log).max_push_N;
+  s.max_push_n = DiagnoseLog(log).max_push_n;
   s.radius_m = std::sqrt(log.slider.inertia_kgm2 / log.slider.mass_kg);
   s.lag = s.noise.differentiated ? kDifferentiatedVelocityLag : kMeasuredVelocityLag;
   return s;
@@ -42,7 +42,7 @@ Eigen::Vector3d ForceHoldImpulseShift(const LogSteps& s, const StepObservation& 
   const AppliedWrench& now = s.log->samples[o.row].applied;
   const AppliedWrench& next = s.log->samples[o.row + 1].applied;
   const double dfx = next.fx - now.fx, dfy = next.fy - now.fy, dtz = next.tz - now.tz;
-  if (std::hypot(dfx, dfy) > kForceSwitchFraction * s.max_push_N) return Eigen::Vector3d::Zero();
+  if (std::hypot(dfx, dfy) > kForceSwitchFraction * s.max_push_n) return Eigen::Vector3d::Zero();
   // p = M (nu' - nu) - h f: a mean force larger by df / 2 takes h df / 2 off the impulse.
   const double half_h = 0.5 * o.h_s;
   return Eigen::Vector3d(-half_h * dfx, -half_h * dfy, -half_h * dtz);
@@ -76,7 +76,7 @@ PlausibilityContext CheapContext(const std::vector<LogSteps>& logs) {
   PlausibilityContext c;
   for (const LogSteps& s : logs) {
     const SliderProperties& slider = s.log->slider;
-    c.logs.push_back({slider.mass_kg * slider.gravity_mps2, s.max_push_N});
+    c.logs.push_back({slider.mass_kg * slider.gravity_mps2, s.max_push_n});
   }
   return c;
 }

@@ -22,7 +22,7 @@ struct LogSteps {
   StepNoise noise;
   double radius_m = 0;  ///< L = sqrt(I_z / m)
   int lag = 0;          ///< steps over which scores are correlated (step_covariance.h)
-  double max_push_N = 0;  ///< largest applied horizontal force (LogDiagnostics)
+  double max_push_n = 0;  ///< largest applied horizontal force (LogDiagnostics)
 };
 
 /// Extracts the steps and reads the noise of `log`.

@@ -73,7 +73,7 @@ struct ParameterEstimate {
 /// channel, or a delay of its force stream against its poses. Values may be negative, so
 /// the interval is value +- 1.96 stderr.
 struct NuisanceEstimate {
-  std::string name;  ///< "force_bias_x_N", "force_bias_y_N" or "delay_s"
+  std::string name;  ///< "force_bias_x_n", "force_bias_y_n" or "delay_s"
   std::string log;   ///< the log it belongs to ("" when one value is shared by all)
   bool identifiable = false;
   Verdict verdict = Verdict::kNotIdentifiable;

@@ -78,7 +78,7 @@ LogDiagnostics DiagnoseLog(const Trajectory& log) {
     d.spin_noise_radps = NoiseFromDifferences(Channel(log, &PlanarState::wz), 2);
   }
   for (const TrajectorySample& s : log.samples) {
-    d.max_push_N = std::max(d.max_push_N, std::hypot(s.applied.fx, s.applied.fy));
+    d.max_push_n = std::max(d.max_push_n, std::hypot(s.applied.fx, s.applied.fy));
   }
   d.dead_force_channel = DeadForceChannel(log);
   return d;

@@ -24,7 +24,7 @@ struct LogDiagnostics {
   double velocity_noise_mps;
   double spin_noise_radps;
   /// Largest applied horizontal force [N] over the rows (0 without a force channel).
-  double max_push_N = 0;
+  double max_push_n = 0;
   /// Set when the log has a force channel that is the same on every row although the
   /// object moves from rest, or is not zero: "force channel constant (dead sensor?)".
   std::optional<std::string> dead_force_channel;

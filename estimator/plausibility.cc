@@ -63,11 +63,11 @@ void JudgeEstimates(const PlausibilityContext& c, std::array<ParameterEstimate, 
     }
     if (i == kA) {
       for (const PushCapacity& log : c.logs) {
-        const double friction = p.value * log.weight_N;
-        if (log.max_push_N > 0 && friction > kFrictionOverPush * log.max_push_N) {
+        const double friction = p.value * log.weight_n;
+        if (log.max_push_n > 0 && friction > kFrictionOverPush * log.max_push_n) {
           AddReason(&p, Format("implies %.3g N of friction against a largest push of %.3g N: "
                                "the slider could not have slid",
-                               friction, log.max_push_N));
+                               friction, log.max_push_n));
           break;
         }
       }

@@ -35,8 +35,8 @@ constexpr double kMaxIntervalFactor = 7.1;
 
 /// One log's capacity to make a slider slide.
 struct PushCapacity {
-  double weight_N = 0;    ///< m g
-  double max_push_N = 0;  ///< largest applied horizontal force (0: not a pushed log)
+  double weight_n = 0;    ///< m g
+  double max_push_n = 0;  ///< largest applied horizontal force (0: not a pushed log)
 };
 
 /// What the checks look at; NaN or empty entries skip their check.

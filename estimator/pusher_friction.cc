@@ -41,7 +41,7 @@ Eigen::Vector2d TipInBody(const TrajectorySample& s) {
 /// The contact rows of one log, in order. The slip is read in the body frame, where it is
 /// the tip's drift along the edge: over rows u - k .. u + k (inside one run), whose
 /// difference divides the pose noise by the window's length instead of one interval's.
-std::vector<ContactRow> ContactRows(const Trajectory& log, double min_force_N,
+std::vector<ContactRow> ContactRows(const Trajectory& log, double min_force_n,
                                     const PusherFrictionOptions& o) {
   const ContactPatch patch = ContactPatch::Parse(log.patch_spec);
   const LogDiagnostics noise = DiagnoseLog(log);
@@ -59,7 +59,7 @@ std::vector<ContactRow> ContactRows(const Trajectory& log, double min_force_N,
     const Eigen::Vector2d n_w = c.normal_world, t_w(-n_w.y(), n_w.x());
     const Eigen::Vector2d f(a.applied.fx, a.applied.fy);
     const double fn = -f.dot(n_w);  // into the slider
-    if (!(fn > min_force_N)) continue;
+    if (!(fn > min_force_n)) continue;
     int lo = u, hi = u;
     while (u - lo < o.slip_half_window_rows && lo > 0 && run_of[lo - 1] == run_of[u]) --lo;
     while (hi - u < o.slip_half_window_rows && hi + 1 < n && run_of[hi + 1] == run_of[u]) ++hi;

@@ -30,7 +30,7 @@ std::string Short(double x) {
   return buf;
 }
 
-void CheckPairs(const std::vector<WrenchTwistPair>& pairs, double weight_N) {
+void CheckPairs(const std::vector<WrenchTwistPair>& pairs, double weight_n) {
   if (static_cast<int>(pairs.size()) < kMinQuasiStaticPairs) {
     throw std::invalid_argument(
         "too few wrench-twist pairs to identify anything: " + std::to_string(pairs.size()) +
@@ -49,14 +49,14 @@ void CheckPairs(const std::vector<WrenchTwistPair>& pairs, double weight_N) {
     if (p.vx == 0.0 && p.vy == 0.0 && p.wz == 0.0) {
       throw std::invalid_argument(which + "the twist (vx, vy, wz) is zero");
     }
-    if (!(weight_N - p.fz > 0.0)) {
+    if (!(weight_n - p.fz > 0.0)) {
       throw std::invalid_argument(which + "the normal force m g - fz is not positive");
     }
   }
 }
 
 /// The seed: b = 1, c from the spins, a from the wrench norms (see the header).
-std::array<double, 3> Seed(const std::vector<WrenchTwistPair>& pairs, double weight_N,
+std::array<double, 3> Seed(const std::vector<WrenchTwistPair>& pairs, double weight_n,
                            double length_scale_m) {
   std::vector<double> c_candidates, arms;
   for (const WrenchTwistPair& p : pairs) {
@@ -77,7 +77,7 @@ std::array<double, 3> Seed(const std::vector<WrenchTwistPair>& pairs, double wei
   }
   std::vector<double> a;
   for (const WrenchTwistPair& p : pairs) {
-    a.push_back(std::hypot(p.fx, p.fy, p.mz / c) / (weight_N - p.fz));
+    a.push_back(std::hypot(p.fx, p.fy, p.mz / c) / (weight_n - p.fz));
   }
   return {Median(a), 1.0, c};
 }
@@ -137,7 +137,7 @@ bool QuasiStaticFitOptions::IsValid(std::string* why) const {
     if (why) *why = "--threads must be >= 1";
     return false;
   }
-  if (!(std::isfinite(weight_N) && weight_N > 0.0)) {
+  if (!(std::isfinite(weight_n) && weight_n > 0.0)) {
     if (why) *why = "the weight m g must be finite and > 0";
     return false;
   }
@@ -153,7 +153,7 @@ QuasiStaticFitOptions QuasiStaticOptionsFor(const WrenchTwistData& data,
   QuasiStaticFitOptions o;
   o.method = options.quasi_static;
   o.threads = options.threads;
-  o.weight_N = data.WeightN();
+  o.weight_n = data.WeightN();
   if (data.inertia_kgm2 && data.mass_kg > 0.0) {
     o.length_scale_m = std::sqrt(*data.inertia_kgm2 / data.mass_kg);
   }
@@ -165,8 +165,8 @@ EstimateResult EstimateQuasiStatic(const std::vector<WrenchTwistPair>& pairs,
   const auto start_time = std::chrono::steady_clock::now();
   std::string why;
   if (!options.IsValid(&why)) throw std::invalid_argument("EstimateQuasiStatic: " + why);
-  CheckPairs(pairs, options.weight_N);
-  const std::array<double, 3> seed_value = Seed(pairs, options.weight_N, options.length_scale_m);
+  CheckPairs(pairs, options.weight_n);
+  const std::array<double, 3> seed_value = Seed(pairs, options.weight_n, options.length_scale_m);
   const double length = options.length_scale_m > 0.0 ? options.length_scale_m : seed_value[2];
   std::array<double, 3> seed;
   for (int i = 0; i < 3; ++i) seed[i] = std::log(seed_value[i]);
@@ -180,7 +180,7 @@ EstimateResult EstimateQuasiStatic(const std::vector<WrenchTwistPair>& pairs,
   Costs costs;
   for (const WrenchTwistPair& p : pairs) {
     costs.magnitude.emplace_back(
-        LimitSurfaceMagnitudeResidual::Create(p, options.weight_N - p.fz, &costs.w_magnitude));
+        LimitSurfaceMagnitudeResidual::Create(p, options.weight_n - p.fz, &costs.w_magnitude));
     costs.direction.emplace_back(TwistDirectionResidual::Create(p, length, &costs.w_direction));
   }
   ceres::Problem::Options problem_options;

@@ -29,7 +29,7 @@ struct QuasiStaticFitOptions {
   /// Robust loss, its scale and iterations.
   QuasiStaticOptions method;
   int threads = 1;  ///< Ceres threads
-  double weight_N = 0.0;  ///< m g [N], > 0: a pair's normal force is weight_N - fz
+  double weight_n = 0.0;  ///< m g [N], > 0: a pair's normal force is weight_n - fz
   /// L [m] (>= 0): spin enters twist directions as L w_z and the predicted normal as
   /// L m_z / c^2, so that lengths and angles mix in one direction. 0: the seed's c.
   /// QuasiStaticOptionsFor sets the radius of gyration sqrt(I / m) when I is known.
@@ -51,7 +51,7 @@ constexpr double kMinQuasiStaticSigma = 1e-9;
 /// w (log sqrt(f_x^2 + f_y^2 / b^2 + m_z^2 / c^2) - log a - log N).
 /// `weight` is read at each evaluation (the fit re-weights). Returns false, never throws.
 struct LimitSurfaceMagnitudeResidual {
-  LimitSurfaceMagnitudeResidual(const WrenchTwistPair& p, double normal_force_N,
+  LimitSurfaceMagnitudeResidual(const WrenchTwistPair& p, double normal_force_n,
                                 const double* weight)
       : w(weight) {
     // The wrench over its largest component, so that squares neither overflow nor
@@ -61,7 +61,7 @@ struct LimitSurfaceMagnitudeResidual {
     fx = p.fx / s;
     fy = p.fy / s;
     mz = p.mz / s;
-    log_n = std::log(normal_force_N) - std::log(s);
+    log_n = std::log(normal_force_n) - std::log(s);
   }
 
   template <typename T>
@@ -75,10 +75,10 @@ struct LimitSurfaceMagnitudeResidual {
     return true;
   }
 
-  static ceres::CostFunction* Create(const WrenchTwistPair& p, double normal_force_N,
+  static ceres::CostFunction* Create(const WrenchTwistPair& p, double normal_force_n,
                                      const double* weight) {
     return new ceres::AutoDiffCostFunction<LimitSurfaceMagnitudeResidual, 1, 1, 1, 1>(
-        new LimitSurfaceMagnitudeResidual(p, normal_force_N, weight));
+        new LimitSurfaceMagnitudeResidual(p, normal_force_n, weight));
   }
 
   double fx, fy, mz;  ///< applied wrench over its largest component [1, 1, m]

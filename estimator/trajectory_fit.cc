@@ -792,7 +792,7 @@ double MaxStdErr(const TrajectoryProblem& problem, int i, const std::vector<LogD
   const int k = problem.GlobalLog(i);
   const Trajectory& log = problem.log(k);
   const double weight = log.slider.mass_kg * log.slider.gravity_mps2;
-  return kMaxOffsetStdErrFraction * std::max(d[k].max_push_N, 0.1 * weight);
+  return kMaxOffsetStdErrFraction * std::max(d[k].max_push_n, 0.1 * weight);
 }
 
 void FillResiduals(const TrajectoryProblem& problem, EstimateResult* result) {
@@ -1042,7 +1042,7 @@ FitOutcome Fit(const std::vector<const Trajectory*>& logs, const IdentifyOptions
     scale2 += rows_of[k] * residual_scale[k] * residual_scale[k];
     rows += rows_of[k];
     context.logs.push_back({logs[k]->slider.mass_kg * logs[k]->slider.gravity_mps2,
-                            diagnostics[k].max_push_N});
+                            diagnostics[k].max_push_n});
   }
   result.log_noise = rows > 0 ? std::sqrt(noise2 / rows) : kNaN;
   // The residuals the estimate leaves: those of the mismatch-corrected model.

@@ -247,8 +247,8 @@ void TrajectoryProblem::set_point(const Point& point) {
 std::string TrajectoryProblem::GlobalName(int i) const {
   if (i < 3) return ParameterName(i);
   const int k = global_log_[i];
-  if (k >= 0 && offset_index_[k] == i) return "force_bias_x_N";
-  if (k >= 0 && offset_index_[k] + 1 == i) return "force_bias_y_N";
+  if (k >= 0 && offset_index_[k] == i) return "force_bias_x_n";
+  if (k >= 0 && offset_index_[k] + 1 == i) return "force_bias_y_n";
   return "delay_s";
 }
 
@@ -389,7 +389,7 @@ ceres::Solver::Summary TrajectoryProblem::Solve(const std::vector<bool>& free, b
     double* block = &global_[i];
     if (!problem.HasParameterBlock(block)) continue;  // o_y, or a log without segments
     ordering->AddElementToGroup(block, 1);
-    const bool is_offset_x = !IsFriction(i) && GlobalName(i) == "force_bias_x_N";
+    const bool is_offset_x = !IsFriction(i) && GlobalName(i) == "force_bias_x_n";
     if (IsFriction(i)) {
       problem.SetParameterLowerBound(block, 0, std::log(kFrictionLowerBound[i]));
       problem.SetParameterUpperBound(block, 0, std::log(kFrictionUpperBound[i]));

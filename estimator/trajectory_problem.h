@@ -125,7 +125,7 @@ class TrajectoryProblem {
 
   int num_logs() const { return static_cast<int>(logs_.size()); }
   int num_global() const { return static_cast<int>(global_.size()); }
-  /// Name of global parameter i ("e_t_mu", "force_bias_x_N", "delay_s", ...) and the log
+  /// Name of global parameter i ("e_t_mu", "force_bias_x_n", "delay_s", ...) and the log
   /// it belongs to (-1: all).
   std::string GlobalName(int i) const;
   int GlobalLog(int i) const { return global_log_[i]; }

@@ -13,8 +13,8 @@ namespace {
 
 double PushSpec::MagnitudeAt(double t_s) const {
   if (t_s < start_s || t_s >= stop_s) return 0.0;
-  double magnitude = force_N;
-  if (period_s > 0.0) magnitude += amplitude_N * std::cos(2.0 * kPi * t_s / period_s);
+  double magnitude = force_n;
+  if (period_s > 0.0) magnitude += amplitude_n * std::cos(2.0 * kPi * t_s / period_s);
   return std::max(0.0, magnitude);  // a pusher cannot pull
 }
 

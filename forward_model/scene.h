@@ -21,8 +21,8 @@ struct PushSpec {
   Eigen::Vector2d point_body = Eigen::Vector2d::Zero();      ///< [m]
   double height_m = 0.0;                                     ///< z of the push point [m]
   Eigen::Vector2d direction_body = Eigen::Vector2d::UnitX();  ///< unit vector
-  double force_N = 0.0;
-  double amplitude_N = 0.0;
+  double force_n = 0.0;
+  double amplitude_n = 0.0;
   double period_s = 0.0;  ///< 0: no periodic part
   double start_s = 0.0;
   double stop_s = 1e300;

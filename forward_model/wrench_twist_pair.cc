@@ -59,17 +59,17 @@ WrenchTwistPair AboutPoint(const WrenchTwistPair& pair, const Eigen::Vector2d& p
 }
 
 Eigen::Vector3d QuasiStaticWrench(const Eigen::Vector3d& twist, const ReducedFriction& friction,
-                                  double normal_force_N) {
+                                  double normal_force_n) {
   if (!twist.allFinite() || twist.isZero(0.0)) {
     throw std::invalid_argument("QuasiStaticWrench: the twist must be finite and non-zero");
   }
-  if (!(normal_force_N > 0.0) || !(friction.a > 0.0) || !(friction.b > 0.0) ||
+  if (!(normal_force_n > 0.0) || !(friction.a > 0.0) || !(friction.b > 0.0) ||
       !(friction.c > 0.0)) {
     throw std::invalid_argument("QuasiStaticWrench: N, a, b and c must be > 0");
   }
   const Eigen::Vector3d d(1.0, friction.b * friction.b, friction.c * friction.c);
   const Eigen::Vector3d dv = d.cwiseProduct(twist);
-  return friction.a * normal_force_N * dv / std::sqrt(twist.dot(dv));
+  return friction.a * normal_force_n * dv / std::sqrt(twist.dot(dv));
 }
 
 Eigen::Vector3d LimitSurfaceNormal(const Eigen::Vector3d& wrench, const ReducedFriction& friction) {

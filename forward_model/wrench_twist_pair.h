@@ -56,7 +56,7 @@ WrenchTwistPair AboutPoint(const WrenchTwistPair& pair, const Eigen::Vector2d& p
 /// quasi-statically: a N (v_x, b^2 v_y, c^2 w_z) / sqrt(v_x^2 + b^2 v_y^2 + c^2 w_z^2).
 /// Throws std::invalid_argument for a zero or non-finite twist, non-positive N or friction.
 Eigen::Vector3d QuasiStaticWrench(const Eigen::Vector3d& twist, const ReducedFriction& friction,
-                                  double normal_force_N);
+                                  double normal_force_n);
 
 /// The twist direction that an applied wrench on the limit surface drives:
 /// (f_x, f_y / b^2, m_z / c^2), not normalised [units of force, force, force/length].
@@ -85,7 +85,7 @@ struct WrenchTwistRow {
   /// Mean contact point of the pusher in the pair's frame (from the CM) [m].
   double contact_x_m = std::numeric_limits<double>::quiet_NaN();
   double contact_y_m = std::numeric_limits<double>::quiet_NaN();
-  double peak_force_N = std::numeric_limits<double>::quiet_NaN();  ///< largest |f| used [N]
+  double peak_force_n = std::numeric_limits<double>::quiet_NaN();  ///< largest |f| used [N]
   int samples = 0;  ///< force samples averaged, 0 when unknown
   int line = 0;     ///< line of the row in the file it was read from, 0 when not read
 };

@@ -46,7 +46,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
               std::isfinite(f.e_r),
           "finite friction");
   for (const slideid::PushSpec& p : scene.pushes) {
-    Require(std::isfinite(p.force_N) && std::isfinite(p.amplitude_N) &&
+    Require(std::isfinite(p.force_n) && std::isfinite(p.amplitude_n) &&
                 std::isfinite(p.period_s) && std::isfinite(p.height_m) &&
                 p.point_body.allFinite() && p.direction_body.allFinite(),
             "finite push");

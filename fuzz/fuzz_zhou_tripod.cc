@@ -42,7 +42,7 @@ void CheckAccepted(const TripodLog& log) {
   for (const TripodPush& push : log.pushes) {
     Require(Finite(push.pre) && Finite(push.post), "poses are finite");
     for (const TripodForceSample& s : push.forces) {
-      Require(std::isfinite(s.t_s) && std::isfinite(s.fx_N) && std::isfinite(s.fy_N),
+      Require(std::isfinite(s.t_s) && std::isfinite(s.fx_n) && std::isfinite(s.fy_n),
               "force samples are finite");
     }
     for (const TripodRobotSample& s : push.robot) {
@@ -62,7 +62,7 @@ void CheckRoundTrip(const TripodLog& log) {
             "round trip keeps the counts");
     Require(a.pre.x_mm == b.pre.x_mm && a.post.qz == b.post.qz, "round trip keeps the poses");
     for (std::size_t i = 0; i < a.forces.size(); ++i) {
-      Require(a.forces[i].t_s == b.forces[i].t_s && a.forces[i].fy_N == b.forces[i].fy_N,
+      Require(a.forces[i].t_s == b.forces[i].t_s && a.forces[i].fy_n == b.forces[i].fy_n,
               "round trip keeps the forces");
     }
   }

@@ -121,7 +121,7 @@ std::string DeadChannel(const std::vector<MitStreamRow>& ft) {
 struct FrozenRun {
   double t_first, t_last;
   const char* channel;  ///< "fx" or "fy"
-  double value_N;
+  double value_n;
   int samples;
 };
 
@@ -315,7 +315,7 @@ struct OffsetWindow {
 
 /// Where the offset is measured (docs/real-data.md, "Offsets and pre-loads"):
 ///  - a window with the tip clear of the object (MitImportOptions::offset_clearance_m)
-///    measures it; with both clear and disagreeing by more than max_offset_drift_N the
+///    measures it; with both clear and disagreeing by more than max_offset_drift_n the
 ///    file is rejected for drift;
 ///  - a window where the tip only rests against the object measures it too when it agrees
 ///    with the other window within kMinPreloadN, or when there is no other; when it
@@ -352,20 +352,20 @@ Rejection EstimateOffset(const std::vector<ForceSample>& samples, double t_first
   }
   const bool both_clear = side[0].HasClear() && side[1].HasClear();
   const double differ_by = median[0] && median[1] ? (*median[1] - *median[0]).norm() : 0.0;
-  if (differ_by > (both_clear ? o.max_offset_drift_N : kMinPreloadN)) {
+  if (differ_by > (both_clear ? o.max_offset_drift_n : kMinPreloadN)) {
     if (both_clear) {
-      report->offset_drift_N = differ_by;
-      return Format("force offset drift %.3g N between before (", *report->offset_drift_N) +
+      report->offset_drift_n = differ_by;
+      return Format("force offset drift %.3g N between before (", *report->offset_drift_n) +
              Vec(*median[0]) + ") and after (" + Vec(*median[1]) +
              Format(") the push, both with the tip clear of the object, exceeds %.3g N "
-                    "(--max-offset-drift)", o.max_offset_drift_N);
+                    "(--max-offset-drift)", o.max_offset_drift_n);
     }
     // A resting side that disagrees: a clear side, else the side after the push, is the
     // offset (a pushing tip stops pressing once the push is over: the MIT rig then reads
     // 0.02-0.07 N), and the other side's tip presses the object.
     const int load = side[0].HasClear() ? 1 : 0;
     const Eigen::Vector2d preload = *median[load] - *median[1 - load];
-    report->preload_N = preload;
+    report->preload_n = preload;
     report->notes.push_back(std::string("the tip rests against the object ") +
                            (load == 0 ? "before" : "after") +
                            Format(" the push, pressing it with %.3g N: kept as a real force, "
@@ -389,10 +389,10 @@ Rejection EstimateOffset(const std::vector<ForceSample>& samples, double t_first
                             std::to_string(side[1].clear.size() + side[1].resting.size()) +
                             " force samples outside it");
   }
-  report->offset_before_N = offset->before;
-  report->offset_after_N = offset->after;
+  report->offset_before_n = offset->before;
+  report->offset_after_n = offset->after;
   if (offset->before && offset->after) {
-    report->offset_drift_N = (*offset->after - *offset->before).norm();
+    report->offset_drift_n = (*offset->after - *offset->before).norm();
   }
   const std::vector<const ForceSample*>& before = used[0];
   const std::vector<const ForceSample*>& after = used[1];
@@ -401,8 +401,8 @@ Rejection EstimateOffset(const std::vector<ForceSample>& samples, double t_first
     for (const ForceSample* s : *side) deviations.push_back((s->f - offset->At(s->t)).norm());
   }
   // |deviation| of a 2-D Gaussian has median sigma sqrt(2 ln 2) = 1.177 sigma.
-  report->force_noise_N = Median(deviations) / 1.1774;
-  report->force_threshold_N = std::max(kMinForceThresholdN, kNoiseSigmas * report->force_noise_N);
+  report->force_noise_n = Median(deviations) / 1.1774;
+  report->force_threshold_n = std::max(kMinForceThresholdN, kNoiseSigmas * report->force_noise_n);
   return std::nullopt;
 }
 
@@ -441,7 +441,7 @@ Rejection CheckSign(const std::vector<const ForceSample*>& push, const Offset& o
 
 /// A row's force [N] and its moment about the CM [N m]: means over the row's interval.
 struct RowWrench {
-  Eigen::Vector2d force_N = Eigen::Vector2d::Zero();
+  Eigen::Vector2d force_n = Eigen::Vector2d::Zero();
   double moment_Nm = 0;
 };
 
@@ -454,9 +454,9 @@ RowWrench MeanWrench(const Streams& s, const Offset& offset, double sign, double
   auto at = [&](double t) {
     const Eigen::Vector2d f(Interpolate(s.ft, t, 1), Interpolate(s.ft, t, 2));
     RowWrench w;
-    w.force_N = sign * (f - offset.At(t));
+    w.force_n = sign * (f - offset.At(t));
     const Eigen::Vector2d arm = s.ContactAtTime(t).point_world - s.PoseAt(t).head<2>();
-    w.moment_Nm = arm.x() * w.force_N.y() - arm.y() * w.force_N.x();
+    w.moment_Nm = arm.x() * w.force_n.y() - arm.y() * w.force_n.x();
     return w;
   };
   if (t1 <= t0) return at(t0);
@@ -473,7 +473,7 @@ RowWrench MeanWrench(const Streams& s, const Offset& offset, double sign, double
   for (std::size_t i = 1; i < knots.size(); ++i) {
     const RowWrench next = at(knots[i]);
     const double h = 0.5 * (knots[i] - knots[i - 1]) / (t1 - t0);
-    mean.force_N += h * (previous.force_N + next.force_N);
+    mean.force_n += h * (previous.force_n + next.force_n);
     mean.moment_Nm += h * (previous.moment_Nm + next.moment_Nm);
     previous = next;
   }
@@ -560,13 +560,13 @@ Rejection FindPush(const Streams& s, const MitImportOptions& o, Push* push, MitI
     return no;
   }
   for (const ForceSample& f : push->samples) {
-    if (f.active && (f.f - push->offset.At(f.t)).norm() > r->force_threshold_N) {
+    if (f.active && (f.f - push->offset.At(f.t)).norm() > r->force_threshold_n) {
       push->above.push_back(&f);
     }
   }
   if (push->above.empty()) {
     return Format("no push: the force stays below the noise threshold (%.3g N) while the tip "
-                  "touches the object and moves", r->force_threshold_N);
+                  "touches the object and moves", r->force_threshold_n);
   }
   return CheckSign(push->above, push->offset, o, r);
 }
@@ -613,7 +613,7 @@ Rejection ChooseWindow(const Streams& s, const Push& push, const std::vector<Fro
   *end = std::min({push_end + o.margin_s, s.object.back()[0], s.tip.back()[0], s.ft.back()[0]});
   for (const FrozenRun& run : frozen) {
     if (run.t_last >= *start && run.t_first <= *end) {
-      return std::string(run.channel) + Format(" frozen at %.6g N for ", run.value_N) +
+      return std::string(run.channel) + Format(" frozen at %.6g N for ", run.value_n) +
              std::to_string(run.samples) +
              " samples inside the push window (saturated or stalled sensor)";
     }
@@ -680,7 +680,7 @@ Trajectory BuildLog(const Streams& s, const Offset& offset, double start, double
     const Eigen::Vector3d pose = s.PoseAt(t);
     const Contact contact = s.ContactAtTime(t);
     const RowWrench wrench = MeanWrench(s, offset, sign, t, t + dt);
-    const Eigen::Vector2d f = wrench.force_N;
+    const Eigen::Vector2d f = wrench.force_n;
     TrajectorySample sample;
     sample.t_s = u * dt;
     sample.state.x = pose.x();
@@ -695,8 +695,8 @@ Trajectory BuildLog(const Streams& s, const Offset& offset, double start, double
     sample.mode = log.samples.empty() || after_gap ? SampleMode::kStart : SampleMode::kSlide;
     after_gap = false;
     log.samples.push_back(sample);
-    r->peak_force_N = std::max(r->peak_force_N, f.norm());
-    if (f.norm() > r->force_threshold_N) {
+    r->peak_force_n = std::max(r->peak_force_n, f.norm());
+    if (f.norm() > r->force_threshold_n) {
       gaps.push_back(contact.gap_m);
       if (contact.gap_m > o.contact_tolerance_m) ++out_of_contact;
     }
@@ -739,8 +739,8 @@ void AddMetadata(const MitImportReport& r, const MitImportOptions& o, const std:
   add("stream_rates_hz", Format("object_pose %.1f, tip_pose %.1f, ", r.object_pose.median_rate_hz,
                                 r.tip_pose.median_rate_hz) +
                              Format("ft_wrench %.1f", r.ft_wrench.median_rate_hz));
-  add("force_offset_before_N", r.offset_before_N ? Vec(*r.offset_before_N) : "none");
-  add("force_offset_after_N", r.offset_after_N ? Vec(*r.offset_after_N) : "none");
+  add("force_offset_before_n", r.offset_before_n ? Vec(*r.offset_before_n) : "none");
+  add("force_offset_after_n", r.offset_after_n ? Vec(*r.offset_after_n) : "none");
   add("force_sign", r.force_flipped ? "flipped (the stored force is the reaction on the sensor)"
                                     : "as stored");
   add("theta_jumps_repaired", std::to_string(r.theta_jumps_repaired));
@@ -779,7 +779,7 @@ bool MitImportOptions::IsValid(std::string* why) const {
   };
   const std::pair<const char*, double> positive[] = {
       {"tip_radius", tip_radius_m},         {"rate", rate_hz},
-      {"max_offset_drift", max_offset_drift_N}, {"max_pose_gap", max_pose_gap_s},
+      {"max_offset_drift", max_offset_drift_n}, {"max_pose_gap", max_pose_gap_s},
       {"min_push_duration", min_push_duration_s}, {"theta_jump", theta_jump_rad},
       {"contact_tolerance", contact_tolerance_m}, {"still_speed", still_speed_mps},
       {"offset_clearance", offset_clearance_m}};

@@ -61,7 +61,7 @@ struct MitImportOptions {
   double margin_s = 0.05;
   /// Largest accepted |offset after - offset before| [N]. At 0.5 N, interpolating
   /// between the two leaves at most 0.25 N of error mid-push, about 10% of a 2-3 N push.
-  double max_offset_drift_N = 0.5;
+  double max_offset_drift_n = 0.5;
   /// Longest gap between object poses inside the push window that is interpolated over
   /// [s]: at 50 ms and an angular acceleration of 5 rad/s^2 the error is alpha T^2 / 8 =
   /// 1.6 mrad, comparable to the motion-capture noise. A longer gap splits the log into
@@ -124,14 +124,14 @@ struct MitImportReport {
   int rows_dropped_in_pose_gaps = 0;  ///< rows whose time fell inside such a gap
 
   /// Offsets [N] (stored force, world axes) from the still samples before / after the push.
-  std::optional<Eigen::Vector2d> offset_before_N, offset_after_N;
+  std::optional<Eigen::Vector2d> offset_before_n, offset_after_n;
   int offset_before_samples = 0, offset_after_samples = 0;
-  std::optional<double> offset_drift_N;  ///< |after - before| when both exist
+  std::optional<double> offset_drift_n;  ///< |after - before| when both exist
   /// The force the tip pressed with while resting against the object before the push
   /// (median of those samples, offset removed) [N]: kept in the log as a real force.
-  std::optional<Eigen::Vector2d> preload_N;
-  double force_noise_N = 0;              ///< robust std of the still samples, offset removed
-  double force_threshold_N = 0;          ///< "force above noise"
+  std::optional<Eigen::Vector2d> preload_n;
+  double force_noise_n = 0;              ///< robust std of the still samples, offset removed
+  double force_threshold_n = 0;          ///< "force above noise"
 
   /// Sign check over the push samples: mean of f . n_in / mean |f| for the stored force
   /// (n_in: contact normal into the object), and the correlation of the stored force with
@@ -147,7 +147,7 @@ struct MitImportReport {
   double window_start_s = 0, window_end_s = 0;  ///< kept, relative to time_origin_s
   double time_origin_s = 0;                     ///< Unix time of the log's t = 0
   int rows = 0;                                 ///< rows written
-  double peak_force_N = 0;                      ///< over the kept rows
+  double peak_force_n = 0;                      ///< over the kept rows
   std::vector<std::string> notes;               ///< further facts (offsets not available, ...)
 };
 

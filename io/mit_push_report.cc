@@ -90,29 +90,29 @@ const std::vector<std::pair<std::string, Cell>>& Columns() {
     c.push_back({"pose_gaps_split", [](R r) { return r.rows > 0 ? std::to_string(r.pose_gaps_split) : ""; }});
     c.push_back({"rows_dropped_in_pose_gaps",
                  [](R r) { return r.rows > 0 ? std::to_string(r.rows_dropped_in_pose_gaps) : ""; }});
-    c.push_back({"offset_before_fx_N", [](R r) {
-                   return r.offset_before_N ? Number(r.offset_before_N->x()) : "";
+    c.push_back({"offset_before_fx_n", [](R r) {
+                   return r.offset_before_n ? Number(r.offset_before_n->x()) : "";
                  }});
-    c.push_back({"offset_before_fy_N", [](R r) {
-                   return r.offset_before_N ? Number(r.offset_before_N->y()) : "";
+    c.push_back({"offset_before_fy_n", [](R r) {
+                   return r.offset_before_n ? Number(r.offset_before_n->y()) : "";
                  }});
     c.push_back({"offset_before_samples", [](R r) { return Count(r, r.offset_before_samples); }});
-    c.push_back({"offset_after_fx_N", [](R r) {
-                   return r.offset_after_N ? Number(r.offset_after_N->x()) : "";
+    c.push_back({"offset_after_fx_n", [](R r) {
+                   return r.offset_after_n ? Number(r.offset_after_n->x()) : "";
                  }});
-    c.push_back({"offset_after_fy_N", [](R r) {
-                   return r.offset_after_N ? Number(r.offset_after_N->y()) : "";
+    c.push_back({"offset_after_fy_n", [](R r) {
+                   return r.offset_after_n ? Number(r.offset_after_n->y()) : "";
                  }});
     c.push_back({"offset_after_samples", [](R r) { return Count(r, r.offset_after_samples); }});
-    c.push_back({"offset_drift_N", [](R r) { return Number(r.offset_drift_N); }});
-    c.push_back({"preload_N", [](R r) {
-                   return r.preload_N ? Number(r.preload_N->norm()) : "";
+    c.push_back({"offset_drift_n", [](R r) { return Number(r.offset_drift_n); }});
+    c.push_back({"preload_n", [](R r) {
+                   return r.preload_n ? Number(r.preload_n->norm()) : "";
                  }});
-    c.push_back({"force_noise_N", [](R r) {
-                   return r.force_threshold_N > 0 ? Number(r.force_noise_N) : "";
+    c.push_back({"force_noise_n", [](R r) {
+                   return r.force_threshold_n > 0 ? Number(r.force_noise_n) : "";
                  }});
-    c.push_back({"force_threshold_N", [](R r) {
-                   return r.force_threshold_N > 0 ? Number(r.force_threshold_N) : "";
+    c.push_back({"force_threshold_n", [](R r) {
+                   return r.force_threshold_n > 0 ? Number(r.force_threshold_n) : "";
                  }});
     c.push_back({"normal_alignment", [](R r) { return Number(r.normal_alignment); }});
     c.push_back({"velocity_correlation", [](R r) { return Number(r.velocity_correlation); }});
@@ -127,7 +127,7 @@ const std::vector<std::pair<std::string, Cell>>& Columns() {
                  }});
     c.push_back({"rows", [](R r) { return std::to_string(r.rows); }});
     c.push_back({"window_s", [](R r) { return r.rows > 0 ? Number(r.window_end_s) : ""; }});
-    c.push_back({"peak_force_N", [](R r) { return r.rows > 0 ? Number(r.peak_force_N) : ""; }});
+    c.push_back({"peak_force_n", [](R r) { return r.rows > 0 ? Number(r.peak_force_n) : ""; }});
     c.push_back({"time_origin_unix_s", [](R r) {
                    if (r.rows == 0) return std::string();
                    char buffer[64];

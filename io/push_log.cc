@@ -39,7 +39,7 @@ constexpr double kWarnGapRatio = 3.0;
 constexpr double kAbsurdPosition_m = 1e3;    // x, y, px, py, pz
 constexpr double kAbsurdSpeed_mps = 1e2;     // vx, vy, given or from poses
 constexpr double kAbsurdSpin_radps = 1e3;    // wz: 160 turns a second
-constexpr double kAbsurdForce_N = 1e5;       // fx, fy, fz
+constexpr double kAbsurdForce_n = 1e5;       // fx, fy, fz
 constexpr double kAbsurdMoment_Nm = 1e5;     // tx, ty, tz
 constexpr double kAbsurdMass_kg = 1e4;
 constexpr double kAbsurdComHeight_m = 1e2;
@@ -339,7 +339,7 @@ constexpr std::array<AbsurdLimit, kNumNumeric> MakeAbsurdLimits() {
   for (Col c : {kX, kY, kPx, kPy, kPz, kTipX, kTipY}) l[c] = {kAbsurdPosition_m, "m"};
   for (Col c : {kVx, kVy}) l[c] = {kAbsurdSpeed_mps, "m/s"};
   l[kWz] = {kAbsurdSpin_radps, "rad/s"};
-  for (Col c : {kFx, kFy, kFz}) l[c] = {kAbsurdForce_N, "N"};
+  for (Col c : {kFx, kFy, kFz}) l[c] = {kAbsurdForce_n, "N"};
   for (Col c : {kTx, kTy, kTz}) l[c] = {kAbsurdMoment_Nm, "N m"};
   return l;
 }

@@ -8,7 +8,7 @@
 //   "steps_excluded_by_reason": {"sticking": 5}, "seconds": 0.006, "iterations": 12,
 //   "final_cost": 1.2e-05, "converged": true, "message": "...", "log_noise": 0.0004,
 //   "residual_rms": 0.00042,
-//   "nuisance": {"force_bias_x_N": [{"log": "a.csv", "value": ..., "stderr": ...,
+//   "nuisance": {"force_bias_x_n": [{"log": "a.csv", "value": ..., "stderr": ...,
 //                "ci95": [..], "identifiable": true, "verdict": "ok", "reason": "",
 //                "held_at": null}], ...},
 //   "logs": [{"name": "a.csv", "skipped": false, "skip_reason": "", "rows": 60,

@@ -417,10 +417,10 @@ PlanarState ReadInitial(const Reader& r) {
 void ReadPushTiming(const Reader& r, const std::string& section, PushSpec& p) {
   using C = Reader::Check;
   const std::string k = section + ".";
-  p.amplitude_N = r.Number(k + "amplitude", 0.0, C::kFinite);
+  p.amplitude_n = r.Number(k + "amplitude", 0.0, C::kFinite);
   p.period_s = r.Number(k + "period", 0.0, C::kNonNegative);
-  if (p.amplitude_N != 0.0 && !(p.period_s > 0.0)) {
-    r.Fail(k + "period", "must be > 0 when amplitude = " + FormatDouble(p.amplitude_N));
+  if (p.amplitude_n != 0.0 && !(p.period_s > 0.0)) {
+    r.Fail(k + "period", "must be > 0 when amplitude = " + FormatDouble(p.amplitude_n));
   }
   p.start_s = r.Number(k + "start", 0.0, C::kFinite);
   p.stop_s = r.Number(k + "stop", 1e300, C::kFinite);
@@ -438,7 +438,7 @@ PushSpec ReadPush(const Reader& r, const std::string& section, double com_height
     if (d.norm() == 0.0) r.Fail(k + "direction", "must be non-zero");
     p.direction_body = d.normalized();
   }
-  p.force_N = r.Number(k + "force", Reader::Check::kFinite);
+  p.force_n = r.Number(k + "force", Reader::Check::kFinite);
   ReadPushTiming(r, section, p);
   return p;
 }
@@ -555,7 +555,7 @@ RandomProgramSpec ReadProgramSpec(const Reader& r) {
   if (count > 10000) r.Fail("program.random", "must be <= 10000");
   spec.count = static_cast<int>(count);
   spec.seed = r.Integer("program.seed", spec.seed, 0);
-  spec.force_N = r.Range("program.force", C::kPositive);
+  spec.force_n = r.Range("program.force", C::kPositive);
   spec.amplitude_fraction = r.Range("program.amplitude_fraction", spec.amplitude_fraction,
                                     C::kNonNegative);
   spec.period_s = r.Range("program.period", spec.period_s, C::kPositive);
@@ -581,14 +581,14 @@ NoiseSpec ReadNoise(const Reader& r) {
   n.velocity_mps = r.Number("noise.velocity", 0.0, C::kNonNegative);
   n.spin_radps = r.Number("noise.spin", 0.0, C::kNonNegative);
   n.force_relative = r.Number("noise.force_relative", 0.0, C::kNonNegative);
-  n.force_N = r.Number("noise.force", 0.0, C::kNonNegative);
+  n.force_n = r.Number("noise.force", 0.0, C::kNonNegative);
   n.push_point_m = r.Number("noise.push_point", 0.0, C::kNonNegative);
   n.outlier_fraction = r.Number("noise.outlier_fraction", 0.0, C::kNonNegative);
   if (!(n.outlier_fraction <= 1.0)) r.Fail("noise.outlier_fraction", "must be <= 1");
   n.outlier_m = r.Number("noise.outlier", 0.0, C::kNonNegative);
   n.seed = r.Integer("noise.seed", n.seed, 0);
-  n.force_bias_x_N = r.Number("noise.force_bias_x", 0.0, C::kFinite);
-  n.force_bias_y_N = r.Number("noise.force_bias_y", 0.0, C::kFinite);
+  n.force_bias_x_n = r.Number("noise.force_bias_x", 0.0, C::kFinite);
+  n.force_bias_y_n = r.Number("noise.force_bias_y", 0.0, C::kFinite);
   n.force_delay_s = r.Number("noise.force_delay", 0.0, C::kFinite);
   return n;
 }

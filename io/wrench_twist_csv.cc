@@ -277,7 +277,7 @@ class Reader {
   }
 
   /// The physical checks of one row: a wrench and a twist that say something, N > 0.
-  void CheckRow(const WrenchTwistRow& r, double weight_N, int line_no) {
+  void CheckRow(const WrenchTwistRow& r, double weight_n, int line_no) {
     const WrenchTwistPair& p = r.pair;
     if (p.fx == 0.0 && p.fy == 0.0 && p.mz == 0.0) {
       Fail(line_no, "fx",
@@ -289,10 +289,10 @@ class Reader {
            "the twist (vx, vy, wz) is zero: the slider did not move in this push, "
            "so it says nothing about the direction of sliding");
     }
-    if (!(weight_N - p.fz > 0.0)) {
+    if (!(weight_n - p.fz > 0.0)) {
       Fail(line_no, "fz",
            "the vertical force lifts the slider: fz = " + ShortNumber(p.fz) +
-               " N is not below m g = " + ShortNumber(weight_N) + " N");
+               " N is not below m g = " + ShortNumber(weight_n) + " N");
     }
     if (!std::isnan(r.duration_s) && !(r.duration_s > 0.0)) {
       Fail(line_no, "duration", "duration = " + ShortNumber(r.duration_s) + " s must be > 0");
@@ -316,7 +316,7 @@ class Reader {
       r.dtheta_rad = v[kDtheta];
       r.contact_x_m = v[kContactX];
       r.contact_y_m = v[kContactY];
-      r.peak_force_N = v[kPeakForce];
+      r.peak_force_n = v[kPeakForce];
       r.samples = std::isnan(v[kSamples]) ? 0 : static_cast<int>(v[kSamples]);
       r.line = line_no;
       CheckRow(r, data.WeightN(), line_no);
@@ -397,7 +397,7 @@ void WriteUnchecked(const WrenchTwistData& data, std::ostream& out) {
     out << r.push;
     for (double x : {p.fx, p.fy, p.fz, p.mz, p.vx, p.vy, p.wz}) out << ',' << text::ShortNumber(x);
     for (double x : {r.duration_s, r.dx_m, r.dy_m, r.dtheta_rad, r.contact_x_m, r.contact_y_m,
-                     r.peak_force_N}) {
+                     r.peak_force_n}) {
       out << ',' << Cell(x);
     }
     out << ',';

@@ -21,7 +21,7 @@ constexpr double kDegPerRad = 180.0 / kPi;
 constexpr double kQuaternionNormTolerance = 0.01;
 /// Magnitudes no pushing experiment reaches (as the push-log reader's, forward_model/
 /// push_log.cc): a push holding one is rejected before any arithmetic can overflow.
-constexpr double kAbsurdForce_N = 1e5;
+constexpr double kAbsurdForce_n = 1e5;
 constexpr double kAbsurdPosition_mm = 1e7;  // 10 km
 constexpr double kAbsurdTime_s = 1e12;      // 30,000 years of Unix time
 /// MAD of Gaussian data times this estimates its standard deviation.
@@ -164,7 +164,7 @@ void CheckPush(const TripodPush& push, const TripodImportOptions& options) {
   };
   for (const TripodForceSample& f : push.forces) {
     absurd(f.line, "time", f.t_s, kAbsurdTime_s);
-    absurd(f.line, "force [N]", std::hypot(f.fx_N, f.fy_N), kAbsurdForce_N);
+    absurd(f.line, "force [N]", std::hypot(f.fx_n, f.fy_n), kAbsurdForce_n);
   }
   for (const TripodRobotSample& r : push.robot) {
     absurd(r.line, "time", r.t_s, kAbsurdTime_s);
@@ -199,7 +199,7 @@ Phases FindPhases(const std::vector<Eigen::Vector2d>& force, const TripodImportO
   const double centre = Median(diffs);
   for (double& d : diffs) d = std::abs(d - centre);
   ph.sigma = kMadToSigma * Median(diffs) / std::sqrt(2.0);
-  ph.threshold = std::max(options.onset_sigmas * ph.sigma, options.min_contact_force_N);
+  ph.threshold = std::max(options.onset_sigmas * ph.sigma, options.min_contact_force_n);
 
   // The longest run above the threshold: contact (short excursions of drift are not).
   std::size_t best_start = 0, best_length = 0;
@@ -270,7 +270,7 @@ void JudgePhases(const std::vector<TripodForceSample>& fs, const Phases& ph,
   rep.end_s = fs[ph.last].t_s - t0;
   rep.samples = static_cast<int>(ph.kept.size());
   rep.dropped_low = static_cast<int>(ph.last - ph.first + 1 - ph.kept.size());
-  rep.offset_error_n = (Eigen::Vector2d(fs[0].fx_N, fs[0].fy_N) - median_offset).norm();
+  rep.offset_error_n = (Eigen::Vector2d(fs[0].fx_n, fs[0].fy_n) - median_offset).norm();
   if (rep.onset_s < options.min_rest_s) {
     throw Rejected{"line " + std::to_string(fs[ph.onset].line) + ": contact " +
                    Format("%.2f", rep.onset_s) + " s into the trace, less than " +
@@ -332,8 +332,8 @@ void ImportPush(const TripodPush& push, const Eigen::Vector2d& median_offset,
   CheckPush(push, options);
   const std::vector<TripodForceSample>& fs = push.forces;
   std::vector<Eigen::Vector2d> force;  // on the object, tool frame, offset removed
-  const Eigen::Vector2d offset = TripodToolForce(fs[0].fx_N, fs[0].fy_N);
-  for (const TripodForceSample& s : fs) force.push_back(TripodToolForce(s.fx_N, s.fy_N) - offset);
+  const Eigen::Vector2d offset = TripodToolForce(fs[0].fx_n, fs[0].fy_n);
+  for (const TripodForceSample& s : fs) force.push_back(TripodToolForce(s.fx_n, s.fy_n) - offset);
   const Phases ph = FindPhases(force, options);
   JudgePhases(fs, ph, median_offset, options, rep);
 
@@ -379,7 +379,7 @@ void ImportPush(const TripodPush& push, const Eigen::Vector2d& median_offset,
   row.dtheta_rad = dtheta;
   row.contact_x_m = m.contact.x();
   row.contact_y_m = m.contact.y();
-  row.peak_force_N = m.peak;
+  row.peak_force_n = m.peak;
   row.samples = rep.samples;
 }
 
@@ -524,8 +524,8 @@ bool TripodImportOptions::IsValid(std::string* why) const {
   }
   if (noise_samples < 4) return fail("noise_samples must be >= 4");
   if (!(onset_sigmas > 0.0)) return fail("onset_sigmas must be > 0");
-  if (!(min_contact_force_N >= 0.0) || !std::isfinite(min_contact_force_N)) {
-    return fail("min_contact_force_N must be >= 0");
+  if (!(min_contact_force_n >= 0.0) || !std::isfinite(min_contact_force_n)) {
+    return fail("min_contact_force_n must be >= 0");
   }
   if (!(sliding_fraction > 0.0 && sliding_fraction < 1.0)) {
     return fail("sliding_fraction must be in (0, 1)");
@@ -556,8 +556,8 @@ WrenchTwistData ImportZhouTripod(const TripodLog& log, const std::string& source
   std::vector<double> fx0, fy0;
   for (const TripodPush& push : log.pushes) {
     if (push.forces.empty()) continue;
-    fx0.push_back(push.forces[0].fx_N);
-    fy0.push_back(push.forces[0].fy_N);
+    fx0.push_back(push.forces[0].fx_n);
+    fy0.push_back(push.forces[0].fy_n);
   }
   if (!fx0.empty()) rep.median_offset_sensor_n = Eigen::Vector2d(Median(fx0), Median(fy0));
 

@@ -88,12 +88,12 @@ struct TripodImportOptions {
   /// sensor's noise: sigma = 1.4826 MAD of the sample-to-sample change / sqrt(2).
   int noise_samples = 25;
   /// Contact: the longest run of samples with |f| above max(onset_sigmas sigma,
-  /// min_contact_force_N). The noise is 0.002 to 0.08 N on these logs and contact forces are
+  /// min_contact_force_n). The noise is 0.002 to 0.08 N on these logs and contact forces are
   /// 1.5 to 9 N; 10 sigma is far above the noise (no false onsets) and far below any push.
   double onset_sigmas = 10.0;
   /// Floor under the onset threshold [N]: above the slow drift of up to 0.03 N that some
   /// traces show before contact.
-  double min_contact_force_N = 0.05;
+  double min_contact_force_n = 0.05;
   /// Sliding part of the contact: the samples with |f| at least this fraction of the
   /// contact's median |f|, from the first such sample to the last (samples below it in
   /// between are dropped). Leaves out most of the loading ramp, in which the block sticks

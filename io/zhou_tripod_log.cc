@@ -218,8 +218,8 @@ void WriteUnchecked(const TripodLog& log, std::ostream& out) {
     WritePose(push.post, out);
     out << '\n' << push.forces.size() << '\n';
     for (const TripodForceSample& s : push.forces) {
-      out << text::ShortNumber(s.t_s) << ' ' << text::ShortNumber(s.fx_N) << ' '
-          << text::ShortNumber(s.fy_N) << '\n';
+      out << text::ShortNumber(s.t_s) << ' ' << text::ShortNumber(s.fx_n) << ' '
+          << text::ShortNumber(s.fy_n) << '\n';
     }
     out << push.robot.size() << '\n';
     for (const TripodRobotSample& s : push.robot) {

@@ -36,7 +36,7 @@ struct TripodPose {
 /// One force sample: time [s] and the 2-axis sensor reading [N], sensor frame.
 struct TripodForceSample {
   double t_s = 0.0;
-  double fx_N = 0.0, fy_N = 0.0;
+  double fx_n = 0.0, fy_n = 0.0;
   int line = 0;  ///< line in the file (0 when not read from one)
 };
 

@@ -20,7 +20,7 @@ Eigen::Matrix2d Rotation(double angle) {
 
 TripodLog TripodLogFromPushes(const std::vector<SimulatedPush>& pushes,
                               const TripodSynthOptions& options) {
-  if (!(options.force_noise_N >= 0.0 && options.pose_noise_mm >= 0.0) ||
+  if (!(options.force_noise_n >= 0.0 && options.pose_noise_mm >= 0.0) ||
       !options.sensor_bias_n.allFinite()) {
     throw std::invalid_argument("TripodLogFromPushes: noise must be >= 0, the bias finite");
   }
@@ -42,7 +42,7 @@ TripodLog TripodLogFromPushes(const std::vector<SimulatedPush>& pushes,
     for (std::size_t i = 0; i < sim.force_t_s.size(); ++i) {
       const Eigen::Vector2d sensor =
           TripodSensorForce(to_tool * sim.force_world_n[i]) + options.sensor_bias_n +
-          options.force_noise_N * Eigen::Vector2d(gauss(rng), gauss(rng));
+          options.force_noise_n * Eigen::Vector2d(gauss(rng), gauss(rng));
       push.forces.push_back({clock + sim.force_t_s[i], sensor.x(), sensor.y(), 0});
     }
     const double half = sim.tool_yaw_rad / 2;

@@ -16,7 +16,7 @@ namespace slideid {
 /// How the synthetic rig records.
 struct TripodSynthOptions {
   std::uint64_t seed = 1;
-  double force_noise_N = 0.005;  ///< Gaussian, per sensor axis [N] (the logs: 0.002-0.02)
+  double force_noise_n = 0.005;  ///< Gaussian, per sensor axis [N] (the logs: 0.002-0.02)
   /// Sensor bias [N], sensor frame, in every sample (the importer removes the first sample).
   Eigen::Vector2d sensor_bias_n = Eigen::Vector2d(0.03, -0.03);
   double pose_noise_mm = 0.0;      ///< Gaussian on the Vicon positions [mm]

@@ -49,7 +49,7 @@ FileIdentifyResult IdentifyFiles(const std::vector<std::string>& paths,
 /// estimate), or "" when it may.
 std::string NumericalFailure(const EstimateResult& result);
 
-/// The names of the suspect estimates ("e_t_mu, force_bias_x_N"), or "".
+/// The names of the suspect estimates ("e_t_mu, force_bias_x_n"), or "".
 std::string SuspectNames(const EstimateResult& result);
 
 /// Identifies logs already in memory (named by their `source`), pooled when several.

@@ -24,7 +24,7 @@ MitImportOptions MitOptions(const po::variables_map& vm) {
   o.tip_radius_m = vm["tip-radius"].as<double>();
   o.rate_hz = vm["rate"].as<double>();
   o.margin_s = vm["margin"].as<double>();
-  o.max_offset_drift_N = vm["max-offset-drift"].as<double>();
+  o.max_offset_drift_n = vm["max-offset-drift"].as<double>();
   o.offset_clearance_m = vm["offset-clearance"].as<double>();
   o.max_pose_gap_s = vm["max-pose-gap"].as<double>();
   o.min_push_duration_s = vm["min-push-duration"].as<double>();

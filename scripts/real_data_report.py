@@ -124,14 +124,14 @@ def import_summary(rows):
             max(column("object_pose_largest_gap_ms")), int(sum(column("theta_jumps_repaired"))),
             int(sum(column("theta_wraps"))), int(sum(column("frozen_force_samples"))),
             sum(1 for f in column("frozen_force_samples") if f > 0))]
-    before = [r for r in examined if r["offset_before_fx_N"] != ""]
-    after = [r for r in examined if r["offset_after_fx_N"] != ""]
+    before = [r for r in examined if r["offset_before_fx_n"] != ""]
+    after = [r for r in examined if r["offset_after_fx_n"] != ""]
 
     def magnitudes(rows_, side):
-        return [(number(r["offset_%s_fx_N" % side]) ** 2 + number(r["offset_%s_fy_N" % side]) ** 2) ** 0.5
+        return [(number(r["offset_%s_fx_n" % side]) ** 2 + number(r["offset_%s_fy_n" % side]) ** 2) ** 0.5
                 for r in rows_]
 
-    drift = column("offset_drift_N")
+    drift = column("offset_drift_n")
     out += ["", "Force offsets (stored force while the tip is still or away): before the push in {} "
             "files, after it in {}. |offset| before: {}; after: {} ({} files above 1 N). Drift "
             "between the two, where both exist: {}.".format(
@@ -187,7 +187,7 @@ def estimates(rows):
         status = ("suspect: " + reason if reason else "ok") if code == 0 else \
             "exit {}: {}".format(code, error.replace("|", "/")[:120])
         out.append("| {} | {} | {} | {} |".format(push_name(r["source"]), r["rows"],
-                                                  fmt(number(r["peak_force_N"])), " | ".join(cells) + " | " + status))
+                                                  fmt(number(r["peak_force_n"])), " | ".join(cells) + " | " + status))
     out += ["", "Values with their 95% intervals and verdicts as identify reports them (a = e_t mu, "
             "b = e_o/e_t, c = e_r/e_t; ? = suspect, with the first reason in the last column; an "
             "estimate without a mark is ok). identify failed on {} of {} logs; {} of them have "
@@ -270,13 +270,13 @@ def nuisance_summary(result):
         else:
             out.append("delay not identifiable")
     offsets = {}
-    for axis in ("force_bias_x_N", "force_bias_y_N"):
+    for axis in ("force_bias_x_n", "force_bias_y_n"):
         for o in nuisance.get(axis) or []:
             offsets.setdefault(o.get("log", ""), {})[axis] = o
     if offsets:
         both = [v for v in offsets.values() if all(a in v and v[a].get("identifiable")
-                                                   for a in ("force_bias_x_N", "force_bias_y_N"))]
-        sizes = [(v["force_bias_x_N"]["value"] ** 2 + v["force_bias_y_N"]["value"] ** 2) ** 0.5 for v in both]
+                                                   for a in ("force_bias_x_n", "force_bias_y_n"))]
+        sizes = [(v["force_bias_x_n"]["value"] ** 2 + v["force_bias_y_n"]["value"] ** 2) ** 0.5 for v in both]
         out.append("force offsets identifiable (both axes) in {} of {} logs, their size {} N".format(
             len(both), len(offsets), spread(sizes)))
     return "; ".join(out) if out else "-"

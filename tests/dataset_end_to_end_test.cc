@@ -79,7 +79,7 @@ DatasetSpec RealisticSpec() {
   spec.log.noise.pose_m = 3e-4;
   spec.log.noise.angle_rad = 3e-3;
   spec.log.noise.force_relative = 0.02;
-  spec.log.noise.force_N = 0.05;
+  spec.log.noise.force_n = 0.05;
   return spec;
 }
 

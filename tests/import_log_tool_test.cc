@@ -223,7 +223,7 @@ TEST(MitImportReport, RowsHaveEveryColumnAndQuoteTheirText) {
   EXPECT_EQ(Cell(header, MitImportReportRow(a), "source"), a.source);
   EXPECT_EQ(Cell(header, MitImportReportRow(a), "reason"), a.reason);
   EXPECT_EQ(Cell(header, MitImportReportRow(a), "notes"), "one; two \"quoted\"");
-  EXPECT_EQ(Cell(header, MitImportReportRow(a), "offset_before_fx_N"), "");  // unknown: empty
+  EXPECT_EQ(Cell(header, MitImportReportRow(a), "offset_before_fx_n"), "");  // unknown: empty
 }
 
 }  // namespace

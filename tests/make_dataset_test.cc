@@ -140,7 +140,7 @@ TEST(Dataset, ADrawThatTipsIsRedrawnWithItsReasonRecorded) {
   // Tall and narrow, pushed high and hard: many draws tip (with seed 17, the first two).
   spec.com_height_m = {0.05, 0.08};
   spec.patch = PatchRange::Parse("rectangle 0.04:0.06 0.04:0.06");
-  spec.program.force_N = ValueRange{1.0, 4.0};
+  spec.program.force_n = ValueRange{1.0, 4.0};
   spec.program.height_m = ValueRange{0.03, 0.08};
   spec.mu = {0.3, 0.6};
   Trajectory log;
@@ -351,7 +351,7 @@ TEST(SimulateLogOptions, ForceBiasAndDelayOptionsReachTheLogAndItsMetadata) {
         << u;
   }
   const std::string text = ReadText(dir + "/defects.csv");
-  EXPECT_NE(text.find("# noise_force_bias_x_N = 0.5\n"), std::string::npos);
+  EXPECT_NE(text.find("# noise_force_bias_x_n = 0.5\n"), std::string::npos);
   EXPECT_NE(text.find("# noise_force_delay_s = 0.02\n"), std::string::npos);
   EXPECT_EQ(RunTool("simulate", scene + " --force-delay nan"), 2);
 }

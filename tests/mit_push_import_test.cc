@@ -152,21 +152,21 @@ TEST(MitPushImport, QuarterTurnJumpsAreRepairedAndThetaUnwrapped) {
 
 TEST(MitPushImport, OffsetsBeforeAndAfterAreEstimatedAndRemoved) {
   MitSynthSpec spec;
-  spec.offset_before_N = {0.0, 0.0};
-  spec.offset_after_N = {0.0, 0.0};
+  spec.offset_before_n = {0.0, 0.0};
+  spec.offset_after_n = {0.0, 0.0};
   const MitImportResult zero = ImportAccepted(spec);
   MitSynthSpec drifting = spec;
   // The tip clear of the object on both sides: a drift is measured, not a pre-load.
   drifting.rest_clearance_m = 5e-3;
-  drifting.offset_before_N = {-1.5, -0.5};
-  drifting.offset_after_N = {-1.2, -0.3};  // 0.36 N apart: below the 0.5 N threshold
+  drifting.offset_before_n = {-1.5, -0.5};
+  drifting.offset_after_n = {-1.2, -0.3};  // 0.36 N apart: below the 0.5 N threshold
   const MitImportResult r = ImportAccepted(drifting);
   // About 70 still samples a side, 0.05 N each: the median is within 0.02 N (3 sigma).
-  ASSERT_TRUE(r.report.offset_before_N && r.report.offset_after_N);
-  EXPECT_LT((*r.report.offset_before_N - drifting.offset_before_N).norm(), 0.02);
-  EXPECT_LT((*r.report.offset_after_N - drifting.offset_after_N).norm(), 0.02);
-  EXPECT_NEAR(*r.report.offset_drift_N, 0.36, 0.03);
-  EXPECT_NEAR(r.report.force_noise_N, 0.05, 0.01);
+  ASSERT_TRUE(r.report.offset_before_n && r.report.offset_after_n);
+  EXPECT_LT((*r.report.offset_before_n - drifting.offset_before_n).norm(), 0.02);
+  EXPECT_LT((*r.report.offset_after_n - drifting.offset_after_n).norm(), 0.02);
+  EXPECT_NEAR(*r.report.offset_drift_n, 0.36, 0.03);
+  EXPECT_NEAR(r.report.force_noise_n, 0.05, 0.01);
   // The linear drift is removed: the same forces as without offsets, within the estimates'
   // error (0.02 N) on both sides.
   ASSERT_EQ(r.log.samples.size(), zero.log.samples.size());
@@ -181,10 +181,10 @@ TEST(MitPushImport, OffsetsBeforeAndAfterAreEstimatedAndRemoved) {
 TEST(MitPushImport, OffsetDriftAboveTheThresholdIsRejected) {
   MitSynthSpec spec;
   spec.rest_clearance_m = 5e-3;
-  spec.offset_after_N = {0.0, 0.0};  // 1.58 N from (-1.5, -0.5)
+  spec.offset_after_n = {0.0, 0.0};  // 1.58 N from (-1.5, -0.5)
   ExpectRejected(Import(spec), "force offset drift 1.5");
   MitImportOptions lenient = Options(spec);
-  lenient.max_offset_drift_N = 2.0;
+  lenient.max_offset_drift_n = 2.0;
   EXPECT_EQ(ImportMitPush(MakeMitPushRecording(spec).recording, "s.json", lenient).report.verdict,
             ImportVerdict::kAccepted);
 }
@@ -196,13 +196,13 @@ TEST(MitPushImport, OffsetDriftAboveTheThresholdIsRejected) {
 TEST(MitPushImport, APreloadBeforeThePushIsARealForceNotAnOffset) {
   for (double preload : {0.4, 1.2, 1.9}) {
     MitSynthSpec spec;
-    spec.preload_N = preload;
+    spec.preload_n = preload;
     const MitImportResult r = ImportAccepted(spec);
-    ASSERT_TRUE(r.report.preload_N.has_value()) << preload;
-    EXPECT_NEAR(r.report.preload_N->norm(), preload, 0.1) << preload;
-    ASSERT_TRUE(r.report.offset_after_N.has_value());
-    EXPECT_NEAR((*r.report.offset_after_N - spec.offset_after_N).norm(), 0.0, 0.05);
-    EXPECT_FALSE(r.report.offset_before_N.has_value());
+    ASSERT_TRUE(r.report.preload_n.has_value()) << preload;
+    EXPECT_NEAR(r.report.preload_n->norm(), preload, 0.1) << preload;
+    ASSERT_TRUE(r.report.offset_after_n.has_value());
+    EXPECT_NEAR((*r.report.offset_after_n - spec.offset_after_n).norm(), 0.0, 0.05);
+    EXPECT_FALSE(r.report.offset_before_n.has_value());
     bool noted = false;
     for (const std::string& n : r.report.notes) noted = noted || n.find("pressing it") != std::string::npos;
     EXPECT_TRUE(noted) << preload;
@@ -214,13 +214,13 @@ TEST(MitPushImport, APreloadBeforeThePushIsARealForceNotAnOffset) {
 TEST(MitPushImport, ATipTouchingWithoutPressingMeasuresTheOffset) {
   MitSynthSpec spec;  // rests against the object before and after, no force
   MitImportResult r = ImportAccepted(spec);
-  EXPECT_FALSE(r.report.preload_N.has_value());
-  ASSERT_TRUE(r.report.offset_before_N && r.report.offset_after_N);
-  EXPECT_NEAR((*r.report.offset_before_N - spec.offset_before_N).norm(), 0.0, 0.05);
+  EXPECT_FALSE(r.report.preload_n.has_value());
+  ASSERT_TRUE(r.report.offset_before_n && r.report.offset_after_n);
+  EXPECT_NEAR((*r.report.offset_before_n - spec.offset_before_n).norm(), 0.0, 0.05);
   spec.rest_clearance_m = 5e-3;
   r = ImportAccepted(spec);
-  EXPECT_FALSE(r.report.preload_N.has_value());
-  ASSERT_TRUE(r.report.offset_before_N && r.report.offset_after_N);
+  EXPECT_FALSE(r.report.preload_n.has_value());
+  ASSERT_TRUE(r.report.offset_before_n && r.report.offset_after_n);
 }
 
 // Marker swaps: every 7th object pose 5 m off is dropped, counted, and the push imported
@@ -254,9 +254,9 @@ TEST(MitPushImport, OneSidedOffsetIsUsedAndNoted) {
   MitSynthSpec spec;
   spec.rest_before_s = 0.03;  // the streams start while the push starts
   const MitImportResult r = ImportAccepted(spec);
-  EXPECT_FALSE(r.report.offset_before_N.has_value());
-  EXPECT_TRUE(r.report.offset_after_N.has_value());
-  EXPECT_FALSE(r.report.offset_drift_N.has_value());
+  EXPECT_FALSE(r.report.offset_before_n.has_value());
+  EXPECT_TRUE(r.report.offset_after_n.has_value());
+  EXPECT_FALSE(r.report.offset_drift_n.has_value());
   ASSERT_FALSE(r.report.notes.empty());
   EXPECT_NE(r.report.notes[0].find("no offset before the push"), std::string::npos);
 }
@@ -269,7 +269,7 @@ TEST(MitPushImport, DeadForceChannelIsRejectedAsSuch) {
 
 TEST(MitPushImport, SaturatedForceDuringThePushIsRejected) {
   MitSynthSpec spec;
-  spec.defects.saturation_N = 2.0;  // stored fx (minus the force, offset -1.5 N) reaches 2.4 N
+  spec.defects.saturation_n = 2.0;  // stored fx (minus the force, offset -1.5 N) reaches 2.4 N
   ExpectRejected(Import(spec), "inside the push window (saturated or stalled sensor)");
 }
 
@@ -282,7 +282,7 @@ TEST(MitPushImport, FrozenSamplesOutsideThePushAreDroppedAndCounted) {
   const MitImportResult r = ImportMitPush(truth.recording, "s.json", Options(spec));
   ASSERT_EQ(r.report.verdict, ImportVerdict::kAccepted) << r.report.reason;
   EXPECT_EQ(r.report.frozen_force_samples, 20);
-  EXPECT_LT((*r.report.offset_before_N - spec.offset_before_N).norm(), 0.03);  // not the zeros
+  EXPECT_LT((*r.report.offset_before_n - spec.offset_before_n).norm(), 0.03);  // not the zeros
 }
 
 TEST(MitPushImport, PoseGapOutsideThePushIsReportedAndLeavesTheLogWhole) {
@@ -411,7 +411,7 @@ TEST(MitPushImport, IdentifyRecoversTheTruthFromImportedLogsAsFromNativeOnes) {
     spec.defects.backward_steps = 9;
     spec.defects.duplicate_rows = 3;
     spec.defects.quarter_turns = {{0.6, 1}};
-    spec.offset_after_N = {-1.3, -0.4};
+    spec.offset_after_n = {-1.3, -0.4};
     const MitSynthResult truth = MakeMitPushRecording(spec);
     const ReducedFriction friction = ReducedFriction::From(spec.friction);
     const MitImportResult imported = ImportMitPush(truth.recording, "s.json", Options(spec));
@@ -427,7 +427,7 @@ TEST(MitPushImport, IdentifyRecoversTheTruthFromImportedLogsAsFromNativeOnes) {
     native_spec.motion = LogMotion::kPoses;
     native_spec.noise.pose_m = spec.pose_noise_m;
     native_spec.noise.angle_rad = spec.angle_noise_rad;
-    native_spec.noise.force_N = spec.force_noise_N;
+    native_spec.noise.force_n = spec.force_noise_n;
     native_spec.noise.seed = seed;
     const EstimateResult native = Identify(MakeLog(truth.simulated, native_spec), estimator);
     EXPECT_NEAR(RelativeError(native, kA, friction), 0.0, kTolNativeA) << "seed " << seed;

@@ -84,7 +84,7 @@ TEST(Noise, PoseVelocityAndAngleNoiseHaveTheSpecifiedMeanAndStd) {
 TEST(Noise, ForceNoiseIsRelativePlusAbsolute) {
   NoiseSpec n;
   n.force_relative = 0.02;
-  n.force_N = 0.05;
+  n.force_n = 0.05;
   n.seed = 12;
   const Trajectory noisy = AddNoise(StillLog(false), n);
   // fx = 3: std = hypot(0.02 * 3, 0.05); fy = -4: hypot(0.02 * 4, 0.05).
@@ -122,7 +122,7 @@ TEST(Noise, SameSeedGivesTheSameBytesAndAnotherSeedOtherBytes) {
   n.pose_m = 3e-4;
   n.angle_rad = 3e-3;
   n.force_relative = 0.02;
-  n.force_N = 0.05;
+  n.force_n = 0.05;
   n.outlier_fraction = 0.01;
   n.outlier_m = 0.01;
   n.seed = 42;
@@ -170,7 +170,7 @@ TEST(Noise, PushPointMomentsFollowTheNoisyForceAndKeepTheResidualMoment) {
   NoiseSpec n;
   n.pose_m = 1e-3;
   n.force_relative = 0.05;
-  n.force_N = 0.1;
+  n.force_n = 0.1;
   n.seed = 21;
   Trajectory clean = StillLog(true);
   clean.samples.resize(50);
@@ -243,7 +243,7 @@ TEST(Noise, PushPointNoiseLeavesTheOtherStreamsAsTheyWere) {
 TEST(Noise, RowsWithoutForceGetNoForceNoise) {
   NoiseSpec n;
   n.force_relative = 0.1;
-  n.force_N = 1.0;
+  n.force_n = 1.0;
   const Trajectory clean = testing::SimulateOrFail(testing::FreeSlideWithSpin());
   for (const TrajectorySample& s : AddNoise(clean, n).samples) {
     EXPECT_TRUE(s.applied.IsZero());
@@ -425,10 +425,10 @@ TEST(SensorModel, ForceBiasIsAddedToEveryRowWithItsMomentAtThePushPoint) {
   LogSpec spec;
   spec.motion = LogMotion::kPoses;
   spec.noise.pose_m = 1e-4;
-  spec.noise.force_N = 0.05;
+  spec.noise.force_n = 0.05;
   const Trajectory clean = MakeLog(fine, spec);
-  spec.noise.force_bias_x_N = 0.3;
-  spec.noise.force_bias_y_N = -0.2;
+  spec.noise.force_bias_x_n = 0.3;
+  spec.noise.force_bias_y_n = -0.2;
   const Trajectory biased = MakeLog(fine, spec);
   ASSERT_EQ(biased.samples.size(), clean.samples.size());
   int rows_at_rest = 0;
@@ -458,8 +458,8 @@ TEST(SensorModel, ForceBiasIsAddedToEveryRowWithItsMomentAtThePushPoint) {
     EXPECT_NEAR(back.samples[u].applied.tz, biased.samples[u].applied.tz, 1e-12) << u;
   }
   const std::string text = Written(biased);
-  EXPECT_NE(text.find("# noise_force_bias_x_N = 0.29999999999999999\n"), std::string::npos);
-  EXPECT_NE(text.find("# noise_force_bias_y_N = -0.20000000000000001\n"), std::string::npos);
+  EXPECT_NE(text.find("# noise_force_bias_x_n = 0.29999999999999999\n"), std::string::npos);
+  EXPECT_NE(text.find("# noise_force_bias_y_n = -0.20000000000000001\n"), std::string::npos);
   EXPECT_EQ(text.find("noise_force_delay_s"), std::string::npos);  // not set, not written
   EXPECT_EQ(Written(clean).find("force_bias"), std::string::npos);
 }
@@ -499,7 +499,7 @@ TEST(SensorModel, DelayShiftsThePushStreamAgainstThePoses) {
 
 TEST(SensorModel, DefectsMustBeFinite) {
   NoiseSpec n;
-  n.force_bias_x_N = -2.0;  // any sign
+  n.force_bias_x_n = -2.0;  // any sign
   n.force_delay_s = -0.01;
   std::string why;
   EXPECT_TRUE(n.IsValid(&why)) << why;
@@ -509,9 +509,9 @@ TEST(SensorModel, DefectsMustBeFinite) {
   EXPECT_FALSE(n.IsValid(&why));
   EXPECT_NE(why.find("force_delay_s"), std::string::npos) << why;
   n.force_delay_s = 0;
-  n.force_bias_y_N = HUGE_VAL;
+  n.force_bias_y_n = HUGE_VAL;
   EXPECT_FALSE(n.IsValid(&why));
-  EXPECT_NE(why.find("force_bias_y_N"), std::string::npos) << why;
+  EXPECT_NE(why.find("force_bias_y_n"), std::string::npos) << why;
 }
 
 }  // namespace

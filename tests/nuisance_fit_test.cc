@@ -21,8 +21,8 @@ namespace {
 
 // The injected defects: a force offset of a few percent of the pushes (4 to 5.5 N) and a
 // delay of two log intervals.
-constexpr double kBiasX_N = 0.15;
-constexpr double kBiasY_N = -0.1;
+constexpr double kBiasX_n = 0.15;
+constexpr double kBiasY_n = -0.1;
 constexpr double kDelay_s = 0.02;
 // Noiseless exact logs. Without a delay the fit reaches the truth to 1e-6 relative, as
 // without nuisances (trajectory_fit_test.cc). A delay of the exact model is a whole number
@@ -33,7 +33,7 @@ constexpr double kDelay_s = 0.02;
 // fit's own 95% intervals.
 constexpr double kExactRelTol = 1e-6;
 constexpr double kKinkRelTol = 1e-5;
-constexpr double kKinkBiasTol_N = 1e-5;
+constexpr double kKinkBiasTol_n = 1e-5;
 constexpr double kExactDelayTol_s = 1e-7;
 
 LoggedScene DefaultExperiment() {
@@ -48,7 +48,7 @@ LoggedScene ExactExperiment() {
   scene.dt_s = 0.01;
   scene.log.log_every = 1;
   scene.log.noise.force_relative = 0.0;
-  scene.log.noise.force_N = 0.0;
+  scene.log.noise.force_n = 0.0;
   return scene;
 }
 
@@ -64,8 +64,8 @@ const Trajectory& Simulated(const LoggedScene& scene) {
 }
 
 LogSpec WithDefects(LogSpec spec, double bias_x, double bias_y, double delay) {
-  spec.noise.force_bias_x_N = bias_x;
-  spec.noise.force_bias_y_N = bias_y;
+  spec.noise.force_bias_x_n = bias_x;
+  spec.noise.force_bias_y_n = bias_y;
   spec.noise.force_delay_s = delay;
   return spec;
 }
@@ -106,7 +106,7 @@ TEST(NuisanceFit, NoiselessExactLogRecoversForceBiasDelayAndFriction) {
   // of the last two together, -0.3 N, 0.05 N and -30 ms, stopped at 5e-6 relative in c: the
   // solve ends once the parameters settle, and at the delay's kink (the truth, a whole
   // number of rows) they settle before the last digits.)
-  for (const Case& c : {Case{kBiasX_N, kBiasY_N, kDelay_s}, Case{-0.3, 0.05, 0.0},
+  for (const Case& c : {Case{kBiasX_n, kBiasY_n, kDelay_s}, Case{-0.3, 0.05, 0.0},
                         Case{0.0, 0.0, -0.03}}) {
     SCOPED_TRACE(::testing::Message() << "bias " << c.bias_x << ", " << c.bias_y << " delay "
                                       << c.delay);
@@ -126,11 +126,11 @@ TEST(NuisanceFit, NoiselessExactLogRecoversForceBiasDelayAndFriction) {
           << ParameterName(i) << " " << p.ci95_lo << ".." << p.ci95_hi;
     }
     const std::pair<const char*, double> injected[3] = {
-        {"force_bias_x_N", c.bias_x}, {"force_bias_y_N", c.bias_y}, {"delay_s", c.delay}};
+        {"force_bias_x_n", c.bias_x}, {"force_bias_y_n", c.bias_y}, {"delay_s", c.delay}};
     for (const auto& [name, value] : injected) {
       const NuisanceEstimate& n = Nuisance(r, name);
       const bool delay = std::string(name) == "delay_s";
-      EXPECT_NEAR(n.value, value, delay ? kExactDelayTol_s : kKinkBiasTol_N) << name;
+      EXPECT_NEAR(n.value, value, delay ? kExactDelayTol_s : kKinkBiasTol_n) << name;
       EXPECT_TRUE(Covers(n, value)) << name << " " << n.ci95_lo << ".." << n.ci95_hi;
     }
     EXPECT_EQ(Nuisance(r, "delay_s").log, "");  // shared
@@ -166,11 +166,11 @@ TEST(NuisanceFit, NoisyExactLogsRecoverBiasAndDelayAndFrictionAsWithoutThem) {
     const EstimateResult without = EstimateTrajectory(MakeLog(Simulated(scene), spec), {});
     const EstimateResult with =
         EstimateTrajectory(
-            MakeLog(Simulated(scene), WithDefects(spec, kBiasX_N, kBiasY_N, kDelay_s)),
+            MakeLog(Simulated(scene), WithDefects(spec, kBiasX_n, kBiasY_n, kDelay_s)),
             NuisanceOptions(true, DelayFit::kShared));
     ASSERT_TRUE(with.converged) << k << ": " << with.message;
-    covered_nuisance[0] += Covers(Nuisance(with, "force_bias_x_N"), kBiasX_N);
-    covered_nuisance[1] += Covers(Nuisance(with, "force_bias_y_N"), kBiasY_N);
+    covered_nuisance[0] += Covers(Nuisance(with, "force_bias_x_n"), kBiasX_n);
+    covered_nuisance[1] += Covers(Nuisance(with, "force_bias_y_n"), kBiasY_n);
     covered_nuisance[2] += Covers(Nuisance(with, "delay_s"), kDelay_s);
     for (int i = 0; i < 3; ++i) {
       const ParameterEstimate& p = with.parameters[i];
@@ -182,7 +182,7 @@ TEST(NuisanceFit, NoisyExactLogsRecoverBiasAndDelayAndFrictionAsWithoutThem) {
       error_without[i] += std::abs(q.value / truth[i] - 1) / kLogs;
     }
   }
-  const char* names[3] = {"force_bias_x_N", "force_bias_y_N", "delay_s"};
+  const char* names[3] = {"force_bias_x_n", "force_bias_y_n", "delay_s"};
   for (int j = 0; j < 3; ++j) {
     EXPECT_GE(covered_nuisance[j], kMinCovered) << names[j] << " covered in "
                                                 << covered_nuisance[j] << "/" << kLogs;
@@ -215,7 +215,7 @@ TEST(NuisanceFit, DefaultExperimentRecoversInjectedDefectsAboveItsInherentOffset
   // shifted stream moves the delay by up to 1.2 ms (20 logs).
   constexpr double kDelayTol_s = 0.002;
   // The force noise is 0.05 N + 2% per row; the offsets moved by up to 7 mN (20 logs).
-  constexpr double kBiasTol_N = 0.02;
+  constexpr double kBiasTol_n = 0.02;
   // a, b, c within 5% of the truth: measured within 1.5, 1 and 3.6% with the defects and
   // nuisances (within 2.3% without either).
   constexpr double kMaxRelError = 0.05;
@@ -226,19 +226,19 @@ TEST(NuisanceFit, DefaultExperimentRecoversInjectedDefectsAboveItsInherentOffset
     spec.noise.seed = seed;
     const EstimateResult plain = EstimateTrajectory(MakeLog(Simulated(scene), spec), options);
     const EstimateResult defect = EstimateTrajectory(
-        MakeLog(Simulated(scene), WithDefects(spec, kBiasX_N, kBiasY_N, kDelay_s)), options);
+        MakeLog(Simulated(scene), WithDefects(spec, kBiasX_n, kBiasY_n, kDelay_s)), options);
     ASSERT_TRUE(plain.converged && defect.converged) << plain.message << "\n" << defect.message;
     const NuisanceEstimate& inherent = Nuisance(plain, "delay_s");
     EXPECT_LT(inherent.value, -0.001) << "the discretisation's inherent delay";
     EXPECT_GT(inherent.value, -0.005);
     const std::pair<const char*, double> injected[3] = {
-        {"force_bias_x_N", kBiasX_N}, {"force_bias_y_N", kBiasY_N}, {"delay_s", kDelay_s}};
+        {"force_bias_x_n", kBiasX_n}, {"force_bias_y_n", kBiasY_n}, {"delay_s", kDelay_s}};
     for (const auto& [name, value] : injected) {
       const NuisanceEstimate& p = Nuisance(plain, name);
       const NuisanceEstimate& d = Nuisance(defect, name);
       ASSERT_TRUE(p.identifiable && d.identifiable) << name;
       EXPECT_NEAR(d.value - p.value, value,
-                  std::string(name) == "delay_s" ? kDelayTol_s : kBiasTol_N)
+                  std::string(name) == "delay_s" ? kDelayTol_s : kBiasTol_n)
           << name << ": " << d.value << " against " << p.value << " without the defects";
     }
     for (int i = 0; i < 3; ++i) {
@@ -274,7 +274,7 @@ TEST(NuisanceFit, ForceBiasAlongTheOnlyDirectionOfMotionIsReportedNotIdentifiabl
   IdentifyOptions options = NuisanceOptions(true, DelayFit::kNone);
   options.trajectory.segment_steps = 20;
   const EstimateResult r = EstimateTrajectory(log, options);
-  const NuisanceEstimate& along = Nuisance(r, "force_bias_x_N");
+  const NuisanceEstimate& along = Nuisance(r, "force_bias_x_n");
   EXPECT_FALSE(along.identifiable);
   EXPECT_EQ(along.verdict, Verdict::kNotIdentifiable);
   EXPECT_TRUE(std::isnan(along.value));

@@ -163,7 +163,7 @@ TEST(PlotFitTool, DrawsWhatIdentifyFoundForPooledLogs) {
   const std::string dir = TempDir("plot_fit_tool");
   Scene scene = testing::PushedSlider();
   WritePushLog(testing::SimulateOrFail(scene), dir + "/a.csv");
-  scene.pushes[0].force_N = 2.9;
+  scene.pushes[0].force_n = 2.9;
   WritePushLog(testing::SimulateOrFail(scene), dir + "/b.csv");
   std::string out;
   ASSERT_EQ(RunCommand("identify --logs " + dir + " --json", &out), 0) << out;

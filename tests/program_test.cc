@@ -29,19 +29,19 @@ TEST(RandomProgram, SameSeedGivesTheSameProgramAndAnotherSeedAnother) {
   for (size_t i = 0; i < a.pushes.size(); ++i) {
     EXPECT_EQ(a.pushes[i].point_body, b.pushes[i].point_body);
     EXPECT_EQ(a.pushes[i].direction_body, b.pushes[i].direction_body);
-    EXPECT_EQ(a.pushes[i].force_N, b.pushes[i].force_N);
+    EXPECT_EQ(a.pushes[i].force_n, b.pushes[i].force_n);
     EXPECT_EQ(a.pushes[i].start_s, b.pushes[i].start_s);
   }
   spec.seed = 10;
   const PushProgram c = RandomPushProgram(spec, kPatch, Box(), Friction());
-  EXPECT_NE(a.pushes[0].force_N, c.pushes[0].force_N);
+  EXPECT_NE(a.pushes[0].force_n, c.pushes[0].force_n);
   EXPECT_NE(a.pushes[0].point_body, c.pushes[0].point_body);
 }
 
 TEST(RandomProgram, PushesStayWithinTheirRangesAndRestBetween) {
   RandomProgramSpec spec;
   spec.count = 40;
-  spec.force_N = ValueRange{2.0, 4.0};
+  spec.force_n = ValueRange{2.0, 4.0};
   spec.height_m = ValueRange{0.01, 0.02};
   spec.start_s = 0.5;
   const PushProgram p = RandomPushProgram(spec, kPatch, Box(), Friction());
@@ -57,9 +57,9 @@ TEST(RandomProgram, PushesStayWithinTheirRangesAndRestBetween) {
     }
     EXPECT_GE(q.stop_s - q.start_s, spec.duration_s.lo - kGeometryTol);
     EXPECT_LE(q.stop_s - q.start_s, spec.duration_s.hi + kGeometryTol);
-    EXPECT_GE(q.force_N, 2.0);
-    EXPECT_LE(q.force_N, 4.0);
-    EXPECT_LE(q.amplitude_N, spec.amplitude_fraction.hi * q.force_N);
+    EXPECT_GE(q.force_n, 2.0);
+    EXPECT_LE(q.force_n, 4.0);
+    EXPECT_LE(q.amplitude_n, spec.amplitude_fraction.hi * q.force_n);
     EXPECT_GE(q.period_s, spec.period_s.lo);
     EXPECT_LE(q.period_s, spec.period_s.hi);
     EXPECT_GE(q.height_m, 0.01);
@@ -100,8 +100,8 @@ TEST(RandomProgram, DefaultForceAndHeightScaleWithTheSlider) {
   const PushProgram p = RandomPushProgram(spec, kPatch, Box(), Friction());
   const double limit = 0.4 * 0.8 * 9.81;  // a m g
   for (const PushSpec& q : p.pushes) {
-    EXPECT_GE(q.force_N, 1.1 * limit);  // every push slides the slider
-    EXPECT_LE(q.force_N, 1.6 * limit);
+    EXPECT_GE(q.force_n, 1.1 * limit);  // every push slides the slider
+    EXPECT_LE(q.force_n, 1.6 * limit);
     EXPECT_GE(q.height_m, 0.25 * 0.04);
     EXPECT_LE(q.height_m, 0.75 * 0.04);
   }

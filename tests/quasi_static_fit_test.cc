@@ -281,7 +281,7 @@ TEST(QuasiStaticFit, BadPairsAreNamed) {
   expect_error(pairs, "pair 3: not finite");
   expect_error({data.Pairs()[0], data.Pairs()[1]}, "too few");
   QuasiStaticFitOptions no_weight = options;
-  no_weight.weight_N = 0.0;
+  no_weight.weight_n = 0.0;
   EXPECT_THROW(EstimateQuasiStatic(data.Pairs(), no_weight), std::invalid_argument);
 }
 

@@ -206,7 +206,7 @@ TEST(ResultJson, ReadsBackPooledLogsNuisancesAndVerdicts) {
   r.log_noise = 3e-4;
   r.residual_rms = 1.0 / 3.0;
   NuisanceEstimate bias;
-  bias.name = "force_bias_x_N";
+  bias.name = "force_bias_x_n";
   bias.log = "push \"1\".csv";
   bias.identifiable = true;
   bias.verdict = Verdict::kOk;

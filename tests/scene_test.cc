@@ -148,7 +148,7 @@ TEST(Scene, PushDefaultsAndNormalisedDirection) {
   EXPECT_NEAR(p.direction_body.x(), 0.6, kTol);
   EXPECT_NEAR(p.direction_body.y(), 0.8, kTol);
   EXPECT_EQ(p.height_m, 0.08);  // com_height
-  EXPECT_EQ(p.amplitude_N, 0.0);
+  EXPECT_EQ(p.amplitude_n, 0.0);
   EXPECT_EQ(p.period_s, 0.0);
   EXPECT_EQ(p.start_s, 0.0);
   EXPECT_EQ(p.stop_s, 1e300);
@@ -176,13 +176,13 @@ TEST(Scene, UnreadableFileIsAnErrorNamingThePath) {
 
 TEST(PushSpec, MagnitudeIsPeriodicClampedAndWindowed) {
   PushSpec p;
-  p.force_N = 2.2;
-  p.amplitude_N = 2.0;
+  p.force_n = 2.2;
+  p.amplitude_n = 2.0;
   p.period_s = 0.1;
   EXPECT_NEAR(p.MagnitudeAt(0.0), 4.2, kTol);
   EXPECT_NEAR(p.MagnitudeAt(0.05), 0.2, kTol);
   EXPECT_NEAR(p.MagnitudeAt(0.025), 2.2, kTol);
-  p.force_N = 1.0;  // 1 + 2 cos: negative half the time, and a pusher cannot pull
+  p.force_n = 1.0;  // 1 + 2 cos: negative half the time, and a pusher cannot pull
   EXPECT_EQ(p.MagnitudeAt(0.05), 0.0);
   p.start_s = 1.0;
   p.stop_s = 2.0;
@@ -193,7 +193,7 @@ TEST(PushSpec, MagnitudeIsPeriodicClampedAndWindowed) {
 
 TEST(PushSpec, PeriodZeroMeansConstantForce) {
   PushSpec p;
-  p.force_N = 1.5;
+  p.force_n = 1.5;
   EXPECT_EQ(p.MagnitudeAt(0.0), 1.5);
   EXPECT_EQ(p.MagnitudeAt(123.4), 1.5);
 }
@@ -203,7 +203,7 @@ TEST(PushSpec, WrenchIsRCrossFWithRotatedPointAndDirection) {
   p.point_body = {-0.025, -0.0025};
   p.direction_body = {1.0, 0.0};
   p.height_m = 0.08;
-  p.force_N = 2.0;
+  p.force_n = 2.0;
   PlanarState pose;
   pose.x = 1.0;
   pose.y = 2.0;
@@ -227,7 +227,7 @@ TEST(PushSpec, PushBelowTheCmGivesTiltingMoments) {
   p.point_body = {-0.025, 0.0};
   p.direction_body = {1.0, 0.0};
   p.height_m = 0.02;
-  p.force_N = 3.0;
+  p.force_n = 3.0;
   const AppliedWrench w = p.WrenchAt(0.0, PlanarState{}, 0.08, nullptr);
   // r = (-0.025, 0, -0.06), f = (3, 0, 0): r x f = (0, rz fx, -ry fx) = (0, -0.18, 0).
   EXPECT_NEAR(w.tx, 0.0, kTol);
@@ -242,7 +242,7 @@ TEST(PushSpec, PushBelowTheCmGivesTiltingMoments) {
 TEST(PushSpec, ClampedForceGivesZeroWrench) {
   PushSpec p;
   p.point_body = {0.01, 0.02};
-  p.force_N = -1.0;
+  p.force_n = -1.0;
   EXPECT_TRUE(p.WrenchAt(0.3, PlanarState{}, 0.05).IsZero());
 }
 
@@ -256,17 +256,17 @@ TEST(Scene, NumberedPushSectionsLoadInNumericOrderAfterPush) {
                                        "stop = 1.5\nheight = 0.02\n"),
                              "scene.ini");
   ASSERT_EQ(s.pushes.size(), 3u);
-  EXPECT_EQ(s.pushes[0].force_N, 1.0);
+  EXPECT_EQ(s.pushes[0].force_n, 1.0);
   EXPECT_EQ(s.pushes[0].stop_s, 0.5);
-  EXPECT_EQ(s.pushes[1].force_N, 2.0);  // [push.2] before [push.10]
+  EXPECT_EQ(s.pushes[1].force_n, 2.0);  // [push.2] before [push.10]
   EXPECT_EQ(s.pushes[1].point_body, Eigen::Vector2d(-0.025, 0.01));
   EXPECT_EQ(s.pushes[1].direction_body, Eigen::Vector2d(0, 1));
-  EXPECT_EQ(s.pushes[1].amplitude_N, 0.5);
+  EXPECT_EQ(s.pushes[1].amplitude_n, 0.5);
   EXPECT_EQ(s.pushes[1].period_s, 0.2);
   EXPECT_EQ(s.pushes[1].height_m, 0.02);
   EXPECT_EQ(s.pushes[1].start_s, 1.0);
   EXPECT_EQ(s.pushes[1].stop_s, 1.5);
-  EXPECT_EQ(s.pushes[2].force_N, 3.0);
+  EXPECT_EQ(s.pushes[2].force_n, 3.0);
   EXPECT_EQ(s.pushes[2].height_m, 0.08);  // com_height by default, as in [push]
 }
 
@@ -312,7 +312,7 @@ TEST(Scene, LogAndNoiseSectionsSetTheLogSpec) {
   EXPECT_EQ(s.log.noise.velocity_mps, 0.01);
   EXPECT_EQ(s.log.noise.spin_radps, 0.1);
   EXPECT_EQ(s.log.noise.force_relative, 0.02);
-  EXPECT_EQ(s.log.noise.force_N, 0.05);
+  EXPECT_EQ(s.log.noise.force_n, 0.05);
   EXPECT_EQ(s.log.noise.outlier_fraction, 0.01);
   EXPECT_EQ(s.log.noise.outlier_m, 0.02);
   EXPECT_EQ(s.log.noise.seed, 18446744073709551615ull);  // the whole 64-bit range
@@ -321,8 +321,8 @@ TEST(Scene, LogAndNoiseSectionsSetTheLogSpec) {
   const LoggedScene d = ParseScene(
       SceneText("[noise]\nforce_bias_x = 0.25\nforce_bias_y = -0.1\nforce_delay = 0.012\n"),
       "scene.ini");
-  EXPECT_EQ(d.log.noise.force_bias_x_N, 0.25);
-  EXPECT_EQ(d.log.noise.force_bias_y_N, -0.1);
+  EXPECT_EQ(d.log.noise.force_bias_x_n, 0.25);
+  EXPECT_EQ(d.log.noise.force_bias_y_n, -0.1);
   EXPECT_EQ(d.log.noise.force_delay_s, 0.012);
   EXPECT_TRUE(d.log.noise.IsZero());
 }
@@ -376,15 +376,15 @@ TEST(Scene, RandomProgramIsDrawnIntoThePushesAndSetsTheDuration) {
   RandomProgramSpec spec;
   spec.count = 4;
   spec.seed = 7;
-  spec.force_N = ValueRange{2, 3};
+  spec.force_n = ValueRange{2, 3};
   spec.duration_s = {0.2, 0.3};
   spec.rest_s = {0.1, 0.1};
   const PushProgram expected = RandomPushProgram(spec, s.patch, s.slider, s.friction);
   for (size_t i = 0; i < s.pushes.size(); ++i) {
     EXPECT_EQ(s.pushes[i].point_body, expected.pushes[i].point_body) << i;
-    EXPECT_EQ(s.pushes[i].force_N, expected.pushes[i].force_N) << i;
-    EXPECT_GE(s.pushes[i].force_N, 2.0);
-    EXPECT_LE(s.pushes[i].force_N, 3.0);
+    EXPECT_EQ(s.pushes[i].force_n, expected.pushes[i].force_n) << i;
+    EXPECT_GE(s.pushes[i].force_n, 2.0);
+    EXPECT_LE(s.pushes[i].force_n, 3.0);
     EXPECT_EQ(s.pushes[i].start_s, expected.pushes[i].start_s) << i;
   }
   EXPECT_EQ(s.duration_s, expected.end_s);
@@ -420,7 +420,7 @@ TEST(Scene, BundledDefaultPushSceneIsARealisticExperiment) {
   EXPECT_EQ(s.log.noise.pose_m, 3e-4);
   EXPECT_EQ(s.log.noise.angle_rad, 3e-3);
   EXPECT_EQ(s.log.noise.force_relative, 0.02);
-  EXPECT_EQ(s.log.noise.force_N, 0.05);
+  EXPECT_EQ(s.log.noise.force_n, 0.05);
 }
 
 TEST(Scene, BundledExample1LoadsWithThePapersNumbers) {
@@ -475,8 +475,8 @@ TEST(Scene, BundledExample3LoadsWithThePapersPush) {
   EXPECT_EQ(p.point_body, Eigen::Vector2d(-0.025, -0.0025));
   EXPECT_EQ(p.direction_body, Eigen::Vector2d(1.0, 0.0));
   EXPECT_EQ(p.height_m, s.slider.com_height_m);
-  EXPECT_EQ(p.force_N, 2.2);
-  EXPECT_EQ(p.amplitude_N, 2.0);
+  EXPECT_EQ(p.force_n, 2.2);
+  EXPECT_EQ(p.amplitude_n, 2.0);
   EXPECT_EQ(p.period_s, 0.1);
   // Pushing at CM height: no tilting moment; the offset below the middle turns it.
   const AppliedWrench w = p.WrenchAt(0.0, s.initial, s.slider.com_height_m);

@@ -44,7 +44,7 @@ WrenchTwistData SampleData() {
   r.dtheta_rad = 0.088;
   r.contact_x_m = -0.019;
   r.contact_y_m = 0.068;
-  r.peak_force_N = 4.15;
+  r.peak_force_n = 4.15;
   r.samples = 492;
   d.rows.push_back(r);
   WrenchTwistRow unknown;  // diagnostics unknown
@@ -165,7 +165,7 @@ TEST(WrenchTwistCsv, RoundTripsEveryValueExactly) {
                         {a.dtheta_rad, b.dtheta_rad},
                         {a.contact_x_m, b.contact_x_m},
                         {a.contact_y_m, b.contact_y_m},
-                        {a.peak_force_N, b.peak_force_N}}) {
+                        {a.peak_force_n, b.peak_force_n}}) {
       if (std::isnan(x)) {
         EXPECT_TRUE(std::isnan(y));
       } else {

@@ -136,7 +136,7 @@ TEST(ZhouTripodLog, RoundTripsAWrittenLogWithItsLineNumbers) {
     ASSERT_EQ(a.robot.size(), b.robot.size());
     for (std::size_t i = 0; i < a.forces.size(); ++i) {
       EXPECT_EQ(a.forces[i].t_s, b.forces[i].t_s);
-      EXPECT_EQ(a.forces[i].fy_N, b.forces[i].fy_N);
+      EXPECT_EQ(a.forces[i].fy_n, b.forces[i].fy_n);
     }
     EXPECT_EQ(b.force_count_line, line + 2);
     EXPECT_EQ(b.forces.front().line, line + 3);
@@ -357,7 +357,7 @@ TEST(ZhouTripodImport, RejectsAPushWhoseFirstSampleIsOff) {
   TripodLog log = Log();
   // Push 4's sensor reads 0.8 N more throughout, as when the finger already rests on the
   // block (or the bias jumped): its first sample, the offset, is 0.8 N off the others'.
-  for (TripodForceSample& s : log.pushes[3].forces) s.fx_N += 0.8;
+  for (TripodForceSample& s : log.pushes[3].forces) s.fx_n += 0.8;
   const TripodImportReport report = ImportChanged(log);
   ExpectRejected(report, 4, "the first sample differs by 0.8");
   EXPECT_NE(report.push_reports[3].reason.find("line "), std::string::npos);
@@ -368,8 +368,8 @@ TEST(ZhouTripodImport, RejectsAForceOfTheWrongSign) {
   // Push 5's sensor reads the force on the finger instead (about its bias).
   const TripodForceSample first = log.pushes[4].forces[0];
   for (TripodForceSample& s : log.pushes[4].forces) {
-    s.fx_N = 2 * first.fx_N - s.fx_N;
-    s.fy_N = 2 * first.fy_N - s.fy_N;
+    s.fx_n = 2 * first.fx_n - s.fx_n;
+    s.fy_n = 2 * first.fy_n - s.fy_n;
   }
   ExpectRejected(ImportChanged(log), 5, "points out of the block");
 }
@@ -377,8 +377,8 @@ TEST(ZhouTripodImport, RejectsAForceOfTheWrongSign) {
 TEST(ZhouTripodImport, RejectsADeadSensorAndTimesThatGoBack) {
   TripodLog log = Log();
   for (TripodForceSample& s : log.pushes[0].forces) {
-    s.fx_N = log.pushes[0].forces[0].fx_N;
-    s.fy_N = log.pushes[0].forces[0].fy_N;
+    s.fx_n = log.pushes[0].forces[0].fx_n;
+    s.fy_n = log.pushes[0].forces[0].fy_n;
   }
   ExpectRejected(ImportChanged(log), 1, "no contact");
   log = Log();
@@ -397,7 +397,7 @@ TEST(ZhouTripodImport, WritesOneReportRowPerPush) {
   const std::string path = PathIn("report", "import_report.csv");
   TripodImportReport report;
   TripodLog log = Log();
-  for (TripodForceSample& s : log.pushes[3].forces) s.fx_N += 0.8;
+  for (TripodForceSample& s : log.pushes[3].forces) s.fx_n += 0.8;
   ImportZhouTripod(log, "x/y.txt", {}, &report);
   WriteTripodImportReport(report, path);
   std::ifstream in(path);

@@ -132,7 +132,7 @@ def test_pooled_logs_equal_the_cli_with_per_log_results_and_heterogeneity(tmp_pa
     assert [entry.name for entry in result.logs] == [f"log_000{i}.csv" for i in range(3)]
     assert set(result.heterogeneity) == {"e_t_mu", "e_o_over_e_t", "e_r_over_e_t"}
     assert result.heterogeneity["e_t_mu"].tested is True
-    assert {"force_bias_x_N", "force_bias_y_N", "delay_s"} <= set(result.nuisance)
+    assert {"force_bias_x_n", "force_bias_y_n", "delay_s"} <= set(result.nuisance)
     assert result.nuisance["delay_s"][0].log == "log_0000.csv"
     logs = [slideid.read_log(p) for p in paths]
     from_logs = slideid.identify(logs, fit_delay="per-log", fit_force_bias=True)
