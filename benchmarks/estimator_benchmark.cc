@@ -21,9 +21,10 @@
 #include "datasets/dataset.h"
 #include "datasets/noise.h"
 #include "estimator/identify.h"
+#include "estimator/internal/segment_cost.h"
 #include "estimator/trajectory_fit.h"
 #include "fixtures/synthetic_scenes.h"
-#include "estimator/trajectory_problem.h"
+#include "estimator/internal/trajectory_problem.h"
 #include "forward_model/simulator.h"
 
 namespace slideid {

@@ -13,7 +13,7 @@ namespace slideid {
 /// Standard deviations of zero-mean Gaussian noise added to the written signals, and
 /// motion-capture outliers. All >= 0; outlier_fraction in [0, 1]. Also the deterministic
 /// defects of the push stream, with the sign conventions of the trajectory fit's nuisances
-/// (estimator/segment_cost.h), so that a fit with --fit-force-bias / --fit-delay recovers
+/// (estimator/internal/segment_cost.h), so that a fit with --fit-force-bias / --fit-delay recovers
 /// them: any finite value, 0 by default.
 struct NoiseSpec {
   double pose_m = 0.0;          ///< on x, y [m]

@@ -1,5 +1,9 @@
 #include "estimator/equation_error.h"
 
+#include <ceres/ceres.h>
+
+#include "estimator/internal/equation_error_residual.h"
+
 #include <Eigen/Dense>
 #include <algorithm>
 #include <chrono>
@@ -19,7 +23,7 @@
 #include "estimator/robust_statistics.h"
 #include "estimator/simex.h"
 #include "estimator/step_covariance.h"
-#include "estimator/trajectory_problem.h"
+#include "estimator/internal/trajectory_problem.h"
 
 namespace slideid {
 namespace {

@@ -199,7 +199,7 @@ struct TrajectoryOptions : LossOptions {
   double max_delay_s = 0.1;  ///< |delay| searched up to this [s]
   /// Correct the estimate for the mismatch between the fit's model (backward-Euler steps,
   /// the wrench held over each row) and a continuous motion, by two linearised nuisances
-  /// per log whose uncertainty the intervals carry (estimator/mismatch_nuisances.h).
+  /// per log whose uncertainty the intervals carry (estimator/internal/mismatch_nuisances.h).
   bool correct_mismatch = true;
   /// Start the fit a second time from longer segments and keep the lower of the two minima
   /// of its cost (trajectory_fit.cc, "a second start"). Off: the first start's minimum.

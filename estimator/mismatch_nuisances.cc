@@ -1,10 +1,10 @@
-#include "estimator/mismatch_nuisances.h"
+#include "estimator/internal/mismatch_nuisances.h"
 
 #include <algorithm>
 #include <cmath>
 #include <memory>
 
-#include "estimator/segment_cost.h"
+#include "estimator/internal/segment_cost.h"
 
 namespace slideid {
 namespace {

@@ -1,5 +1,9 @@
 #include "estimator/quasi_static_fit.h"
 
+#include <ceres/ceres.h>
+
+#include "estimator/internal/quasi_static_residuals.h"
+
 #include <Eigen/Core>
 #include <algorithm>
 #include <chrono>

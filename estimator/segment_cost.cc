@@ -1,4 +1,4 @@
-#include "estimator/segment_cost.h"
+#include "estimator/internal/segment_cost.h"
 
 #include <algorithm>
 #include <cmath>

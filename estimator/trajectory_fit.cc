@@ -15,11 +15,11 @@
 #include "estimator/equation_error.h"
 #include "estimator/identifiability.h"
 #include "estimator/log_diagnostics.h"
-#include "estimator/mismatch_nuisances.h"
+#include "estimator/internal/mismatch_nuisances.h"
 #include "estimator/plausibility.h"
 #include "estimator/pooling.h"
 #include "estimator/robust_statistics.h"
-#include "estimator/trajectory_problem.h"
+#include "estimator/internal/trajectory_problem.h"
 
 namespace slideid {
 namespace {
@@ -398,7 +398,7 @@ double DiscretisationScale(const TrajectoryProblem& problem) {
 // CR2 removes the leverage bias and its degrees of freedom follow where the information
 // sits; with the mismatch nuisances below it covered 90-98% in every condition.
 //
-// The mismatch nuisances (estimator/mismatch_nuisances.h) add two columns per log to the
+// The mismatch nuisances (estimator/internal/mismatch_nuisances.h) add two columns per log to the
 // linearised problem; the estimate moves by one Gauss-Newton step in (parameters, nuisances)
 // and the covariance is that of the augmented problem, so the intervals carry the
 // nuisances' uncertainty.

@@ -5,7 +5,7 @@
 // Each log is cut into shooting segments (TrajectorySegmentSteps intervals each). Each
 // segment's initial state (x, y, theta, v_x, v_y, w_z) is a parameter block of its own,
 // (log a, log b, log c) are shared by every segment of every log, and each log may add
-// sensor nuisances (a force offset, a delay: estimator/segment_cost.h). This is the
+// sensor nuisances (a force offset, a delay: TrajectoryOptions). This is the
 // structure of bundle adjustment, solved with Ceres' Schur complement (segments eliminated
 // first). Within a segment the forward model is simulated from the segment's state with
 // the logged wrench, substeps per log interval, sticking included; the residuals are the
@@ -20,13 +20,10 @@
 // residuals of real and coarsely sampled logs are correlated within a segment (forces are
 // noisy and held over each row), and pooled logs differ by more than their noise.
 
-#include <ceres/cost_function.h>
-
 #include <memory>
 #include <vector>
 
 #include "estimator/estimate.h"
-#include "estimator/segment_cost.h"
 #include "forward_model/trajectory.h"
 
 namespace slideid {
@@ -64,11 +61,5 @@ class PooledTrajectoryFit {
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };
-
-/// The cost of one shooting segment (rows first_row..last_row of `log`, which must outlive
-/// it), parameter blocks as estimator/segment_cost.h says. Exposed for derivative checks.
-ceres::CostFunction* NewSegmentCost(const Trajectory& log, int first_row, int last_row,
-                                    int substeps, bool use_pose,
-                                    SegmentNuisances nuisances = {});
 
 }  // namespace slideid

@@ -1,4 +1,4 @@
-#include "estimator/trajectory_problem.h"
+#include "estimator/internal/trajectory_problem.h"
 
 #include <Eigen/Dense>
 #include <algorithm>

@@ -332,7 +332,7 @@ def pooled_section(title):
             h = result.get("heterogeneity") or {}
             out.append("| {} | {} |".format(label, " | ".join(agreement_cell(h.get(key))
                                                                for key, _, _, _ in PARAMETERS)))
-        out += ["", "Sign conventions (estimator/segment_cost.h): a delay d > 0 means the force stream "
+        out += ["", "Sign conventions (estimator/internal/segment_cost.h): a delay d > 0 means the force stream "
                 "lags the poses (the force logged at t acted at t - d); d < 0 means the poses lag the "
                 "force, as motion capture does. A force offset is what the channel reads with no "
                 "force on the object; the importer has already removed the offset it measured before "

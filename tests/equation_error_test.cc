@@ -1,4 +1,5 @@
 #include "estimator/equation_error.h"
+#include "estimator/internal/equation_error_residual.h"
 
 #include <gtest/gtest.h>
 #include <unistd.h>

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "datasets/sensor_model.h"
+#include "estimator/internal/segment_cost.h"
 #include "estimator/trajectory_fit.h"
 #include "forward_model/simulator.h"
 #include "io/scene_file.h"
@@ -145,7 +146,7 @@ TEST(NuisanceFit, NoiselessExactLogRecoversForceBiasDelayAndFriction) {
 // 16, 18 and 18 of them; a, b, c's in 18, 20, 17 with the nuisances and 17, 19, 19 without.
 // Both undercover a little. For the nuisances the delay is the cause: in the exact model
 // it is a whole number of log intervals, where the cost has a kink (the logged forces are
-// held over each row, estimator/segment_cost.h) and the intervals take its one-sided
+// held over each row, estimator/internal/segment_cost.h) and the intervals take its one-sided
 // curvature (without a delay fitted, the offsets' intervals covered in 27 and 26 of 30).
 // The bar is 15 of 20, which a 95% interval fails with probability 3e-4 and an 80% one
 // with 0.37.

@@ -1,5 +1,6 @@
 // The trajectory estimator: generate with the simulator, identify, compare with the truth.
 
+#include "estimator/internal/segment_cost.h"
 #include "estimator/trajectory_fit.h"
 
 #include <gtest/gtest.h>
@@ -11,7 +12,7 @@
 #include "datasets/noise.h"
 #include "datasets/sensor_model.h"
 #include "estimator/closed_form.h"
-#include "estimator/trajectory_problem.h"
+#include "estimator/internal/trajectory_problem.h"
 #include "io/scene_file.h"
 #include "tests/estimator_test_support.h"
 

@@ -29,6 +29,22 @@ foreach(file include/slideid/estimator/estimate.h lib/cmake/slideid/slideidConfi
   endif()
 endforeach()
 
+# The installed headers are the public API: none may include Ceres or a library's internal/
+# headers (those stay in the source tree, as Ceres keeps its own internal/ out of its
+# install), and no internal/ folder is installed.
+file(GLOB_RECURSE installed_headers ${prefix}/include/slideid/*.h)
+foreach(header ${installed_headers})
+  file(STRINGS ${header} includes REGEX "^#include")
+  foreach(line ${includes})
+    if(line MATCHES "<ceres/|internal/")
+      message(FATAL_ERROR "installed header ${header} exposes an internal: ${line}")
+    endif()
+  endforeach()
+  if(header MATCHES "/internal/")
+    message(FATAL_ERROR "an internal header is installed: ${header}")
+  endif()
+endforeach()
+
 # Only the fresh prefix may provide slideid: no package registry, no source tree.
 run("configuring the consumer" ${CMAKE_COMMAND} -S ${SOURCE_DIR} -B ${WORK_DIR}/build
     -G ${GENERATOR} -DCMAKE_CXX_COMPILER=${CXX} -DCMAKE_BUILD_TYPE=Release

@@ -116,4 +116,10 @@ class SegmentCost final : public ceres::CostFunction {
   mutable std::vector<double> last_params_, last_residuals_;
 };
 
+/// The cost of one shooting segment (rows first_row..last_row of `log`, which must outlive
+/// it), parameter blocks as SegmentCost says. Exposed for derivative checks.
+ceres::CostFunction* NewSegmentCost(const Trajectory& log, int first_row, int last_row,
+                                    int substeps, bool use_pose,
+                                    SegmentNuisances nuisances = {});
+
 }  // namespace slideid

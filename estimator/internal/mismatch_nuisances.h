@@ -29,7 +29,7 @@
 #include <string>
 #include <vector>
 
-#include "estimator/trajectory_problem.h"
+#include "estimator/internal/trajectory_problem.h"
 #include "forward_model/trajectory.h"
 
 namespace slideid {

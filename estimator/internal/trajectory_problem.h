@@ -18,7 +18,7 @@
 #include <vector>
 
 #include "estimator/estimate.h"
-#include "estimator/segment_cost.h"
+#include "estimator/internal/segment_cost.h"
 #include "forward_model/trajectory.h"
 
 namespace slideid {
