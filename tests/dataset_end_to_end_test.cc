@@ -13,7 +13,7 @@
 #include <sstream>
 
 #include "datasets/dataset.h"
-#include "datasets/log_plot.h"
+#include "plots/log_plot.h"
 #include "datasets/sensor_model.h"
 #include "estimator/identify.h"
 #include "forward_model/simulator.h"

@@ -1,7 +1,7 @@
 // Pictures of an identification (plot-fit): the forest plot's data and script, the PNG,
 // the errors, and the tool end to end on identify --json of pooled logs.
 
-#include "pipeline/fit_plot.h"
+#include "plots/fit_plot.h"
 
 #include <gtest/gtest.h>
 #include <sys/wait.h>

@@ -1,7 +1,7 @@
 // Plots of logs: the gnuplot script and data, the PNG, a clear error without gnuplot, the
 // replay of a fit, and the plot-log tool end to end.
 
-#include "datasets/log_plot.h"
+#include "plots/log_plot.h"
 
 #include <gtest/gtest.h>
 #include <sys/wait.h>

@@ -4,7 +4,7 @@
 
 #include "prediction/validate.h"
 
-#include "pipeline/validate_plot.h"
+#include "plots/validate_plot.h"
 
 #include <gtest/gtest.h>
 
@@ -129,7 +129,10 @@ TEST(Validate, ThePlotDrawsEachFrictionsPushesAndQuartiles) {
   const ValidationResult r = Validate(Pushes(3), ValidationOptions{});
   const std::string dir = testing::TempPath("validate_plot");
   ASSERT_EQ(std::system(("mkdir -p " + dir).c_str()), 0);
-  const std::string script = ValidationPlotScript(r, dir, "/tmp/v.png", "t");
+  ValidationPlotOptions options;
+  options.out_png = "/tmp/v.png";
+  options.title = "t";
+  const std::string script = ValidationPlotScript(r, dir, options);
   for (const char* m : {"\"folds\" 0", "\"quasi-static\" 1", "\"own fit\" 2", "\"textbook\" 3"}) {
     EXPECT_NE(script.find(m), std::string::npos) << m;
   }

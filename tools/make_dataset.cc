@@ -4,7 +4,7 @@
 #include <cstdio>
 #include <iostream>
 
-#include "datasets/cli_options.h"
+#include "pipeline/log_cli_options.h"
 #include "io/dataset_files.h"
 #include "tools/tool_support.h"
 

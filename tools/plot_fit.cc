@@ -1,13 +1,14 @@
 // plot-fit: draw what `identify --json` found as a forest plot: one panel per parameter,
 // each log's own estimate with its 95% interval, the pooled estimate and its interval, and
-// whether the logs agree (pipeline/fit_plot.h). Uses gnuplot.
+// whether the logs agree (plots/fit_plot.h). Uses gnuplot.
 
 #include <fstream>
 #include <iostream>
 #include <sstream>
 
 #include "io/result_json.h"
-#include "pipeline/fit_plot.h"
+#include "pipeline/picture_cli_options.h"
+#include "plots/fit_plot.h"
 #include "tools/tool_support.h"
 
 namespace po = boost::program_options;
@@ -28,15 +29,9 @@ int main(int argc, char** argv) {
         ("help,h", "print this help and exit")
         ("version", "print the version and exit")
         ("result", po::value<std::string>()->value_name("RESULT.json"),
-         "what identify --json printed (or first argument)")
-        ("out", po::value<std::string>()->value_name("FIG.png"), "the picture to write (required)")
-        ("width", po::value<int>()->default_value(defaults.width_px), "picture width [px]")
-        ("height", po::value<int>()->default_value(0),
-         "picture height [px] (0: from the number of logs)")
-        ("title", po::value<std::string>(), "title above the panels (default: the file name)")
-        ("gnuplot", po::value<std::string>()->default_value(defaults.gnuplot), "gnuplot program")
-        ("keep", po::value<std::string>()->value_name("DIR"),
-         "write the gnuplot script and data into DIR and keep them");
+         "what identify --json printed (or first argument)");
+    cli::AddPictureOptions(&opts, defaults, "picture height [px] (0: from the number of logs)",
+                           "title above the panels (default: the file name)");
     po::positional_options_description positional;
     positional.add("result", 1);
     po::variables_map vm;
@@ -53,15 +48,9 @@ int main(int argc, char** argv) {
       return tools::FlushStdout("plot-fit");
     }
     if (!vm.count("result")) throw po::error("the result (RESULT.json) is required");
-    if (!vm.count("out")) throw po::error("the option '--out' is required");
     const std::string path = vm["result"].as<std::string>();
     FitPlotOptions options;
-    options.out_png = vm["out"].as<std::string>();
-    options.width_px = vm["width"].as<int>();
-    options.height_px = vm["height"].as<int>();
-    options.gnuplot = vm["gnuplot"].as<std::string>();
-    options.title = vm.count("title") ? vm["title"].as<std::string>() : path;
-    if (vm.count("keep")) options.work_dir = vm["keep"].as<std::string>();
+    cli::ReadPictureOptions(vm, path, &options);
     std::string why;
     if (!options.IsValid(&why)) throw po::error(why);
 

@@ -7,7 +7,8 @@
 #include <iostream>
 #include <sstream>
 
-#include "datasets/log_plot.h"
+#include "pipeline/picture_cli_options.h"
+#include "plots/log_plot.h"
 #include "forward_model/simulator.h"
 #include "io/push_log.h"
 #include "io/result_json.h"
@@ -31,7 +32,6 @@ int main(int argc, char** argv) {
         ("help,h", "print this help and exit")
         ("version", "print the version and exit")
         ("log", po::value<std::string>()->value_name("LOG.csv"), "the push log (or first argument)")
-        ("out", po::value<std::string>()->value_name("FIG.png"), "the picture to write (required)")
         ("fit", po::value<std::string>()->value_name("RESULT.json"),
          "identify --json output: overlay the replay with its parameters (held values where "
          "not identifiable)")
@@ -40,12 +40,9 @@ int main(int argc, char** argv) {
         ("substeps", po::value<int>()->default_value(1)->value_name("N"),
          "forward-model steps per log interval for the replay (use identify's)")
         ("every", po::value<int>()->default_value(0)->value_name("K"),
-         "rows between patch snapshots (0: about 16 over the log)")
-        ("width", po::value<int>()->default_value(defaults.width_px), "picture width [px]")
-        ("height", po::value<int>()->default_value(defaults.height_px), "picture height [px]")
-        ("gnuplot", po::value<std::string>()->default_value(defaults.gnuplot), "gnuplot program")
-        ("keep", po::value<std::string>()->value_name("DIR"),
-         "write the gnuplot script and data into DIR and keep them");
+         "rows between patch snapshots (0: about 16 over the log)");
+    cli::AddPictureOptions(&opts, defaults, "picture height [px]",
+                           "title above the figure (default: the log's file name)");
     po::positional_options_description positional;
     positional.add("log", 1);
     po::variables_map vm;
@@ -62,16 +59,10 @@ int main(int argc, char** argv) {
       return tools::kExitOk;
     }
     if (!vm.count("log")) throw po::error("the log (LOG.csv) is required");
-    if (!vm.count("out")) throw po::error("the option '--out' is required");
-    PlotOptions options;
-    options.out_png = vm["out"].as<std::string>();
-    options.snapshot_every = vm["every"].as<int>();
-    options.width_px = vm["width"].as<int>();
-    options.height_px = vm["height"].as<int>();
-    options.gnuplot = vm["gnuplot"].as<std::string>();
-    if (vm.count("keep")) options.work_dir = vm["keep"].as<std::string>();
     const std::string log_path = vm["log"].as<std::string>();
-    options.title = log_path;
+    PlotOptions options;
+    cli::ReadPictureOptions(vm, log_path, &options);
+    options.snapshot_every = vm["every"].as<int>();
     std::string why;
     if (!options.IsValid(&why)) throw po::error(why);
     if (vm["substeps"].as<int>() < 1) throw po::error("--substeps must be >= 1");

@@ -5,7 +5,7 @@
 #include <cstdio>
 #include <iostream>
 
-#include "datasets/cli_options.h"
+#include "pipeline/log_cli_options.h"
 #include "datasets/sensor_model.h"
 #include "forward_model/simulator.h"
 #include "io/push_log.h"

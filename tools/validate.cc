@@ -10,7 +10,7 @@
 #include "io/push_log.h"
 #include "pipeline/identify_files.h"
 #include "pipeline/predict_options.h"
-#include "pipeline/validate_plot.h"
+#include "plots/validate_plot.h"
 #include "tools/tool_support.h"
 
 namespace po = boost::program_options;
@@ -129,7 +129,10 @@ int main(int argc, char** argv) {
         }
       }
       if (vm.count("plot")) {
-        PlotValidation(r, vm["plot"].as<std::string>(), "validate " + vm["logs"].as<std::string>());
+        ValidationPlotOptions picture;
+        picture.out_png = vm["plot"].as<std::string>();
+        picture.title = "validate " + vm["logs"].as<std::string>();
+        PlotValidation(r, picture);
       }
     } catch (const std::runtime_error& e) {
       std::cerr << "validate: error: " << e.what() << "\n";

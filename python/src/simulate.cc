@@ -7,7 +7,7 @@
 #include <optional>
 
 #include "core.h"
-#include "datasets/cli_options.h"
+#include "pipeline/log_cli_options.h"
 #include "datasets/sensor_model.h"
 #include "forward_model/simulator.h"
 #include "io/dataset_files.h"

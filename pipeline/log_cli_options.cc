@@ -1,4 +1,4 @@
-#include "datasets/cli_options.h"
+#include "pipeline/log_cli_options.h"
 
 #include <cerrno>
 #include <cstdio>

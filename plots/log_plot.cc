@@ -1,4 +1,4 @@
-#include "datasets/log_plot.h"
+#include "plots/log_plot.h"
 
 #include <sys/wait.h>
 #include <unistd.h>
@@ -26,18 +26,7 @@ constexpr double kArrowPatchSizes = 1.0;
 constexpr double kSamePlaceFraction = 0.05;
 constexpr double kSameAngle_rad = 0.05;
 
-std::string Num(double v) {
-  char buf[40];
-  std::snprintf(buf, sizeof buf, "%.9g", v);
-  return buf;
-}
 
-/// Text in gnuplot's single quotes ('' escapes a quote).
-std::string Quote(const std::string& s) {
-  std::string out = "'";
-  for (char c : s) out += c == '\'' ? std::string("''") : std::string(1, c);
-  return out + "'";
-}
 
 std::optional<ContactPatch> PatchOf(const Trajectory& log) {
   if (log.patch_spec.empty()) return std::nullopt;
@@ -73,24 +62,19 @@ void WriteOutline(std::ostream& out, const std::vector<Eigen::Vector2d>& body,
                   const PlanarState& q) {
   const double c = std::cos(q.theta), s = std::sin(q.theta);
   for (const Eigen::Vector2d& p : body) {
-    out << Num(q.x + c * p.x() - s * p.y()) << ' ' << Num(q.y + s * p.x() + c * p.y()) << '\n';
+    out << GnuplotNumber(q.x + c * p.x() - s * p.y()) << ' ' << GnuplotNumber(q.y + s * p.x() + c * p.y()) << '\n';
   }
   out << '\n';
 }
 
-void WriteFile(const std::string& path, const std::string& text) {
-  std::ofstream out(path, std::ios::binary);
-  out << text;
-  if (!out.flush()) throw std::runtime_error(path + ": cannot write plot data");
-}
 
 void WriteMotion(std::ostream& out, const Trajectory& t, const std::vector<PlanarState>& poses) {
   out << "# t x y theta vx vy wz\n";
   for (size_t u = 0; u < t.samples.size(); ++u) {
     const PlanarState& q = poses[u];
     const PlanarState& v = t.samples[u].state;
-    out << Num(t.samples[u].t_s) << ' ' << Num(q.x) << ' ' << Num(q.y) << ' ' << Num(q.theta)
-        << ' ' << Num(v.vx) << ' ' << Num(v.vy) << ' ' << Num(v.wz) << '\n';
+    out << GnuplotNumber(t.samples[u].t_s) << ' ' << GnuplotNumber(q.x) << ' ' << GnuplotNumber(q.y) << ' ' << GnuplotNumber(q.theta)
+        << ' ' << GnuplotNumber(v.vx) << ' ' << GnuplotNumber(v.vy) << ' ' << GnuplotNumber(v.wz) << '\n';
   }
 }
 
@@ -114,16 +98,11 @@ std::string TruthText(const Trajectory& log) {
 }  // namespace
 
 bool PlotOptions::IsValid(std::string* why) const {
-  auto fail = [&](const std::string& m) {
-    if (why) *why = m;
+  if (!PictureOptions::IsValid(why)) return false;
+  if (snapshot_every < 0) {
+    if (why) *why = "plot: snapshot_every must be >= 0";
     return false;
-  };
-  if (out_png.empty()) return fail("plot: no output file");
-  if (width_px < 200 || height_px < 200 || width_px > 20000 || height_px > 20000) {
-    return fail("plot: width and height must be 200 to 20000 pixels");
   }
-  if (snapshot_every < 0) return fail("plot: snapshot_every must be >= 0");
-  if (gnuplot.empty()) return fail("plot: no gnuplot program");
   return true;
 }
 
@@ -169,31 +148,31 @@ void WritePlotData(const Trajectory& log, const Trajectory* fit, const PlotOptio
     const Eigen::Vector2d at = s.push_point_world
                                    ? Eigen::Vector2d(s.push_point_world->x(), s.push_point_world->y())
                                    : Eigen::Vector2d(poses[u].x, poses[u].y);
-    push << Num(at.x() - arrow_scale * fx) << ' ' << Num(at.y() - arrow_scale * fy) << ' '
-         << Num(arrow_scale * fx) << ' ' << Num(arrow_scale * fy) << '\n';
+    push << GnuplotNumber(at.x() - arrow_scale * fx) << ' ' << GnuplotNumber(at.y() - arrow_scale * fy) << ' '
+         << GnuplotNumber(arrow_scale * fx) << ' ' << GnuplotNumber(arrow_scale * fy) << '\n';
   }
   ecp << "# ax ay\n";
   for (size_t u = 1; u < log.samples.size(); ++u) {
     const Eigen::Vector2d& a = log.samples[u].ecp_world;
-    ecp << Num(a.x()) << ' ' << Num(a.y()) << '\n';
+    ecp << GnuplotNumber(a.x()) << ' ' << GnuplotNumber(a.y()) << '\n';
   }
-  WriteFile(dir + "/path.dat", path.str());
-  WriteFile(dir + "/patch.dat", patch.str() + "\n");
-  WriteFile(dir + "/push.dat", push.str() + "\n");
-  WriteFile(dir + "/ecp.dat", ecp.str());
+  WritePlotFile(dir + "/path.dat", path.str());
+  WritePlotFile(dir + "/patch.dat", patch.str() + "\n");
+  WritePlotFile(dir + "/push.dat", push.str() + "\n");
+  WritePlotFile(dir + "/ecp.dat", ecp.str());
   if (fit) {
     std::ostringstream f;
     std::vector<PlanarState> fit_poses;
     for (const TrajectorySample& s : fit->samples) fit_poses.push_back(s.state);
     WriteMotion(f, *fit, fit_poses);
-    WriteFile(dir + "/fit.dat", f.str());
-    WriteFile(dir + "/fit_patch.dat", overlay_patch.str() + "\n");
+    WritePlotFile(dir + "/fit.dat", f.str());
+    WritePlotFile(dir + "/fit_patch.dat", overlay_patch.str() + "\n");
   }
 }
 
 std::string PlotScript(const Trajectory& log, const Trajectory* fit, const PlotOptions& o,
                        const std::string& dir, const std::string& fit_label) {
-  const auto file = [&](const char* name) { return Quote(dir + "/" + name); };
+  const auto file = [&](const char* name) { return GnuplotSingleQuoted(dir + "/" + name); };
   const bool has_patch = PatchOf(log).has_value();
   const bool has_push = [&] {
     for (const TrajectorySample& s : log.samples) {
@@ -211,8 +190,8 @@ std::string PlotScript(const Trajectory& log, const Trajectory* fit, const PlotO
   s << "# Generated by slideid plot-log.\n"
     << "set terminal pngcairo size " << o.width_px << "," << o.height_px
     << " font 'sans,10' noenhanced\n"
-    << "set output " << Quote(o.out_png) << "\n"
-    << "set multiplot title " << Quote(title) << "\n"
+    << "set output " << GnuplotSingleQuoted(o.out_png) << "\n"
+    << "set multiplot title " << GnuplotSingleQuoted(title) << "\n"
     << "set grid lc rgb '#dddddd'\n"
     << "set key below horizontal\n";
   // Left: the path, equal axes.
@@ -252,7 +231,7 @@ std::string PlotScript(const Trajectory& log, const Trajectory* fit, const PlotO
   s << "set size noratio\nset key inside top right vertical box opaque\nunset title\n";
   const char* names[3] = {"vx [m/s]", "vy [m/s]", "wz [rad/s]"};
   for (int k = 0; k < 3; ++k) {
-    s << "set origin 0.56," << Num(0.64 - 0.31 * k) << "\nset size 0.44,0.31\n"
+    s << "set origin 0.56," << GnuplotNumber(0.64 - 0.31 * k) << "\nset size 0.44,0.31\n"
       << "set xlabel " << (k == 2 ? "'t [s]'" : "''") << "\nset ylabel '" << names[k] << "'\n"
       << "plot " << file("path.dat") << " using 1:" << 5 + k
       << " with lines lc rgb '#1f4e9a' lw 1 title '"
@@ -267,61 +246,12 @@ std::string PlotScript(const Trajectory& log, const Trajectory* fit, const PlotO
   return s.str();
 }
 
-void RunGnuplot(const std::string& gnuplot, const std::string& work_dir,
-                const std::string& out_png,
-                const std::function<std::string(const std::string& dir)>& write_data) {
-  std::string dir = work_dir;
-  if (dir.empty()) {
-    std::string pattern = std::filesystem::temp_directory_path().string() + "/plot-XXXXXX";
-    if (mkdtemp(pattern.data()) == nullptr) {
-      throw std::runtime_error("plot: cannot create a temporary directory");
-    }
-    dir = pattern;
-  } else {
-    std::error_code ec;
-    std::filesystem::create_directories(dir, ec);
-  }
-  struct Cleanup {
-    std::string dir;
-    ~Cleanup() {
-      if (!dir.empty()) std::filesystem::remove_all(dir);
-    }
-  } cleanup{work_dir.empty() ? dir : ""};
-
-  WriteFile(dir + "/plot.gp", write_data(dir));
-  // Quote() is also the shell's quoting for text without single quotes; refuse the rest
-  // rather than pass it to the shell.
-  for (const std::string* s : std::initializer_list<const std::string*>{&gnuplot, &dir}) {
-    if (s->find('\'') != std::string::npos) {
-      throw std::invalid_argument("plot: quote characters in '" + *s + "' are not supported");
-    }
-  }
-  const std::string errors = dir + "/gnuplot.err";
-  const std::string command =
-      Quote(gnuplot) + " " + Quote(dir + "/plot.gp") + " 2> " + Quote(errors);
-  const int status = std::system(command.c_str());
-  std::ifstream err_in(errors);
-  std::string message((std::istreambuf_iterator<char>(err_in)), std::istreambuf_iterator<char>());
-  if (status == -1 || !WIFEXITED(status) || WEXITSTATUS(status) == 127) {
-    throw std::runtime_error("plot: cannot run '" + gnuplot +
-                             "': is gnuplot installed? (Debian: apt-get install gnuplot-nox, "
-                             "or scripts/setup.sh)");
-  }
-  if (WEXITSTATUS(status) != 0) {
-    throw std::runtime_error("plot: gnuplot failed (exit " + std::to_string(WEXITSTATUS(status)) +
-                             "): " + message);
-  }
-  if (!std::filesystem::exists(out_png)) {
-    throw std::runtime_error("plot: gnuplot wrote no " + out_png + ": " + message);
-  }
-}
-
 void PlotLog(const Trajectory& log, const Trajectory* fit, const PlotOptions& options,
              const std::string& fit_label) {
   std::string why;
   if (!options.IsValid(&why)) throw std::invalid_argument(why);
   if (log.samples.size() < 2) throw std::invalid_argument("plot: the log has fewer than 2 rows");
-  RunGnuplot(options.gnuplot, options.work_dir, options.out_png, [&](const std::string& dir) {
+  RunGnuplot(options, [&](const std::string& dir) {
     WritePlotData(log, fit, options, dir);
     return PlotScript(log, fit, options, dir, fit_label);
   });

@@ -10,20 +10,14 @@
 
 #include "forward_model/slider.h"
 #include "forward_model/trajectory.h"
+#include "plots/gnuplot.h"
 
 namespace slideid {
 
-struct PlotOptions {
-  std::string out_png;       ///< where the picture goes (required)
-  int width_px = 1400;
-  int height_px = 900;
+/// plot-log's picture: 1400 x 900 px by default (PictureOptions).
+struct PlotOptions : PictureOptions {
   /// Rows between patch snapshots; 0: about kDefaultSnapshots over the log.
   int snapshot_every = 0;
-  std::string title;          ///< above the figure (e.g. the log's file name)
-  std::string gnuplot = "gnuplot";  ///< the program to run
-  /// When not empty, the script and data files are written here and kept (for debugging or
-  /// editing the figure); otherwise a temporary directory is used and removed.
-  std::string work_dir;
   /// What the overlaid trajectory is called in the legends ("fit": a replay with identified
   /// parameters; "prediction": what predict wrote), and whether its patch is drawn at the
   /// log's snapshot rows too (dashed), so that its turning shows beside the log's.
@@ -43,15 +37,6 @@ std::string PlotScript(const Trajectory& log, const Trajectory* fit, const PlotO
 /// Writes path.dat, patch.dat, ecp.dat, push.dat (and fit.dat) into `data_dir`.
 void WritePlotData(const Trajectory& log, const Trajectory* fit, const PlotOptions& options,
                    const std::string& data_dir);
-
-/// Runs `gnuplot` on the script `write_data(dir)` returns, after it has written its data
-/// files into `dir`: `work_dir` (created if missing, and kept), or a temporary directory
-/// removed afterwards. Throws std::runtime_error when gnuplot cannot be run (naming the
-/// program and how to install it), fails (with its message) or writes no `out_png`.
-/// Shared by every picture the tools draw.
-void RunGnuplot(const std::string& gnuplot, const std::string& work_dir,
-                const std::string& out_png,
-                const std::function<std::string(const std::string& dir)>& write_data);
 
 /// Draws `log` (and `fit`) to options.out_png. Throws std::runtime_error when gnuplot cannot
 /// be run (naming the program and how to install it) or fails (with its message), or when a

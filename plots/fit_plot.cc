@@ -1,4 +1,4 @@
-#include "pipeline/fit_plot.h"
+#include "plots/fit_plot.h"
 
 #include <algorithm>
 #include <cmath>
@@ -8,7 +8,7 @@
 #include <stdexcept>
 #include <vector>
 
-#include "datasets/log_plot.h"
+#include "plots/gnuplot.h"
 
 namespace slideid {
 namespace {
@@ -41,25 +41,7 @@ const char* const kBandColour = "#dde7f3";
 
 const char* const kLongNames[3] = {"a = e_t mu", "b = e_o / e_t", "c = e_r / e_t [m]"};
 
-std::string Num(double v) {
-  char buf[40];
-  std::snprintf(buf, sizeof buf, "%.9g", v);
-  return buf;
-}
 
-/// Text in gnuplot's double quotes ("\n" is a line break there).
-std::string Quote(const std::string& s) {
-  std::string out = "\"";
-  for (char c : s) {
-    if (c == '\n') {
-      out += "\\n";
-      continue;
-    }
-    if (c == '"' || c == '\\') out += '\\';
-    out += c;
-  }
-  return out + "\"";
-}
 
 /// A round tick step (1, 2 or 5 times a power of ten) giving at most kMaxTicks ticks over
 /// `span`: gnuplot's own choice ignores the panel's width and crowds narrow panels.
@@ -80,7 +62,7 @@ std::string LogTicks(double x0, double x1) {
     for (double m : {1.0, 2.0, 5.0}) {
       const double x = m * decade;
       if (x < x0 || x > x1) continue;
-      out += (out.empty() ? "" : ", ") + std::string("\"") + Num(x) + "\" " + Num(x);
+      out += (out.empty() ? "" : ", ") + std::string("\"") + GnuplotNumber(x) + "\" " + GnuplotNumber(x);
     }
   }
   return "(" + out + ")";
@@ -134,28 +116,13 @@ std::string AgreementText(const EstimateResult& r, int i) {
   return buf;
 }
 
-void WriteFile(const std::string& path, const std::string& text) {
-  std::ofstream out(path, std::ios::binary);
-  out << text;
-  if (!out.flush()) throw std::runtime_error(path + ": cannot write plot data");
-}
 
 int Rows(const EstimateResult& r) { return static_cast<int>(DrawnLogs(r).size()); }
 
 }  // namespace
 
 bool FitPlotOptions::IsValid(std::string* why) const {
-  auto fail = [&](const std::string& m) {
-    if (why) *why = m;
-    return false;
-  };
-  if (out_png.empty()) return fail("plot: no output file");
-  if (width_px < 200 || width_px > 20000) return fail("plot: width must be 200 to 20000 pixels");
-  if (height_px != 0 && (height_px < 200 || height_px > 20000)) {
-    return fail("plot: height must be 0 (automatic) or 200 to 20000 pixels");
-  }
-  if (gnuplot.empty()) return fail("plot: no gnuplot program");
-  return true;
+  return PictureOptions::IsValid(why, /*automatic_height=*/true);
 }
 
 int FitPlotHeight(const EstimateResult& result, const FitPlotOptions& options) {
@@ -176,11 +143,11 @@ void WriteFitPlotData(const EstimateResult& r, const std::string& dir) {
       const ParameterEstimate& p = logs[k]->parameters[i];
       if (!HasInterval(p)) continue;
       const bool agrees = r.logs.empty() || !std::isfinite(pooled) || Holds(p, pooled);
-      out << n - k << ' ' << Num(p.value) << ' ' << Num(p.ci95_lo) << ' ' << Num(p.ci95_hi)
+      out << n - k << ' ' << GnuplotNumber(p.value) << ' ' << GnuplotNumber(p.ci95_lo) << ' ' << GnuplotNumber(p.ci95_hi)
           << ' ' << (agrees ? "0x1f4e9a" : "0xd62728") << ' '
           << (p.verdict == Verdict::kSuspect ? 1 : 0) << '\n';
     }
-    WriteFile(dir + "/p" + std::to_string(i) + ".dat", out.str() + "\n");
+    WritePlotFile(dir + "/p" + std::to_string(i) + ".dat", out.str() + "\n");
   }
 }
 
@@ -209,17 +176,17 @@ std::string FitPlotScript(const EstimateResult& r, const FitPlotOptions& o,
     << "set terminal pngcairo size " << o.width_px << "," << height
     << " font 'sans,10' noenhanced\n"
     << "set output '" << o.out_png << "'\n"
-    << "set multiplot title " << Quote(title) << "\n"
+    << "set multiplot title " << GnuplotDoubleQuoted(title) << "\n"
     << "set grid xtics lc rgb '#e4e4e4'\n"
     << "unset key\n"
     << "set yrange [-1:" << n + 1 << "]\n"
     << "set xtics font ',9'\n"
-    << "set bmargin at screen " << Num(static_cast<double>(kAxesPx + kLegendPx) / height)
-    << "\nset tmargin at screen " << Num(1.0 - static_cast<double>(kTopPx) / height) << "\n";
+    << "set bmargin at screen " << GnuplotNumber(static_cast<double>(kAxesPx + kLegendPx) / height)
+    << "\nset tmargin at screen " << GnuplotNumber(1.0 - static_cast<double>(kTopPx) / height) << "\n";
   // Row labels: the logs from the top, the pooled estimate at the bottom.
-  std::string ytics = "set ytics (" + Quote(n > 0 ? "pooled" : "estimate") + " 0";
+  std::string ytics = "set ytics (" + GnuplotDoubleQuoted(n > 0 ? "pooled" : "estimate") + " 0";
   for (int k = 0; k < n; ++k) {
-    ytics += ", " + Quote(ShortName(logs[k]->name)) + " " + std::to_string(n - k);
+    ytics += ", " + GnuplotDoubleQuoted(ShortName(logs[k]->name)) + " " + std::to_string(n - k);
   }
   ytics += ") nomirror font ',8'\n";
   const double panel_width = (1.0 - kNamesFraction) / std::max<size_t>(1, panels.size());
@@ -247,27 +214,27 @@ std::string FitPlotScript(const EstimateResult& r, const FitPlotOptions& o,
       x1 = hi + pad;
     }
     s << "\n# ---- " << ParameterName(i) << "\n"
-      << "set lmargin at screen " << Num(kNamesFraction + j * panel_width + 0.01) << "\n"
-      << "set rmargin at screen " << Num(kNamesFraction + (j + 1) * panel_width - 0.01) << "\n"
+      << "set lmargin at screen " << GnuplotNumber(kNamesFraction + j * panel_width + 0.01) << "\n"
+      << "set rmargin at screen " << GnuplotNumber(kNamesFraction + (j + 1) * panel_width - 0.01) << "\n"
       << (j == 0 ? ytics : "unset ytics\nset ytics 1 format '' scale 0.5\n")
       << (log_axis ? "set logscale x\n" : "unset logscale x\n")
-      << "set xrange [" << Num(x0) << ":" << Num(x1) << "]\n"
-      << "set xtics " << (log_axis ? LogTicks(x0, x1) : Num(NiceStep(x1 - x0))) << "\n"
-      << "set xlabel " << Quote(std::string(ParameterName(i)) + "   (" + kLongNames[i] + ")")
-      << "\nset title " << Quote(AgreementText(r, i)) << " textcolor rgb '"
+      << "set xrange [" << GnuplotNumber(x0) << ":" << GnuplotNumber(x1) << "]\n"
+      << "set xtics " << (log_axis ? LogTicks(x0, x1) : GnuplotNumber(NiceStep(x1 - x0))) << "\n"
+      << "set xlabel " << GnuplotDoubleQuoted(std::string(ParameterName(i)) + "   (" + kLongNames[i] + ")")
+      << "\nset title " << GnuplotDoubleQuoted(AgreementText(r, i)) << " textcolor rgb '"
       << (r.heterogeneity[i].tested && !r.heterogeneity[i].consistent ? kDisagreeColour
                                                                        : "#000000")
       << "'\nunset object\nunset arrow\n";
     if (HasInterval(pooled)) {
       // The pooled interval shaded across the rows, its value dashed, and a diamond.
-      s << "set object 1 rect from " << Num(pooled.ci95_lo) << ", graph 0 to "
-        << Num(pooled.ci95_hi) << ", graph 1 fc rgb '" << kBandColour
+      s << "set object 1 rect from " << GnuplotNumber(pooled.ci95_lo) << ", graph 0 to "
+        << GnuplotNumber(pooled.ci95_hi) << ", graph 1 fc rgb '" << kBandColour
         << "' fs solid 1.0 noborder behind\n"
-        << "set arrow 1 from " << Num(pooled.value) << ", graph 0 to " << Num(pooled.value)
+        << "set arrow 1 from " << GnuplotNumber(pooled.value) << ", graph 0 to " << GnuplotNumber(pooled.value)
         << ", graph 1 nohead dt 2 lc rgb '" << kPooledColour << "'\n"
-        << "set object 2 polygon from " << Num(pooled.ci95_lo) << ",0 to " << Num(pooled.value)
-        << ",0.4 to " << Num(pooled.ci95_hi) << ",0 to " << Num(pooled.value) << ",-0.4 to "
-        << Num(pooled.ci95_lo) << ",0 fc rgb '" << kPooledColour << "' fs solid 1.0 front\n";
+        << "set object 2 polygon from " << GnuplotNumber(pooled.ci95_lo) << ",0 to " << GnuplotNumber(pooled.value)
+        << ",0.4 to " << GnuplotNumber(pooled.ci95_hi) << ",0 to " << GnuplotNumber(pooled.value) << ",-0.4 to "
+        << GnuplotNumber(pooled.ci95_lo) << ",0 fc rgb '" << kPooledColour << "' fs solid 1.0 front\n";
     } else if (!r.logs.empty()) {
       s << "set label 1 'pooled: not identifiable' at graph 0.02, first 0 front\n";
     }
@@ -279,13 +246,13 @@ std::string FitPlotScript(const EstimateResult& r, const FitPlotOptions& o,
       << "unset label\n";
   }
   // Legend along the bottom.
-  s << "\nset origin 0,0\nset size 1," << Num(legend) << "\n"
+  s << "\nset origin 0,0\nset size 1," << GnuplotNumber(legend) << "\n"
     << "unset title\nunset xlabel\nunset ylabel\nunset tics\nunset border\nunset grid\n"
     << "unset object\nunset arrow\nunset logscale x\n"
     << "set lmargin 0\nset rmargin 0\nset tmargin 0\nset bmargin 0\n"
     << "set xrange [0:1]\nset yrange [0:1]\n"
     << "set label 10 "
-    << Quote(n > 0 ? "rows: each log's own estimate and 95% interval (red: misses the pooled "
+    << GnuplotDoubleQuoted(n > 0 ? "rows: each log's own estimate and 95% interval (red: misses the pooled "
                      "value; open: suspect)    diamond and band: the pooled estimate and its "
                      "95% interval"
                    : "diamond and band: the estimate and its 95% interval")
@@ -308,7 +275,7 @@ void PlotFit(const EstimateResult& result, const FitPlotOptions& options) {
     throw std::invalid_argument("plot: quote characters in '" + options.out_png +
                                 "' are not supported");
   }
-  RunGnuplot(options.gnuplot, options.work_dir, options.out_png, [&](const std::string& dir) {
+  RunGnuplot(options, [&](const std::string& dir) {
     WriteFitPlotData(result, dir);
     return FitPlotScript(result, options, dir);
   });

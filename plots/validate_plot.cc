@@ -1,28 +1,19 @@
-#include "pipeline/validate_plot.h"
+#include "plots/validate_plot.h"
 
 #include <cstdio>
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
 
-#include "datasets/log_plot.h"
 #include "forward_model/constants.h"
+#include "plots/gnuplot.h"
 
 namespace slideid {
-namespace {
-
-
-void Write(const std::string& path, const std::string& text) {
-  std::ofstream out(path);
-  out << text;
-  if (!out) throw std::runtime_error(path + ": cannot write the plot data");
-}
-
-}  // namespace
 
 std::string ValidationPlotScript(const ValidationResult& r, const std::string& dir,
-                                 const std::string& out_png, const std::string& title,
-                                 int width_px, int height_px) {
+                                 const ValidationPlotOptions& options) {
+  const std::string& out_png = options.out_png;
+  const std::string& title = options.title;
   std::ostringstream points, summary, tics;
   points << "# method position_mm rotation_deg\n";
   summary << "# method p25 p50 p75 r25 r50 r75 (mm, deg)\n";
@@ -39,11 +30,11 @@ std::string ValidationPlotScript(const ValidationResult& r, const std::string& d
             << '\n';
     tics << (m ? ", " : "") << '"' << method.method << "\" " << m;
   }
-  Write(dir + "/errors.dat", points.str());
-  Write(dir + "/summary.dat", summary.str());
+  WritePlotFile(dir + "/errors.dat", points.str());
+  WritePlotFile(dir + "/summary.dat", summary.str());
   const std::string errors = "'" + dir + "/errors.dat'", sum = "'" + dir + "/summary.dat'";
   std::ostringstream s;
-  s << "set terminal pngcairo size " << width_px << "," << height_px
+  s << "set terminal pngcairo size " << options.width_px << "," << options.height_px
     << " font 'sans,10' noenhanced\n"
     << "set output '" << out_png << "'\n"
     << "set multiplot layout 1,2 title '" << title << "'\n"
@@ -63,8 +54,11 @@ std::string ValidationPlotScript(const ValidationResult& r, const std::string& d
   return s.str();
 }
 
-void PlotValidation(const ValidationResult& result, const std::string& out_png,
-                    const std::string& title, const std::string& gnuplot) {
+void PlotValidation(const ValidationResult& result, const ValidationPlotOptions& options) {
+  std::string why;
+  if (!options.IsValid(&why)) throw std::invalid_argument(why);
+  const std::string& out_png = options.out_png;
+  const std::string& title = options.title;
   bool any = false;
   for (const MethodValidation& m : result.methods) any = any || m.final_position_m.pushes > 0;
   if (!any) throw std::invalid_argument("plot: nothing to draw: no push was predicted");
@@ -72,8 +66,8 @@ void PlotValidation(const ValidationResult& result, const std::string& out_png,
     throw std::invalid_argument("plot: quote characters in the file name or title are not "
                                 "supported");
   }
-  RunGnuplot(gnuplot, "", out_png, [&](const std::string& dir) {
-    return ValidationPlotScript(result, dir, out_png, title);
+  RunGnuplot(options, [&](const std::string& dir) {
+    return ValidationPlotScript(result, dir, options);
   });
 }
 

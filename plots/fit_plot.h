@@ -4,26 +4,23 @@
 // with its 95% interval on a row of its own, the pooled estimate as a diamond with its
 // interval shaded across the panel, and the verdict on whether the logs agree (Cochran's Q,
 // I2, tau) above it. Logs whose interval misses the pooled value are drawn in red. Drawn by
-// gnuplot (datasets/log_plot.h RunGnuplot); `plot-fit` is the tool.
+// gnuplot (plots/gnuplot.h); `plot-fit` is the tool.
 
 #include <string>
 
 #include "estimator/estimate.h"
+#include "plots/gnuplot.h"
 
 namespace slideid {
 
-struct FitPlotOptions {
-  std::string out_png;  ///< where the picture goes (required)
-  int width_px = 1500;
-  /// 0: from the number of logs (kFitPlotRowPx per row, at least kFitPlotMinHeightPx).
-  int height_px = 0;
-  std::string title;                ///< above the panels (e.g. the JSON file's name)
-  std::string gnuplot = "gnuplot";  ///< the program to run
-  /// When not empty, the script and data files are written here and kept.
-  std::string work_dir;
-
-  /// False (and why) without an output file, a gnuplot program, or with sizes outside
-  /// 200..20000 px (height 0 is automatic).
+/// plot-fit's picture: 1500 px wide, its height from the number of logs by default
+/// (height_px 0: kFitPlotRowPx per row, at least kFitPlotMinHeightPx).
+struct FitPlotOptions : PictureOptions {
+  FitPlotOptions() {
+    width_px = 1500;
+    height_px = 0;
+  }
+  /// PictureOptions::IsValid, with a height of 0 (automatic) allowed.
   bool IsValid(std::string* why) const;
 };
 
