@@ -30,6 +30,7 @@
 #include <thread>
 #include <vector>
 
+#include "benchmarks/bench_args.h"
 #include "benchmarks/table_tool.h"
 #include "datasets/coverage_conditions.h"
 #include "estimator/identify.h"
@@ -158,17 +159,6 @@ struct Config {
   TrajectoryOptions trajectory;
 };
 
-std::vector<std::string> Split(const std::string& text) {
-  std::vector<std::string> out;
-  size_t pos = 0;
-  while (pos <= text.size()) {
-    const size_t comma = std::min(text.find(',', pos), text.size());
-    out.push_back(text.substr(pos, comma - pos));
-    pos = comma + 1;
-  }
-  return out;
-}
-
 template <typename T>
 std::vector<T> Select(const std::vector<T>& all, const std::vector<std::string>& names,
                       const char* what) {
@@ -274,32 +264,28 @@ int Main(int argc, char** argv) {
   Config config;
   bool logs_given = false, list = false, mean_wrench = false;
   int log_every = 0;
-  for (int i = 1; i < argc; ++i) {
-    const std::string a = argv[i];
-    auto value = [&]() -> std::string {
-      if (i + 1 >= argc) throw std::invalid_argument(a + " needs a value");
-      return argv[++i];
-    };
-    if (a == "--quick") config.quick = true;
-    else if (a == "--logs") config.logs = std::stoi(value()), logs_given = true;
-    else if (a == "--threads") config.threads = std::stoi(value());
-    else if (a == "--conditions") config.only_conditions = Split(value());
-    else if (a == "--methods") config.only_methods = Split(value());
-    else if (a == "--csv") config.csv_path = value();
-    else if (a == "--markdown") config.markdown_path = value();
-    else if (a == "--runs") config.runs_path = value();
-    else if (a == "--list") list = true;
-    else if (a == "--segment") config.trajectory.segment_steps = std::stoi(value());
-    else if (a == "--substeps") config.trajectory.substeps = std::stoi(value());
-    else if (a == "--mean-wrench") mean_wrench = true;
-    else if (a == "--no-mismatch") config.trajectory.correct_mismatch = false;
-    else if (a == "--log-every") log_every = std::stoi(value());
-    else if (a == "--fit-delay") config.trajectory.fit_delay = DelayFit::kPerLog;
-    else if (a == "--help" || a == "-h") {
+  bench::Args args(argc, argv);
+  while (args.Next()) {
+    if (args.Is("--quick")) config.quick = true;
+    else if (args.Is("--logs")) config.logs = args.Integer(), logs_given = true;
+    else if (args.Is("--threads")) config.threads = args.Integer();
+    else if (args.Is("--conditions")) config.only_conditions = args.List();
+    else if (args.Is("--methods")) config.only_methods = args.List();
+    else if (args.Is("--csv")) config.csv_path = args.Value();
+    else if (args.Is("--markdown")) config.markdown_path = args.Value();
+    else if (args.Is("--runs")) config.runs_path = args.Value();
+    else if (args.Is("--list")) list = true;
+    else if (args.Is("--segment")) config.trajectory.segment_steps = args.Integer();
+    else if (args.Is("--substeps")) config.trajectory.substeps = args.Integer();
+    else if (args.Is("--mean-wrench")) mean_wrench = true;
+    else if (args.Is("--no-mismatch")) config.trajectory.correct_mismatch = false;
+    else if (args.Is("--log-every")) log_every = args.Integer();
+    else if (args.Is("--fit-delay")) config.trajectory.fit_delay = DelayFit::kPerLog;
+    else if (args.Is("--help") || args.Is("-h")) {
       Usage(argv[0]);
       return 0;
     } else {
-      std::fprintf(stderr, "coverage: unknown option %s\n", a.c_str());
+      std::fprintf(stderr, "coverage: unknown option %s\n", args.option().c_str());
       Usage(argv[0]);
       return 2;
     }

@@ -31,6 +31,7 @@
 #include <tuple>
 #include <vector>
 
+#include "benchmarks/bench_args.h"
 #include "benchmarks/table_tool.h"
 #include "datasets/sensor_model.h"
 #include "estimator/identify.h"
@@ -454,18 +455,6 @@ void Describe(const Config& config) {
               "ECP to the hull, negative inside; max |v| [m/s], max |w| [rad/s]; over seeds)\n");
 }
 
-/// "100,1000,5000" -> {100, 1000, 5000}. Throws std::invalid_argument.
-std::vector<int> ParseInts(const std::string& text) {
-  std::vector<int> out;
-  size_t pos = 0;
-  while (pos <= text.size()) {
-    const size_t comma = std::min(text.find(',', pos), text.size());
-    out.push_back(std::stoi(text.substr(pos, comma - pos)));
-    pos = comma + 1;
-  }
-  return out;
-}
-
 void Usage(const char* argv0) {
   std::printf(
       "usage: %s [--quick] [--poses-only] [--threads N] [--log-every K] [--csv FILE]\n"
@@ -492,30 +481,26 @@ void Usage(const char* argv0) {
 int Main(int argc, char** argv) {
   Config config;
   std::vector<int> lengths, seeds;
-  for (int i = 1; i < argc; ++i) {
-    const std::string a = argv[i];
-    auto value = [&]() -> std::string {
-      if (i + 1 >= argc) throw std::invalid_argument(a + " needs a value");
-      return argv[++i];
-    };
-    if (a == "--quick") config.quick = true;
-    else if (a == "--poses-only") config.velocities = false;
-    else if (a == "--describe") config.describe = true;
-    else if (a == "--threads") config.threads = std::stoi(value());
-    else if (a == "--log-every") config.log_every = std::stoi(value());
-    else if (a == "--csv") config.csv_path = value();
-    else if (a == "--markdown") config.markdown_path = value();
-    else if (a == "--runs") config.runs_path = value();
-    else if (a == "--write-logs") config.logs_dir = value();
-    else if (a == "--scene") config.only_scene = value();
-    else if (a == "--lengths") lengths = ParseInts(value());
-    else if (a == "--seeds") seeds = ParseInts(value());
-    else if (a == "--verbose") config.verbose = true;
-    else if (a == "--help" || a == "-h") {
+  bench::Args args(argc, argv);
+  while (args.Next()) {
+    if (args.Is("--quick")) config.quick = true;
+    else if (args.Is("--poses-only")) config.velocities = false;
+    else if (args.Is("--describe")) config.describe = true;
+    else if (args.Is("--threads")) config.threads = args.Integer();
+    else if (args.Is("--log-every")) config.log_every = args.Integer();
+    else if (args.Is("--csv")) config.csv_path = args.Value();
+    else if (args.Is("--markdown")) config.markdown_path = args.Value();
+    else if (args.Is("--runs")) config.runs_path = args.Value();
+    else if (args.Is("--write-logs")) config.logs_dir = args.Value();
+    else if (args.Is("--scene")) config.only_scene = args.Value();
+    else if (args.Is("--lengths")) lengths = args.Integers();
+    else if (args.Is("--seeds")) seeds = args.Integers();
+    else if (args.Is("--verbose")) config.verbose = true;
+    else if (args.Is("--help") || args.Is("-h")) {
       Usage(argv[0]);
       return 0;
     } else {
-      std::fprintf(stderr, "error_vs_time: unknown option %s\n", a.c_str());
+      std::fprintf(stderr, "error_vs_time: unknown option %s\n", args.option().c_str());
       Usage(argv[0]);
       return 2;
     }

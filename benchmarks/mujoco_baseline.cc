@@ -30,9 +30,11 @@
 #include <iostream>
 #include <nlohmann/json.hpp>
 #include <sstream>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
+#include "benchmarks/bench_args.h"
 #include "forward_model/contact_patch.h"
 #include "io/push_log.h"
 #include "prediction/predict.h"
@@ -136,20 +138,24 @@ Trajectory Simulate(const Trajectory& log, const ReducedFriction& f, double mu_p
 
 int main(int argc, char** argv) {
   using namespace slideid;
+  const char* usage =
+      "usage: mujoco_baseline --validation VALIDATE.json [--json OUT] [--timestep S]\n";
   std::string validation, json_out;
   double timestep = 1e-3;
-  for (int i = 1; i < argc; ++i) {
-    const std::string a = argv[i];
-    if (a == "--validation" && i + 1 < argc) validation = argv[++i];
-    else if (a == "--json" && i + 1 < argc) json_out = argv[++i];
-    else if (a == "--timestep" && i + 1 < argc) timestep = std::atof(argv[++i]);
-    else {
-      std::cerr << "usage: mujoco_baseline --validation VALIDATE.json [--json OUT] [--timestep S]\n";
-      return 2;
+  try {
+    bench::Args args(argc, argv);
+    while (args.Next()) {
+      if (args.Is("--validation")) validation = args.Value();
+      else if (args.Is("--json")) json_out = args.Value();
+      else if (args.Is("--timestep")) timestep = args.Number();
+      else throw std::invalid_argument("unknown option " + args.option());
     }
+  } catch (const std::invalid_argument& e) {
+    std::cerr << "mujoco_baseline: " << e.what() << "\n" << usage;
+    return 2;
   }
   if (validation.empty() || !(timestep > 0)) {
-    std::cerr << "usage: mujoco_baseline --validation VALIDATE.json [--json OUT] [--timestep S]\n";
+    std::cerr << usage;
     return 2;
   }
   std::ifstream in(validation);

@@ -11,11 +11,12 @@
 
 #include <cmath>
 #include <cstdio>
-#include <cstring>
 #include <map>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
+#include "benchmarks/bench_args.h"
 #include "fixtures/pushed_square.h"
 #include "estimator/identify.h"
 #include "forward_model/pusher_step.h"
@@ -122,20 +123,21 @@ class RatioReporter : public benchmark::ConsoleReporter {
 }  // namespace slideid
 
 int main(int argc, char** argv) {
-  std::vector<char*> args;
-  for (int i = 0; i < argc; ++i) {
-    if (std::strcmp(argv[i], "--pushes") == 0 && i + 1 < argc) {
-      slideid::pushes = std::max(2, std::atoi(argv[++i]));
-      continue;
+  // Our options out; the program name and everything else are Google Benchmark's.
+  std::vector<char*> benchmark_args = {argv[0]};
+  try {
+    slideid::bench::Args args(argc, argv);
+    while (args.Next()) {
+      if (args.Is("--pushes")) slideid::pushes = std::max(2, args.Integer());
+      else if (args.Is("--logs")) slideid::logs_directory = args.Value();
+      else benchmark_args.push_back(args.arg());
     }
-    if (std::strcmp(argv[i], "--logs") == 0 && i + 1 < argc) {
-      slideid::logs_directory = argv[++i];
-      continue;
-    }
-    args.push_back(argv[i]);
+  } catch (const std::invalid_argument& e) {
+    std::fprintf(stderr, "prediction_benchmark: %s\n", e.what());
+    return 2;
   }
-  int n = static_cast<int>(args.size());
-  benchmark::Initialize(&n, args.data());
+  int n = static_cast<int>(benchmark_args.size());
+  benchmark::Initialize(&n, benchmark_args.data());
   slideid::RatioReporter reporter;
   benchmark::RunSpecifiedBenchmarks(&reporter);
   const auto& s = reporter.seconds;

@@ -26,6 +26,7 @@
 #include <thread>
 #include <vector>
 
+#include "benchmarks/bench_args.h"
 #include "benchmarks/table_tool.h"
 #include "fixtures/suite_check.h"
 #include "io/push_log.h"
@@ -47,29 +48,18 @@ struct Config {
 
 Config Parse(int argc, char** argv) {
   Config c;
-  for (int i = 1; i < argc; ++i) {
-    const std::string arg = argv[i];
-    auto value = [&]() -> std::string {
-      if (i + 1 >= argc) throw std::invalid_argument(arg + ": missing value");
-      return argv[++i];
-    };
-    auto integer = [&](int lo) {
-      const std::string v = value();
-      char* end = nullptr;
-      const long n = std::strtol(v.c_str(), &end, 10);
-      if (*end || n < lo) throw std::invalid_argument(arg + ": '" + v + "' is not an integer >= " + std::to_string(lo));
-      return static_cast<int>(n);
-    };
-    if (arg == "--logs") c.logs = integer(1);
-    else if (arg == "--first") c.first = integer(0);
-    else if (arg == "--threads") c.threads = integer(1);
-    else if (arg == "--max-rows") c.max_rows = integer(100);
-    else if (arg == "--markdown") c.markdown_path = value();
-    else if (arg == "--csv") c.csv_path = value();
-    else if (arg == "--dump") c.dump_dir = value();
-    else if (arg == "--second-start") c.choices.second_start = true;
-    else if (arg == "--no-cross-check") c.choices.cross_check = false;
-    else throw std::invalid_argument("unknown option " + arg);
+  bench::Args args(argc, argv);
+  while (args.Next()) {
+    if (args.Is("--logs")) c.logs = args.Integer(1);
+    else if (args.Is("--first")) c.first = args.Integer(0);
+    else if (args.Is("--threads")) c.threads = args.Integer(1);
+    else if (args.Is("--max-rows")) c.max_rows = args.Integer(100);
+    else if (args.Is("--markdown")) c.markdown_path = args.Value();
+    else if (args.Is("--csv")) c.csv_path = args.Value();
+    else if (args.Is("--dump")) c.dump_dir = args.Value();
+    else if (args.Is("--second-start")) c.choices.second_start = true;
+    else if (args.Is("--no-cross-check")) c.choices.cross_check = false;
+    else throw std::invalid_argument("unknown option " + args.option());
   }
   return c;
 }

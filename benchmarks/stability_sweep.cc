@@ -32,11 +32,13 @@
 #include <map>
 #include <random>
 #include <sstream>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
 #include <glog/logging.h>
 
+#include "benchmarks/bench_args.h"
 #include "datasets/sensor_model.h"
 #include "estimator/identify.h"
 #include "fixtures/scaled_scenes.h"
@@ -711,44 +713,60 @@ std::string Table(Sweep& sweep, const std::vector<std::string>& axis_order) {
   return out.str();
 }
 
-int Main(int argc, char** argv) {
-  FLAGS_minloglevel = google::GLOG_ERROR;  // Ceres' covariance warnings are not results
+struct Options {
   bool quick = false;
+  bool help = false;
   std::string csv_path, md_path;
   int max_failures = 200;
-  for (int i = 1; i < argc; ++i) {
-    const std::string arg = argv[i];
-    if (arg == "--quick") {
-      quick = true;
-    } else if (arg == "--csv" && i + 1 < argc) {
-      csv_path = argv[++i];
-    } else if (arg == "--markdown" && i + 1 < argc) {
-      md_path = argv[++i];
-    } else if (arg == "--failures" && i + 1 < argc) {
-      max_failures = std::atoi(argv[++i]);
-    } else if (arg == "--help") {
-      std::cout << "stability_sweep [--quick] [--csv PATH] [--markdown PATH] [--failures N]\n"
-                   "  --quick       small grids (seconds); default: the full sweep (minutes)\n"
-                   "  --csv PATH    one row per case\n"
-                   "  --markdown P  the per-axis table and the failures found\n"
-                   "  --failures N  list at most N failing cases (default 200)\n";
-      return 0;
+};
+
+/// The command line; throws std::invalid_argument naming a bad option or value.
+Options ParseOptions(int argc, char** argv) {
+  Options o;
+  bench::Args args(argc, argv);
+  while (args.Next()) {
+    if (args.Is("--quick")) o.quick = true;
+    else if (args.Is("--csv")) o.csv_path = args.Value();
+    else if (args.Is("--markdown")) o.md_path = args.Value();
+    else if (args.Is("--failures")) o.max_failures = args.Integer();
+    else if (args.Is("--help")) {
+      o.help = true;
+      break;  // what follows --help is not read: the help is the answer
     } else {
-      std::cerr << "stability_sweep: unknown or incomplete option '" << arg << "' (see --help)\n";
-      return 2;
+      throw std::invalid_argument("unknown option " + args.option());
     }
   }
+  return o;
+}
+
+int Main(int argc, char** argv) {
+  FLAGS_minloglevel = google::GLOG_ERROR;  // Ceres' covariance warnings are not results
+  Options options;
+  try {
+    options = ParseOptions(argc, argv);
+  } catch (const std::invalid_argument& e) {
+    std::cerr << "stability_sweep: " << e.what() << " (see --help)\n";
+    return 2;
+  }
+  if (options.help) {
+    std::cout << "stability_sweep [--quick] [--csv PATH] [--markdown PATH] [--failures N]\n"
+                 "  --quick       small grids (seconds); default: the full sweep (minutes)\n"
+                 "  --csv PATH    one row per case\n"
+                 "  --markdown P  the per-axis table and the failures found\n"
+                 "  --failures N  list at most N failing cases (default 200)\n";
+    return 0;
+  }
   std::ofstream csv_file;
-  if (!csv_path.empty()) {
-    csv_file.open(csv_path);
+  if (!options.csv_path.empty()) {
+    csv_file.open(options.csv_path);
     if (!csv_file) {
-      std::cerr << "stability_sweep: cannot write " << csv_path << "\n";
+      std::cerr << "stability_sweep: cannot write " << options.csv_path << "\n";
       return 4;
     }
     csv_file.precision(6);
   }
-  Sweep sweep(csv_path.empty() ? nullptr : &csv_file, max_failures);
-  const Grids grids = MakeGrids(quick);
+  Sweep sweep(options.csv_path.empty() ? nullptr : &csv_file, options.max_failures);
+  const Grids grids = MakeGrids(options.quick);
   const auto start = std::chrono::steady_clock::now();
   auto seconds = [&] {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -757,12 +775,12 @@ int Main(int argc, char** argv) {
   const double t_step = seconds();
   BoundaryGrid(grids, &sweep);
   const double t_boundary = seconds();
-  EstimatorGrid(quick, &sweep);
+  EstimatorGrid(options.quick, &sweep);
   const double t_est = seconds();
   DomainProbes(&sweep);
 
   std::ostringstream md;
-  md << "Stability sweep (" << (quick ? "quick" : "full") << "): step grid " << t_step
+  md << "Stability sweep (" << (options.quick ? "quick" : "full") << "): step grid " << t_step
      << " s, boundary grid " << t_boundary - t_step << " s, estimator grid "
      << t_est - t_boundary << " s.\n\n"
      << Table(sweep, {"mu", "c", "b", "h", "mass", "cm height", "speed", "spin", "boundary",
@@ -779,11 +797,11 @@ int Main(int argc, char** argv) {
      << " iterations (listed up to --failures): " << sweep.slow().size() << "\n";
   for (const std::string& v : sweep.slow()) md << "- " << v << "\n";
   std::cout << md.str();
-  if (!md_path.empty()) {
-    std::ofstream out(md_path);
+  if (!options.md_path.empty()) {
+    std::ofstream out(options.md_path);
     out << md.str();
     if (!out) {
-      std::cerr << "stability_sweep: cannot write " << md_path << "\n";
+      std::cerr << "stability_sweep: cannot write " << options.md_path << "\n";
       return 4;
     }
   }

@@ -15,6 +15,7 @@
 
 #include "datasets/noise.h"
 #include "estimator/identifiability.h"
+#include "fixtures/jacobian_check.h"
 #include "io/push_log.h"
 #include "tests/estimator_test_support.h"
 
@@ -23,9 +24,12 @@ namespace {
 
 using testing::SimulateOrFail;
 
+using testing::CheckJacobian;
 using testing::ExpectRecovers;
 using testing::ExpectWithinStandardErrors;
 using testing::FullyIdentifiableScenes;
+using testing::JacobianCheck;
+using testing::kJacobianTolerance;
 using testing::NamedScene;
 using testing::PosesOnly;
 using testing::kExactRelTol;
@@ -188,11 +192,8 @@ TEST(EquationError, NoisyPureTranslationStillCannotIdentifyC) {
   }
 }
 
-// Central differences with step kFdStep have truncation error ~kFdStep^2 and rounding error
-// ~1e-16 / kFdStep relative, both far below kJacobianRelTol.
-constexpr double kFdStep = 1e-6;
-constexpr double kJacobianRelTol = 1e-6;
-
+// A closed-form residual (automatic derivatives) of order-one log-parameters: the shared step
+// and tolerance of fixtures/jacobian_check.h, at 200 random observations.
 TEST(EquationError, AutoDiffJacobianMatchesCentralDifferences) {
   std::mt19937_64 rng(7);
   std::uniform_real_distribution<double> u(-1.0, 1.0);
@@ -204,26 +205,8 @@ TEST(EquationError, AutoDiffJacobianMatchesCentralDifferences) {
     const double radius = 0.03 + 0.02 * (u(rng) + 1.0);
     std::unique_ptr<ceres::CostFunction> cost(EquationErrorResidual::Create(o, radius));
     double theta[3] = {std::log(0.3) + u(rng), u(rng), std::log(0.03) + u(rng)};
-    const double* params[3] = {&theta[0], &theta[1], &theta[2]};
-    double r[3], j[3][3];
-    double* jacobians[3] = {j[0], j[1], j[2]};
-    ASSERT_TRUE(cost->Evaluate(params, r, jacobians));
-    for (int block = 0; block < 3; ++block) {
-      double rp[3], rm[3];
-      const double keep = theta[block];
-      theta[block] = keep + kFdStep;
-      ASSERT_TRUE(cost->Evaluate(params, rp, nullptr));
-      theta[block] = keep - kFdStep;
-      ASSERT_TRUE(cost->Evaluate(params, rm, nullptr));
-      theta[block] = keep;
-      double scale = 0;
-      for (int k = 0; k < 3; ++k) scale = std::max(scale, std::abs(j[block][k]));
-      for (int k = 0; k < 3; ++k) {
-        const double fd = (rp[k] - rm[k]) / (2 * kFdStep);
-        EXPECT_NEAR(j[block][k], fd, kJacobianRelTol * std::max(scale, 1.0))
-            << "trial " << trial << " block " << block << " residual " << k;
-      }
-    }
+    const JacobianCheck check = CheckJacobian(*cost, {&theta[0], &theta[1], &theta[2]});
+    EXPECT_LE(check.worst, kJacobianTolerance) << "trial " << trial << ": " << check;
   }
 }
 

@@ -5,7 +5,6 @@
 
 #include <gtest/gtest.h>
 
-#include <algorithm>
 #include <cmath>
 #include <memory>
 #include <vector>
@@ -13,6 +12,7 @@
 #include "datasets/sensor_model.h"
 #include "estimator/internal/segment_cost.h"
 #include "estimator/trajectory_fit.h"
+#include "fixtures/jacobian_check.h"
 #include "forward_model/simulator.h"
 #include "io/scene_file.h"
 #include "tests/estimator_test_support.h"
@@ -299,7 +299,15 @@ TEST(NuisanceFit, ForceBiasAlongTheOnlyDirectionOfMotionIsReportedNotIdentifiabl
 // The segment cost's derivatives with respect to the force offset and the delay blocks (and
 // the others, with them present) against central differences, on a log with a push point
 // below the CM (the offset's moment about the CM has tilting parts) and a stick-slip push.
+// Through the step solver: kSolvedJacobianTolerance (fixtures/jacobian_check.h).
 TEST(NuisanceFit, SegmentCostJacobianWithBiasAndDelayMatchesCentralDifferences) {
+  // The delay's step: a tenth of the shared one, the delay being hundredths of a second, not
+  // of order one; the perturbed delays stay far from the wrench's kinks at whole log
+  // intervals (the nearest is 3.7 ms away).
+  constexpr double kDelayFdStep_s = 1e-7;
+  // The nuisances move the trajectory: some derivative of each is above this, so the check
+  // compares derivatives, not zeros.
+  constexpr double kMovesTheTrajectory = 1e-6;
   const Trajectory log = testing::SimulateOrFail(testing::TiltingPush());
   for (bool use_pose : {true, false}) {
     SCOPED_TRACE(use_pose ? "poses" : "velocities");
@@ -311,44 +319,14 @@ TEST(NuisanceFit, SegmentCostJacobianWithBiasAndDelayMatchesCentralDifferences) 
                        log.samples[10].state.vy, log.samples[10].state.wz + 0.1};
     double la = std::log(0.31), lb = std::log(1.1), lc = std::log(0.028);
     // The delay away from whole log intervals (10 ms), where the wrench has kinks.
-    double offset[2] = {0.2, -0.15}, delay = 0.0137;
-    double* blocks[] = {state, &la, &lb, &lc, offset, &delay};
-    const int sizes[] = {6, 1, 1, 1, 2, 1};
-    const int n = cost->num_residuals();
-    std::vector<std::vector<double>> jac_storage;
-    std::vector<double*> jac;
-    for (int size : sizes) {
-      jac_storage.emplace_back(static_cast<size_t>(n) * size);
-      jac.push_back(jac_storage.back().data());
-    }
-    std::vector<double> r(n);
-    ASSERT_TRUE(cost->Evaluate(blocks, r.data(), jac.data()));
-    for (int b : {4, 5}) {  // the nuisances move the trajectory: a check, not a formality
-      const double largest = std::abs(*std::max_element(
-          jac[b], jac[b] + n * sizes[b],
-          [](double x, double y) { return std::abs(x) < std::abs(y); }));
-      EXPECT_GT(largest, 1e-6) << "block " << b;
-    }
-    // Steps: 1e-6 in the log-parameters and states, 1e-6 N, 1e-7 s (a 10 ms row boundary
-    // is 3.7 ms away).
-    const double steps[] = {1e-6, 1e-6, 1e-6, 1e-6, 1e-6, 1e-7};
-    for (int b = 0; b < 6; ++b) {
-      for (int k = 0; k < sizes[b]; ++k) {
-        const double d = steps[b], saved = blocks[b][k];
-        std::vector<double> rp(n), rm(n);
-        blocks[b][k] = saved + d;
-        ASSERT_TRUE(cost->Evaluate(blocks, rp.data(), nullptr));
-        blocks[b][k] = saved - d;
-        ASSERT_TRUE(cost->Evaluate(blocks, rm.data(), nullptr));
-        blocks[b][k] = saved;
-        for (int i = 0; i < n; ++i) {
-          const double numeric = (rp[i] - rm[i]) / (2 * d);
-          const double analytic = jac[b][sizes[b] * i + k];
-          EXPECT_NEAR(analytic, numeric, 1e-5 * (1 + std::abs(numeric)))
-              << "block " << b << " param " << k << " residual " << i;
-        }
-      }
-    }
+    double offset_N[2] = {0.2, -0.15}, delay_s = 0.0137;
+    const double h = testing::kJacobianFdStep;
+    const testing::JacobianCheck check = testing::CheckJacobian(
+        *cost, {state, &la, &lb, &lc, offset_N, &delay_s}, {h, h, h, h, h, kDelayFdStep_s});
+    ASSERT_TRUE(check.evaluated) << check;
+    EXPECT_LE(check.worst, testing::kSolvedJacobianTolerance) << check;
+    EXPECT_GT(check.largest_by_block[4], kMovesTheTrajectory) << "force offset";
+    EXPECT_GT(check.largest_by_block[5], kMovesTheTrajectory) << "delay";
   }
 }
 

@@ -13,6 +13,7 @@
 #include "datasets/sensor_model.h"
 #include "estimator/closed_form.h"
 #include "estimator/internal/trajectory_problem.h"
+#include "fixtures/jacobian_check.h"
 #include "io/scene_file.h"
 #include "tests/estimator_test_support.h"
 
@@ -202,38 +203,20 @@ TEST(TrajectoryFit, NinetyFivePercentIntervalsCoverTheTruthInAtLeastNinetyPercen
   }
 }
 
+// The segment cost simulates through the step solver: kSolvedJacobianTolerance, with the
+// shared step (fixtures/jacobian_check.h).
 TEST(TrajectoryFit, SegmentCostJacobianMatchesCentralDifferences) {
   const Scene scene = testing::TiltingPush();
   const Trajectory log = SimulateOrFail(scene);
   for (bool use_pose : {true, false}) {
+    SCOPED_TRACE(use_pose ? "poses" : "velocities");
     std::unique_ptr<ceres::CostFunction> cost(NewSegmentCost(log, 10, 30, 2, use_pose));
     double state[6] = {log.samples[10].state.x, log.samples[10].state.y,
                        log.samples[10].state.theta, log.samples[10].state.vx * 1.01,
                        log.samples[10].state.vy, log.samples[10].state.wz + 0.1};
     double la = std::log(0.31), lb = std::log(1.1), lc = std::log(0.028);
-    double* blocks[] = {state, &la, &lb, &lc};
-    const int n = cost->num_residuals();
-    std::vector<double> r(n), j0(6 * n), ja(n), jb(n), jc(n);
-    double* jac[] = {j0.data(), ja.data(), jb.data(), jc.data()};
-    ASSERT_TRUE(cost->Evaluate(blocks, r.data(), jac));
-    const int sizes[] = {6, 1, 1, 1};
-    for (int b = 0; b < 4; ++b) {
-      for (int k = 0; k < sizes[b]; ++k) {
-        const double d = 1e-6, saved = blocks[b][k];
-        std::vector<double> rp(n), rm(n);
-        blocks[b][k] = saved + d;
-        ASSERT_TRUE(cost->Evaluate(blocks, rp.data(), nullptr));
-        blocks[b][k] = saved - d;
-        ASSERT_TRUE(cost->Evaluate(blocks, rm.data(), nullptr));
-        blocks[b][k] = saved;
-        for (int i = 0; i < n; ++i) {
-          const double numeric = (rp[i] - rm[i]) / (2 * d);
-          const double analytic = jac[b][sizes[b] * i + k];
-          EXPECT_NEAR(analytic, numeric, 1e-5 * (1 + std::abs(numeric)))
-              << "block " << b << " param " << k << " residual " << i;
-        }
-      }
-    }
+    const testing::JacobianCheck check = testing::CheckJacobian(*cost, {state, &la, &lb, &lc});
+    EXPECT_LE(check.worst, testing::kSolvedJacobianTolerance) << check;
   }
 }
 
