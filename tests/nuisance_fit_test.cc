@@ -319,10 +319,10 @@ TEST(NuisanceFit, SegmentCostJacobianWithBiasAndDelayMatchesCentralDifferences) 
                        log.samples[10].state.vy, log.samples[10].state.wz + 0.1};
     double la = std::log(0.31), lb = std::log(1.1), lc = std::log(0.028);
     // The delay away from whole log intervals (10 ms), where the wrench has kinks.
-    double offset_N[2] = {0.2, -0.15}, delay_s = 0.0137;
+    double offset_n[2] = {0.2, -0.15}, delay_s = 0.0137;
     const double h = testing::kJacobianFdStep;
     const testing::JacobianCheck check = testing::CheckJacobian(
-        *cost, {state, &la, &lb, &lc, offset_N, &delay_s}, {h, h, h, h, h, kDelayFdStep_s});
+        *cost, {state, &la, &lb, &lc, offset_n, &delay_s}, {h, h, h, h, h, kDelayFdStep_s});
     ASSERT_TRUE(check.evaluated) << check;
     EXPECT_LE(check.worst, testing::kSolvedJacobianTolerance) << check;
     EXPECT_GT(check.largest_by_block[4], kMovesTheTrajectory) << "force offset";
