@@ -34,6 +34,7 @@
 #include <string>
 #include <vector>
 
+#include "forward_model/number_format.h"
 #include "benchmarks/bench_args.h"
 #include "forward_model/contact_patch.h"
 #include "io/push_log.h"
@@ -48,11 +49,7 @@ using Json = nlohmann::json;
 // The support's sphere: small, so that its one contact sits under the CM [m].
 constexpr double kSupportRadius = 1e-3;
 
-std::string Num(double v) {
-  char b[40];
-  std::snprintf(b, sizeof b, "%.17g", v);
-  return b;
-}
+std::string Num(double v) { return ExactNumber(v); }
 
 /// The MJCF of one push: the slider resting at the origin of its own frame.
 std::string Model(const Trajectory& log, const ReducedFriction& f, double mu_p, double tip_radius,

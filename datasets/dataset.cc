@@ -1,7 +1,6 @@
 #include "datasets/dataset.h"
 
 #include <cmath>
-#include <cstdio>
 #include <random>
 #include <sstream>
 #include <stdexcept>
@@ -9,6 +8,7 @@
 #include "datasets/sensor_model.h"
 #include "forward_model/simulator.h"
 #include "forward_model/constants.h"
+#include "forward_model/number_format.h"
 
 namespace slideid {
 namespace {
@@ -18,17 +18,7 @@ namespace {
 constexpr double kPusherClearanceM = 0.005;
 constexpr double kPusherRunOutS = 0.2;
 
-std::string Format(double v, const char* fmt = "%.17g") {
-  char buf[40];
-  std::snprintf(buf, sizeof buf, fmt, v);
-  return buf;
-}
-
-std::string LogFileName(int index) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "log_%04d.csv", index);
-  return buf;
-}
+std::string LogFileName(int index) { return Printf("log_%04d.csv", index); }
 
 /// Second polar moment of area of a CCW polygon about the origin, divided by its area [m^2].
 double PolygonRadiusOfGyrationSquared(const std::vector<Eigen::Vector2d>& closed) {
@@ -52,7 +42,7 @@ bool RangeOk(const ValueRange& r, bool positive) {
 /// The patch for drawn sizes (ContactPatch validates; invalid draws throw).
 ContactPatch BuildPatch(const std::string& shape, const std::vector<double>& v) {
   std::string spec = shape;
-  for (double x : v) spec += " " + Format(x);
+  for (double x : v) spec += " " + ExactNumber(x);
   return ContactPatch::Parse(spec);
 }
 
@@ -78,8 +68,8 @@ ValueRange ParseRange(const std::string& text, const std::string& what) {
 }
 
 std::string ToString(const ValueRange& range) {
-  if (range.lo == range.hi) return Format(range.lo, "%g");
-  return Format(range.lo, "%g") + ":" + Format(range.hi, "%g");
+  if (range.lo == range.hi) return Printf("%g", range.lo);
+  return Printf("%g:%g", range.lo, range.hi);
 }
 
 PatchRange PatchRange::Parse(const std::string& text) {

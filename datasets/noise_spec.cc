@@ -2,16 +2,11 @@
 
 #include <cinttypes>
 #include <cmath>
-#include <cstdio>
+
+#include "forward_model/number_format.h"
 
 namespace slideid {
 namespace {
-
-std::string Format(double v) {
-  char buf[40];
-  std::snprintf(buf, sizeof buf, "%.17g", v);
-  return buf;
-}
 
 /// The numeric fields with their metadata names, in the order they are written.
 std::vector<std::pair<const char*, double>> Fields(const NoiseSpec& n) {
@@ -57,18 +52,24 @@ bool NoiseSpec::IsZero() const {
 bool NoiseSpec::IsValid(std::string* why) const {
   for (const auto& [name, value] : Fields(*this)) {
     if (!(std::isfinite(value) && value >= 0.0)) {
-      if (why) *why = std::string("noise ") + name + " = " + Format(value) + ": must be >= 0";
+      if (why) {
+        *why = std::string("noise ") + name + " = " + ExactNumber(value) + ": must be >= 0";
+      }
       return false;
     }
   }
   for (const auto& [name, value] : AllDefects(*this)) {
     if (!std::isfinite(value)) {
-      if (why) *why = std::string("noise ") + name + " = " + Format(value) + ": must be finite";
+      if (why) {
+        *why = std::string("noise ") + name + " = " + ExactNumber(value) + ": must be finite";
+      }
       return false;
     }
   }
   if (outlier_fraction > 1.0) {
-    if (why) *why = "noise outlier_fraction = " + Format(outlier_fraction) + ": must be <= 1";
+    if (why) {
+      *why = "noise outlier_fraction = " + ExactNumber(outlier_fraction) + ": must be <= 1";
+    }
     return false;
   }
   return true;
@@ -77,11 +78,11 @@ bool NoiseSpec::IsValid(std::string* why) const {
 std::vector<std::pair<std::string, std::string>> NoiseSpec::Metadata() const {
   std::vector<std::pair<std::string, std::string>> out;
   for (const auto& [name, value] : Fields(*this)) {
-    out.emplace_back(std::string("noise_") + name, Format(value));
+    out.emplace_back(std::string("noise_") + name, ExactNumber(value));
   }
   out.emplace_back("noise_seed", std::to_string(seed));
   for (const auto& [name, value] : Defects(*this)) {
-    out.emplace_back(std::string("noise_") + name, Format(value));
+    out.emplace_back(std::string("noise_") + name, ExactNumber(value));
   }
   return out;
 }
@@ -89,11 +90,11 @@ std::vector<std::pair<std::string, std::string>> NoiseSpec::Metadata() const {
 std::string NoiseSpec::Describe() const {
   std::string out;
   for (const auto& [name, value] : Fields(*this)) {
-    out += std::string(name) + "=" + Format(value) + " ";
+    out += std::string(name) + "=" + ExactNumber(value) + " ";
   }
   out += "seed=" + std::to_string(seed);
   for (const auto& [name, value] : Defects(*this)) {
-    out += std::string(" ") + name + "=" + Format(value);
+    out += std::string(" ") + name + "=" + ExactNumber(value);
   }
   return out;
 }

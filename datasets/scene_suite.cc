@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <random>
 #include <stdexcept>
 
@@ -12,6 +11,7 @@
 #include "datasets/sensor_model.h"
 #include "forward_model/simulator.h"
 #include "forward_model/constants.h"
+#include "forward_model/number_format.h"
 
 namespace slideid {
 namespace {
@@ -114,12 +114,9 @@ const char* ToString(SuiteMotion motion) {
 }
 
 std::string SuiteLog::Describe() const {
-  char buf[160];
-  std::snprintf(buf, sizeof buf, "%s; %s; %zu rows at %.0f Hz; %s%s", slider.c_str(),
-                ToString(motion), log.samples.size(), rate_hz,
-                log.columns.velocity ? "poses+velocities" : "poses",
+  return Printf("%s; %s; %zu rows at %.0f Hz; %s%s", slider, ToString(motion),
+                log.samples.size(), rate_hz, log.columns.velocity ? "poses+velocities" : "poses",
                 outliers ? "; outliers" : "");
-  return buf;
 }
 
 SuiteLog MakeSuiteLog(int index, std::uint64_t seed, const SceneSuiteLimits& limits) {

@@ -1,11 +1,11 @@
 #include "datasets/sensor_model.h"
 
 #include <cmath>
-#include <cstdio>
 #include <stdexcept>
 
 #include "datasets/noise.h"
 #include "forward_model/constants.h"
+#include "forward_model/number_format.h"
 
 namespace slideid {
 namespace {
@@ -14,12 +14,6 @@ namespace {
 // time counts as that row's: t - d computed in floating point lands a few ulps short of the
 // row when d is a whole number of steps, and would otherwise pick the row before.
 constexpr double kRowTimeSlack = 1e-9;
-
-std::string Format(double v) {
-  char buf[40];
-  std::snprintf(buf, sizeof buf, "%.17g", v);
-  return buf;
-}
 
 /// The mean of the wrenches of rows [first, first + k): what a sensor that integrates over
 /// the log interval reports, so that the logged impulse is the applied one.
@@ -138,7 +132,7 @@ Trajectory MakeLog(const Trajectory& simulated, const LogSpec& spec) {
     log.extra_metadata.emplace_back("log_every", std::to_string(spec.log_every));
     if (log.samples.size() >= 2) {
       log.extra_metadata.emplace_back("log_dt",
-                                      Format(log.samples[1].t_s - log.samples[0].t_s));
+                                      ExactNumber(log.samples[1].t_s - log.samples[0].t_s));
     }
   }
   if (spec.wrench == LogWrench::kIntervalMean) {

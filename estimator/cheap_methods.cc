@@ -1,7 +1,6 @@
 #include "estimator/cheap_methods.h"
 
 #include <cmath>
-#include <cstdio>
 #include <limits>
 
 #include "estimator/closed_form.h"
@@ -9,6 +8,7 @@
 #include "estimator/log_diagnostics.h"
 #include "estimator/robust_statistics.h"
 #include "estimator/step_covariance.h"
+#include "forward_model/number_format.h"
 
 namespace slideid {
 
@@ -60,16 +60,12 @@ StepObservation MidInterval(const StepObservation& o) {
 }
 
 std::string LowSnrReason(double snr, bool differentiated, bool rotation) {
-  char buf[400];
-  std::snprintf(buf, sizeof buf,
-                "the %s of a step is only %.2g times its noise (need %.3g): the per-step "
-                "estimates are biased, not just noisy%s",
-                rotation ? "rotational friction impulse" : "friction impulse", snr,
-                kMinImpulseSnr,
-                differentiated ? " (velocities differentiated from noisy poses; use the "
-                                 "trajectory method)"
-                               : "");
-  return buf;
+  return Printf(
+      "the %s of a step is only %.2g times its noise (need %.3g): the per-step estimates are "
+      "biased, not just noisy%s",
+      rotation ? "rotational friction impulse" : "friction impulse", snr, kMinImpulseSnr,
+      differentiated ? " (velocities differentiated from noisy poses; use the trajectory method)"
+                     : "");
 }
 
 PlausibilityContext CheapContext(const std::vector<LogSteps>& logs) {
@@ -97,15 +93,13 @@ double BiasAwareHalfWidth(double sd, double bias) {
 
 ParameterEstimate FromLogEstimate(const LogEstimate& e) {
   if (e.noise_bias_bound_log > kMaxNoiseBiasStderrs * e.stderr_log) {
-    char buf[400];
-    std::snprintf(buf, sizeof buf,
-                  "the log's noise may bias it by up to %.2g%%, %.2g times its standard error "
-                  "%.2g%% (errors in variables: ratios and directions of noisy velocities); "
-                  "the equation-error fit (measured velocities) or the trajectory method do "
-                  "better",
-                  100 * e.noise_bias_bound_log, e.noise_bias_bound_log / e.stderr_log,
-                  100 * e.stderr_log);
-    return NotIdentifiable(std::exp(e.log_value), buf);
+    return NotIdentifiable(
+        std::exp(e.log_value),
+        Printf("the log's noise may bias it by up to %.2g%%, %.2g times its standard error "
+               "%.2g%% (errors in variables: ratios and directions of noisy velocities); the "
+               "equation-error fit (measured velocities) or the trajectory method do better",
+               100 * e.noise_bias_bound_log, e.noise_bias_bound_log / e.stderr_log,
+               100 * e.stderr_log));
   }
   ParameterEstimate p = EstimateFromLog(e.log_value, e.stderr_log, e.quantile);
   p.note = e.note;
@@ -114,13 +108,11 @@ ParameterEstimate FromLogEstimate(const LogEstimate& e) {
     const double half = BiasAwareHalfWidth(e.quantile * e.stderr_log / kZ95, shift);
     p.ci95_lo = std::exp(e.log_value - half);
     p.ci95_hi = std::exp(e.log_value + half);
-    char buf[300];
-    std::snprintf(buf, sizeof buf,
-                  "interval widened %.2fx: another reading of the log (forces varying within "
-                  "its rows rather than held; for c also the direction of sliding at "
-                  "mid-interval) would move the estimate by %.2g%%",
-                  half / (e.quantile * e.stderr_log), 100 * shift);
-    p.note += (p.note.empty() ? "" : "; ") + std::string(buf);
+    p.note += (p.note.empty() ? "" : "; ") +
+              Printf("interval widened %.2fx: another reading of the log (forces varying within "
+                     "its rows rather than held; for c also the direction of sliding at "
+                     "mid-interval) would move the estimate by %.2g%%",
+                     half / (e.quantile * e.stderr_log), 100 * shift);
   }
   return p;
 }

@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <cstdio>
 #include <limits>
 #include <stdexcept>
 #include <string>
@@ -16,6 +15,7 @@
 #include "estimator/robust_statistics.h"
 #include "estimator/simex.h"  // LogEstimate
 #include "estimator/step_covariance.h"
+#include "forward_model/number_format.h"
 
 namespace slideid {
 namespace {
@@ -34,12 +34,6 @@ constexpr int kMaxLocationIterations = 100;
 constexpr double kMinReadingScale = 0.5;
 
 const char* const kSymbol[3] = {"a", "b", "c"};
-
-std::string Format(const char* fmt, double x, double y = 0, double z = 0) {
-  char buf[300];
-  std::snprintf(buf, sizeof buf, fmt, x, y, z);
-  return buf;
-}
 
 /// |x| is nonzero, at least `fraction` of `scale` and kDivisorSigmas of `noise`.
 bool ClearOfZero(double x, double scale, double fraction, double noise) {
@@ -217,7 +211,7 @@ LogEstimate RobustMeanEstimate(const Samples& s, const std::vector<int>& lag_of_
                                bool spin) {
   const int n = static_cast<int>(s.x.size());
   const Location l = HuberLocation(s.x);
-  std::string note = Format("robust mean of %.0f per-step estimates", n);
+  std::string note = Printf("robust mean of %d per-step estimates", n);
   if (!(l.scale > 0) || !(l.slope > 0)) return {l.centre, 0.0, kZ95, 0.0, 0.0, note};
   // Sandwich: the centre moves by scale sum(psi) / sum(psi'). Neighbouring steps share a
   // velocity sample and their psi are correlated: the variance of sum(psi) is the
@@ -231,22 +225,22 @@ LogEstimate RobustMeanEstimate(const Samples& s, const std::vector<int>& lag_of_
   if (blocks.count >= kMinBlocks && block_var > 0) {
     stderr_log = scale * std::sqrt(block_var);
     quantile = StudentT95(blocks.count - 1);
-    note += Format(" in %.0f blocks", blocks.count);
+    note += Printf(" in %d blocks", blocks.count);
   } else {
     stderr_log = scale * std::sqrt(psi.squaredNorm());
     quantile = kZ95;
-    note += Format("; only %.0f blocks of %.0f steps: interval from independent steps",
+    note += Printf("; only %d blocks of %d steps: interval from independent steps",
                    blocks.count, kBlockSteps);
   }
   int logs = 0;
   const double log_var = ClusterScoreCovariance(psi, s.log, &logs)(0, 0);
   if (logs >= kMinLogClusters) {
-    note += Format(" of %.0f logs", logs);
+    note += Printf(" of %d logs", logs);
     const double stderr_between = scale * std::sqrt(log_var);
     const double t = StudentT95(logs - 1);
     if (t * stderr_between > quantile * stderr_log) {
-      note += Format("; interval widened %.2fx: the logs differ by more than their noise "
-                     "(cluster-robust over %.0f logs, t quantile %.2f)",
+      note += Printf("; interval widened %.2fx: the logs differ by more than their noise "
+                     "(cluster-robust over %d logs, t quantile %.2f)",
                      t * stderr_between / (quantile * stderr_log), logs, t);
       stderr_log = stderr_between;
       quantile = t;

@@ -8,7 +8,6 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <cstdio>
 #include <limits>
 #include <memory>
 #include <stdexcept>
@@ -24,17 +23,12 @@
 #include "estimator/simex.h"
 #include "estimator/step_covariance.h"
 #include "estimator/internal/trajectory_problem.h"
+#include "forward_model/number_format.h"
 
 namespace slideid {
 namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-
-std::string Format(const char* fmt, double x, double y = 0, double z = 0) {
-  char buf[300];
-  std::snprintf(buf, sizeof buf, fmt, x, y, z);
-  return buf;
-}
 
 /// One step in the fit.
 struct FitStep {
@@ -168,15 +162,15 @@ LogEstimate ChooseInterval(const Sandwich& s, int a, bool spin) {
     iv.quantile = StudentT95(s.block_count - 1);
   } else {
     iv.stderr_log = std::sqrt(std::max(0.0, s.white(a, a)));
-    iv.note = Format("only %.0f blocks of %.0f steps: interval from independent steps (wider)",
+    iv.note = Printf("only %d blocks of %d steps: interval from independent steps (wider)",
                      s.block_count, kBlockSteps);
   }
   if (s.log_clusters >= kMinLogClusters) {
     const double between = std::sqrt(std::max(0.0, s.logs(a, a)));
     const double t = StudentT95(s.log_clusters - 1);
     if (t * between > iv.quantile * iv.stderr_log) {
-      iv.note = Format("interval widened %.2fx: the logs differ by more than their noise "
-                       "(cluster-robust over %.0f logs, t quantile %.2f)",
+      iv.note = Printf("interval widened %.2fx: the logs differ by more than their noise "
+                       "(cluster-robust over %d logs, t quantile %.2f)",
                        t * between / (iv.quantile * iv.stderr_log), s.log_clusters, t);
       iv.stderr_log = between;
       iv.quantile = t;

@@ -2,21 +2,16 @@
 
 #include <Eigen/Dense>
 #include <cmath>
-#include <cstdio>
 #include <limits>
 #include <stdexcept>
 #include <vector>
+
+#include "forward_model/number_format.h"
 
 namespace slideid {
 namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-
-std::string Format(const char* fmt, double x, double y = 0) {
-  char buf[160];
-  std::snprintf(buf, sizeof buf, fmt, x, y);
-  return buf;
-}
 
 /// H restricted to the indices in `set`.
 Eigen::MatrixXd Sub(const Eigen::MatrixXd& h, const std::vector<int>& set) {
@@ -66,7 +61,7 @@ void HeldPartners(const Eigen::MatrixXd& h, double residual_variance,
       if (!(se > max_stderr[i])) continue;
       (*out)[i].identifiable = false;
       (*out)[i].stderr_log = (*out)[i].stderr_log_partners_free = kNaN;
-      (*out)[i].note = Format(
+      (*out)[i].note = Printf(
           "determined only with a parameter the log does not constrain held: with that one "
           "free over its plausible range, its standard error %.3g exceeds %.3g",
           se, max_stderr[i]);
@@ -107,7 +102,7 @@ std::vector<ParameterIdentifiability> AssessIdentifiability(const Eigen::MatrixX
   }
   if (!(residual_variance >= 0) || !std::isfinite(residual_variance)) {
     throw std::invalid_argument(
-        Format("AssessIdentifiability: residual variance must be finite and >= 0, got %g",
+        Printf("AssessIdentifiability: residual variance must be finite and >= 0, got %g",
                residual_variance));
   }
   const Eigen::MatrixXd h = 0.5 * (fisher_log + fisher_log.transpose());
@@ -124,7 +119,7 @@ std::vector<ParameterIdentifiability> AssessIdentifiability(const Eigen::MatrixX
     if (!active[i]) {
       out[i].note = "held constant by the caller";
     } else if (!(h(i, i) > 0) || h(i, i) < kNegligibleInformationRatio * largest) {
-      out[i].note = Format(
+      out[i].note = Printf(
           "the residuals do not depend on it (information %.3g of the largest, below %.0e)",
           largest > 0 ? h(i, i) / largest : 0.0, kNegligibleInformationRatio);
     } else {
@@ -148,7 +143,7 @@ std::vector<ParameterIdentifiability> AssessIdentifiability(const Eigen::MatrixX
       involved[k] = component(k) >= kInvolvedComponent * component.maxCoeff();
     }
     const int worst = pick(set, component, involved);
-    out[set[worst]].note = Format(
+    out[set[worst]].note = Printf(
         "only a combination with other parameters is determined (smallest eigenvalue of the "
         "normalised information %.3g, below %.0e)",
         lambda_min, kCollinearEigenvalue);
@@ -183,7 +178,7 @@ std::vector<ParameterIdentifiability> AssessIdentifiability(const Eigen::MatrixX
       }
       break;
     }
-    out[set[worst]].note = Format(
+    out[set[worst]].note = Printf(
         "the log does not constrain it: its standard error %.3g exceeds %.3g", se(worst),
         max_stderr[set[worst]]);
     unconstrained.push_back(set[worst]);

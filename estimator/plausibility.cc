@@ -1,17 +1,12 @@
 #include "estimator/plausibility.h"
 
 #include <cmath>
-#include <cstdio>
 #include <string>
+
+#include "forward_model/number_format.h"
 
 namespace slideid {
 namespace {
-
-std::string Format(const char* fmt, double x, double y = 0, double z = 0) {
-  char buf[256];
-  std::snprintf(buf, sizeof buf, fmt, x, y, z);
-  return buf;
-}
 
 void AddReason(ParameterEstimate* p, const std::string& reason) {
   p->verdict = Verdict::kSuspect;
@@ -35,14 +30,14 @@ void JudgeEstimates(const PlausibilityContext& c, std::array<ParameterEstimate, 
       held.held_at = p.value;
       held.reason =
           p.ci95_lo > 0
-              ? Format("its 95%% interval [%.3g, %.3g] spans a factor %.3g: the log does not "
+              ? Printf("its 95%% interval [%.3g, %.3g] spans a factor %.3g: the log does not "
                        "determine it",
                        p.ci95_lo, p.ci95_hi, factor)
-              : Format("its 95%% interval [%.3g, %.3g] reaches down to zero: the log does not "
+              : Printf("its 95%% interval [%.3g, %.3g] reaches down to zero: the log does not "
                        "determine it",
                        p.ci95_lo, p.ci95_hi);
       if (mismatch > kMismatchRatio) {
-        held.reason += Format(" (its residuals are %.3g times the log's own noise and the "
+        held.reason += Printf(" (its residuals are %.3g times the log's own noise and the "
                               "model's discretisation: the model does not fit it, which widens "
                               "the interval)",
                               mismatch);
@@ -53,11 +48,11 @@ void JudgeEstimates(const PlausibilityContext& c, std::array<ParameterEstimate, 
     p.verdict = Verdict::kOk;
     p.reason.clear();
     if (mismatch > kMismatchRatio) {
-      AddReason(&p, floor > 0 ? Format("residuals %.3g times the log's own noise and the "
+      AddReason(&p, floor > 0 ? Printf("residuals %.3g times the log's own noise and the "
                                        "model's discretisation together (model mismatch: "
                                        "%.3g against %.3g)",
                                        mismatch, c.residual_rms, std::hypot(c.log_noise, floor))
-                              : Format("residuals %.3g times the log's own noise (model "
+                              : Printf("residuals %.3g times the log's own noise (model "
                                        "mismatch: %.3g against %.3g)",
                                        mismatch, c.residual_rms, c.log_noise));
     }
@@ -65,7 +60,7 @@ void JudgeEstimates(const PlausibilityContext& c, std::array<ParameterEstimate, 
       for (const PushCapacity& log : c.logs) {
         const double friction = p.value * log.weight_n;
         if (log.max_push_n > 0 && friction > kFrictionOverPush * log.max_push_n) {
-          AddReason(&p, Format("implies %.3g N of friction against a largest push of %.3g N: "
+          AddReason(&p, Printf("implies %.3g N of friction against a largest push of %.3g N: "
                                "the slider could not have slid",
                                friction, log.max_push_n));
           break;
@@ -75,11 +70,11 @@ void JudgeEstimates(const PlausibilityContext& c, std::array<ParameterEstimate, 
     const double v = std::log(p.value);
     if (std::abs(v - std::log(c.lower[i])) < kAtBoundLog ||
         std::abs(v - std::log(c.upper[i])) < kAtBoundLog) {
-      AddReason(&p, Format("at a bound of the search range [%.3g, %.3g]", c.lower[i],
+      AddReason(&p, Printf("at a bound of the search range [%.3g, %.3g]", c.lower[i],
                            c.upper[i]));
     }
     if (c.seed[i] > 0 && std::abs(v - std::log(c.seed[i])) > std::log(kSeedFactor)) {
-      AddReason(&p, Format("%.3g times the seed %.3g the fit started from", p.value / c.seed[i],
+      AddReason(&p, Printf("%.3g times the seed %.3g the fit started from", p.value / c.seed[i],
                            c.seed[i]));
     }
   }

@@ -2,13 +2,13 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <stdexcept>
 
 #include "estimator/log_diagnostics.h"
 #include "estimator/pooling.h"
 #include "estimator/robust_statistics.h"
 #include "forward_model/contact_patch.h"
+#include "forward_model/number_format.h"
 #include "forward_model/pusher.h"
 
 namespace slideid {
@@ -86,11 +86,7 @@ std::vector<ContactRow> ContactRows(const Trajectory& log, double min_force_n,
   return rows;
 }
 
-std::string Rounded(double v) {
-  char buffer[32];
-  std::snprintf(buffer, sizeof buffer, "%.3g", v);
-  return buffer;
-}
+std::string Rounded(double v) { return Printf("%.3g", v); }
 
 /// mu_p from the sliding rows' |ratio| (in log order): their median, and its standard error
 /// from batch medians, which carries whatever correlation the rows of a log share (on

@@ -7,7 +7,6 @@
 #include <Eigen/Core>
 #include <algorithm>
 #include <chrono>
-#include <cstdio>
 #include <limits>
 #include <memory>
 #include <stdexcept>
@@ -16,6 +15,7 @@
 #include "estimator/identifiability.h"
 #include "estimator/plausibility.h"
 #include "estimator/robust_statistics.h"
+#include "forward_model/number_format.h"
 
 namespace slideid {
 namespace {
@@ -28,11 +28,7 @@ constexpr double kRayleighMedian = 1.1774100225154747;
 /// It only starts the fit, or is the value c is held at when nothing determines it.
 constexpr double kFallbackSeedC_m = 0.02;
 
-std::string Short(double x) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.3g", x);
-  return buf;
-}
+std::string Short(double x) { return Printf("%.3g", x); }
 
 void CheckPairs(const std::vector<WrenchTwistPair>& pairs, double weight_n) {
   if (static_cast<int>(pairs.size()) < kMinQuasiStaticPairs) {

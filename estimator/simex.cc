@@ -1,11 +1,11 @@
 #include "estimator/simex.h"
 
 #include <cmath>
-#include <cstdio>
 #include <limits>
 #include <random>
 
 #include "estimator/log_diagnostics.h"
+#include "forward_model/number_format.h"
 
 namespace slideid {
 namespace {
@@ -76,20 +76,17 @@ SimexBias EstimateSimexBias(const std::vector<const Trajectory*>& logs,
 bool CorrectNoiseBias(const SimexBias& bias, int i, LogEstimate* e, std::string* reason) {
   const double b = bias.bias_log[i];
   if (!std::isfinite(b)) return true;
-  char buf[300];
   if (std::abs(b) > kMaxSimexBiasLog) {
-    std::snprintf(buf, sizeof buf,
-                  "the log's noise biases it by about %+.0f%% (SIMEX), beyond what a "
-                  "correction can be trusted for (%.0f%%)",
-                  100 * std::expm1(b), 100 * std::expm1(kMaxSimexBiasLog));
-    *reason = buf;
+    *reason = Printf("the log's noise biases it by about %+.0f%% (SIMEX), beyond what a "
+                     "correction can be trusted for (%.0f%%)",
+                     100 * std::expm1(b), 100 * std::expm1(kMaxSimexBiasLog));
     return false;
   }
   e->log_value -= b;
   e->stderr_log = std::hypot(e->stderr_log, bias.stderr_log[i]);
-  std::snprintf(buf, sizeof buf, "corrected by %+.2f%% for the bias of the log's noise (SIMEX)",
-                100 * std::expm1(-b));
-  e->note += (e->note.empty() ? "" : "; ") + std::string(buf);
+  e->note += (e->note.empty() ? "" : "; ") +
+             Printf("corrected by %+.2f%% for the bias of the log's noise (SIMEX)",
+                    100 * std::expm1(-b));
   return true;
 }
 

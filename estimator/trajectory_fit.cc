@@ -4,7 +4,6 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <cstdio>
 #include <limits>
 #include <memory>
 #include <optional>
@@ -20,6 +19,7 @@
 #include "estimator/pooling.h"
 #include "estimator/robust_statistics.h"
 #include "estimator/internal/trajectory_problem.h"
+#include "forward_model/number_format.h"
 
 namespace slideid {
 namespace {
@@ -56,12 +56,6 @@ constexpr double kMaxDelayStdErrFraction = 0.25;
 
 double Seconds(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-}
-
-std::string Format(const char* fmt, double x, double y = 0, double z = 0) {
-  char buf[256];
-  std::snprintf(buf, sizeof buf, fmt, x, y, z);
-  return buf;
 }
 
 // ---- seeds -----------------------------------------------------------------------------
@@ -599,7 +593,7 @@ Eigen::VectorXd MismatchStep(const AugmentedShares& a, const Eigen::MatrixXd& Hi
       choice->correction_refused = true;
       choice->correction = std::string("model mismatch too large to correct: it would move ") +
                            ParameterName(free[i]) + " by " +
-                           Format("%.0f%%", 100 * std::expm1(std::abs(delta(i))));
+                           Printf("%.0f%%", 100 * std::expm1(std::abs(delta(i))));
       return Eigen::VectorXd::Zero(delta.size());
     }
   }
@@ -708,7 +702,7 @@ IntervalChoice ChooseIntervals(const FitInformation& info, const std::vector<int
     if (by_segment.ok) {
       iv.stderr_value = std::sqrt(std::max(0.0, by_segment.covariance(i, i)));
       iv.quantile = StudentT95(by_segment.dof(i));
-      iv.note = Format("cluster-robust (CR2) over %.0f segments, t quantile %.2f on %.1f df",
+      iv.note = Printf("cluster-robust (CR2) over %d segments, t quantile %.2f on %.1f df",
                        by_segment.clusters, iv.quantile, by_segment.dof(i));
     } else {
       iv.robust = false;
@@ -716,7 +710,7 @@ IntervalChoice ChooseIntervals(const FitInformation& info, const std::vector<int
       iv.quantile = StudentT95(std::max(1, dof));
       iv.note = "white-noise interval, which may be too narrow: no cluster-robust covariance (" +
                 by_segment.failure + "; " + std::to_string(info.segments) + " segments)" +
-                Format("; widened %.2fx for the residuals' autocorrelation", std::sqrt(inflation));
+                Printf("; widened %.2fx for the residuals' autocorrelation", std::sqrt(inflation));
     }
     const auto at = std::find(shared.begin(), shared.end(), i);
     if (by_log.ok && at != shared.end()) {
@@ -725,7 +719,7 @@ IntervalChoice ChooseIntervals(const FitInformation& info, const std::vector<int
       const double q = StudentT95(by_log.dof(k));
       if (!iv.robust || q * se > iv.quantile * iv.stderr_value) {
         iv = {se, q,
-              Format("cluster-robust (CR2) over %.0f logs, t quantile %.2f on %.1f df: wider "
+              Printf("cluster-robust (CR2) over %d logs, t quantile %.2f on %.1f df: wider "
                      "than over the segments (the logs' spread, or few logs)",
                      by_log.clusters, q, by_log.dof(k)),
               true};
@@ -997,12 +991,12 @@ FitOutcome Fit(const std::vector<const Trajectory*>& logs, const IdentifyOptions
     result.parameters[i].minimum_value = std::exp(problem.global(i));
     result.parameters[i].note = iv.note;
     if (stderr_log > kNoticeableWidening * iv.stderr_value) {
-      result.parameters[i].note += Format("; widened %.2gx for the friction parameters held "
+      result.parameters[i].note += Printf("; widened %.2gx for the friction parameters held "
                                           "(not identifiable) over their plausible range",
                                           stderr_log / iv.stderr_value);
     }
     if (!choice.correction.empty() && !choice.correction_refused) {
-      result.parameters[i].note += Format("; %+.2g%% ", 100 * std::expm1(value_of[i] - problem.global(i))) +
+      result.parameters[i].note += Printf("; %+.2g%% ", 100 * std::expm1(value_of[i] - problem.global(i))) +
                                    choice.correction;
     }
   }
@@ -1088,7 +1082,7 @@ FitOutcome Fit(const std::vector<const Trajectory*>& logs, const IdentifyOptions
   result.iterations = iterations;
   result.message = summary.BriefReport();
   if (second.moved) {
-    result.message += Format("; a second start over %.0f-interval segments ended in a lower "
+    result.message += Printf("; a second start over %d-interval segments ended in a lower "
                              "minimum (sum of squares %.4g against %.4g): kept",
                              second.steps, second.cost_second, second.cost_first);
   }
@@ -1132,7 +1126,7 @@ void RefitFromPooled(const Trajectory& log, int k, const TrajectoryProblem& pool
   const double own_cost = own_problem->RawCost(), again_cost = again.problem->RawCost();
   if (!(again_cost < own_cost)) return;
   *own = AsLogResult(again.result, log, k);
-  own->message += Format("; started from the pooled estimate (from its own seeds the fit "
+  own->message += Printf("; started from the pooled estimate (from its own seeds the fit "
                          "ended in a worse minimum: sum of squares %.3g against %.3g)",
                          own_cost, again_cost);
 }
@@ -1186,7 +1180,7 @@ void CrossCheck(const Trajectory& log, const IdentifyOptions& options, FitOutcom
     if (!p.identifiable || !q.identifiable || Consistent(p, q)) continue;
     if (p.verdict == Verdict::kOk) {
       p.verdict = Verdict::kSuspect;
-      p.reason = Format("a fit over %.0f-interval segments gives %.4g, beyond both fits' "
+      p.reason = Printf("a fit over %d-interval segments gives %.4g, beyond both fits' "
                         "errors: the estimate depends on how the log is cut",
                         other.trajectory.segment_steps, q.value);
     }

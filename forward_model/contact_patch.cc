@@ -2,30 +2,23 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <cstdlib>
 #include <limits>
 #include <sstream>
 #include <stdexcept>
 
 #include "forward_model/constants.h"
+#include "forward_model/number_format.h"
 
 namespace slideid {
 namespace {
 
 using Vec2 = Eigen::Vector2d;
 
-
-std::string FormatDouble(double v) {
-  char buffer[32];
-  std::snprintf(buffer, sizeof(buffer), "%.17g", v);
-  return buffer;
-}
-
 void RequirePositive(const char* what, double value) {
   if (!std::isfinite(value) || value <= 0.0) {
     throw std::invalid_argument(std::string("contact patch: ") + what + " = " +
-                                FormatDouble(value) + ": must be finite and > 0");
+                                ExactNumber(value) + ": must be finite and > 0");
   }
 }
 
@@ -63,8 +56,8 @@ double SignedArea(const std::vector<Vec2>& v) {
 }
 
 std::string VertexText(size_t i, const Vec2& p) {
-  return "vertex " + std::to_string(i) + " (" + FormatDouble(p.x()) + ", " +
-         FormatDouble(p.y()) + ")";
+  return "vertex " + std::to_string(i) + " (" + ExactNumber(p.x()) + ", " +
+         ExactNumber(p.y()) + ")";
 }
 
 void CheckVerticesFinite(const std::vector<Vec2>& v) {
@@ -125,7 +118,7 @@ void CheckOrientation(const std::vector<Vec2>& v) {
     throw std::invalid_argument("contact patch: polygon has zero area");
   }
   if (area < 0.0) {
-    throw std::invalid_argument("contact patch: polygon signed area = " + FormatDouble(area) +
+    throw std::invalid_argument("contact patch: polygon signed area = " + ExactNumber(area) +
                                 ": vertices are clockwise; they must be counter-clockwise");
   }
 }
@@ -237,9 +230,9 @@ ContactPatch ContactPatch::Ring(double outer_radius_m, double inner_radius_m) {
   if (!std::isfinite(inner_radius_m) || inner_radius_m < 0.0 ||
       inner_radius_m >= outer_radius_m) {
     throw std::invalid_argument("contact patch: ring inner radius = " +
-                                FormatDouble(inner_radius_m) +
+                                ExactNumber(inner_radius_m) +
                                 ": must be >= 0 and < the outer radius " +
-                                FormatDouble(outer_radius_m));
+                                ExactNumber(outer_radius_m));
   }
   ContactPatch patch;
   patch.shape_ = Shape::kRing;
@@ -292,16 +285,16 @@ ContactPatch ContactPatch::Parse(const std::string& spec) {
 std::string ContactPatch::Spec() const {
   switch (shape_) {
     case Shape::kRectangle:
-      return "rectangle " + FormatDouble(width_m_) + " " + FormatDouble(length_m_);
+      return "rectangle " + ExactNumber(width_m_) + " " + ExactNumber(length_m_);
     case Shape::kDisk:
-      return "disk " + FormatDouble(radius_m_);
+      return "disk " + ExactNumber(radius_m_);
     case Shape::kRing:
-      return "ring " + FormatDouble(radius_m_) + " " + FormatDouble(inner_radius_m_);
+      return "ring " + ExactNumber(radius_m_) + " " + ExactNumber(inner_radius_m_);
     case Shape::kPolygon:
       break;
   }
   std::string out = "polygon";
-  for (const Vec2& v : vertices_) out += " " + FormatDouble(v.x()) + " " + FormatDouble(v.y());
+  for (const Vec2& v : vertices_) out += " " + ExactNumber(v.x()) + " " + ExactNumber(v.y());
   return out;
 }
 

@@ -2,8 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <stdexcept>
+
+#include "forward_model/number_format.h"
 
 namespace slideid {
 namespace {
@@ -30,22 +31,14 @@ AppliedWrench PushWrench(const Scene& scene, double t, const PlanarState& pose,
   return total;
 }
 
-std::string Format(const char* fmt, double a, double b, double c, double d) {
-  char buf[256];
-  std::snprintf(buf, sizeof buf, fmt, a, b, c, d);
-  return buf;
-}
-
 Trajectory EmptyTrajectory(const Scene& scene) {
   Trajectory traj;
   traj.slider = scene.slider;
   traj.patch_spec = scene.patch.Spec();
   traj.true_friction = scene.friction;
   const ReducedFriction reduced = ReducedFriction::From(scene.friction);
-  char buf[64];
   auto add = [&](const char* key, double v) {
-    std::snprintf(buf, sizeof buf, "%.17g", v);
-    traj.extra_metadata.emplace_back(key, buf);
+    traj.extra_metadata.emplace_back(key, ExactNumber(v));
   };
   add("e_t_mu", reduced.a);
   add("e_o_over_e_t", reduced.b);
@@ -67,7 +60,7 @@ void Fail(SimulationSummary* summary, SimulationStatus status, double t,
           const std::string& message) {
   summary->status = status;
   summary->failure_time_s = t;
-  summary->message = Format("t = %.6g s: ", t, 0, 0, 0) + message;
+  summary->message = Printf("t = %.6g s: ", t) + message;
 }
 
 /// One step of a pusher-driven scene from `row`, whose applied wrench and push point
@@ -123,12 +116,10 @@ SimulationResult Simulate(const Scene& scene, const SimulationOptions& options) 
   // The trajectory is kept in memory (~200 bytes a step): beyond this it would not fit.
   const double requested = scene.duration_s / scene.dt_s;
   if (!(requested <= kMaxSimulationSteps)) {
-    char buf[200];
-    std::snprintf(buf, sizeof buf,
-                  "Simulate: duration / dt = %.3g / %.3g = %.3g steps; at most %.0e (about 4 "
-                  "GB of trajectory): use a larger dt or a shorter duration",
-                  scene.duration_s, scene.dt_s, requested, kMaxSimulationSteps);
-    throw std::invalid_argument(buf);
+    throw std::invalid_argument(
+        Printf("Simulate: duration / dt = %.3g / %.3g = %.3g steps; at most %.0e (about 4 GB "
+               "of trajectory): use a larger dt or a shorter duration",
+               scene.duration_s, scene.dt_s, requested, kMaxSimulationSteps));
   }
   SimulationResult result;
   Trajectory& traj = result.trajectory;
@@ -189,7 +180,7 @@ SimulationResult Simulate(const Scene& scene, const SimulationOptions& options) 
     if (distance > options.hull_tolerance_m) {
       summary.failure_ecp_world = step.ecp_world;
       Fail(&summary, SimulationStatus::kToppling, t_next,
-           Format("ECP (%.6g, %.6g) m world, (%.6g, %.6g) m body, left the patch hull: the "
+           Printf("ECP (%.6g, %.6g) m world, (%.6g, %.6g) m body, left the patch hull: the "
                   "slider would tip",
                   step.ecp_world.x(), step.ecp_world.y(), step.EcpBody().x(),
                   step.EcpBody().y()));

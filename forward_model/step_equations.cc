@@ -3,8 +3,9 @@
 #include <Eigen/LU>
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <limits>
+
+#include "forward_model/number_format.h"
 
 namespace slideid {
 namespace {
@@ -175,12 +176,7 @@ double StepEquations::ConvergenceResidual(const Eigen::Vector4d& z, const Eigen:
 
 bool StepEquations::ScalesRepresentable(std::string* why, bool with_equation_terms) const {
   auto fail = [&](const char* what, double value) {
-    if (why) {
-      char buf[200];
-      std::snprintf(buf, sizeof buf, "%s = %g is outside the normal range of double", what,
-                    value);
-      *why = buf;
-    }
+    if (why) *why = Printf("%s = %g is outside the normal range of double", what, value);
     return false;
   };
   // Subnormal a p_n (< 2.2e-308 N s) has lost digits already: the solve then stalls.

@@ -6,19 +6,10 @@
 #include <stdexcept>
 #include <system_error>
 
+#include "forward_model/number_format.h"
 #include "io/push_log.h"
 
 namespace slideid {
-namespace {
-
-std::string Format(double v) {
-  char buf[40];
-  std::snprintf(buf, sizeof buf, "%.17g", v);
-  return buf;
-}
-
-}  // namespace
-
 std::string TruthCsvHeader() {
   return "file,mass,inertia,com_height,mu,e_t,e_o,e_r,a,b,c,noise,patch,rows,redraws,mu_p";
 }
@@ -30,12 +21,12 @@ std::string TruthCsvRow(const DatasetEntry& e) {
   std::string row = e.file;
   for (double v : {s.mass_kg, s.inertia_kgm2, s.com_height_m, f.mu, f.e_t, f.e_o, f.e_r, r.a,
                    r.b, r.c}) {
-    row += "," + Format(v);
+    row += "," + ExactNumber(v);
   }
   // mu_p: the tip-edge friction of a pusher-driven log; empty for a force-driven one.
   return row + "," + e.scene.log.noise.Describe() + "," + e.scene.patch.Spec() + "," +
          std::to_string(e.rows) + "," + std::to_string(e.redraw_reasons.size()) + "," +
-         (e.scene.pusher ? Format(e.scene.pusher->mu) : std::string());
+         (e.scene.pusher ? ExactNumber(e.scene.pusher->mu) : std::string());
 }
 
 DatasetSummary MakeDataset(const DatasetSpec& spec, const std::string& directory) {

@@ -4,13 +4,13 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <cstdio>
 #include <limits>
 #include <stdexcept>
 
 #include "estimator/robust_statistics.h"
 #include "forward_model/constants.h"
 #include "forward_model/contact_patch.h"
+#include "forward_model/number_format.h"
 #include "forward_model/planar_state.h"
 #include "forward_model/pusher.h"
 
@@ -73,13 +73,7 @@ double Interpolate(const std::vector<MitStreamRow>& rows, double t, int k) {
   return (*lo)[k] + w * ((*hi)[k] - (*lo)[k]);
 }
 
-std::string Format(const char* format, double a, double b = 0, double c = 0) {
-  char buffer[256];
-  std::snprintf(buffer, sizeof buffer, format, a, b, c);
-  return buffer;
-}
-
-std::string Vec(const Eigen::Vector2d& v) { return Format("%.4g %.4g", v.x(), v.y()); }
+std::string Vec(const Eigen::Vector2d& v) { return Printf("%.4g %.4g", v.x(), v.y()); }
 
 StreamSummary Clean(std::vector<MitStreamRow>* rows) {
   StreamSummary s;
@@ -100,8 +94,8 @@ std::string Implausible(const std::vector<MitStreamRow>& rows, const char* strea
   for (std::size_t i = 0; i < rows.size(); ++i) {
     for (int k = 0; k < 4; ++k) {
       if (std::abs(rows[i][k]) <= limits[k]) continue;
-      return std::string(stream) + ": " + names[k] + Format(" = %.6g beyond any plausible value ", rows[i][k]) +
-             Format("(|value| <= %.0e): a unit or format error?", limits[k]);
+      return std::string(stream) + ": " + names[k] + Printf(" = %.6g beyond any plausible value ", rows[i][k]) +
+             Printf("(|value| <= %.0e): a unit or format error?", limits[k]);
     }
   }
   return "";
@@ -355,9 +349,9 @@ Rejection EstimateOffset(const std::vector<ForceSample>& samples, double t_first
   if (differ_by > (both_clear ? o.max_offset_drift_n : kMinPreloadN)) {
     if (both_clear) {
       report->offset_drift_n = differ_by;
-      return Format("force offset drift %.3g N between before (", *report->offset_drift_n) +
+      return Printf("force offset drift %.3g N between before (", *report->offset_drift_n) +
              Vec(*median[0]) + ") and after (" + Vec(*median[1]) +
-             Format(") the push, both with the tip clear of the object, exceeds %.3g N "
+             Printf(") the push, both with the tip clear of the object, exceeds %.3g N "
                     "(--max-offset-drift)", o.max_offset_drift_n);
     }
     // A resting side that disagrees: a clear side, else the side after the push, is the
@@ -368,7 +362,7 @@ Rejection EstimateOffset(const std::vector<ForceSample>& samples, double t_first
     report->preload_n = preload;
     report->notes.push_back(std::string("the tip rests against the object ") +
                            (load == 0 ? "before" : "after") +
-                           Format(" the push, pressing it with %.3g N: kept as a real force, "
+                           Printf(" the push, pressing it with %.3g N: kept as a real force, "
                                   "not taken for the sensor's offset", preload.norm()));
     median[load].reset();
     used[load].clear();
@@ -423,7 +417,7 @@ Rejection CheckSign(const std::vector<const ForceSample*>& push, const Offset& o
   const double alignment = *report->normal_alignment;
   if (o.force_sign == ForceSign::kAuto) {
     if (std::abs(alignment) < kMinNormalAlignment) {
-      return Format("sign check inconclusive: the force is not along the contact normal "
+      return Printf("sign check inconclusive: the force is not along the contact normal "
                     "(alignment %+.2f; a push gives about +-1)", alignment);
     }
     report->force_flipped = alignment < 0;
@@ -433,7 +427,7 @@ Rejection CheckSign(const std::vector<const ForceSample*>& push, const Offset& o
   const double effective = report->force_flipped ? -alignment : alignment;
   if (effective < kMinNormalAlignment) {
     report->notes.push_back(std::string("--force-sign ") + ToString(o.force_sign) +
-                            Format(" disagrees with the contact normal (alignment of the "
+                            Printf(" disagrees with the contact normal (alignment of the "
                                    "force used %+.2f)", effective));
   }
   return std::nullopt;
@@ -507,7 +501,7 @@ Rejection PrepareStreams(const MitImportOptions& o, Streams* s, std::vector<Froz
   }
   if (const std::string dead = DeadChannel(s->ft); !dead.empty()) {
     const double value = s->ft.front()[dead == "fx" ? 1 : 2];
-    return "force channel constant (dead sensor?): " + dead + Format(" = %.6g N in all ", value) +
+    return "force channel constant (dead sensor?): " + dead + Printf(" = %.6g N in all ", value) +
            std::to_string(r->ft_wrench.rows) + " samples";
   }
   *frozen = DropFrozen(&s->ft);
@@ -520,7 +514,7 @@ Rejection PrepareStreams(const MitImportOptions& o, Streams* s, std::vector<Froz
   r->pose_glitches = DropPoseGlitches(&s->object);
   if (r->pose_glitches > kMaxGlitchFraction * poses) {
     return "object_pose: " + std::to_string(r->pose_glitches) + " of " + std::to_string(poses) +
-           Format(" poses lie more than %.3g mm from their neighbours (marker swaps?): too many "
+           Printf(" poses lie more than %.3g mm from their neighbours (marker swaps?): too many "
                   "to drop", kGlitchDistanceM * 1e3);
   }
   if (r->pose_glitches > 0) {
@@ -551,7 +545,7 @@ Rejection FindPush(const Streams& s, const MitImportOptions& o, Push* push, MitI
   }
   if (!first_active) {
     return std::isfinite(closest)
-               ? Format("no contact: the tip never touches the object while it moves "
+               ? Printf("no contact: the tip never touches the object while it moves "
                         "(closest approach %.1f mm beyond the tip radius)", closest * 1e3)
                : std::string("no contact: the streams do not overlap in time");
   }
@@ -565,7 +559,7 @@ Rejection FindPush(const Streams& s, const MitImportOptions& o, Push* push, MitI
     }
   }
   if (push->above.empty()) {
-    return Format("no push: the force stays below the noise threshold (%.3g N) while the tip "
+    return Printf("no push: the force stays below the noise threshold (%.3g N) while the tip "
                   "touches the object and moves", r->force_threshold_n);
   }
   return CheckSign(push->above, push->offset, o, r);
@@ -605,7 +599,7 @@ Rejection ChooseWindow(const Streams& s, const Push& push, const std::vector<Fro
                        std::vector<std::pair<double, double>>* gaps, MitImportReport* r) {
   const double push_start = push.above.front()->t, push_end = push.above.back()->t;
   if (push_end - push_start < o.min_push_duration_s) {
-    return Format("log too short: the push lasts %.3g s (need %.3g s, --min-push-duration)",
+    return Printf("log too short: the push lasts %.3g s (need %.3g s, --min-push-duration)",
                   push_end - push_start, o.min_push_duration_s);
   }
   *start = std::max({push_start - o.margin_s, s.object.front()[0], s.tip.front()[0],
@@ -613,7 +607,7 @@ Rejection ChooseWindow(const Streams& s, const Push& push, const std::vector<Fro
   *end = std::min({push_end + o.margin_s, s.object.back()[0], s.tip.back()[0], s.ft.back()[0]});
   for (const FrozenRun& run : frozen) {
     if (run.t_last >= *start && run.t_first <= *end) {
-      return std::string(run.channel) + Format(" frozen at %.6g N for ", run.value_n) +
+      return std::string(run.channel) + Printf(" frozen at %.6g N for ", run.value_n) +
              std::to_string(run.samples) +
              " samples inside the push window (saturated or stalled sensor)";
     }
@@ -623,16 +617,16 @@ Rejection ChooseWindow(const Streams& s, const Push& push, const std::vector<Fro
   if (kept < o.min_push_duration_s) {
     std::string which;
     for (const auto& [t0, t1] : *gaps) {
-      which += (which.empty() ? "" : ", ") + Format("%.0f ms at %.3f s", (t1 - t0) * 1e3,
+      which += (which.empty() ? "" : ", ") + Printf("%.0f ms at %.3f s", (t1 - t0) * 1e3,
                                                     t0 - push_start);
     }
-    return Format("object_pose gaps leave %.3g s of the %.3g s push (need %.3g s, "
+    return Printf("object_pose gaps leave %.3g s of the %.3g s push (need %.3g s, "
                   "--min-push-duration; gaps over --max-pose-gap split the log): ",
                   kept, push_end - push_start, o.min_push_duration_s) + which +
            " after the push starts";
   }
   if ((*end - *start) * o.rate_hz >= kMaxRows) {
-    return Format("push window of %.3g s at %.3g Hz: more rows than any push needs (times "
+    return Printf("push window of %.3g s at %.3g Hz: more rows than any push needs (times "
                   "not in seconds?)", *end - *start, o.rate_hz);
   }
   return std::nullopt;
@@ -711,7 +705,7 @@ Trajectory BuildLog(const Streams& s, const Offset& offset, double start, double
   r->pose_gaps_split = static_cast<int>(Runs(log).size()) - 1;
   if (r->pose_gaps_split > 0) {
     r->notes.push_back(std::to_string(r->pose_gaps_split) + " object_pose gap(s) over " +
-                       Format("%.0f ms", o.max_pose_gap_s * 1e3) + " inside the window: " +
+                       Printf("%.0f ms", o.max_pose_gap_s * 1e3) + " inside the window: " +
                        std::to_string(r->rows_dropped_in_pose_gaps) +
                        " rows left out, the log split into runs there (mode 'start')");
   }
@@ -734,11 +728,11 @@ void AddMetadata(const MitImportReport& r, const MitImportOptions& o, const std:
   add("source", source);
   add("import_format", "mit-push");
   if (!r.object.empty()) add("object", r.object);
-  add("time_origin_unix_s", Format("%.17g", r.time_origin_s));
-  add("rate_hz", Format("%.17g", o.rate_hz));
-  add("stream_rates_hz", Format("object_pose %.1f, tip_pose %.1f, ", r.object_pose.median_rate_hz,
-                                r.tip_pose.median_rate_hz) +
-                             Format("ft_wrench %.1f", r.ft_wrench.median_rate_hz));
+  add("time_origin_unix_s", ExactNumber(r.time_origin_s));
+  add("rate_hz", ExactNumber(o.rate_hz));
+  add("stream_rates_hz", Printf("object_pose %.1f, tip_pose %.1f, ft_wrench %.1f",
+                                r.object_pose.median_rate_hz, r.tip_pose.median_rate_hz,
+                                r.ft_wrench.median_rate_hz));
   add("force_offset_before_n", r.offset_before_n ? Vec(*r.offset_before_n) : "none");
   add("force_offset_after_n", r.offset_after_n ? Vec(*r.offset_after_n) : "none");
   add("force_sign", r.force_flipped ? "flipped (the stored force is the reaction on the sensor)"

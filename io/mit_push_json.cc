@@ -13,6 +13,8 @@
 #include <numeric>
 #include <sstream>
 
+#include "forward_model/number_format.h"
+
 namespace slideid {
 namespace {
 
@@ -132,13 +134,6 @@ std::vector<MitStreamRow> ParseStream(const json& document, const char* key,
   return rows;
 }
 
-/// Shortest text that reads back as the same double.
-std::string Number(double value) {
-  std::array<char, 32> buffer{};
-  const auto result = std::to_chars(buffer.data(), buffer.data() + buffer.size(), value);
-  return std::string(buffer.data(), result.ptr);
-}
-
 /// The value of `key=` in a file name: the text up to the next '_' (or the end).
 std::optional<std::string> Field(const std::string& name, const std::string& key) {
   const std::string tag = key + "=";
@@ -206,7 +201,7 @@ std::string FormatMitPushJson(const MitPushRecording& recording) {
     const std::vector<MitStreamRow>& rows = recording.*kStreams[s].rows;
     for (std::size_t i = 0; i < rows.size(); ++i) {
       out += i == 0 ? "\n    [" : ",\n    [";
-      for (std::size_t k = 0; k < 4; ++k) out += (k ? ", " : "") + Number(rows[i][k]);
+      for (std::size_t k = 0; k < 4; ++k) out += (k ? ", " : "") + ShortNumber(rows[i][k]);
       out += "]";
     }
     out += rows.empty() ? "]" : "\n  ]";

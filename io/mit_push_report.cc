@@ -9,16 +9,13 @@
 #include <utility>
 
 #include "forward_model/constants.h"
+#include "forward_model/number_format.h"
 
 namespace slideid {
 namespace {
 
-
-std::string Number(double value) {
-  char buffer[64];
-  std::snprintf(buffer, sizeof buffer, "%.6g", value);
-  return buffer;
-}
+/// Six significant digits: the report's precision.
+std::string Number(double value) { return Printf("%.6g", value); }
 
 std::string Number(const std::optional<double>& value, double scale = 1.0) {
   return value ? Number(*value * scale) : "";
@@ -129,10 +126,7 @@ const std::vector<std::pair<std::string, Cell>>& Columns() {
     c.push_back({"window_s", [](R r) { return r.rows > 0 ? Number(r.window_end_s) : ""; }});
     c.push_back({"peak_force_n", [](R r) { return r.rows > 0 ? Number(r.peak_force_n) : ""; }});
     c.push_back({"time_origin_unix_s", [](R r) {
-                   if (r.rows == 0) return std::string();
-                   char buffer[64];
-                   std::snprintf(buffer, sizeof buffer, "%.17g", r.time_origin_s);
-                   return std::string(buffer);
+                   return r.rows == 0 ? std::string() : ExactNumber(r.time_origin_s);
                  }});
     c.push_back({"notes", [](R r) {
                    std::string all;

@@ -17,6 +17,7 @@
 #include <system_error>
 
 #include "forward_model/contact_patch.h"
+#include "forward_model/number_format.h"
 #include "io/text_lines.h"
 #include "forward_model/constants.h"
 
@@ -109,22 +110,11 @@ constexpr std::array<const char*, 4> kTruthKeys = {"mu", "e_t", "e_o", "e_r"};
 
 using text::IsIdentifier;
 using text::ParseFiniteNumber;
-using text::ShortNumber;
 using text::SplitCells;
 using text::Trim;
 
-std::string FormatNumber(double value) {
-  char buffer[40];
-  std::snprintf(buffer, sizeof buffer, "%.17g", value);
-  return buffer;
-}
-
 /// Three significant digits, for ratios in messages.
-std::string RoundedNumber(double value) {
-  char buffer[40];
-  std::snprintf(buffer, sizeof buffer, "%.3g", value);
-  return buffer;
-}
+std::string RoundedNumber(double value) { return Printf("%.3g", value); }
 
 const char* ModeName(SampleMode mode) {
   switch (mode) {
@@ -711,7 +701,7 @@ void ResolveTruth(const ReadContext& ctx, const Metadata& meta, Trajectory& traj
   for (const char* key : kTruthKeys) {
     const auto it = meta.numbers.find(key);
     if (it != meta.numbers.end()) {
-      trajectory.extra_metadata.emplace_back(key, FormatNumber(it->second.first));
+      trajectory.extra_metadata.emplace_back(key, ExactNumber(it->second.first));
     }
   }
   if (present > 0) {
@@ -885,15 +875,15 @@ void CheckMetadataEntry(const Trajectory& tr, const std::string& key, const std:
 
 void WriteMetadata(const Trajectory& tr, std::ostream& out) {
   const SliderProperties& s = tr.slider;
-  out << "# mass = " << FormatNumber(s.mass_kg) << "\n# inertia = "
-      << FormatNumber(s.inertia_kgm2) << "\n# com_height = " << FormatNumber(s.com_height_m)
-      << "\n# gravity = " << FormatNumber(s.gravity_mps2) << "\n";
+  out << "# mass = " << ExactNumber(s.mass_kg) << "\n# inertia = "
+      << ExactNumber(s.inertia_kgm2) << "\n# com_height = " << ExactNumber(s.com_height_m)
+      << "\n# gravity = " << ExactNumber(s.gravity_mps2) << "\n";
   if (!tr.patch_spec.empty()) out << "# patch = " << tr.patch_spec << "\n";
-  if (tr.tip_radius_m) out << "# tip_radius = " << FormatNumber(*tr.tip_radius_m) << "\n";
+  if (tr.tip_radius_m) out << "# tip_radius = " << ExactNumber(*tr.tip_radius_m) << "\n";
   if (tr.true_friction) {
     const FrictionParameters& f = *tr.true_friction;
-    out << "# mu = " << FormatNumber(f.mu) << "\n# e_t = " << FormatNumber(f.e_t)
-        << "\n# e_o = " << FormatNumber(f.e_o) << "\n# e_r = " << FormatNumber(f.e_r) << "\n";
+    out << "# mu = " << ExactNumber(f.mu) << "\n# e_t = " << ExactNumber(f.e_t)
+        << "\n# e_o = " << ExactNumber(f.e_o) << "\n# e_r = " << ExactNumber(f.e_r) << "\n";
   }
   for (const auto& [key, value] : tr.extra_metadata) {
     out << "# " << key << " = " << value << "\n";
@@ -962,7 +952,7 @@ void WriteUnchecked(const Trajectory& tr, std::ostream& out) {
     line.clear();
     for (std::size_t i = 0; i < values.size(); ++i) {
       if (i > 0) line += ',';
-      line += FormatNumber(values[i]);
+      line += ExactNumber(values[i]);
     }
     if (columns.mode) line += std::string(",") + WrittenMode(tr, s);
     out << line << '\n';

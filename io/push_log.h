@@ -66,7 +66,7 @@ Trajectory ParsePushLog(std::string_view text, const std::string& source,
                         const LogReadOptions& options = {}, LogReadReport* report = nullptr);
 
 /// Writes `trajectory` with the metadata comments (slider, patch, truth, extra) and the
-/// column groups in trajectory.columns. Numbers at full precision (%.17g). Throws
+/// column groups in trajectory.columns. Numbers at full precision (ExactNumber). Throws
 /// std::runtime_error if the file cannot be written. Writes to a temporary file and renames,
 /// so a failed write never leaves a complete-looking file.
 void WritePushLog(const Trajectory& trajectory, const std::string& path);

@@ -11,6 +11,7 @@
 #include <stdexcept>
 #include <vector>
 
+#include "forward_model/number_format.h"
 #include "io/text_lines.h"
 
 namespace slideid {
@@ -42,9 +43,9 @@ PusherPath ReadPusherPathCsv(const std::string& path) {
       const unsigned line = reader.get_file_line();
       const double time = Number(t, Where(path, line, "t"));
       if (!times.empty() && !(time > times.back())) {
-        throw std::runtime_error(Where(path, line, "t") + "t = " + text::ShortNumber(time) +
+        throw std::runtime_error(Where(path, line, "t") + "t = " + ShortNumber(time) +
                                  " s is not after the previous row's " +
-                                 text::ShortNumber(times.back()) + " s");
+                                 ShortNumber(times.back()) + " s");
       }
       times.push_back(time);
       points.emplace_back(Number(x, Where(path, line, "x")), Number(y, Where(path, line, "y")));

@@ -6,15 +6,17 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "forward_model/number_format.h"
+
 namespace slideid {
 namespace {
 
 std::string Number(double v, const char* fmt = "%.6g") {
-  if (!std::isfinite(v)) return "-";
-  char buf[64];
-  std::snprintf(buf, sizeof buf, fmt, v);
-  return buf;
+  return std::isfinite(v) ? Printf(fmt, v) : "-";
 }
+
+/// Every digit, for files read back; "-" as Number writes for a value not finite.
+std::string ExactCell(double v) { return std::isfinite(v) ? ExactNumber(v) : "-"; }
 
 double TruthOf(const ReducedFriction& t, int i) { return i == kA ? t.a : i == kB ? t.b : t.c; }
 
@@ -34,10 +36,8 @@ void ReportReasons(std::ostringstream& out, Verdict verdict, const std::string& 
 
 void ReportLogs(std::ostringstream& out, const EstimateResult& r) {
   out << "\nper log (each fitted on its own):\n";
-  char line[512];
-  std::snprintf(line, sizeof line, "  %-36s %6s  %-26s %-26s %-26s %s\n", "log", "rows",
-                "e_t_mu [95% CI]", "e_o_over_e_t [95% CI]", "e_r_over_e_t [95% CI]", "status");
-  out << line;
+  out << Printf("  %-36s %6s  %-26s %-26s %-26s %s\n", "log", "rows", "e_t_mu [95% CI]",
+                "e_o_over_e_t [95% CI]", "e_r_over_e_t [95% CI]", "status");
   for (const LogResult& log : r.logs) {
     if (log.skipped) {
       out << "  " << log.name << ": skipped (" << log.skip_reason << ")\n";
@@ -52,10 +52,8 @@ void ReportLogs(std::ostringstream& out, const EstimateResult& r) {
     }
     std::string name = log.name;
     if (name.size() > 36) name = "..." + name.substr(name.size() - 33);
-    std::snprintf(line, sizeof line, "  %-36s %6d  %-26s %-26s %-26s %s\n", name.c_str(),
-                  log.rows, cells[0].c_str(), cells[1].c_str(), cells[2].c_str(),
-                  ToString(log.status));
-    out << line;
+    out << Printf("  %-36s %6d  %-26s %-26s %-26s %s\n", name, log.rows, cells[0], cells[1],
+                  cells[2], ToString(log.status));
   }
   out << "  (? = suspect)\nagreement of the logs (Cochran's Q; tau = between-log spread of the "
          "log-parameter):\n";
@@ -66,11 +64,9 @@ void ReportLogs(std::ostringstream& out, const EstimateResult& r) {
       out << "not tested (fewer than two logs identify it)\n";
       continue;
     }
-    std::snprintf(line, sizeof line,
-                  "%s (%d logs, Q = %.3g, p = %.3g, I2 = %.0f%%, tau = %.3g)\n",
+    out << Printf("%s (%d logs, Q = %.3g, p = %.3g, I2 = %.0f%%, tau = %.3g)\n",
                   h.consistent ? "consistent within their noise" : "the logs DISAGREE", h.logs,
                   h.q, h.p_value, 100 * h.i2, h.tau_log);
-    out << line;
   }
 }
 
@@ -78,31 +74,25 @@ void ReportLogs(std::ostringstream& out, const EstimateResult& r) {
 
 std::string FormatReport(const EstimateResult& r, const std::optional<ReducedFriction>& truth) {
   std::ostringstream out;
-  char line[512];
   out << "method: " << ToString(r.method) << " (" << ToString(r.status) << ")\n";
   if (r.status == TerminationStatus::kTooLittleExcitation) {
     out << r.message << "\n";
     return out.str();
   }
-  std::snprintf(line, sizeof line, "%-14s %12s %12s %27s  %-16s%s\n", "parameter", "estimate",
-                "std. error", "95% CI", "verdict", truth ? "  truth (log metadata)" : "");
-  out << line;
+  out << Printf("%-14s %12s %12s %27s  %-16s%s\n", "parameter", "estimate", "std. error",
+                "95% CI", "verdict", truth ? "  truth (log metadata)" : "");
   for (int i = 0; i < 3; ++i) {
     const ParameterEstimate& p = r.parameters[i];
-    std::snprintf(line, sizeof line, "%-14s %12s %12s %27s  %-16s", ParameterName(i),
-                  Number(p.value).c_str(), Number(p.stderr_value).c_str(),
-                  Interval(p.ci95_lo, p.ci95_hi).c_str(), ToString(p.verdict));
-    out << line;
+    out << Printf("%-14s %12s %12s %27s  %-16s", ParameterName(i), Number(p.value),
+                  Number(p.stderr_value), Interval(p.ci95_lo, p.ci95_hi), ToString(p.verdict));
     if (truth) out << "  " << Number(TruthOf(*truth, i));
     out << "\n";
     ReportReasons(out, p.verdict, p.reason, p.note);
   }
   if (r.mu_pusher_examined) {
     const ParameterEstimate& p = r.mu_pusher;
-    std::snprintf(line, sizeof line, "%-14s %12s %12s %27s  %-16s\n", "mu_pusher",
-                  Number(p.value).c_str(), Number(p.stderr_value).c_str(),
-                  Interval(p.ci95_lo, p.ci95_hi).c_str(), ToString(p.verdict));
-    out << line;
+    out << Printf("%-14s %12s %12s %27s  %-16s\n", "mu_pusher", Number(p.value),
+                  Number(p.stderr_value), Interval(p.ci95_lo, p.ci95_hi), ToString(p.verdict));
     ReportReasons(out, p.verdict, p.reason, p.note);
   }
   out << "(e_t_mu = e_t mu; e_o_over_e_t = e_o/e_t; e_r_over_e_t = e_r/e_t [m]"
@@ -110,11 +100,9 @@ std::string FormatReport(const EstimateResult& r, const std::optional<ReducedFri
   if (!r.nuisance.empty()) {
     out << "sensor nuisances:\n";
     for (const NuisanceEstimate& n : r.nuisance) {
-      std::snprintf(line, sizeof line, "  %-18s %-24s %12s %12s %27s  %s\n", n.name.c_str(),
-                    n.log.empty() ? "(all logs)" : n.log.c_str(), Number(n.value).c_str(),
-                    Number(n.stderr_value).c_str(), Interval(n.ci95_lo, n.ci95_hi).c_str(),
-                    ToString(n.verdict));
-      out << line;
+      out << Printf("  %-18s %-24s %12s %12s %27s  %s\n", n.name,
+                    n.log.empty() ? "(all logs)" : n.log.c_str(), Number(n.value),
+                    Number(n.stderr_value), Interval(n.ci95_lo, n.ci95_hi), ToString(n.verdict));
       ReportReasons(out, n.verdict, n.reason, "");
     }
   }
@@ -143,9 +131,9 @@ void WriteResidualsCsv(const EstimateResult& r, const std::string& path) {
     out << "row,t," << r.residual_names[0] << "," << r.residual_names[1] << ","
         << r.residual_names[2] << ",used\n";
     for (const StepResidual& s : r.residuals) {
-      out << s.row << "," << Number(s.t_s, "%.17g") << "," << Number(s.value[0], "%.17g") << ","
-          << Number(s.value[1], "%.17g") << "," << Number(s.value[2], "%.17g") << ","
-          << (s.used ? 1 : 0) << "\n";
+      out << s.row << "," << ExactCell(s.t_s) << "," << ExactCell(s.value[0]) << ","
+          << ExactCell(s.value[1]) << "," << ExactCell(s.value[2]) << "," << (s.used ? 1 : 0)
+          << "\n";
     }
     if (!out.flush()) throw std::runtime_error(path + ": cannot write residuals");
   }

@@ -4,7 +4,6 @@
 #include <cerrno>
 #include <boost/program_options.hpp>
 #include <cmath>
-#include <cstdio>
 #include <cstdlib>
 #include <fstream>
 #include <iterator>
@@ -15,6 +14,7 @@
 #include "datasets/push_program.h"
 #include "io/pusher_path_csv.h"
 #include "forward_model/constants.h"
+#include "forward_model/number_format.h"
 
 namespace slideid {
 namespace {
@@ -75,12 +75,6 @@ std::string Trim(const std::string& s) {
   const auto first = s.find_first_not_of(" \t\r\n");
   if (first == std::string::npos) return "";
   return s.substr(first, s.find_last_not_of(" \t\r\n") - first + 1);
-}
-
-std::string FormatDouble(double v) {
-  char buffer[32];
-  std::snprintf(buffer, sizeof(buffer), "%.17g", v);
-  return buffer;
 }
 
 /// Where keys and section headers sit in the text (1-based lines), found the way Boost's
@@ -420,11 +414,11 @@ void ReadPushTiming(const Reader& r, const std::string& section, PushSpec& p) {
   p.amplitude_n = r.Number(k + "amplitude", 0.0, C::kFinite);
   p.period_s = r.Number(k + "period", 0.0, C::kNonNegative);
   if (p.amplitude_n != 0.0 && !(p.period_s > 0.0)) {
-    r.Fail(k + "period", "must be > 0 when amplitude = " + FormatDouble(p.amplitude_n));
+    r.Fail(k + "period", "must be > 0 when amplitude = " + ExactNumber(p.amplitude_n));
   }
   p.start_s = r.Number(k + "start", 0.0, C::kFinite);
   p.stop_s = r.Number(k + "stop", 1e300, C::kFinite);
-  if (!(p.stop_s > p.start_s)) r.Fail(k + "stop", "must be > start = " + FormatDouble(p.start_s));
+  if (!(p.stop_s > p.start_s)) r.Fail(k + "stop", "must be > start = " + ExactNumber(p.start_s));
 }
 
 /// One push from `section` ("push" or "push.N").

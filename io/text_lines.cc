@@ -220,12 +220,6 @@ std::optional<long long> ParseCount(std::string_view s, long long max_value) {
   return value;
 }
 
-std::string ShortNumber(double value) {
-  char buffer[40];
-  const auto result = std::to_chars(buffer, buffer + sizeof buffer, value);
-  return std::string(buffer, result.ptr);
-}
-
 std::string Located(const std::string& file, int line, const std::string& column,
                     const std::string& what) {
   std::string message = file + ":" + std::to_string(line) + ": ";

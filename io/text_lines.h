@@ -63,10 +63,6 @@ std::optional<double> ParseFiniteNumber(std::string_view s);
 /// Whole-cell parse of a count: decimal digits only, at most `max_value`.
 std::optional<long long> ParseCount(std::string_view s, long long max_value);
 
-/// Shortest text that reads back to the same double (std::to_chars), for files and
-/// messages.
-std::string ShortNumber(double value);
-
 /// "file:line: column 'c': what" (the column part only when `column` is not empty).
 std::string Located(const std::string& file, int line, const std::string& column,
                     const std::string& what);

@@ -10,10 +10,10 @@
 #include <ostream>
 #include <stdexcept>
 
+#include "forward_model/number_format.h"
+
 namespace slideid {
 namespace {
-
-using text::ShortNumber;
 
 constexpr double kDefaultGravity_mps2 = 9.81;  // as push logs (log-format.md)
 /// Largest push number or sample count a row may hold; far above any experiment.
@@ -229,7 +229,7 @@ class Reader {
       for (const char* key : kTruthKeys) {
         const auto it = meta.numbers.find(key);
         if (it != meta.numbers.end()) {
-          data.extra_metadata.emplace_back(key, text::ShortNumber(it->second.first));
+          data.extra_metadata.emplace_back(key, ShortNumber(it->second.first));
         }
       }
       if (truth_keys > 0) {
@@ -337,7 +337,7 @@ class Reader {
 // Writer
 // ---------------------------------------------------------------------------------------
 
-std::string Cell(double value) { return std::isnan(value) ? "" : text::ShortNumber(value); }
+std::string Cell(double value) { return std::isnan(value) ? "" : ShortNumber(value); }
 
 void CheckWritable(const WrenchTwistData& data) {
   if (!(std::isfinite(data.mass_kg) && data.mass_kg > 0.0) ||
@@ -377,17 +377,16 @@ void CheckWritable(const WrenchTwistData& data) {
 void WriteUnchecked(const WrenchTwistData& data, std::ostream& out) {
   out << "# slideid wrench-twist pairs: one push per row; SI units; frame origin at the CM "
          "(docs/real-data.md)\n";
-  out << "# mass = " << text::ShortNumber(data.mass_kg)
-      << "\n# gravity = " << text::ShortNumber(data.gravity_mps2) << "\n";
-  if (data.inertia_kgm2) out << "# inertia = " << text::ShortNumber(*data.inertia_kgm2) << "\n";
-  if (data.com_height_m) out << "# com_height = " << text::ShortNumber(*data.com_height_m) << "\n";
+  out << "# mass = " << ShortNumber(data.mass_kg) << "\n# gravity = "
+      << ShortNumber(data.gravity_mps2) << "\n";
+  if (data.inertia_kgm2) out << "# inertia = " << ShortNumber(*data.inertia_kgm2) << "\n";
+  if (data.com_height_m) out << "# com_height = " << ShortNumber(*data.com_height_m) << "\n";
   if (!data.supports.empty()) out << "# supports = " << data.supports << "\n";
   if (!data.source.empty()) out << "# source = " << data.source << "\n";
   if (data.true_friction) {
     const FrictionParameters& f = *data.true_friction;
-    out << "# mu = " << text::ShortNumber(f.mu) << "\n# e_t = " << text::ShortNumber(f.e_t)
-        << "\n# e_o = " << text::ShortNumber(f.e_o) << "\n# e_r = " << text::ShortNumber(f.e_r)
-        << "\n";
+    out << "# mu = " << ShortNumber(f.mu) << "\n# e_t = " << ShortNumber(f.e_t) << "\n# e_o = "
+        << ShortNumber(f.e_o) << "\n# e_r = " << ShortNumber(f.e_r) << "\n";
   }
   for (const auto& [key, value] : data.extra_metadata) out << "# " << key << " = " << value << "\n";
   for (int c = 0; c < kNumCols; ++c) out << (c ? "," : "") << kColumnNames[c];
@@ -395,7 +394,7 @@ void WriteUnchecked(const WrenchTwistData& data, std::ostream& out) {
   for (const WrenchTwistRow& r : data.rows) {
     const WrenchTwistPair& p = r.pair;
     out << r.push;
-    for (double x : {p.fx, p.fy, p.fz, p.mz, p.vx, p.vy, p.wz}) out << ',' << text::ShortNumber(x);
+    for (double x : {p.fx, p.fy, p.fz, p.mz, p.vx, p.vy, p.wz}) out << ',' << ShortNumber(x);
     for (double x : {r.duration_s, r.dx_m, r.dy_m, r.dtheta_rad, r.contact_x_m, r.contact_y_m,
                      r.peak_force_n}) {
       out << ',' << Cell(x);

@@ -9,8 +9,9 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "io/text_lines.h"
 #include "forward_model/constants.h"
+#include "forward_model/number_format.h"
+#include "io/text_lines.h"
 
 namespace slideid {
 namespace {
@@ -50,12 +51,6 @@ double QuaternionNorm(const TripodPose& p) {
 
 Eigen::Matrix3d RotationOf(const TripodPose& p) {
   return Eigen::Quaterniond(p.qw, p.qx, p.qy, p.qz).normalized().toRotationMatrix();
-}
-
-std::string Format(const char* fmt, double x) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, fmt, x);
-  return buf;
 }
 
 /// A rejected push: the reason, thrown inside the per-push import and caught by its caller.
@@ -132,7 +127,7 @@ void CheckQuaternion(const TripodPose& p, int line, const char* what) {
   const double n = QuaternionNorm(p);
   if (!(std::abs(n - 1.0) <= kQuaternionNormTolerance)) {
     throw Rejected{"line " + std::to_string(line) + ": the " + what + " quaternion has norm " +
-                   text::ShortNumber(n) + ", not 1"};
+                   ShortNumber(n) + ", not 1"};
   }
 }
 
@@ -141,8 +136,8 @@ void CheckIncreasing(const std::vector<Sample>& samples, const char* what) {
   for (std::size_t i = 1; i < samples.size(); ++i) {
     if (!(samples[i].t_s > samples[i - 1].t_s)) {
       throw Rejected{"line " + std::to_string(samples[i].line) + ": " + what + " time " +
-                     text::ShortNumber(samples[i].t_s) + " s is not after the previous one, " +
-                     text::ShortNumber(samples[i - 1].t_s) + " s"};
+                     ShortNumber(samples[i].t_s) + " s is not after the previous one, " +
+                     ShortNumber(samples[i - 1].t_s) + " s"};
     }
   }
 }
@@ -157,8 +152,8 @@ void CheckPush(const TripodPush& push, const TripodImportOptions& options) {
   }
   auto absurd = [](int line, const std::string& what, double value, double limit) {
     if (std::abs(value) > limit) {
-      throw Rejected{"line " + std::to_string(line) + ": " + what + " " + text::ShortNumber(value) +
-                     " is beyond " + text::ShortNumber(limit) +
+      throw Rejected{"line " + std::to_string(line) + ": " + what + " " + ShortNumber(value) +
+                     " is beyond " + ShortNumber(limit) +
                      " (absurd for a pushing experiment: a unit error?)"};
     }
   };
@@ -214,7 +209,7 @@ Phases FindPhases(const std::vector<Eigen::Vector2d>& force, const TripodImportO
     i = j;
   }
   if (best_length == 0) {
-    throw Rejected{"no contact: |f| never exceeds " + Format("%.3g", ph.threshold) + " N"};
+    throw Rejected{"no contact: |f| never exceeds " + Printf("%.3g", ph.threshold) + " N"};
   }
   ph.onset = best_start;
   std::vector<double> magnitude;
@@ -273,14 +268,14 @@ void JudgePhases(const std::vector<TripodForceSample>& fs, const Phases& ph,
   rep.offset_error_n = (Eigen::Vector2d(fs[0].fx_n, fs[0].fy_n) - median_offset).norm();
   if (rep.onset_s < options.min_rest_s) {
     throw Rejected{"line " + std::to_string(fs[ph.onset].line) + ": contact " +
-                   Format("%.2f", rep.onset_s) + " s into the trace, less than " +
-                   Format("%.2f", options.min_rest_s) +
+                   Printf("%.2f", rep.onset_s) + " s into the trace, less than " +
+                   Printf("%.2f", options.min_rest_s) +
                    " s: the offset (the first sample) may hold contact force"};
   }
   if (rep.offset_error_n > options.max_offset_error_fraction * ph.contact_force) {
     throw Rejected{"line " + std::to_string(fs[0].line) + ": the first sample differs by " +
-                   Format("%.3f", rep.offset_error_n) + " N from the file's median first sample, " +
-                   Format("%.1f", 100.0 * rep.offset_error_n / ph.contact_force) +
+                   Printf("%.3f", rep.offset_error_n) + " N from the file's median first sample, " +
+                   Printf("%.1f", 100.0 * rep.offset_error_n / ph.contact_force) +
                    "% of the contact force: contact or a sensor jump before the trace"};
   }
   if (rep.samples < options.min_samples) {
@@ -353,14 +348,14 @@ void ImportPush(const TripodPush& push, const Eigen::Vector2d& median_offset,
   rep.displacement_m = d.norm();
   rep.rotation_rad = dtheta;
   if (m.max_distance > options.max_edge_distance_m) {
-    throw Rejected{"the tool point is up to " + Format("%.1f", 1000.0 * m.max_distance) +
+    throw Rejected{"the tool point is up to " + Printf("%.1f", 1000.0 * m.max_distance) +
                    " mm from the block's edge (limit " +
-                   Format("%.1f", 1000.0 * options.max_edge_distance_m) +
+                   Printf("%.1f", 1000.0 * options.max_edge_distance_m) +
                    " mm): not in contact where the poses say"};
   }
   if (!(rep.force_normal_angle_deg < 90.0)) {
     throw Rejected{"the mean force points out of the block (" +
-                   Format("%.0f", rep.force_normal_angle_deg) +
+                   Printf("%.0f", rep.force_normal_angle_deg) +
                    " deg from the inward normal of the pushed edge): a sign or frame error"};
   }
   if (d.isZero(0.0) && dtheta == 0.0) throw Rejected{"the object did not move"};
@@ -386,7 +381,7 @@ void ImportPush(const TripodPush& push, const Eigen::Vector2d& median_offset,
 std::string SupportsText(const std::array<Eigen::Vector2d, 3>& s) {
   std::string out;
   for (int i = 0; i < 3; ++i) {
-    out += (i ? "; " : "") + text::ShortNumber(s[i].x()) + " " + text::ShortNumber(s[i].y());
+    out += (i ? "; " : "") + ShortNumber(s[i].x()) + " " + ShortNumber(s[i].y());
   }
   return out;
 }
@@ -411,9 +406,9 @@ void FillMetadata(const std::string& source, const TripodImportOptions& options,
   } else if (const auto s = ParseTripodSupports(folder)) {
     data.supports = SupportsText(*s);
     const SupportSpread spread = TripodSupportSpread(*s);
-    data.extra_metadata.emplace_back("support_spread_rms", text::ShortNumber(spread.rms_m));
+    data.extra_metadata.emplace_back("support_spread_rms", ShortNumber(spread.rms_m));
     data.extra_metadata.emplace_back("support_spread_weighted",
-                                     text::ShortNumber(spread.weighted_mean_m));
+                                     ShortNumber(spread.weighted_mean_m));
   }
   if (folder.rfind("wood_", 0) == 0) {
     data.extra_metadata.emplace_back("surface", "plywood (README: wood_ prefix)");
@@ -602,12 +597,12 @@ void WriteTripodImportReport(const TripodImportReport& report, const std::string
     out << r.push << ',' << r.line << ',' << (r.accepted ? "accepted" : "rejected");
     for (double x : {r.noise_sigma_n, r.threshold_n, r.contact_force_n, r.offset_error_n, r.onset_s,
                      r.start_s, r.end_s}) {
-      out << ',' << text::ShortNumber(x);
+      out << ',' << ShortNumber(x);
     }
     out << ',' << r.samples << ',' << r.dropped_low << ',' << r.edge;
     for (double x : {r.max_edge_distance_m, r.force_normal_angle_deg, r.force_twist_angle_deg,
                      r.displacement_m, r.rotation_rad}) {
-      out << ',' << (std::isfinite(x) ? text::ShortNumber(x) : "");
+      out << ',' << (std::isfinite(x) ? ShortNumber(x) : "");
     }
     out << ",\"" << reason << "\"\n";
   }

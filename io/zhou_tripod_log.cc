@@ -7,12 +7,11 @@
 #include <ostream>
 #include <stdexcept>
 
+#include "forward_model/number_format.h"
 #include "io/text_lines.h"
 
 namespace slideid {
 namespace {
-
-using text::ShortNumber;
 
 constexpr std::array<const char*, 7> kPoseFields = {"x", "y", "z", "qw", "qx", "qy", "qz"};
 constexpr std::array<const char*, 3> kForceFields = {"t", "fx", "fy"};
@@ -204,10 +203,9 @@ class TripodReader {
 };
 
 void WritePose(const TripodPose& p, std::ostream& out) {
-  out << text::ShortNumber(p.x_mm) << ' ' << text::ShortNumber(p.y_mm) << ' '
-      << text::ShortNumber(p.z_mm) << ' ' << text::ShortNumber(p.qw) << ' '
-      << text::ShortNumber(p.qx) << ' ' << text::ShortNumber(p.qy) << ' '
-      << text::ShortNumber(p.qz);
+  out << ShortNumber(p.x_mm) << ' ' << ShortNumber(p.y_mm) << ' ' << ShortNumber(p.z_mm) << ' '
+      << ShortNumber(p.qw) << ' ' << ShortNumber(p.qx) << ' ' << ShortNumber(p.qy) << ' '
+      << ShortNumber(p.qz);
 }
 
 void WriteUnchecked(const TripodLog& log, std::ostream& out) {
@@ -218,12 +216,12 @@ void WriteUnchecked(const TripodLog& log, std::ostream& out) {
     WritePose(push.post, out);
     out << '\n' << push.forces.size() << '\n';
     for (const TripodForceSample& s : push.forces) {
-      out << text::ShortNumber(s.t_s) << ' ' << text::ShortNumber(s.fx_n) << ' '
-          << text::ShortNumber(s.fy_n) << '\n';
+      out << ShortNumber(s.t_s) << ' ' << ShortNumber(s.fx_n) << ' ' << ShortNumber(s.fy_n)
+          << '\n';
     }
     out << push.robot.size() << '\n';
     for (const TripodRobotSample& s : push.robot) {
-      out << text::ShortNumber(s.t_s) << ' ';
+      out << ShortNumber(s.t_s) << ' ';
       WritePose(s.pose, out);
       out << '\n';
     }

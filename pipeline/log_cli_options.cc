@@ -1,3 +1,4 @@
+#include "forward_model/number_format.h"
 #include "pipeline/log_cli_options.h"
 
 #include <cerrno>
@@ -9,11 +10,7 @@ namespace {
 
 namespace po = boost::program_options;
 
-std::string G(double v) {
-  char buf[40];
-  std::snprintf(buf, sizeof buf, "%g", v);
-  return buf;
-}
+std::string G(double v) { return Printf("%g", v); }
 
 /// " (default: X)" when there are defaults to quote.
 std::string Default(const LogSpec* d, const std::string& value) {

@@ -1,3 +1,4 @@
+#include "forward_model/number_format.h"
 #include "plots/fit_plot.h"
 
 #include <algorithm>
@@ -109,11 +110,9 @@ std::string AgreementText(const EstimateResult& r, int i) {
   if (r.logs.empty()) return "one log";
   const Heterogeneity& h = r.heterogeneity[i];
   if (!h.tested) return "agreement not tested\n(fewer than two logs identify it)";
-  char buf[200];
-  std::snprintf(buf, sizeof buf, "%s (p = %.2g)\nQ = %.3g on %d logs, I2 = %.0f%%, tau = %.2g%%",
+  return Printf("%s (p = %.2g)\nQ = %.3g on %d logs, I2 = %.0f%%, tau = %.2g%%",
                 h.consistent ? "the logs agree" : "the logs DISAGREE", h.p_value, h.q, h.logs,
                 100 * h.i2, 100 * h.tau_log);
-  return buf;
 }
 
 

@@ -1,3 +1,4 @@
+#include "forward_model/number_format.h"
 #include "plots/log_plot.h"
 
 #include <sys/wait.h>
@@ -90,9 +91,7 @@ bool HasEcp(const Trajectory& log) {
 std::string TruthText(const Trajectory& log) {
   if (!log.true_friction) return "";
   const ReducedFriction r = ReducedFriction::From(*log.true_friction);
-  char buf[160];
-  std::snprintf(buf, sizeof buf, "truth: a = %.4g, b = %.4g, c = %.4g m", r.a, r.b, r.c);
-  return buf;
+  return Printf("truth: a = %.4g, b = %.4g, c = %.4g m", r.a, r.b, r.c);
 }
 
 }  // namespace

@@ -9,6 +9,7 @@
 
 #include "pipeline/picture_cli_options.h"
 #include "plots/log_plot.h"
+#include "forward_model/number_format.h"
 #include "forward_model/simulator.h"
 #include "io/push_log.h"
 #include "io/result_json.h"
@@ -89,9 +90,7 @@ int main(int argc, char** argv) {
         return tools::kExitNumerical;
       }
       fit = replay.trajectory;
-      char buf[160];
-      std::snprintf(buf, sizeof buf, "fit: a = %.4g, b = %.4g, c = %.4g m", r.a, r.b, r.c);
-      fit_label = buf;
+      fit_label = Printf("fit: a = %.4g, b = %.4g, c = %.4g m", r.a, r.b, r.c);
     }
     if (vm.count("prediction")) {
       const std::string path = vm["prediction"].as<std::string>();

@@ -4,7 +4,6 @@
 // include this.
 
 #include <boost/program_options.hpp>
-#include <cstdio>
 #include <exception>
 #include <iostream>
 #include <new>
@@ -12,6 +11,7 @@
 #include <string>
 
 #include "forward_model/constants.h"
+#include "forward_model/number_format.h"
 
 namespace slideid::tools {
 
@@ -31,11 +31,7 @@ class BadInput : public std::runtime_error {
 };
 
 /// `value` with `digits` decimals, for the tools' tables.
-inline std::string Fixed(double value, int digits) {
-  char buffer[64];
-  std::snprintf(buffer, sizeof buffer, "%.*f", digits, value);
-  return buffer;
-}
+inline std::string Fixed(double value, int digits) { return Printf("%.*f", digits, value); }
 
 /// Flushes standard output; a failed write (a full disk, a closed pipe) is kExitIo.
 inline int FlushStdout(const char* tool) {
