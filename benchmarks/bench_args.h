@@ -101,11 +101,9 @@ class Args {
     char* end = nullptr;
     errno = 0;
     const long n = std::strtol(text.c_str(), &end, 10);
-    if (text.empty() || *end || errno == ERANGE || n < min ||
-        n > std::numeric_limits<int>::max()) {
+    if (text.empty() || *end || errno == ERANGE || n < min || n > std::numeric_limits<int>::max()) {
       const std::string in = whole == text ? "" : " in '" + whole + "'";
-      throw std::invalid_argument(option_ + ": '" + text + "'" + in + " is not an integer" +
-                                  bound);
+      throw std::invalid_argument(option_ + ": '" + text + "'" + in + " is not an integer" + bound);
     }
     return static_cast<int>(n);
   }

@@ -15,7 +15,6 @@
 // A plain program, not Google Benchmark: each run is one Identify call on a different log.
 // Logs are made and identified on --threads worker threads, each fit on one thread.
 
-
 #include <algorithm>
 #include <atomic>
 #include <chrono>
@@ -175,7 +174,8 @@ std::vector<T> Select(const std::vector<T>& all, const std::vector<std::string>&
 using CellKey = std::tuple<int, int, int>;  // condition, method, parameter
 
 void WriteCsv(const std::string& path, const std::map<CellKey, Cell>& cells,
-              const std::vector<CoverageCondition>& conditions, const std::vector<Method>& methods) {
+              const std::vector<CoverageCondition>& conditions,
+              const std::vector<Method>& methods) {
   std::ofstream out(path);
   if (!out) throw std::runtime_error("cannot write " + path);
   out << "condition,method,parameter,logs,failed,identifiable,suspect,intervals,covered,"
@@ -184,19 +184,19 @@ void WriteCsv(const std::string& path, const std::map<CellKey, Cell>& cells,
   for (const auto& [key, cell] : cells) {
     const auto [c, m, i] = key;
     out << conditions[c].name << ',' << methods[m].name << ',' << ParameterName(i) << ','
-        << cell.logs << ',' << cell.failed << ',' << cell.identifiable << ',' << cell.suspect
-        << ',' << cell.intervals << ',' << cell.covered << ',' << Fmt("%.4f", cell.Coverage())
-        << ',' << (cell.intervals ? (cell.InBand() ? "yes" : "no") : "-") << ','
+        << cell.logs << ',' << cell.failed << ',' << cell.identifiable << ',' << cell.suspect << ','
+        << cell.intervals << ',' << cell.covered << ',' << Fmt("%.4f", cell.Coverage()) << ','
+        << (cell.intervals ? (cell.InBand() ? "yes" : "no") : "-") << ','
         << Fmt("%.6g", Median(cell.signed_error)) << ',' << Fmt("%.6g", Median(cell.abs_error))
-        << ',' << Fmt("%.6g", Median(cell.rel_stderr)) << ','
-        << Fmt("%.6g", Median(cell.wall_s)) << '\n';
+        << ',' << Fmt("%.6g", Median(cell.rel_stderr)) << ',' << Fmt("%.6g", Median(cell.wall_s))
+        << '\n';
   }
   if (!out) throw std::runtime_error("cannot write " + path);
 }
 
 void WriteMarkdown(const std::string& path, const std::map<CellKey, Cell>& cells,
-                   const std::vector<CoverageCondition>& conditions, const std::vector<Method>& methods,
-                   const Config& config) {
+                   const std::vector<CoverageCondition>& conditions,
+                   const std::vector<Method>& methods, const Config& config) {
   std::ofstream out(path);
   if (!out) throw std::runtime_error("cannot write " + path);
   out << "### Conditions\n\n"
@@ -228,9 +228,9 @@ void WriteMarkdown(const std::string& path, const std::map<CellKey, Cell>& cells
           << three([](const Cell& x) { return Percent(Median(x.signed_error)); }) << " | "
           << three([](const Cell& x) { return Percent(Median(x.abs_error)); }) << " | "
           << three([](const Cell& x) { return Percent(Median(x.rel_stderr)); }) << " | "
-          << three([](const Cell& x) { return Percent(double(x.identifiable) / x.logs); })
-          << " | " << three([](const Cell& x) { return Percent(double(x.suspect) / x.logs); })
-          << " | " << cell(0).failed << " | " << Seconds(Median(cell(0).wall_s)) << " |\n";
+          << three([](const Cell& x) { return Percent(double(x.identifiable) / x.logs); }) << " | "
+          << three([](const Cell& x) { return Percent(double(x.suspect) / x.logs); }) << " | "
+          << cell(0).failed << " | " << Seconds(Median(cell(0).wall_s)) << " |\n";
     }
   }
   if (!out) throw std::runtime_error("cannot write " + path);
@@ -266,21 +266,36 @@ int Main(int argc, char** argv) {
   int log_every = 0;
   bench::Args args(argc, argv);
   while (args.Next()) {
-    if (args.Is("--quick")) config.quick = true;
-    else if (args.Is("--logs")) config.logs = args.Integer(), logs_given = true;
-    else if (args.Is("--threads")) config.threads = args.Integer();
-    else if (args.Is("--conditions")) config.only_conditions = args.List();
-    else if (args.Is("--methods")) config.only_methods = args.List();
-    else if (args.Is("--csv")) config.csv_path = args.Value();
-    else if (args.Is("--markdown")) config.markdown_path = args.Value();
-    else if (args.Is("--runs")) config.runs_path = args.Value();
-    else if (args.Is("--list")) list = true;
-    else if (args.Is("--segment")) config.trajectory.segment_steps = args.Integer();
-    else if (args.Is("--substeps")) config.trajectory.substeps = args.Integer();
-    else if (args.Is("--mean-wrench")) mean_wrench = true;
-    else if (args.Is("--no-mismatch")) config.trajectory.correct_mismatch = false;
-    else if (args.Is("--log-every")) log_every = args.Integer();
-    else if (args.Is("--fit-delay")) config.trajectory.fit_delay = DelayFit::kPerLog;
+    if (args.Is("--quick"))
+      config.quick = true;
+    else if (args.Is("--logs"))
+      config.logs = args.Integer(), logs_given = true;
+    else if (args.Is("--threads"))
+      config.threads = args.Integer();
+    else if (args.Is("--conditions"))
+      config.only_conditions = args.List();
+    else if (args.Is("--methods"))
+      config.only_methods = args.List();
+    else if (args.Is("--csv"))
+      config.csv_path = args.Value();
+    else if (args.Is("--markdown"))
+      config.markdown_path = args.Value();
+    else if (args.Is("--runs"))
+      config.runs_path = args.Value();
+    else if (args.Is("--list"))
+      list = true;
+    else if (args.Is("--segment"))
+      config.trajectory.segment_steps = args.Integer();
+    else if (args.Is("--substeps"))
+      config.trajectory.substeps = args.Integer();
+    else if (args.Is("--mean-wrench"))
+      mean_wrench = true;
+    else if (args.Is("--no-mismatch"))
+      config.trajectory.correct_mismatch = false;
+    else if (args.Is("--log-every"))
+      log_every = args.Integer();
+    else if (args.Is("--fit-delay"))
+      config.trajectory.fit_delay = DelayFit::kPerLog;
     else if (args.Is("--help") || args.Is("-h")) {
       Usage(argv[0]);
       return 0;
@@ -309,7 +324,8 @@ int Main(int argc, char** argv) {
   const std::vector<Method> methods =
       Select(AllMethods(config.trajectory), config.only_methods, "method");
   if (list) {
-    for (const CoverageCondition& c : conditions) std::printf("%-18s %s\n", c.name.c_str(), c.what.c_str());
+    for (const CoverageCondition& c : conditions)
+      std::printf("%-18s %s\n", c.name.c_str(), c.what.c_str());
     return 0;
   }
 
@@ -349,7 +365,8 @@ int Main(int argc, char** argv) {
     }
   }
   if (!config.csv_path.empty()) WriteCsv(config.csv_path, cells, conditions, methods);
-  if (!config.markdown_path.empty()) WriteMarkdown(config.markdown_path, cells, conditions, methods, config);
+  if (!config.markdown_path.empty())
+    WriteMarkdown(config.markdown_path, cells, conditions, methods, config);
   if (!config.runs_path.empty()) {
     std::ofstream out(config.runs_path);
     if (!out) throw std::runtime_error("cannot write " + config.runs_path);
@@ -366,13 +383,11 @@ int Main(int argc, char** argv) {
           }
           out << conditions[run.condition].name << ',' << run.index << ','
               << methods[run.method].name << ',' << ParameterName(i) << ','
-              << Fmt("%.9g", run.truth[i]) << ',' << p.identifiable << ','
-              << ToString(p.verdict) << ',' << Fmt("%.9g", p.value) << ','
-              << Fmt("%.6g", p.stderr_value) << ',' << Fmt("%.9g", p.ci95_lo) << ','
-              << Fmt("%.9g", p.ci95_hi) << ','
-              << (HasInterval(p) && p.ci95_lo <= run.truth[i] && run.truth[i] <= p.ci95_hi)
-              << ',' << Fmt("%.6g", run.wall_s) << ',' << status << ',' << reason << ',' << note
-              << '\n';
+              << Fmt("%.9g", run.truth[i]) << ',' << p.identifiable << ',' << ToString(p.verdict)
+              << ',' << Fmt("%.9g", p.value) << ',' << Fmt("%.6g", p.stderr_value) << ','
+              << Fmt("%.9g", p.ci95_lo) << ',' << Fmt("%.9g", p.ci95_hi) << ','
+              << (HasInterval(p) && p.ci95_lo <= run.truth[i] && run.truth[i] <= p.ci95_hi) << ','
+              << Fmt("%.6g", run.wall_s) << ',' << status << ',' << reason << ',' << note << '\n';
         }
       }
     }
@@ -393,8 +408,8 @@ int Main(int argc, char** argv) {
         ++with;
         in += cell.InBand();
         if (!cell.InBand()) {
-          outside += " " + conditions[c].name + ":" + ParameterName(i) + "=" +
-                     Percent(cell.Coverage());
+          outside +=
+              " " + conditions[c].name + ":" + ParameterName(i) + "=" + Percent(cell.Coverage());
         }
       }
     }

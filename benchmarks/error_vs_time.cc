@@ -93,8 +93,8 @@ std::vector<Variant> MakeVariants(int threads) {
   // The default: segments sized to the log (TrajectorySegmentSteps), then fixed lengths.
   add("trajectory default", EstimatorMethod::kTrajectory, 0, 1);
   for (int segment : {25, 50, 100}) {
-    add("trajectory seg" + std::to_string(segment) + " sub1", EstimatorMethod::kTrajectory,
-        segment, 1);
+    add("trajectory seg" + std::to_string(segment) + " sub1", EstimatorMethod::kTrajectory, segment,
+        1);
   }
   add("trajectory seg50 sub2", EstimatorMethod::kTrajectory, 50, 2);
   add("trajectory seg50 sub4", EstimatorMethod::kTrajectory, 50, 4);
@@ -131,9 +131,8 @@ Trajectory SimulateScene(SceneKind kind, int log_steps, int log_every, std::uint
 /// The log a sensor would give: the scene's log spec (MakeLog) with only the pose (or only
 /// the velocity) columns and the noise of `level`, written to `path` and read back as
 /// identify reads it.
-Trajectory SensorLog(const Trajectory& simulated, const LogSpec& scene_log,
-                     const NoiseLevel& level, bool poses, std::uint64_t seed,
-                     const std::string& path) {
+Trajectory SensorLog(const Trajectory& simulated, const LogSpec& scene_log, const NoiseLevel& level,
+                     bool poses, std::uint64_t seed, const std::string& path) {
   LogSpec spec = scene_log;
   spec.motion = poses ? LogMotion::kPoses : LogMotion::kVelocities;
   if (poses) {
@@ -296,8 +295,8 @@ void WriteCsv(const std::string& path, const std::map<CellKey, Cell>& cells,
   out << "estimator,method,segment,substeps,motion,noise,steps,scene,runs,failed,"
          "not_converged";
   for (const char* p : {"a", "b", "c"}) {
-    out << ",missed_" << p << ",spurious_" << p << ",med_err_" << p << ",p90_err_" << p
-        << ",cover_" << p;
+    out << ",missed_" << p << ",spurious_" << p << ",med_err_" << p << ",p90_err_" << p << ",cover_"
+        << p;
   }
   out << ",coverage,med_wall_s,med_cpu_s\n";
   for (const auto& [key, c] : cells) {
@@ -316,8 +315,8 @@ void WriteCsv(const std::string& path, const std::map<CellKey, Cell>& cells,
           << Fmt("%.4g", Quantile(c.rel_error[i], 0.9)) << ','
           << Fmt("%.3f", n ? double(c.covered[i]) / n : NAN);
     }
-    out << ',' << Fmt("%.3f", c.Coverage()) << ',' << Fmt("%.4g", Quantile(c.wall_s, 0.5))
-        << ',' << Fmt("%.4g", Quantile(c.cpu_s, 0.5)) << '\n';
+    out << ',' << Fmt("%.3f", c.Coverage()) << ',' << Fmt("%.4g", Quantile(c.wall_s, 0.5)) << ','
+        << Fmt("%.4g", Quantile(c.cpu_s, 0.5)) << '\n';
   }
 }
 
@@ -364,10 +363,10 @@ void WriteMarkdown(const std::string& path, const std::map<CellKey, Cell>& cells
       for (int n = 0; n < kNoiseCount; ++n) c[n] = find(int(v), motion, n, headline_steps, "all");
       if (!c[0] || !c[1] || !c[2]) continue;
       const Cell& m = *c[1];
-      out << "| " << variants[v].name << " | " << ErrorsABC(*c[0]) << " | " << ErrorsABC(m)
-          << " | " << ErrorsABC(*c[2]) << " | " << m.failed << "; " << m.missed[0] << " / "
-          << m.missed[1] << " / " << m.missed[2] << "; " << m.runs << " | "
-          << Percent(m.Coverage()) << " | " << Seconds(Quantile(m.wall_s, 0.5)) << " |\n";
+      out << "| " << variants[v].name << " | " << ErrorsABC(*c[0]) << " | " << ErrorsABC(m) << " | "
+          << ErrorsABC(*c[2]) << " | " << m.failed << "; " << m.missed[0] << " / " << m.missed[1]
+          << " / " << m.missed[2] << "; " << m.runs << " | " << Percent(m.Coverage()) << " | "
+          << Seconds(Quantile(m.wall_s, 0.5)) << " |\n";
     }
   }
   for (const std::string& motion : config.Motions()) {
@@ -446,13 +445,14 @@ void Describe(const Config& config) {
           wmax = std::max(wmax, std::abs(s.state.wz));
         }
       }
-      std::printf("%-17s %6d %5d %8d %6.0f%% %10.2f %7.2f/s %6.1f/s %7zu\n", ToString(kind),
-                  steps, config.seeds_per_length[li], redraws, 100 * slide, hull * 1e3, vmax,
-                  wmax, pushes);
+      std::printf("%-17s %6d %5d %8d %6.0f%% %10.2f %7.2f/s %6.1f/s %7zu\n", ToString(kind), steps,
+                  config.seeds_per_length[li], redraws, 100 * slide, hull * 1e3, vmax, wmax,
+                  pushes);
     }
   }
-  std::printf("(slide: smallest fraction of sliding steps; hull: largest signed distance of the "
-              "ECP to the hull, negative inside; max |v| [m/s], max |w| [rad/s]; over seeds)\n");
+  std::printf(
+      "(slide: smallest fraction of sliding steps; hull: largest signed distance of the "
+      "ECP to the hull, negative inside; max |v| [m/s], max |w| [rad/s]; over seeds)\n");
 }
 
 void Usage(const char* argv0) {
@@ -483,19 +483,32 @@ int Main(int argc, char** argv) {
   std::vector<int> lengths, seeds;
   bench::Args args(argc, argv);
   while (args.Next()) {
-    if (args.Is("--quick")) config.quick = true;
-    else if (args.Is("--poses-only")) config.velocities = false;
-    else if (args.Is("--describe")) config.describe = true;
-    else if (args.Is("--threads")) config.threads = args.Integer();
-    else if (args.Is("--log-every")) config.log_every = args.Integer();
-    else if (args.Is("--csv")) config.csv_path = args.Value();
-    else if (args.Is("--markdown")) config.markdown_path = args.Value();
-    else if (args.Is("--runs")) config.runs_path = args.Value();
-    else if (args.Is("--write-logs")) config.logs_dir = args.Value();
-    else if (args.Is("--scene")) config.only_scene = args.Value();
-    else if (args.Is("--lengths")) lengths = args.Integers();
-    else if (args.Is("--seeds")) seeds = args.Integers();
-    else if (args.Is("--verbose")) config.verbose = true;
+    if (args.Is("--quick"))
+      config.quick = true;
+    else if (args.Is("--poses-only"))
+      config.velocities = false;
+    else if (args.Is("--describe"))
+      config.describe = true;
+    else if (args.Is("--threads"))
+      config.threads = args.Integer();
+    else if (args.Is("--log-every"))
+      config.log_every = args.Integer();
+    else if (args.Is("--csv"))
+      config.csv_path = args.Value();
+    else if (args.Is("--markdown"))
+      config.markdown_path = args.Value();
+    else if (args.Is("--runs"))
+      config.runs_path = args.Value();
+    else if (args.Is("--write-logs"))
+      config.logs_dir = args.Value();
+    else if (args.Is("--scene"))
+      config.only_scene = args.Value();
+    else if (args.Is("--lengths"))
+      lengths = args.Integers();
+    else if (args.Is("--seeds"))
+      seeds = args.Integers();
+    else if (args.Is("--verbose"))
+      config.verbose = true;
     else if (args.Is("--help") || args.Is("-h")) {
       Usage(argv[0]);
       return 0;
@@ -569,12 +582,12 @@ int Main(int argc, char** argv) {
         const double truth[3] = {t.a, t.b, t.c};
         for (const std::string& motion : config.Motions()) {
           for (int noise = 0; noise < kNoiseCount; ++noise) {
-            const std::string path =
-                config.logs_dir.empty()
-                    ? tmp_path
-                    : config.logs_dir + "/" + ToString(kind) + "_" + std::to_string(steps) +
-                          "_" + std::to_string(seed) + "_" + kNoiseLevels[noise].name + "_" +
-                          motion + ".csv";
+            const std::string path = config.logs_dir.empty()
+                                         ? tmp_path
+                                         : config.logs_dir + "/" + ToString(kind) + "_" +
+                                               std::to_string(steps) + "_" + std::to_string(seed) +
+                                               "_" + kNoiseLevels[noise].name + "_" + motion +
+                                               ".csv";
             const Trajectory log = SensorLog(simulated, scene.log, kNoiseLevels[noise],
                                              motion == "poses", seed * 10 + noise, path);
             for (size_t v = 0; v < variants.size(); ++v) {
@@ -592,8 +605,8 @@ int Main(int argc, char** argv) {
               std::replace(message.begin(), message.end(), ',', ';');
               std::replace(message.begin(), message.end(), '\n', ' ');
               runs_out << variants[v].name << ',' << motion << ',' << kNoiseLevels[noise].name
-                       << ',' << steps << ',' << ToString(kind) << ',' << seed << ','
-                       << run.failed << ',' << run.converged;
+                       << ',' << steps << ',' << ToString(kind) << ',' << seed << ',' << run.failed
+                       << ',' << run.converged;
               for (int i = 0; i < 3; ++i) runs_out << ',' << Fmt("%.9g", run.p[i].value);
               for (int i = 0; i < 3; ++i) runs_out << ',' << Fmt("%.9g", truth[i]);
               for (int i = 0; i < 3; ++i) runs_out << ',' << run.p[i].identifiable;
@@ -603,8 +616,8 @@ int Main(int argc, char** argv) {
           }
         }
       }
-      std::fprintf(stderr, "error_vs_time: %5d steps, %-16s done (%.0f s)\n", steps,
-                   ToString(kind), elapsed());
+      std::fprintf(stderr, "error_vs_time: %5d steps, %-16s done (%.0f s)\n", steps, ToString(kind),
+                   elapsed());
     }
   }
   if (config.logs_dir.empty()) std::remove(tmp_path.c_str());
@@ -614,10 +627,11 @@ int Main(int argc, char** argv) {
   for (size_t li = 0; li < config.lengths.size(); ++li) {
     std::printf(" %d (%d seeds)", config.lengths[li], config.seeds_per_length[li]);
   }
-  std::printf("; %zu scene kinds; %d noise levels; %zu motions; log_every %d; %d scene "
-              "redraws; %.0f s; wrote %s\n",
-              std::size(kSceneKinds), kNoiseCount, config.Motions().size(), config.log_every,
-              total_redraws, elapsed(), config.csv_path.c_str());
+  std::printf(
+      "; %zu scene kinds; %d noise levels; %zu motions; log_every %d; %d scene "
+      "redraws; %.0f s; wrote %s\n",
+      std::size(kSceneKinds), kNoiseCount, config.Motions().size(), config.log_every, total_redraws,
+      elapsed(), config.csv_path.c_str());
   return 0;
 }
 

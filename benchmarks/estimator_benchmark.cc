@@ -13,18 +13,18 @@
 #include <array>
 #include <chrono>
 #include <cmath>
-#include <memory>
-#include <vector>
 #include <cstdio>
 #include <ctime>
+#include <memory>
+#include <vector>
 
 #include "datasets/dataset.h"
 #include "datasets/noise.h"
 #include "estimator/identify.h"
 #include "estimator/internal/segment_cost.h"
+#include "estimator/internal/trajectory_problem.h"
 #include "estimator/trajectory_fit.h"
 #include "fixtures/synthetic_scenes.h"
-#include "estimator/internal/trajectory_problem.h"
 #include "forward_model/simulator.h"
 
 namespace slideid {
@@ -84,8 +84,7 @@ double ForwardPassSeconds(const Trajectory& log, bool with_derivatives) {
   for (int rep = 0; rep < 5; ++rep) {
     const auto t0 = std::chrono::steady_clock::now();
     pass();
-    times.push_back(
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+    times.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
   }
   std::nth_element(times.begin(), times.begin() + 2, times.end());
   return times[2];
@@ -105,9 +104,8 @@ void Run(benchmark::State& state, EstimatorMethod method, int threads = 1) {
   const double t[3] = {truth.a, truth.b, truth.c};
   const char* names[3] = {"err_a", "err_b", "err_c"};
   for (int i = 0; i < 3; ++i) {
-    state.counters[names[i]] = result.parameters[i].identifiable
-                                   ? std::abs(result.parameters[i].value / t[i] - 1)
-                                   : NAN;
+    state.counters[names[i]] =
+        result.parameters[i].identifiable ? std::abs(result.parameters[i].value / t[i] - 1) : NAN;
   }
   state.counters["steps"] = static_cast<double>(log.samples.size() - 1);
   state.counters["iterations"] = result.iterations;
@@ -197,11 +195,19 @@ void BM_PooledAgainstSingleFits(benchmark::State& state) {
 BENCHMARK(BM_PooledAgainstSingleFits)->Unit(benchmark::kSecond)->Iterations(1)->Repetitions(3);
 
 BENCHMARK(BM_ClosedForm)->Unit(benchmark::kMillisecond)->Repetitions(5)->ReportAggregatesOnly(true);
-BENCHMARK(BM_EquationError)->Unit(benchmark::kMillisecond)->Repetitions(5)->ReportAggregatesOnly(true);
+BENCHMARK(BM_EquationError)
+    ->Unit(benchmark::kMillisecond)
+    ->Repetitions(5)
+    ->ReportAggregatesOnly(true);
 // Argument: Ceres threads (1, then 2 for the speed-up on the same log). Wall time, since
 // the threads' work is what a user waits for.
-BENCHMARK(BM_Trajectory)->Arg(1)->Arg(2)->UseRealTime()->Unit(benchmark::kMillisecond)
-    ->Repetitions(5)->ReportAggregatesOnly(true);
+BENCHMARK(BM_Trajectory)
+    ->Arg(1)
+    ->Arg(2)
+    ->UseRealTime()
+    ->Unit(benchmark::kMillisecond)
+    ->Repetitions(5)
+    ->ReportAggregatesOnly(true);
 
 }  // namespace
 }  // namespace slideid

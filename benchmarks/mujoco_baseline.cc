@@ -34,13 +34,13 @@
 #include <string>
 #include <vector>
 
-#include "forward_model/number_format.h"
 #include "benchmarks/bench_args.h"
+#include "forward_model/constants.h"
 #include "forward_model/contact_patch.h"
+#include "forward_model/number_format.h"
 #include "io/push_log.h"
 #include "prediction/predict.h"
 #include "prediction/validate.h"
-#include "forward_model/constants.h"
 
 namespace slideid {
 namespace {
@@ -67,7 +67,8 @@ std::string Model(const Trajectory& log, const ReducedFriction& f, double mu_p, 
   x << "<mujoco><option timestep='" << Num(timestep) << "' cone='elliptic' gravity='0 0 "
     << Num(-log.slider.gravity_mps2) << "'/><worldbody>"
     << "<geom name='floor' type='plane' size='10 10 0.1' contype='1' conaffinity='1' "
-       "condim='4' friction='" << Num(f.a) << " " << Num(f.a * f.c) << " 0'/>"
+       "condim='4' friction='"
+    << Num(f.a) << " " << Num(f.a * f.c) << " 0'/>"
     << "<body name='slider' pos='0 0 " << Num(hz) << "'>"
     << "<joint name='x' type='slide' axis='1 0 0'/><joint name='y' type='slide' axis='0 1 0'/>"
     << "<joint name='z' type='slide' axis='0 0 1'/><joint name='yaw' type='hinge' axis='0 0 1'/>"
@@ -77,17 +78,18 @@ std::string Model(const Trajectory& log, const ReducedFriction& f, double mu_p, 
     << Num(-hz + kSupportRadius) << "' contype='1' conaffinity='1' condim='4' friction='"
     << Num(f.a) << " " << Num(f.a * f.c) << " 0' mass='0'/>"
     << "<geom type='box' size='" << Num(half.x()) << " " << Num(half.y()) << " " << Num(hz)
-    << "' pos='" << Num(centre.x()) << " " << Num(centre.y()) << " 0' contype='2' "
-       "conaffinity='2' condim='3' friction='" << Num(mu_p) << " 0 0' mass='0'/></body>"
+    << "' pos='" << Num(centre.x()) << " " << Num(centre.y())
+    << " 0' contype='2' "
+       "conaffinity='2' condim='3' friction='"
+    << Num(mu_p) << " 0 0' mass='0'/></body>"
     << "<body name='tip' mocap='true' pos='0 0 " << Num(hz) << "'><geom type='cylinder' size='"
-    << Num(tip_radius) << " 0.03' contype='2' conaffinity='2' condim='3' friction='"
-    << Num(mu_p) << " 0 0'/></body></worldbody></mujoco>";
+    << Num(tip_radius) << " 0.03' contype='2' conaffinity='2' condim='3' friction='" << Num(mu_p)
+    << " 0 0'/></body></worldbody></mujoco>";
   return x.str();
 }
 
 /// The push replayed in MuJoCo: rows at the log's times.
-Trajectory Simulate(const Trajectory& log, const ReducedFriction& f, double mu_p,
-                    double timestep) {
+Trajectory Simulate(const Trajectory& log, const ReducedFriction& f, double mu_p, double timestep) {
   const std::string path = "/tmp/slideid_mujoco_" + std::to_string(::getpid()) + ".xml";
   std::ofstream(path) << Model(log, f, mu_p, RegisteredTipRadius(log), timestep);
   char error[1000] = "";
@@ -142,10 +144,14 @@ int main(int argc, char** argv) {
   try {
     bench::Args args(argc, argv);
     while (args.Next()) {
-      if (args.Is("--validation")) validation = args.Value();
-      else if (args.Is("--json")) json_out = args.Value();
-      else if (args.Is("--timestep")) timestep = args.Number();
-      else throw std::invalid_argument("unknown option " + args.option());
+      if (args.Is("--validation"))
+        validation = args.Value();
+      else if (args.Is("--json"))
+        json_out = args.Value();
+      else if (args.Is("--timestep"))
+        timestep = args.Number();
+      else
+        throw std::invalid_argument("unknown option " + args.option());
     }
   } catch (const std::invalid_argument& e) {
     std::cerr << "mujoco_baseline: " << e.what() << "\n" << usage;
@@ -190,24 +196,29 @@ int main(int argc, char** argv) {
   }
   if (position.empty()) {
     std::cerr << "mujoco_baseline: no push predicted (" << mujoco.failed << " failed)\n";
-    for (const PushPrediction& p : mujoco.pushes) std::cerr << "  " << p.log << ": " << p.error << "\n";
+    for (const PushPrediction& p : mujoco.pushes)
+      std::cerr << "  " << p.log << ": " << p.error << "\n";
     return 1;
   }
   const ErrorSummary sp = Summarise(position), sr = Summarise(rotation),
                      s100 = Summarise(per_100mm), sf = Summarise(fraction);
   std::printf("mujoco: %zu pushes (%d failed), MuJoCo %s, step %g s\n", mujoco.pushes.size(),
               mujoco.failed, mj_versionString(), timestep);
-  std::printf("final position %.2f [%.2f, %.2f] %.2f mm; rotation %.2f [%.2f, %.2f] %.2f deg; "
-              "per 100 mm %.2f mm; %.1f%% of the displacement\n",
-              sp.median * 1e3, sp.q25 * 1e3, sp.q75 * 1e3, sp.worst * 1e3, sr.median * kRadToDeg,
-              sr.q25 * kRadToDeg, sr.q75 * kRadToDeg, sr.worst * kRadToDeg, s100.median * 1e3,
-              100 * sf.median);
+  std::printf(
+      "final position %.2f [%.2f, %.2f] %.2f mm; rotation %.2f [%.2f, %.2f] %.2f deg; "
+      "per 100 mm %.2f mm; %.1f%% of the displacement\n",
+      sp.median * 1e3, sp.q25 * 1e3, sp.q75 * 1e3, sp.worst * 1e3, sr.median * kRadToDeg,
+      sr.q25 * kRadToDeg, sr.q75 * kRadToDeg, sr.worst * kRadToDeg, s100.median * 1e3,
+      100 * sf.median);
   for (const PushPrediction& p : mujoco.pushes) {
     if (!p.ok) std::printf("  %s: %s\n", p.log.c_str(), p.error.c_str());
   }
   if (!json_out.empty()) {
     auto summary = [](const ErrorSummary& s) {
-      return Json{{"pushes", s.pushes}, {"median", s.median}, {"q25", s.q25}, {"q75", s.q75},
+      return Json{{"pushes", s.pushes},
+                  {"median", s.median},
+                  {"q25", s.q25},
+                  {"q75", s.q75},
                   {"worst", s.worst}};
     };
     Json j = {{"method", "mujoco"},

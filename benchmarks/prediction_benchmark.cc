@@ -17,8 +17,8 @@
 #include <vector>
 
 #include "benchmarks/bench_args.h"
-#include "fixtures/pushed_square.h"
 #include "estimator/identify.h"
+#include "fixtures/pushed_square.h"
 #include "forward_model/pusher_step.h"
 #include "forward_model/simulator.h"
 #include "io/push_log.h"
@@ -112,8 +112,8 @@ class RatioReporter : public benchmark::ConsoleReporter {
   std::map<std::string, double> seconds;
   void ReportRuns(const std::vector<Run>& runs) override {
     for (const Run& run : runs) {
-      seconds[run.benchmark_name()] = run.GetAdjustedRealTime() /
-                                      benchmark::GetTimeUnitMultiplier(run.time_unit);
+      seconds[run.benchmark_name()] =
+          run.GetAdjustedRealTime() / benchmark::GetTimeUnitMultiplier(run.time_unit);
     }
     ConsoleReporter::ReportRuns(runs);
   }
@@ -128,9 +128,12 @@ int main(int argc, char** argv) {
   try {
     slideid::bench::Args args(argc, argv);
     while (args.Next()) {
-      if (args.Is("--pushes")) slideid::pushes = std::max(2, args.Integer());
-      else if (args.Is("--logs")) slideid::logs_directory = args.Value();
-      else benchmark_args.push_back(args.arg());
+      if (args.Is("--pushes"))
+        slideid::pushes = std::max(2, args.Integer());
+      else if (args.Is("--logs"))
+        slideid::logs_directory = args.Value();
+      else
+        benchmark_args.push_back(args.arg());
     }
   } catch (const std::invalid_argument& e) {
     std::fprintf(stderr, "prediction_benchmark: %s\n", e.what());

@@ -43,23 +43,33 @@ struct Config {
   int max_rows = 10000;
   std::string markdown_path, csv_path;
   suite::FitChoices choices;  ///< of the default fit
-  std::string dump_dir;  ///< writes each log there as suite_NNNN.csv (to look at one)
+  std::string dump_dir;       ///< writes each log there as suite_NNNN.csv (to look at one)
 };
 
 Config Parse(int argc, char** argv) {
   Config c;
   bench::Args args(argc, argv);
   while (args.Next()) {
-    if (args.Is("--logs")) c.logs = args.Integer(1);
-    else if (args.Is("--first")) c.first = args.Integer(0);
-    else if (args.Is("--threads")) c.threads = args.Integer(1);
-    else if (args.Is("--max-rows")) c.max_rows = args.Integer(100);
-    else if (args.Is("--markdown")) c.markdown_path = args.Value();
-    else if (args.Is("--csv")) c.csv_path = args.Value();
-    else if (args.Is("--dump")) c.dump_dir = args.Value();
-    else if (args.Is("--second-start")) c.choices.second_start = true;
-    else if (args.Is("--no-cross-check")) c.choices.cross_check = false;
-    else throw std::invalid_argument("unknown option " + args.option());
+    if (args.Is("--logs"))
+      c.logs = args.Integer(1);
+    else if (args.Is("--first"))
+      c.first = args.Integer(0);
+    else if (args.Is("--threads"))
+      c.threads = args.Integer(1);
+    else if (args.Is("--max-rows"))
+      c.max_rows = args.Integer(100);
+    else if (args.Is("--markdown"))
+      c.markdown_path = args.Value();
+    else if (args.Is("--csv"))
+      c.csv_path = args.Value();
+    else if (args.Is("--dump"))
+      c.dump_dir = args.Value();
+    else if (args.Is("--second-start"))
+      c.choices.second_start = true;
+    else if (args.Is("--no-cross-check"))
+      c.choices.cross_check = false;
+    else
+      throw std::invalid_argument("unknown option " + args.option());
   }
   return c;
 }
@@ -72,18 +82,19 @@ struct Row {
 };
 
 std::string Percent(int n, int of) {
-  return of ? Fmt("%.1f%%", 100.0 * n / of) + " (" + std::to_string(n) + "/" + std::to_string(of) + ")" : "-";
+  return of ? Fmt("%.1f%%", 100.0 * n / of) + " (" + std::to_string(n) + "/" + std::to_string(of) +
+                  ")"
+            : "-";
 }
 
 using suite::Tally;
 
 std::string TallyLine(const std::string& name, const Tally& t) {
   std::ostringstream s;
-  s << "| " << name << " | " << t.logs << " | " << t.determined << " | " << Percent(t.basin, t.determined)
-    << " | " << Percent(t.within3, t.determined) << " | " << Percent(t.suspect, t.determined)
-    << " | " << Percent(t.ok_within3, t.determined)
-    << " | " << Percent(t.within3_interval, t.determined)
-    << " | " << Percent(t.narrow_ok, t.narrow);
+  s << "| " << name << " | " << t.logs << " | " << t.determined << " | "
+    << Percent(t.basin, t.determined) << " | " << Percent(t.within3, t.determined) << " | "
+    << Percent(t.suspect, t.determined) << " | " << Percent(t.ok_within3, t.determined) << " | "
+    << Percent(t.within3_interval, t.determined) << " | " << Percent(t.narrow_ok, t.narrow);
   for (int i = 0; i < 3; ++i) s << " | " << Percent(t.covered[i], t.intervals[i]);
   s << " |\n";
   return s.str();
@@ -92,8 +103,10 @@ std::string TallyLine(const std::string& name, const Tally& t) {
 std::string RowsBucket(const std::string& what) {
   const size_t at = what.find(" rows");
   const int rows = std::atoi(what.substr(what.rfind(';', at) + 2).c_str());
-  return rows < 300 ? "100-299 rows" : rows < 1000 ? "300-999 rows" : rows < 3000 ? "1000-2999 rows"
-                                                                                  : "3000-10000 rows";
+  return rows < 300    ? "100-299 rows"
+         : rows < 1000 ? "300-999 rows"
+         : rows < 3000 ? "1000-2999 rows"
+                       : "3000-10000 rows";
 }
 
 /// The i-th ';'-separated field of a description, trimmed.
@@ -122,11 +135,11 @@ std::string Report(const Config& c, const std::vector<Row>& rows) {
   }
   s << "Logs " << c.first << " to " << c.first + c.logs - 1 << " of the suite (seed "
     << kSceneSuiteSeed << "), up to " << c.max_rows << " rows; " << failures
-    << " could not be made. Default fit"
-    << (c.choices.second_start ? " with the second start" : "")
+    << " could not be made. Default fit" << (c.choices.second_start ? " with the second start" : "")
     << (c.choices.cross_check ? "" : " without the cross-check") << ".\n\n";
   s << "| logs | count | identified | best basin | all within 3 SE | some suspect | "
-       "ok ones within 3 SE | within 3 interval SE | narrow within 1.5% | a covered | b covered | c covered |\n"
+       "ok ones within 3 SE | within 3 interval SE | narrow within 1.5% | a covered | b covered | "
+       "c covered |\n"
        "|---|---|---|---|---|---|---|---|---|---|---|---|\n";
   s << TallyLine("**all**", all);
   for (const auto& group : groups) {
@@ -148,9 +161,10 @@ std::string Report(const Config& c, const std::vector<Row>& rows) {
     s << "| " << r.index << " | " << r.what;
     for (int i = 0; i < 3; ++i) {
       const ParameterEstimate& p = r.o.fit.parameters[i];
-      s << " | " << (r.o.identifiable[i] ? Fmt("%+.2f%%", 100 * r.o.rel_error[i]) +
-                                               (p.verdict == Verdict::kOk ? " o" : " s")
-                                         : "-");
+      s << " | "
+        << (r.o.identifiable[i]
+                ? Fmt("%+.2f%%", 100 * r.o.rel_error[i]) + (p.verdict == Verdict::kOk ? " o" : " s")
+                : "-");
     }
     s << " | " << Fmt("%.1f", r.o.max_abs_z) << " | " << r.o.best_from << " | "
       << (r.o.in_best_basin ? "yes" : "no") << " |\n";
@@ -180,8 +194,9 @@ int Main(int argc, char** argv) {
         row.failure = e.what();
       }
       std::lock_guard<std::mutex> lock(print);
-      std::fprintf(stderr, "%4d %-60s %s\n", row.index, row.what.c_str(),
-                   row.failure.empty() ? Fmt("%.2f", row.o.max_abs_z).c_str() : row.failure.c_str());
+      std::fprintf(
+          stderr, "%4d %-60s %s\n", row.index, row.what.c_str(),
+          row.failure.empty() ? Fmt("%.2f", row.o.max_abs_z).c_str() : row.failure.c_str());
     }
   };
   std::vector<std::thread> pool;
@@ -203,10 +218,13 @@ int Main(int argc, char** argv) {
       out << r.index << ',' << r.what << ',' << o.determined << ',' << o.in_best_basin << ','
           << o.best_from << ',' << Fmt("%.8g", o.default_cost) << ',' << Fmt("%.8g", o.best_cost)
           << ',' << Fmt("%.3f", o.max_abs_z) << ',' << o.narrow_but_off;
-      for (int i = 0; i < 3; ++i) out << ',' << (o.identifiable[i] ? Fmt("%.5f", o.rel_error[i]) : "-");
+      for (int i = 0; i < 3; ++i)
+        out << ',' << (o.identifiable[i] ? Fmt("%.5f", o.rel_error[i]) : "-");
       for (int i = 0; i < 3; ++i) out << ',' << (o.identifiable[i] ? Fmt("%.3f", o.z[i]) : "-");
-      for (int i = 0; i < 3; ++i) out << ',' << (o.identifiable[i] ? (o.covered[i] ? "1" : "0") : "-");
-      out << ',' << Fmt("%.4f", o.seconds) << ',' << (r.failure.empty() ? ToString(o.fit.status) : "failed") << ','
+      for (int i = 0; i < 3; ++i)
+        out << ',' << (o.identifiable[i] ? (o.covered[i] ? "1" : "0") : "-");
+      out << ',' << Fmt("%.4f", o.seconds) << ','
+          << (r.failure.empty() ? ToString(o.fit.status) : "failed") << ','
           << Fmt("%.3f", o.max_abs_z_interval) << '\n';
     }
     if (!out) throw std::runtime_error("cannot write " + c.csv_path);

@@ -20,6 +20,8 @@
 // A benchmark program, not a tool: it is longer than a tool's 150 lines because the grids
 // and their bookkeeping are the program; nothing here is library logic.
 
+#include <glog/logging.h>
+
 #include <Eigen/Core>
 #include <algorithm>
 #include <chrono>
@@ -35,8 +37,6 @@
 #include <stdexcept>
 #include <string>
 #include <vector>
-
-#include <glog/logging.h>
 
 #include "benchmarks/bench_args.h"
 #include "datasets/sensor_model.h"
@@ -120,8 +120,9 @@ class Sweep {
     std::string status;
     try {
       r = SolveStep(slider, f, state, applied, h, options);
-      status = r.ok() ? "converged" : r.status == StepStatus::kLiftOff ? "lift-off"
-                                                                      : "no-convergence";
+      status = r.ok()                             ? "converged"
+               : r.status == StepStatus::kLiftOff ? "lift-off"
+                                                  : "no-convergence";
     } catch (const std::exception& e) {
       r.status = StepStatus::kNoConvergence;
       r.message = std::string("exception: ") + e.what();
@@ -131,8 +132,19 @@ class Sweep {
     bool nonfinite = false;
     if (r.ok()) {
       const PlanarState& s = r.state;
-      const double out[] = {s.x, s.y, s.theta, s.vx, s.vy, s.wz, r.pt, r.po, r.pr, r.sigma,
-                            r.ecp_world.x(), r.ecp_world.y(), r.residual};
+      const double out[] = {s.x,
+                            s.y,
+                            s.theta,
+                            s.vx,
+                            s.vy,
+                            s.wz,
+                            r.pt,
+                            r.po,
+                            r.pr,
+                            r.sigma,
+                            r.ecp_world.x(),
+                            r.ecp_world.y(),
+                            r.residual};
       for (double v : out) nonfinite |= !std::isfinite(v);
       if (r.mode == StepMode::kSlide) {
         independent = SlidingEquationResiduals(slider, f, state, applied, h,
@@ -160,24 +172,23 @@ class Sweep {
     const ReducedFriction abc = ReducedFriction::From(f);
     if (csv_) {
       *csv_ << kind << ',' << family << ',' << (general_only ? "general" : "default") << ','
-            << Csv(tags, f.mu, abc.c, abc.b, h, slider.mass_kg, slider.com_height_m, state,
-                   factor)
+            << Csv(tags, f.mu, abc.c, abc.b, h, slider.mass_kg, slider.com_height_m, state, factor)
             << ',' << status << ',' << (r.ok() ? ToString(r.mode) : "") << ','
-            << (r.ok() ? ToString(r.path) : "") << ',' << r.residual << ',' << independent
-            << ',' << r.iterations << ',' << nonfinite << ",,,,,,,,"
-            << '"' << (r.ok() ? "" : r.message) << "\"\n";
+            << (r.ok() ? ToString(r.path) : "") << ',' << r.residual << ',' << independent << ','
+            << r.iterations << ',' << nonfinite << ",,,,,,,," << '"' << (r.ok() ? "" : r.message)
+            << "\"\n";
     }
     if (!r.ok() || nonfinite || residual_bad || r.iterations > kManyIterations) {
       std::ostringstream msg;
       msg.precision(17);
       msg << kind << '/' << family << (general_only ? "/general" : "") << ": " << status
           << " residual " << r.residual << " independent " << independent << " iterations "
-          << r.iterations << (nonfinite ? " NONFINITE" : "") << " | " << r.message
-          << " | mass " << slider.mass_kg << " I " << slider.inertia_kgm2 << " qz "
-          << slider.com_height_m << " mu " << f.mu << " b " << abc.b << " c " << abc.c
-          << " h " << h << " state (" << state.vx << ", " << state.vy << ", " << state.wz
-          << ") applied (" << applied.fx << ", " << applied.fy << ", " << applied.fz << ", "
-          << applied.tx << ", " << applied.ty << ", " << applied.tz << ")";
+          << r.iterations << (nonfinite ? " NONFINITE" : "") << " | " << r.message << " | mass "
+          << slider.mass_kg << " I " << slider.inertia_kgm2 << " qz " << slider.com_height_m
+          << " mu " << f.mu << " b " << abc.b << " c " << abc.c << " h " << h << " state ("
+          << state.vx << ", " << state.vy << ", " << state.wz << ") applied (" << applied.fx << ", "
+          << applied.fy << ", " << applied.fz << ", " << applied.tx << ", " << applied.ty << ", "
+          << applied.tz << ")";
       if (!r.ok() || nonfinite || residual_bad) {
         Fail(msg.str());
       } else if (static_cast<int>(slow_.size()) < max_failures_) {
@@ -242,18 +253,18 @@ class Sweep {
     if (csv_) {
       *csv_ << "energy,free,default,"
             << Csv(tags, f.mu, abc.c, abc.b, h, slider.mass_kg, slider.com_height_m, start, 1)
-            << ',' << status << ",,,,,," << nonfinite << ',' << done << ',' << violations
-            << ',' << worst_rise << ",,,,,\"" << message << "\"\n";
+            << ',' << status << ",,,,,," << nonfinite << ',' << done << ',' << violations << ','
+            << worst_rise << ",,,,,\"" << message << "\"\n";
     }
     if (violations > 0 || nonfinite || status != "converged") {
       std::ostringstream msg;
       msg.precision(17);
       msg << "energy: " << status << " violations " << violations << " (first at step "
           << first_violation << ", worst relative rise " << worst_rise << ")"
-          << (nonfinite ? " NONFINITE" : "") << " | " << message << " | mass "
-          << slider.mass_kg << " I " << slider.inertia_kgm2 << " qz " << slider.com_height_m
-          << " mu " << f.mu << " b " << abc.b << " c " << abc.c << " h " << h << " start ("
-          << start.vx << ", " << start.vy << ", " << start.wz << ")";
+          << (nonfinite ? " NONFINITE" : "") << " | " << message << " | mass " << slider.mass_kg
+          << " I " << slider.inertia_kgm2 << " qz " << slider.com_height_m << " mu " << f.mu
+          << " b " << abc.b << " c " << abc.c << " h " << h << " start (" << start.vx << ", "
+          << start.vy << ", " << start.wz << ")";
       Fail(msg.str());
     }
   }
@@ -294,14 +305,18 @@ class Sweep {
           if (t[i] >= p.ci95_lo && t[i] <= p.ci95_hi) {
             unidentifiable = true;
             char buf[160];
-            std::snprintf(buf, sizeof buf, "%s off by %.2g relative, inside its 95%% interval "
-                          "[%.6g, %.6g]", ParameterName(i), rel[i], p.ci95_lo, p.ci95_hi);
+            std::snprintf(buf, sizeof buf,
+                          "%s off by %.2g relative, inside its 95%% interval "
+                          "[%.6g, %.6g]",
+                          ParameterName(i), rel[i], p.ci95_lo, p.ci95_hi);
             verdict += std::string(verdict.empty() ? "" : "; ") + buf;
           } else {
             ok = false;
             char buf[160];
-            std::snprintf(buf, sizeof buf, "%s = %.9g, 95%% interval [%.9g, %.9g] excludes "
-                          "the truth", ParameterName(i), p.value, p.ci95_lo, p.ci95_hi);
+            std::snprintf(buf, sizeof buf,
+                          "%s = %.9g, 95%% interval [%.9g, %.9g] excludes "
+                          "the truth",
+                          ParameterName(i), p.value, p.ci95_lo, p.ci95_hi);
             verdict += std::string(verdict.empty() ? "" : "; ") + buf;
           }
         }
@@ -317,10 +332,9 @@ class Sweep {
     // An error is a verdict when it is one of the documented ones (README: too little
     // sliding, a log too short; the simulator's toppling or lift-off); any other is a
     // failure, as is an identifiable parameter off the truth or a fit that did not converge.
-    const bool documented =
-        error && (verdict.find("too little sliding") != std::string::npos ||
-                  verdict.find("too short") != std::string::npos ||
-                  verdict.find("simulation: ") == 0);
+    const bool documented = error && (verdict.find("too little sliding") != std::string::npos ||
+                                      verdict.find("too short") != std::string::npos ||
+                                      verdict.find("simulation: ") == 0);
     const bool failed = (error && !documented) || (!error && !ok);
     const bool is_verdict = !failed && (error || unidentifiable);
     auto book = [&](Row& row) {
@@ -329,7 +343,8 @@ class Sweep {
       row.est_verdict += is_verdict;
       row.est_ok += !failed && !is_verdict;
       if (error) return;
-      double& m = std::strcmp(method, "trajectory") == 0 ? row.est_max_rel_traj : row.est_max_rel_ee;
+      double& m =
+          std::strcmp(method, "trajectory") == 0 ? row.est_max_rel_traj : row.est_max_rel_ee;
       m = std::max(m, worst);
     };
     for (const auto& t : tags) book(rows_[t]);
@@ -338,8 +353,11 @@ class Sweep {
       std::string v = verdict;
       std::replace(v.begin(), v.end(), '"', '\'');
       *csv_ << "estimator," << family << ",," << Csv(tags, 0, 0, 0, 0, 0, 0, {}, 1) << ','
-            << (failed ? "fail" : is_verdict ? "verdict" : "ok") << ",,,,,,,,,," << method << ','
-            << rel[0] << ',' << rel[1] << ',' << rel[2] << ",\"" << v << "\"\n";
+            << (failed       ? "fail"
+                : is_verdict ? "verdict"
+                             : "ok")
+            << ",,,,,,,,,," << method << ',' << rel[0] << ',' << rel[1] << ',' << rel[2] << ",\""
+            << v << "\"\n";
     }
     if (failed) {
       std::ostringstream msg;
@@ -358,9 +376,8 @@ class Sweep {
 
   // A step far outside the grids, at the limits of double: it must converge with finite
   // outputs, or say why not (a status with a message, or std::invalid_argument).
-  void Probe(const std::string& name, const SliderProperties& slider,
-             const FrictionParameters& f, const PlanarState& state,
-             const AppliedWrench& applied, double h) {
+  void Probe(const std::string& name, const SliderProperties& slider, const FrictionParameters& f,
+             const PlanarState& state, const AppliedWrench& applied, double h) {
     std::string outcome;
     bool bad = false;
     try {
@@ -396,11 +413,16 @@ class Sweep {
 
  private:
   // The parameter columns; axis tags override (estimator rows carry only tags).
-  static std::string Csv(const Tags& tags, double mu, double c, double b, double h,
-                         double mass, double qz, const PlanarState& s, double factor) {
-    std::map<std::string, double> v{{"mu", mu}, {"c", c}, {"b", b}, {"h", h},
-                                    {"mass", mass}, {"qz", qz},
-                                    {"speed", std::hypot(s.vx, s.vy)}, {"spin", s.wz},
+  static std::string Csv(const Tags& tags, double mu, double c, double b, double h, double mass,
+                         double qz, const PlanarState& s, double factor) {
+    std::map<std::string, double> v{{"mu", mu},
+                                    {"c", c},
+                                    {"b", b},
+                                    {"h", h},
+                                    {"mass", mass},
+                                    {"qz", qz},
+                                    {"speed", std::hypot(s.vx, s.vy)},
+                                    {"spin", s.wz},
                                     {"factor", factor}};
     for (const auto& t : tags) {
       if (v.count(t.first) && t.first != "qz" && t.first != "factor") v[t.first] = t.second;
@@ -442,8 +464,8 @@ Grids MakeGrids(bool quick) {
   Grids g;
   g.quick = quick;
   const double e = kEps;
-  g.boundary = {1 - 1e-4, 1 - 1e-8, 1 - 4 * e, 1 - e, 1, 1 + e, 1 + 4 * e, 1 + 1e-12,
-                1 + 1e-8, 1 + 1e-4};
+  g.boundary = {1 - 1e-4, 1 - 1e-8,  1 - 4 * e, 1 - e,    1,
+                1 + e,    1 + 4 * e, 1 + 1e-12, 1 + 1e-8, 1 + 1e-4};
   if (quick) {
     g.mu = {1e-3, 0.3, 2};
     g.c = {1e-4, 0.5};
@@ -484,10 +506,14 @@ void StepGrid(const Grids& g, Sweep* sweep) {
                   const SliderProperties slider = SquarePlate(mass, qz);
                   const double dir = angle(rng), push_dir = angle(rng);
                   const double spin_sign = angle(rng) > 0 ? 1 : -1;
-                  const PlanarState state{0.1, -0.2, 0.3, speed * std::cos(dir),
-                                          speed * std::sin(dir), spin_sign * spin};
-                  const Tags tags{{"mu", mu},     {"c", c},           {"b", b},
-                                  {"h", h},       {"mass", mass},     {"cm height", qf},
+                  const PlanarState state{0.1,
+                                          -0.2,
+                                          0.3,
+                                          speed * std::cos(dir),
+                                          speed * std::sin(dir),
+                                          spin_sign * spin};
+                  const Tags tags{{"mu", mu},       {"c", c},       {"b", b},
+                                  {"h", h},         {"mass", mass}, {"cm height", qf},
                                   {"speed", speed}, {"spin", spin}};
                   // Push 1.5 mu m g at a patch corner-ish point, at ground level: tilting
                   // moments whenever q_z > 0.
@@ -535,8 +561,8 @@ void BoundaryGrid(const Grids& g, Sweep* sweep) {
                     Eigen::Vector3d tau(std::cos(phi) * std::sqrt(1 - share * share),
                                         std::sin(phi) * std::sqrt(1 - share * share),
                                         angle(rng) > 0 ? share : -share);
-                    const Eigen::Vector3d p_stop = factor * P *
-                        Eigen::Vector3d(tau(0), b * tau(1), c * tau(2));
+                    const Eigen::Vector3d p_stop =
+                        factor * P * Eigen::Vector3d(tau(0), b * tau(1), c * tau(2));
                     PlanarState state{0, 0, 0, 0, 0, 0};
                     AppliedWrench applied;
                     if (!pushed) {  // k = M nu = -p_stop (no tilting moments)
@@ -550,16 +576,17 @@ void BoundaryGrid(const Grids& g, Sweep* sweep) {
                       applied.ty = -qz * applied.fx;
                       const double pn = h * mass * kGravity_mps2;
                       const double k2 =
-                          -p_stop(2) - (p_stop(0) * h * applied.tx + p_stop(1) * h * applied.ty) / pn;
+                          -p_stop(2) -
+                          (p_stop(0) * h * applied.tx + p_stop(1) * h * applied.ty) / pn;
                       applied.tz = k2 / h;
                     }
-                    const Tags tags{{"boundary", factor}, {"mu", mu},     {"c", c},
-                                    {"b", b},             {"h", h},       {"mass", mass},
-                                    {"cm height", qf}};
+                    const Tags tags{
+                        {"boundary", factor}, {"mu", mu},       {"c", c}, {"b", b}, {"h", h},
+                        {"mass", mass},       {"cm height", qf}};
                     for (bool general : {false, true}) {
                       const StepResult r =
-                          sweep->Step("boundary", pushed ? "pushed-from-rest" : "moving",
-                                      general, tags, factor, slider, f, state, applied, h);
+                          sweep->Step("boundary", pushed ? "pushed-from-rest" : "moving", general,
+                                      tags, factor, slider, f, state, applied, h);
                       // Clear of rounding, the stick test must decide as the construction.
                       const bool must_stick = factor <= 1 - kClearOfBoundary;
                       const bool must_slide = factor >= 1 + kClearOfBoundary;
@@ -567,8 +594,8 @@ void BoundaryGrid(const Grids& g, Sweep* sweep) {
                                      (must_slide && r.mode != StepMode::kSlide))) {
                         std::ostringstream msg;
                         msg << "boundary: factor " << factor << " gave " << ToString(r.mode)
-                            << " | mu " << mu << " b " << b << " c " << c << " h " << h
-                            << " mass " << mass << " qz " << qz;
+                            << " | mu " << mu << " b " << b << " c " << c << " h " << h << " mass "
+                            << mass << " qz " << qz;
                         sweep->Flag(msg.str());
                       }
                     }
@@ -579,7 +606,10 @@ void EstimatorGrid(bool quick, Sweep* sweep) {
   const std::array<double, 5> base{0.3, 0.03, 1.0, 1.0, 0.01};  // mu, c, b, mass, h
   std::vector<Axis> axes;
   if (quick) {
-    axes = {{"mu", {1e-3, 2}}, {"c", {1e-4, 0.5}}, {"b", {0.1, 10}}, {"mass", {1e-3, 1e3}},
+    axes = {{"mu", {1e-3, 2}},
+            {"c", {1e-4, 0.5}},
+            {"b", {0.1, 10}},
+            {"mass", {1e-3, 1e3}},
             {"h", {1e-4, 0.1}}};
   } else {
     axes = {{"mu", {1e-3, 1e-2, 1, 2}},
@@ -619,10 +649,9 @@ void EstimatorGrid(bool quick, Sweep* sweep) {
       const std::string error = sim.summary.ok() ? "" : sim.summary.message;
       const Trajectory log = sim.summary.ok() ? MakeLog(sim.trajectory, scene.log) : Trajectory{};
       for (const char* method : {"trajectory", "equation-error"}) {
-        sweep->Estimator(tags, std::string(pushed ? "pushed" : "free-spin") +
-                                   (similar ? "" : " (as in tests)"),
-                         method,
-                         ReducedFriction::From(scene.friction), &log, error);
+        sweep->Estimator(
+            tags, std::string(pushed ? "pushed" : "free-spin") + (similar ? "" : " (as in tests)"),
+            method, ReducedFriction::From(scene.friction), &log, error);
       }
     }
   }
@@ -643,10 +672,10 @@ void DomainProbes(Sweep* sweep) {
   sweep->Probe("mass = 1e300 kg", with_mass(1e300), f, moving, {}, 0.01);
   sweep->Probe("mass = 1e-300 kg", with_mass(1e-300), f, moving, {}, 0.01);
   sweep->Probe("mass = 1e-300 kg, tilting moments", with_mass(1e-300), f, moving, tilt, 0.01);
-  sweep->Probe("mass = 1e-300 kg, h = 1e-10 s (p_n subnormal)", with_mass(1e-300), f, moving,
-               {}, 1e-10);
-  sweep->Probe("mass = 1e-300 kg, h = 1e-30 s (p_n underflows to 0)", with_mass(1e-300), f,
-               moving, {}, 1e-30);
+  sweep->Probe("mass = 1e-300 kg, h = 1e-10 s (p_n subnormal)", with_mass(1e-300), f, moving, {},
+               1e-10);
+  sweep->Probe("mass = 1e-300 kg, h = 1e-30 s (p_n underflows to 0)", with_mass(1e-300), f, moving,
+               {}, 1e-30);
   sweep->Probe("mass = 1e-300 kg, h = 1e-30 s, at rest", with_mass(1e-300), f, {}, {}, 1e-30);
   sweep->Probe("mu = 1e-300", s, friction(1e-300, 1, 0.03), moving, {}, 0.01);
   sweep->Probe("mu = 1e300", s, friction(1e300, 1, 0.03), moving, {}, 0.01);
@@ -654,13 +683,11 @@ void DomainProbes(Sweep* sweep) {
   sweep->Probe("c = 1e300 m", s, friction(0.3, 1, 1e300), moving, {}, 0.01);
   sweep->Probe("b = 1e-300", s, friction(0.3, 1e-300, 0.03), moving, {}, 0.01);
   sweep->Probe("b = 1e300", s, friction(0.3, 1e300, 0.03), moving, {}, 0.01);
-  sweep->Probe("speed 1e200 m/s, spin 1e200 rad/s", s, f, {0, 0, 0, 1e200, 1e200, 1e200}, {},
-               0.01);
+  sweep->Probe("speed 1e200 m/s, spin 1e200 rad/s", s, f, {0, 0, 0, 1e200, 1e200, 1e200}, {}, 0.01);
   sweep->Probe("speed 1e300 m/s", s, f, {0, 0, 0, 1e300, -1e300, 0}, {}, 0.01);
-  sweep->Probe("speed 1e-300 m/s, tilting moments", s, f, {0, 0, 0, 1e-300, 1e-300, 1e-300},
-               tilt, 0.01);
-  sweep->Probe("subnormal speed 4e-320 m/s, spin 1e3", s, f, {0, 0, 0, 4e-320, 0, 1e3}, {},
+  sweep->Probe("speed 1e-300 m/s, tilting moments", s, f, {0, 0, 0, 1e-300, 1e-300, 1e-300}, tilt,
                0.01);
+  sweep->Probe("subnormal speed 4e-320 m/s, spin 1e3", s, f, {0, 0, 0, 4e-320, 0, 1e3}, {}, 0.01);
   sweep->Probe("force 1e300 N", s, f, moving, {1e300, 1e300, 0, 1e300, 1e300, 1e300}, 0.01);
   sweep->Probe("f_z = -1e308 N (pressed down)", s, f, moving, {0, 0, -1e308, 0, 0, 0}, 0.01);
   sweep->Probe("f_z = m g (weightless)", s, f, moving, {0, 0, 9.81, 0, 0, 0}, 0.01);
@@ -691,8 +718,8 @@ std::string Table(Sweep& sweep, const std::vector<std::string>& axis_order) {
          "ok / verdict / fail | max rel. error, trajectory | max rel. error, equation-error |\n"
       << "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
   auto line = [&](const std::string& axis, const std::string& value, const Row& r) {
-    out << "| " << axis << " | " << value << " | " << r.step_cases << " | " << r.converged
-        << " | " << (r.step_cases ? Sci(r.max_residual) : "-") << " | "
+    out << "| " << axis << " | " << value << " | " << r.step_cases << " | " << r.converged << " | "
+        << (r.step_cases ? Sci(r.max_residual) : "-") << " | "
         << (r.step_cases ? Sci(r.max_independent) : "-") << " | " << r.max_iterations << " | "
         << r.nonfinite << " | " << r.energy_runs << " | " << r.energy_violations << " | "
         << r.est_cases << " | ";
@@ -725,10 +752,14 @@ Options ParseOptions(int argc, char** argv) {
   Options o;
   bench::Args args(argc, argv);
   while (args.Next()) {
-    if (args.Is("--quick")) o.quick = true;
-    else if (args.Is("--csv")) o.csv_path = args.Value();
-    else if (args.Is("--markdown")) o.md_path = args.Value();
-    else if (args.Is("--failures")) o.max_failures = args.Integer();
+    if (args.Is("--quick"))
+      o.quick = true;
+    else if (args.Is("--csv"))
+      o.csv_path = args.Value();
+    else if (args.Is("--markdown"))
+      o.md_path = args.Value();
+    else if (args.Is("--failures"))
+      o.max_failures = args.Integer();
     else if (args.Is("--help")) {
       o.help = true;
       break;  // what follows --help is not read: the help is the answer
@@ -781,17 +812,17 @@ int Main(int argc, char** argv) {
 
   std::ostringstream md;
   md << "Stability sweep (" << (options.quick ? "quick" : "full") << "): step grid " << t_step
-     << " s, boundary grid " << t_boundary - t_step << " s, estimator grid "
-     << t_est - t_boundary << " s.\n\n"
+     << " s, boundary grid " << t_boundary - t_step << " s, estimator grid " << t_est - t_boundary
+     << " s.\n\n"
      << Table(sweep, {"mu", "c", "b", "h", "mass", "cm height", "speed", "spin", "boundary",
                       "estimator scene"})
      << "\nDomain probes (steps at the limits of double):\n\n| probe | outcome |\n|---|---|\n";
-  for (const auto& [name, outcome] : sweep.probes()) md << "| " << name << " | " << outcome << " |\n";
+  for (const auto& [name, outcome] : sweep.probes())
+    md << "| " << name << " | " << outcome << " |\n";
   md << "\nFailing cases: " << sweep.total_failures() << "\n";
   for (const Failure& f : sweep.failures()) md << "- " << f.what << "\n";
   md << "\nEstimator verdicts (a parameter the log cannot identify, or a documented error): "
-     << sweep.verdicts().size()
-     << "\n";
+     << sweep.verdicts().size() << "\n";
   for (const std::string& v : sweep.verdicts()) md << "- " << v << "\n";
   md << "\nConverged steps with more than " << kManyIterations
      << " iterations (listed up to --failures): " << sweep.slow().size() << "\n";

@@ -72,18 +72,24 @@ Case Make(testing::CaseGenerator& gen, Family family) {
 
 const char* ToString(Family family) {
   switch (family) {
-    case Family::kGeneral: return "general";
-    case Family::kDecoupled: return "decoupled";
-    case Family::kPureTranslation: return "closed-form";
+    case Family::kGeneral:
+      return "general";
+    case Family::kDecoupled:
+      return "decoupled";
+    case Family::kPureTranslation:
+      return "closed-form";
   }
   return "?";
 }
 
 StepPath ExpectedPath(Family family) {
   switch (family) {
-    case Family::kGeneral: return StepPath::kGeneral;
-    case Family::kDecoupled: return StepPath::kDecoupled;
-    case Family::kPureTranslation: return StepPath::kPureTranslation;
+    case Family::kGeneral:
+      return StepPath::kGeneral;
+    case Family::kDecoupled:
+      return StepPath::kDecoupled;
+    case Family::kPureTranslation:
+      return StepPath::kPureTranslation;
   }
   return StepPath::kGeneral;
 }
@@ -126,14 +132,13 @@ struct PaperEquations {
 struct DoglegOutcome {
   Eigen::Vector4d x;  ///< (p_t, p_o, p_r, sigma)
   Eigen::HybridNonLinearSolverSpace::Status status;
-  int evaluations;    ///< function evaluations, the finite differences included
+  int evaluations;  ///< function evaluations, the finite differences included
 };
 
 /// The baseline step: the same first guess as SolveStep (the decoupled solution, as
 /// unknowns (p, e_t s)), then hybrd1 on the paper's equations.
 DoglegOutcome SolveWithDogleg(const Case& c) {
-  const StepEquations eq(c.slider, ReducedFriction::From(c.friction), c.state, c.applied,
-                         c.dt_s);
+  const StepEquations eq(c.slider, ReducedFriction::From(c.friction), c.state, c.applied, c.dt_s);
   const Eigen::Vector4d z = eq.DecoupledGuess();
   Eigen::VectorXd x(4);
   x << eq.Impulses(z), c.friction.e_t * z(3);
@@ -153,9 +158,9 @@ double MaxResidual(const Case& c, const Eigen::Vector4d& x) {
 struct Accuracy {
   double median_residual = 0;  ///< of max|SlidingEquationResiduals| at the solutions
   double max_residual = 0;
-  int failures = 0;            ///< not converged, or residual above kIndependentTolerance
+  int failures = 0;              ///< not converged, or residual above kIndependentTolerance
   int not_status_converged = 0;  ///< dogleg only: ended other than "relative error too small"
-  double mean_work = 0;        ///< Newton iterations (SolveStep) or evaluations (dogleg)
+  double mean_work = 0;          ///< Newton iterations (SolveStep) or evaluations (dogleg)
 };
 
 // Fills the residual figures from one residual per case (NaN counts as failed).
@@ -164,8 +169,7 @@ void Summarise(std::vector<double> residuals, Accuracy* a) {
     return std::isnan(y) ? !std::isnan(x) : x < y;  // NaNs last, so they are the max
   });
   const size_t n = residuals.size();
-  a->median_residual =
-      n % 2 ? residuals[n / 2] : 0.5 * (residuals[n / 2 - 1] + residuals[n / 2]);
+  a->median_residual = n % 2 ? residuals[n / 2] : 0.5 * (residuals[n / 2 - 1] + residuals[n / 2]);
   a->max_residual = residuals.back();
 }
 
@@ -193,8 +197,7 @@ Accuracy MeasureDogleg(const std::vector<Case>& cases) {
     const DoglegOutcome d = SolveWithDogleg(c);
     const double residual = MaxResidual(c, d.x);
     a.failures += !(residual <= kIndependentTolerance && d.x(3) > 0);
-    a.not_status_converged +=
-        d.status != Eigen::HybridNonLinearSolverSpace::RelativeErrorTooSmall;
+    a.not_status_converged += d.status != Eigen::HybridNonLinearSolverSpace::RelativeErrorTooSmall;
     work += d.evaluations;
     residuals.push_back(residual);
   }
@@ -251,10 +254,11 @@ int main(int argc, char** argv) {
   const Accuracy ours_forced = MeasureStepSolver(decoupled, forced);
   const Accuracy dogleg_general = MeasureDogleg(general);
   const Accuracy dogleg_decoupled = MeasureDogleg(decoupled);
-  std::printf("%d sliding steps per family; residual = max|SlidingEquationResiduals| at the "
-              "solution;\nfailure = not converged or residual > %.0e; dogleg: hybrd1, "
-              "xtol %.0e, finite-difference Jacobian.\n",
-              kCases, kIndependentTolerance, kDoglegXtol);
+  std::printf(
+      "%d sliding steps per family; residual = max|SlidingEquationResiduals| at the "
+      "solution;\nfailure = not converged or residual > %.0e; dogleg: hybrd1, "
+      "xtol %.0e, finite-difference Jacobian.\n",
+      kCases, kIndependentTolerance, kDoglegXtol);
   std::printf("%-38s %12s %12s %9s %12s %10s\n", "solver / family", "median res", "max res",
               "failures", "non-status-1", "mean work");
   const std::pair<const char*, const Accuracy*> rows[] = {
@@ -266,11 +270,12 @@ int main(int argc, char** argv) {
       {"dogleg / decoupled", &dogleg_decoupled},
   };
   for (const auto& [name, a] : rows) {
-    std::printf("%-38s %12.3e %12.3e %9d %12d %10.2f\n", name, a->median_residual,
-                a->max_residual, a->failures, a->not_status_converged, a->mean_work);
+    std::printf("%-38s %12.3e %12.3e %9d %12d %10.2f\n", name, a->median_residual, a->max_residual,
+                a->failures, a->not_status_converged, a->mean_work);
   }
-  std::printf("(mean work: Newton or scalar-root iterations for SolveStep, function "
-              "evaluations for the dogleg)\n\n");
+  std::printf(
+      "(mean work: Newton or scalar-root iterations for SolveStep, function "
+      "evaluations for the dogleg)\n\n");
   std::fflush(stdout);
 
   auto solve_step = [](const StepOptions& options) {

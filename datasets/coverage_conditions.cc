@@ -21,8 +21,11 @@ NoiseSpec MotionCapture() {
 }  // namespace
 
 std::vector<CoverageCondition> CoverageConditions() {
-  const CoverageCondition base{"base", "1000 rows, poses, 0.3 mm / 3 mrad, simulated at 1 ms",
-                               1000, 10, false, LogMotion::kPoses, MotionCapture()};
+  const CoverageCondition base{
+      "base",         "1000 rows, poses, 0.3 mm / 3 mrad, simulated at 1 ms",
+      1000,           10,
+      false,          LogMotion::kPoses,
+      MotionCapture()};
   std::vector<CoverageCondition> c;
   auto add = [&](const std::string& name, const std::string& what, auto change) {
     CoverageCondition x = base;

@@ -21,9 +21,10 @@ struct CoverageCondition {
   std::string what;    ///< one line for tables
   int rows = 1000;     ///< rows of every log (the simulated log is cut to this)
   int log_every = 10;  ///< simulated steps per 10 ms log interval (1: the fit's model is exact)
-  bool mean_wrench = false;  ///< log each interval's mean wrench (LogWrench::kIntervalMean, push = moments)
+  bool mean_wrench =
+      false;  ///< log each interval's mean wrench (LogWrench::kIntervalMean, push = moments)
   LogMotion motion = LogMotion::kPoses;
-  NoiseSpec noise;     ///< its seed is drawn per log
+  NoiseSpec noise;  ///< its seed is drawn per log
 };
 
 /// Log interval of every condition: 100 Hz, a common motion-capture rate [s].

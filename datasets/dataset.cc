@@ -6,9 +6,9 @@
 #include <stdexcept>
 
 #include "datasets/sensor_model.h"
-#include "forward_model/simulator.h"
 #include "forward_model/constants.h"
 #include "forward_model/number_format.h"
+#include "forward_model/simulator.h"
 
 namespace slideid {
 namespace {
@@ -28,8 +28,8 @@ double PolygonRadiusOfGyrationSquared(const std::vector<Eigen::Vector2d>& closed
     const Eigen::Vector2d& q = closed[i + 1];
     const double cross = p.x() * q.y() - q.x() * p.y();
     area2 += cross;
-    j += cross * (p.x() * p.x() + p.x() * q.x() + q.x() * q.x() + p.y() * p.y() +
-                  p.y() * q.y() + q.y() * q.y());
+    j += cross * (p.x() * p.x() + p.x() * q.x() + q.x() * q.x() + p.y() * p.y() + p.y() * q.y() +
+                  q.y() * q.y());
   }
   return (j / 12.0) / (area2 / 2.0);
 }
@@ -60,9 +60,9 @@ ValueRange ParseRange(const std::string& text, const std::string& what) {
     }
     return v;
   };
-  const ValueRange r = colon == std::string::npos
-                           ? ValueRange{number(text), number(text)}
-                           : ValueRange{number(text.substr(0, colon)), number(text.substr(colon + 1))};
+  const ValueRange r = colon == std::string::npos ? ValueRange{number(text), number(text)}
+                                                  : ValueRange{number(text.substr(0, colon)),
+                                                               number(text.substr(colon + 1))};
   if (!(r.lo <= r.hi)) throw std::invalid_argument(what + ": '" + text + "' needs LO <= HI");
   return r;
 }
@@ -78,7 +78,10 @@ PatchRange PatchRange::Parse(const std::string& text) {
   p.sizes.clear();
   if (!(in >> p.shape)) throw std::invalid_argument("--patch: empty");
   for (std::string token; in >> token;) p.sizes.push_back(ParseRange(token, "--patch"));
-  const std::size_t want = p.shape == "rectangle" ? 2 : p.shape == "disk" ? 1 : p.shape == "ring" ? 2 : 0;
+  const std::size_t want = p.shape == "rectangle" ? 2
+                           : p.shape == "disk"    ? 1
+                           : p.shape == "ring"    ? 2
+                                                  : 0;
   if (p.shape == "polygon") {
     if (p.sizes.size() < 6 || p.sizes.size() % 2 != 0) {
       throw std::invalid_argument("--patch: polygon needs x1 y1 x2 y2 x3 y3 ...");
@@ -112,10 +115,14 @@ double UniformInertia(const ContactPatch& patch, double mass_kg) {
   double p = 0.0, q = 0.0;
   spec >> shape >> p >> q;
   switch (patch.shape()) {
-    case ContactPatch::Shape::kRectangle: return mass_kg * (p * p + q * q) / 12.0;
-    case ContactPatch::Shape::kDisk: return mass_kg * p * p / 2.0;
-    case ContactPatch::Shape::kRing: return mass_kg * (p * p + q * q) / 2.0;
-    case ContactPatch::Shape::kPolygon: break;
+    case ContactPatch::Shape::kRectangle:
+      return mass_kg * (p * p + q * q) / 12.0;
+    case ContactPatch::Shape::kDisk:
+      return mass_kg * p * p / 2.0;
+    case ContactPatch::Shape::kRing:
+      return mass_kg * (p * p + q * q) / 2.0;
+    case ContactPatch::Shape::kPolygon:
+      break;
   }
   return mass_kg * PolygonRadiusOfGyrationSquared(patch.Outline());
 }
@@ -212,8 +219,7 @@ DatasetEntry DrawDatasetLog(const DatasetSpec& spec, int index, Trajectory* log)
   std::string why;
   if (!spec.IsValid(&why)) throw std::invalid_argument("dataset: " + why);
   std::seed_seq seq{static_cast<std::uint32_t>(spec.seed),
-                    static_cast<std::uint32_t>(spec.seed >> 32),
-                    static_cast<std::uint32_t>(index)};
+                    static_cast<std::uint32_t>(spec.seed >> 32), static_cast<std::uint32_t>(index)};
   std::mt19937_64 rng(seq);
   std::uniform_real_distribution<double> unit(0.0, 1.0);
   const auto draw = [&](const ValueRange& r) { return r.lo + (r.hi - r.lo) * unit(rng); };
@@ -251,8 +257,9 @@ DatasetEntry DrawDatasetLog(const DatasetSpec& spec, int index, Trajectory* log)
       continue;
     }
     scene.slider.inertia_kgm2 =
-        spec.inertia_kgm2 ? spec.inertia_kgm2->lo + (spec.inertia_kgm2->hi - spec.inertia_kgm2->lo) * inertia_draw
-                          : UniformInertia(scene.patch, scene.slider.mass_kg);
+        spec.inertia_kgm2
+            ? spec.inertia_kgm2->lo + (spec.inertia_kgm2->hi - spec.inertia_kgm2->lo) * inertia_draw
+            : UniformInertia(scene.patch, scene.slider.mass_kg);
     if (spec.pusher) {
       scene.pusher = DrawPusher(*spec.pusher, scene.patch, spec.seed, index, attempt);
       scene.duration_s = scene.pusher->path.end_s() + kPusherRunOutS;

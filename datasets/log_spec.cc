@@ -24,16 +24,17 @@ bool LogSpec::IsValidFor(bool has_pushes, std::string* why) const {
 
 const char* ToString(LogMotion motion) {
   switch (motion) {
-    case LogMotion::kPoses: return "poses";
-    case LogMotion::kVelocities: return "velocities";
-    case LogMotion::kBoth: return "both";
+    case LogMotion::kPoses:
+      return "poses";
+    case LogMotion::kVelocities:
+      return "velocities";
+    case LogMotion::kBoth:
+      return "both";
   }
   return "?";
 }
 
-const char* ToString(LogPush push) {
-  return push == LogPush::kPoint ? "point" : "moments";
-}
+const char* ToString(LogPush push) { return push == LogPush::kPoint ? "point" : "moments"; }
 
 const char* ToString(LogWrench wrench) {
   return wrench == LogWrench::kAtRowTime ? "at-row-time" : "interval-mean";

@@ -6,12 +6,11 @@
 #include <random>
 #include <stdexcept>
 
-#include "forward_model/simulator.h"
 #include "forward_model/constants.h"
+#include "forward_model/simulator.h"
 
 namespace slideid {
 namespace {
-
 
 double Wrap(double theta) { return std::remainder(theta, 2.0 * kPi); }
 
@@ -24,7 +23,8 @@ Eigen::Vector2d EdgeNormal(const Eigen::Vector2d& point, double half) {
   if (std::abs(std::abs(point.y()) - half) < kOnEdge && std::abs(point.x()) <= half) {
     return {0.0, point.y() > 0 ? 1.0 : -1.0};
   }
-  throw std::invalid_argument("MakeMitPushRecording: the push point is not on an edge of the square");
+  throw std::invalid_argument(
+      "MakeMitPushRecording: the push point is not on an edge of the square");
 }
 
 Scene MakeScene(const MitSynthSpec& spec) {
@@ -38,8 +38,8 @@ Scene MakeScene(const MitSynthSpec& spec) {
   push.point_body = spec.push_point_body;
   push.direction_body = spec.push_direction_body.normalized();
   push.height_m = spec.slider.com_height_m;
-  const double friction_n = spec.friction.mu * spec.friction.e_t * spec.slider.mass_kg *
-                            spec.slider.gravity_mps2;
+  const double friction_n =
+      spec.friction.mu * spec.friction.e_t * spec.slider.mass_kg * spec.slider.gravity_mps2;
   push.force_n = spec.force_ratio * friction_n;
   push.amplitude_n = spec.amplitude_ratio * friction_n;
   push.period_s = spec.period_s;
@@ -60,7 +60,8 @@ Scene MakeScene(const MitSynthSpec& spec) {
 }
 
 /// Stream times from `begin` to `end` [s after the start] at `rate` with jitter.
-std::vector<double> Clock(double begin, double end, double rate, double jitter, std::mt19937_64* rng) {
+std::vector<double> Clock(double begin, double end, double rate, double jitter,
+                          std::mt19937_64* rng) {
   std::uniform_real_distribution<double> phase(0.0, 1.0), wobble(-jitter, jitter);
   std::vector<double> times;
   for (double t = begin + phase(*rng) / rate; t <= end; t += (1.0 + wobble(*rng)) / rate) {
@@ -131,7 +132,8 @@ MitSynthResult MakeMitPushRecording(const MitSynthSpec& spec) {
   result.scene = MakeScene(spec);
   const SimulationResult sim = Simulate(result.scene);
   if (!sim.summary.ok()) {
-    throw std::invalid_argument("MakeMitPushRecording: the simulation failed: " + sim.summary.message);
+    throw std::invalid_argument("MakeMitPushRecording: the simulation failed: " +
+                                sim.summary.message);
   }
   result.simulated = sim.trajectory;
   const Truth truth(result.simulated, spec.sim_dt_s);
@@ -149,17 +151,20 @@ MitSynthResult MakeMitPushRecording(const MitSynthSpec& spec) {
                                      [&](const auto& g) { return t >= g.first && t < g.second; });
     const Eigen::Vector3d q = truth.Pose(t);
     const double theta = q.z() + spec.angle_noise_rad * gauss(rng) + QuarterTurns(d, t) * kPi / 2;
-    const double x = q.x() + spec.pose_noise_m * gauss(rng), y = q.y() + spec.pose_noise_m * gauss(rng);
-    if (!dropped) r.object_pose.push_back({spec.t_epoch_s + t, x + (glitch ? d.glitch_m : 0.0), y, Wrap(theta)});
+    const double x = q.x() + spec.pose_noise_m * gauss(rng),
+                 y = q.y() + spec.pose_noise_m * gauss(rng);
+    if (!dropped)
+      r.object_pose.push_back(
+          {spec.t_epoch_s + t, x + (glitch ? d.glitch_m : 0.0), y, Wrap(theta)});
   }
   // The tip follows the contact point during the push and stays still outside it.
   auto tip_at = [&](double t) {
     const Eigen::Vector3d q = truth.Pose(std::clamp(t, push_start, push_stop));
     const Eigen::Rotation2Dd rotation(q.z());
     const double rest = t < push_start || t > push_stop ? spec.rest_clearance_m : 0.0;
-    return Eigen::Vector2d(q.head<2>() + rotation * (spec.push_point_body +
-                                                     (spec.tip_radius_m + d.tip_clearance_m + rest) *
-                                                         normal_out));
+    return Eigen::Vector2d(
+        q.head<2>() + rotation * (spec.push_point_body +
+                                  (spec.tip_radius_m + d.tip_clearance_m + rest) * normal_out));
   };
   const double inset = spec.stream_inset_s;
   for (double t : Clock(inset, end - inset, spec.tip_rate_hz, spec.clock_jitter, &rng)) {
@@ -170,7 +175,8 @@ MitSynthResult MakeMitPushRecording(const MitSynthSpec& spec) {
   const Eigen::Rotation2Dd frame(d.force_frame_rad);
   for (double t : Clock(inset, end - inset, spec.ft_rate_hz, spec.clock_jitter, &rng)) {
     const double w = std::clamp((t - push_start) / (push_stop - push_start), 0.0, 1.0);
-    const Eigen::Vector2d offset = spec.offset_before_n + w * (spec.offset_after_n - spec.offset_before_n);
+    const Eigen::Vector2d offset =
+        spec.offset_before_n + w * (spec.offset_after_n - spec.offset_before_n);
     Eigen::Vector2d f = frame * ((spec.store_reaction ? -1.0 : 1.0) * truth.Force(t)) + offset;
     f += spec.force_noise_n * Eigen::Vector2d(gauss(rng), gauss(rng));
     if (d.saturation_n > 0) {

@@ -25,8 +25,8 @@ namespace slideid {
 
 /// Defects of the real files, injected on demand (all off by default).
 struct MitSynthDefects {
-  int backward_steps = 0;   ///< object_pose rows swapped with their successor (unsorted)
-  int duplicate_rows = 0;   ///< object_pose and tip_pose rows each written twice
+  int backward_steps = 0;  ///< object_pose rows swapped with their successor (unsorted)
+  int duplicate_rows = 0;  ///< object_pose and tip_pose rows each written twice
   /// From each (time [s after the start], k), theta is reported turned by k pi/2 (a
   /// symmetric marker set re-assigned); the latest entry before a row applies.
   std::vector<std::pair<double, int>> quarter_turns;
@@ -47,7 +47,7 @@ struct MitSynthSpec {
   /// 90 mm x 90 mm x 13 mm steel plate (like the MIT rect1; mass from its geometry).
   SliderProperties slider{0.835, 0.835 * (0.09 * 0.09 + 0.09 * 0.09) / 12.0, 0.0065, 9.81};
   FrictionParameters friction{0.3, 1.0, 1.2, 0.035};  ///< a = 0.3, b = 1.2, c = 0.035 m
-  double side_m = 0.09;  ///< the square's side [m]
+  double side_m = 0.09;                               ///< the square's side [m]
   /// Where the pusher acts, on an edge (body frame) [m], and the direction it pushes.
   Eigen::Vector2d push_point_body{-0.045, -0.02};
   Eigen::Vector2d push_direction_body{1.0, 0.2};
@@ -73,8 +73,8 @@ struct MitSynthSpec {
   double t_epoch_s = 1476728847.0;  ///< Unix time of the start
   double tip_radius_m = 0.00475;
   double pose_noise_m = 3e-4, angle_noise_rad = 3e-3;  ///< motion capture
-  double tip_noise_m = 1e-5;                            ///< robot
-  double force_noise_n = 0.05;                          ///< per force sample
+  double tip_noise_m = 1e-5;                           ///< robot
+  double force_noise_n = 0.05;                         ///< per force sample
   Eigen::Vector2d offset_before_n{-1.5, -0.5}, offset_after_n{-1.5, -0.5};
   bool store_reaction = true;  ///< ft_wrench holds minus the force on the object
   MitSynthDefects defects;

@@ -36,8 +36,7 @@ void ApplyNoise(Trajectory* log, const NoiseSpec& noise) {
   std::string why;
   if (!noise.IsValid(&why)) throw std::invalid_argument("ApplyNoise: " + why);
   const bool force_noise = noise.force_relative != 0 || noise.force_n != 0;
-  const bool pose_moves_r =
-      log->columns.pose && (noise.pose_m != 0 || noise.outlier_fraction != 0);
+  const bool pose_moves_r = log->columns.pose && (noise.pose_m != 0 || noise.outlier_fraction != 0);
   const bool point_moves = noise.push_point_m != 0;
   const double com_height = log->slider.com_height_m;
   std::mt19937_64 rng(noise.seed);
@@ -47,12 +46,11 @@ void ApplyNoise(Trajectory* log, const NoiseSpec& noise) {
   std::uniform_real_distribution<double> uniform(0.0, 1.0);
   for (TrajectorySample& s : log->samples) {
     // Every variate is drawn whatever the spec, in a fixed order: one seed, one stream.
-    const double n[11] = {normal(rng), normal(rng), normal(rng), normal(rng), normal(rng),
-                          normal(rng), normal(rng), normal(rng), normal(rng), normal(rng),
-                          normal(rng)};
+    const double n[11] = {normal(rng), normal(rng), normal(rng), normal(rng),
+                          normal(rng), normal(rng), normal(rng), normal(rng),
+                          normal(rng), normal(rng), normal(rng)};
     const double jump = uniform(rng), jump_angle = uniform(rng) * kTwoPi;
-    const double m[5] = {normal2(rng2), normal2(rng2), normal2(rng2), normal2(rng2),
-                         normal2(rng2)};
+    const double m[5] = {normal2(rng2), normal2(rng2), normal2(rng2), normal2(rng2), normal2(rng2)};
     const double point_noise[2] = {normal3(rng3), normal3(rng3)};
 
     const PlanarState truth = s.state;
@@ -86,12 +84,10 @@ void ApplyNoise(Trajectory* log, const NoiseSpec& noise) {
       Eigen::Vector3d& reported = *s.push_point_world;
       reported.x() += noise.push_point_m * point_noise[0];
       reported.y() += noise.push_point_m * point_noise[1];
-      const AppliedWrench measured =
-          WrenchFromForceAt(f.fx, f.fy, f.fz, reported.x() - q.x, reported.y() - q.y,
-                            reported.z() - com_height);
-      const double scale =
-          std::hypot(f_true.fx, f_true.fy, f_true.fz) *
-          std::hypot(p.x() - truth.x, p.y() - truth.y, p.z() - com_height);
+      const AppliedWrench measured = WrenchFromForceAt(
+          f.fx, f.fy, f.fz, reported.x() - q.x, reported.y() - q.y, reported.z() - com_height);
+      const double scale = std::hypot(f_true.fx, f_true.fy, f_true.fz) *
+                           std::hypot(p.x() - truth.x, p.y() - truth.y, p.z() - com_height);
       w = measured;  // plus the residual moment, the part not due to f
       w.tx += Residual(f_true.tx, at_truth.tx, scale);
       w.ty += Residual(f_true.ty, at_truth.ty, scale);

@@ -45,8 +45,7 @@ bool NoiseSpec::HasDefects() const {
 
 bool NoiseSpec::IsZero() const {
   return pose_m == 0 && angle_rad == 0 && velocity_mps == 0 && spin_radps == 0 &&
-         force_relative == 0 && force_n == 0 && push_point_m == 0 &&
-         outlier_fraction == 0;
+         force_relative == 0 && force_n == 0 && push_point_m == 0 && outlier_fraction == 0;
 }
 
 bool NoiseSpec::IsValid(std::string* why) const {

@@ -32,7 +32,8 @@ Eigen::Vector2d BoundaryPoint(const std::vector<Eigen::Vector2d>& outline, doubl
     const Eigen::Vector2d edge = outline[i + 1] - outline[i];
     const double length = edge.norm();
     if (length == 0.0) continue;
-    if (s <= length || i + 2 == outline.size()) return outline[i] + std::min(s / length, 1.0) * edge;
+    if (s <= length || i + 2 == outline.size())
+      return outline[i] + std::min(s / length, 1.0) * edge;
     s -= length;
   }
   throw std::logic_error("RandomPushProgram: empty patch outline");
@@ -75,8 +76,7 @@ bool RandomProgramSpec::IsValid(std::string* why) const {
 }
 
 PushProgram RandomPushProgram(const RandomProgramSpec& spec, const ContactPatch& patch,
-                              const SliderProperties& slider,
-                              const FrictionParameters& friction) {
+                              const SliderProperties& slider, const FrictionParameters& friction) {
   std::string why;
   if (!spec.IsValid(&why)) throw std::invalid_argument("RandomPushProgram: " + why);
   const double limit_n = ReducedFriction::From(friction).a * slider.mass_kg * slider.gravity_mps2;
@@ -116,7 +116,8 @@ PushProgram RandomPushProgram(const RandomProgramSpec& spec, const ContactPatch&
         spec.spread_rad > 0.0 ? angle / spec.spread_rad * std::min(spec.spread_rad, cap) : 0.0;
     const Eigen::Vector2d to_cm = -p.point_body / distance;
     const double c = std::cos(turn), s = std::sin(turn);
-    p.direction_body = Eigen::Vector2d(c * to_cm.x() - s * to_cm.y(), s * to_cm.x() + c * to_cm.y());
+    p.direction_body =
+        Eigen::Vector2d(c * to_cm.x() - s * to_cm.y(), s * to_cm.x() + c * to_cm.y());
     p.height_m = spec.through_cm ? slider.com_height_m : z;
     p.force_n = magnitude;
     p.amplitude_n = amplitude;

@@ -29,7 +29,7 @@ struct ValueRange {
 /// Pushes from all round the boundary give varied directions (b), the lever gives rotation
 /// (c), the rests stick-slip transitions. Unset ranges take defaults scaled to the slider.
 struct RandomProgramSpec {
-  int count = 6;                 ///< number of pushes (>= 1)
+  int count = 6;  ///< number of pushes (>= 1)
   std::uint64_t seed = 1;
   /// Constant part of the push [N]. Default: 1.1 to 1.6 times the sliding limit a m g.
   std::optional<ValueRange> force_n;
@@ -71,7 +71,6 @@ struct PushProgram {
 /// and com_height only set the default force and height ranges). Deterministic: one spec
 /// (including its seed) gives one program. Throws std::invalid_argument for an invalid spec.
 PushProgram RandomPushProgram(const RandomProgramSpec& spec, const ContactPatch& patch,
-                              const SliderProperties& slider,
-                              const FrictionParameters& friction);
+                              const SliderProperties& slider, const FrictionParameters& friction);
 
 }  // namespace slideid

@@ -9,9 +9,9 @@
 #include "datasets/logged_scene.h"
 #include "datasets/push_program.h"
 #include "datasets/sensor_model.h"
-#include "forward_model/simulator.h"
 #include "forward_model/constants.h"
 #include "forward_model/number_format.h"
+#include "forward_model/simulator.h"
 
 namespace slideid {
 namespace {
@@ -32,7 +32,9 @@ class Draw {
                       static_cast<std::uint32_t>(index), static_cast<std::uint32_t>(attempt)};
     rng_.seed(seq);
   }
-  double Uniform(double lo, double hi) { return std::uniform_real_distribution<double>(lo, hi)(rng_); }
+  double Uniform(double lo, double hi) {
+    return std::uniform_real_distribution<double>(lo, hi)(rng_);
+  }
   double LogUniform(double lo, double hi) { return std::exp(Uniform(std::log(lo), std::log(hi))); }
   bool Chance(double p) { return Uniform(0, 1) < p; }
   int Pick(int n) { return std::min(n - 1, static_cast<int>(Uniform(0, n))); }
@@ -106,16 +108,19 @@ void DrawNoise(Draw* d, bool pushed, bool velocities, bool outliers, NoiseSpec* 
 
 const char* ToString(SuiteMotion motion) {
   switch (motion) {
-    case SuiteMotion::kFreeSlide: return "free slide";
-    case SuiteMotion::kPushesWithRests: return "pushes+rests";
-    case SuiteMotion::kPushesBackToBack: return "pushes";
+    case SuiteMotion::kFreeSlide:
+      return "free slide";
+    case SuiteMotion::kPushesWithRests:
+      return "pushes+rests";
+    case SuiteMotion::kPushesBackToBack:
+      return "pushes";
   }
   return "?";
 }
 
 std::string SuiteLog::Describe() const {
-  return Printf("%s; %s; %zu rows at %.0f Hz; %s%s", slider, ToString(motion),
-                log.samples.size(), rate_hz, log.columns.velocity ? "poses+velocities" : "poses",
+  return Printf("%s; %s; %zu rows at %.0f Hz; %s%s", slider, ToString(motion), log.samples.size(),
+                rate_hz, log.columns.velocity ? "poses+velocities" : "poses",
                 outliers ? "; outliers" : "");
 }
 
@@ -165,7 +170,8 @@ SuiteLog MakeSuiteLog(int index, std::uint64_t seed, const SceneSuiteLimits& lim
       scene.duration_s = rows * interval_s;
     } else {
       const double slide_s = std::min(kSlideFraction * rows * interval_s, kMaxThrow_mps / (a * g));
-      rows = std::max(limits.min_rows, std::min(rows, static_cast<int>(slide_s / kSlideFraction / interval_s)));
+      rows = std::max(limits.min_rows,
+                      std::min(rows, static_cast<int>(slide_s / kSlideFraction / interval_s)));
       const double speed = a * g * slide_s, heading = d.Uniform(-kPi, kPi);
       scene.initial.vx = speed * std::cos(heading);
       scene.initial.vy = speed * std::sin(heading);

@@ -40,9 +40,9 @@ struct SuiteLog {
   Trajectory log;
   std::array<double, 3> truth{};  ///< (a, b, c [m])
   SuiteMotion motion = SuiteMotion::kPushesWithRests;
-  std::string slider;       ///< "box", "disk", "ring", "tall box", "flat box"
-  double rate_hz = 100;     ///< log rate
-  bool outliers = false;    ///< the log carries motion-capture outliers
+  std::string slider;     ///< "box", "disk", "ring", "tall box", "flat box"
+  double rate_hz = 100;   ///< log rate
+  bool outliers = false;  ///< the log carries motion-capture outliers
   /// One line without commas: the slider, motion, rows, rate and noise.
   std::string Describe() const;
 };

@@ -109,10 +109,11 @@ ParameterEstimate FromLogEstimate(const LogEstimate& e) {
     p.ci95_lo = std::exp(e.log_value - half);
     p.ci95_hi = std::exp(e.log_value + half);
     p.note += (p.note.empty() ? "" : "; ") +
-              Printf("interval widened %.2fx: another reading of the log (forces varying within "
-                     "its rows rather than held; for c also the direction of sliding at "
-                     "mid-interval) would move the estimate by %.2g%%",
-                     half / (e.quantile * e.stderr_log), 100 * shift);
+              Printf(
+                  "interval widened %.2fx: another reading of the log (forces varying within "
+                  "its rows rather than held; for c also the direction of sliding at "
+                  "mid-interval) would move the estimate by %.2g%%",
+                  half / (e.quantile * e.stderr_log), 100 * shift);
   }
   return p;
 }

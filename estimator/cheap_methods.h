@@ -20,8 +20,8 @@ struct LogSteps {
   const Trajectory* log = nullptr;
   std::vector<StepObservation> steps;
   StepNoise noise;
-  double radius_m = 0;  ///< L = sqrt(I_z / m)
-  int lag = 0;          ///< steps over which scores are correlated (step_covariance.h)
+  double radius_m = 0;    ///< L = sqrt(I_z / m)
+  int lag = 0;            ///< steps over which scores are correlated (step_covariance.h)
   double max_push_n = 0;  ///< largest applied horizontal force (LogDiagnostics)
 };
 
@@ -83,8 +83,8 @@ constexpr int kHalfWidthBisections = 40;
 
 /// The parameter of `e`: value exp(log_value), stderr value stderr_log, interval
 /// exp(log_value +- BiasAwareHalfWidth(quantile stderr_log / 1.96, force_hold_shift_log)),
-/// e's note (saying how far the force-hold shift widened it); not identifiable, held at its value and with the
-/// reason, when its noise-bias bound exceeds kMaxNoiseBiasStderrs standard errors.
+/// e's note (saying how far the force-hold shift widened it); not identifiable, held at its value
+/// and with the reason, when its noise-bias bound exceeds kMaxNoiseBiasStderrs standard errors.
 ParameterEstimate FromLogEstimate(const LogEstimate& e);
 
 /// Fewest logs for the cluster-robust (between-log) interval of a pooled estimate.

@@ -52,8 +52,7 @@ std::string ExclusionSummary(const EstimateResult& r) {
 /// a^2, b^2, c^2 of one step by model.md, Appendix A, corrected (no checks).
 std::array<double, 3> SquaredEstimates(const StepObservation& o) {
   const double vt = o.ecp_velocity(0), vo = o.ecp_velocity(1), vr = o.ecp_velocity(2);
-  const double pt = o.friction_impulse(0), po = o.friction_impulse(1),
-               pr = o.friction_impulse(2);
+  const double pt = o.friction_impulse(0), po = o.friction_impulse(1), pr = o.friction_impulse(2);
   const double pn = o.pn;
   return {{(pt / pn) * (pt / pn) + pt * po * vo / (pn * pn * vt) + pt * pr * vr / (pn * pn * vt),
            po * vt / (pt * vo), pr * vt / (pt * vr)}};
@@ -61,12 +60,11 @@ std::array<double, 3> SquaredEstimates(const StepObservation& o) {
 
 /// One sliding step's estimates of a, b, c; NaN where a divisor is near zero or the
 /// estimate is not positive, with the reason recorded.
-std::array<double, 3> StepEstimates(const StepObservation& o, const LogSteps& s,
-                                    double fraction, EstimateResult* result) {
+std::array<double, 3> StepEstimates(const StepObservation& o, const LogSteps& s, double fraction,
+                                    EstimateResult* result) {
   const double radius = s.radius_m;
   const double vt = o.ecp_velocity(0), vo = o.ecp_velocity(1), vr = o.ecp_velocity(2);
-  const double pt = o.friction_impulse(0), po = o.friction_impulse(1),
-               pr = o.friction_impulse(2);
+  const double pt = o.friction_impulse(0), po = o.friction_impulse(1), pr = o.friction_impulse(2);
   const double v_scale = std::sqrt(vt * vt + vo * vo + radius * radius * vr * vr);
   const double p_scale = std::sqrt(pt * pt + po * po + pr * pr / (radius * radius));
   const double sv = s.noise.velocity_mps, sw = s.noise.spin_radps;
@@ -119,8 +117,7 @@ struct Collected {
   std::vector<StepResidual> residuals;    ///< value: the estimates themselves, for now
 };
 
-void CollectLog(const LogSteps& s, int k, double fraction, Collected* c,
-                EstimateResult* result) {
+void CollectLog(const LogSteps& s, int k, double fraction, Collected* c, EstimateResult* result) {
   std::vector<std::array<double, 3>> estimates(s.steps.size(), {{kNaN, kNaN, kNaN}});
   std::array<std::vector<int>, 3> used;
   std::vector<int> sliding;
@@ -144,9 +141,8 @@ void CollectLog(const LogSteps& s, int k, double fraction, Collected* c,
     if (!kept[i]) {
       result->Exclude(std::string(kSymbol[i]) + ": impulse noise swamps the friction",
                       static_cast<int>(used[i].size()));
-      c->snr_reason[i] = low_translation
-                             ? LowSnrReason(translation, s.noise.differentiated, false)
-                             : LowSnrReason(rotation, s.noise.differentiated, true);
+      c->snr_reason[i] = low_translation ? LowSnrReason(translation, s.noise.differentiated, false)
+                                         : LowSnrReason(rotation, s.noise.differentiated, true);
       continue;
     }
     for (int j : used[i]) {
@@ -207,8 +203,7 @@ Location HuberLocation(const std::vector<double>& x) {
 }
 
 /// The robust mean of per-step log-estimates and its interval (closed_form.h).
-LogEstimate RobustMeanEstimate(const Samples& s, const std::vector<int>& lag_of_log,
-                               bool spin) {
+LogEstimate RobustMeanEstimate(const Samples& s, const std::vector<int>& lag_of_log, bool spin) {
   const int n = static_cast<int>(s.x.size());
   const Location l = HuberLocation(s.x);
   std::string note = Printf("robust mean of %d per-step estimates", n);
@@ -229,8 +224,8 @@ LogEstimate RobustMeanEstimate(const Samples& s, const std::vector<int>& lag_of_
   } else {
     stderr_log = scale * std::sqrt(psi.squaredNorm());
     quantile = kZ95;
-    note += Printf("; only %d blocks of %d steps: interval from independent steps",
-                   blocks.count, kBlockSteps);
+    note += Printf("; only %d blocks of %d steps: interval from independent steps", blocks.count,
+                   kBlockSteps);
   }
   int logs = 0;
   const double log_var = ClusterScoreCovariance(psi, s.log, &logs)(0, 0);
@@ -239,9 +234,10 @@ LogEstimate RobustMeanEstimate(const Samples& s, const std::vector<int>& lag_of_
     const double stderr_between = scale * std::sqrt(log_var);
     const double t = StudentT95(logs - 1);
     if (t * stderr_between > quantile * stderr_log) {
-      note += Printf("; interval widened %.2fx: the logs differ by more than their noise "
-                     "(cluster-robust over %d logs, t quantile %.2f)",
-                     t * stderr_between / (quantile * stderr_log), logs, t);
+      note += Printf(
+          "; interval widened %.2fx: the logs differ by more than their noise "
+          "(cluster-robust over %d logs, t quantile %.2f)",
+          t * stderr_between / (quantile * stderr_log), logs, t);
       stderr_log = stderr_between;
       quantile = t;
     }
@@ -280,7 +276,6 @@ std::vector<int> Lags(const std::vector<LogSteps>& log_steps) {
   for (const LogSteps& s : log_steps) lags.push_back(s.lag);
   return lags;
 }
-
 
 EstimateResult ClosedFormOf(const std::vector<const Trajectory*>& logs,
                             const IdentifyOptions& options) {

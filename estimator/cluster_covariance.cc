@@ -21,8 +21,8 @@ struct Factors {
   bool informative = false;
   bool full_leverage = false;
   Eigen::MatrixXd T, Y, Y2;
-  Eigen::MatrixXd B;     // the cluster's information, scaled
-  double variance = 1;   // its working variance
+  Eigen::MatrixXd B;    // the cluster's information, scaled
+  double variance = 1;  // its working variance
 };
 
 Factors ClusterFactors(const Eigen::MatrixXd& B, const Eigen::MatrixXd& Hinv, double trace_h) {
@@ -84,13 +84,15 @@ ClusterCovariance ClusterRobustCovariance(const std::vector<ClusterShare>& clust
   Eigen::VectorXd d(p);
   for (int k = 0; k < p; ++k) d(k) = H(k, k) > 0 ? std::sqrt(H(k, k)) : 1.0;
   const Eigen::MatrixXd Hinv = d.asDiagonal() * h_inverse * d.asDiagonal();
-  const double trace_h = (d.cwiseInverse().asDiagonal() * H * d.cwiseInverse().asDiagonal()).trace();
+  const double trace_h =
+      (d.cwiseInverse().asDiagonal() * H * d.cwiseInverse().asDiagonal()).trace();
 
   Eigen::MatrixXd meat = Eigen::MatrixXd::Zero(p, p);
   std::vector<Factors> factors;
   bool full_leverage = false;
   for (const ClusterShare& c : clusters) {
-    const Eigen::MatrixXd B = d.cwiseInverse().asDiagonal() * c.information * d.cwiseInverse().asDiagonal();
+    const Eigen::MatrixXd B =
+        d.cwiseInverse().asDiagonal() * c.information * d.cwiseInverse().asDiagonal();
     Factors f = ClusterFactors(B, Hinv, trace_h);
     full_leverage = full_leverage || f.full_leverage;
     if (!f.informative || f.full_leverage) continue;

@@ -42,9 +42,9 @@ struct ClusterCovariance {
   /// Why not ok: fewer than 2 informative clusters, or one cluster that alone determines
   /// a parameter (leverage 1: its residuals say nothing about that parameter's error).
   std::string failure;
-  Eigen::MatrixXd covariance;       ///< p x p
-  Eigen::VectorXd dof;              ///< Bell-McCaffrey degrees of freedom per parameter
-  int clusters = 0;                 ///< clusters with information
+  Eigen::MatrixXd covariance;  ///< p x p
+  Eigen::VectorXd dof;         ///< Bell-McCaffrey degrees of freedom per parameter
+  int clusters = 0;            ///< clusters with information
 };
 
 /// A cluster's leverage eigenvalue at or above this is 1: the cluster alone determines a

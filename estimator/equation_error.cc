@@ -2,8 +2,6 @@
 
 #include <ceres/ceres.h>
 
-#include "estimator/internal/equation_error_residual.h"
-
 #include <Eigen/Dense>
 #include <algorithm>
 #include <chrono>
@@ -17,12 +15,13 @@
 #include "estimator/cheap_methods.h"
 #include "estimator/closed_form.h"
 #include "estimator/identifiability.h"
+#include "estimator/internal/equation_error_residual.h"
+#include "estimator/internal/trajectory_problem.h"
 #include "estimator/plausibility.h"
 #include "estimator/pooling.h"
 #include "estimator/robust_statistics.h"
 #include "estimator/simex.h"
 #include "estimator/step_covariance.h"
-#include "estimator/internal/trajectory_problem.h"
 #include "forward_model/number_format.h"
 
 namespace slideid {
@@ -44,7 +43,6 @@ struct FitStep {
   /// within the interval, rather than the model's backward-Euler step, would make of it.
   std::unique_ptr<ceres::CostFunction> mid_interval_cost;
 };
-
 
 Eigen::Vector3d ForceHoldShift(const LogSteps& s, const StepObservation& o) {
   const Eigen::Vector3d dp = ForceHoldImpulseShift(s, o);
@@ -123,7 +121,8 @@ Sandwich RobustSandwich(const std::vector<FitStep>& steps, const Linearisation& 
     if (steps[i].mid_interval_cost) {
       double r_mid[3];
       if (steps[i].mid_interval_cost->Evaluate(params, r_mid, nullptr)) {
-        const Eigen::Vector3d change = Eigen::Vector3d(r_mid[0], r_mid[1], r_mid[2]) - l.residual[i];
+        const Eigen::Vector3d change =
+            Eigen::Vector3d(r_mid[0], r_mid[1], r_mid[2]) - l.residual[i];
         mid_score += rho[1] * j.transpose() * change;
       }
     }
@@ -169,9 +168,10 @@ LogEstimate ChooseInterval(const Sandwich& s, int a, bool spin) {
     const double between = std::sqrt(std::max(0.0, s.logs(a, a)));
     const double t = StudentT95(s.log_clusters - 1);
     if (t * between > iv.quantile * iv.stderr_log) {
-      iv.note = Printf("interval widened %.2fx: the logs differ by more than their noise "
-                       "(cluster-robust over %d logs, t quantile %.2f)",
-                       t * between / (iv.quantile * iv.stderr_log), s.log_clusters, t);
+      iv.note = Printf(
+          "interval widened %.2fx: the logs differ by more than their noise "
+          "(cluster-robust over %d logs, t quantile %.2f)",
+          t * between / (iv.quantile * iv.stderr_log), s.log_clusters, t);
       iv.stderr_log = between;
       iv.quantile = t;
     }
@@ -242,8 +242,8 @@ StepSet SelectSteps(const std::vector<const Trajectory*>& logs, EstimateResult* 
                          std::unique_ptr<ceres::CostFunction>(
                              EquationErrorResidual::Create(s.steps[j], s.radius_m)),
                          ForceHoldShift(s, s.steps[j]),
-                         std::unique_ptr<ceres::CostFunction>(EquationErrorResidual::Create(
-                             MidInterval(s.steps[j]), s.radius_m))});
+                         std::unique_ptr<ceres::CostFunction>(
+                             EquationErrorResidual::Create(MidInterval(s.steps[j]), s.radius_m))});
     }
     set.used_of_log[k] = std::move(used);
   }
@@ -265,8 +265,8 @@ std::unique_ptr<ceres::LossFunction> MakeLoss(const EquationErrorOptions& option
 
 /// Fits the active log-parameters in `theta` (the others held), within the search range.
 ceres::Solver::Summary SolveFit(const std::vector<FitStep>& fit, ceres::LossFunction* loss,
-                                const std::array<bool, 3>& active,
-                                const IdentifyOptions& identify, double* theta) {
+                                const std::array<bool, 3>& active, const IdentifyOptions& identify,
+                                double* theta) {
   ceres::Problem::Options problem_options;
   problem_options.cost_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
   problem_options.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
@@ -358,10 +358,10 @@ std::array<double, 3> RefitCopies(const std::vector<const Trajectory*>& copies,
     const std::vector<StepObservation> observed = ExtractStepObservations(*copies[k]);
     const double radius = original.log_steps[k].radius_m;
     for (int j : original.used_of_log[k]) {
-      steps.push_back({static_cast<int>(k), observed[j].row,
-                       std::unique_ptr<ceres::CostFunction>(
-                           EquationErrorResidual::Create(observed[j], radius)),
-                       Eigen::Vector3d::Zero(), nullptr});
+      steps.push_back(
+          {static_cast<int>(k), observed[j].row,
+           std::unique_ptr<ceres::CostFunction>(EquationErrorResidual::Create(observed[j], radius)),
+           Eigen::Vector3d::Zero(), nullptr});
     }
   }
   std::array<double, 3> out{{kNaN, kNaN, kNaN}};
@@ -436,8 +436,7 @@ double NoiseResidualScale(const StepSet& set) {
 }
 
 EstimateResult EquationErrorOf(const std::vector<const Trajectory*>& logs,
-                               const IdentifyOptions& identify,
-                               const EstimateResult& seed_result) {
+                               const IdentifyOptions& identify, const EstimateResult& seed_result) {
   const auto start_time = std::chrono::steady_clock::now();
   EstimateResult result;
   result.method = EstimatorMethod::kEquationError;
@@ -454,9 +453,9 @@ EstimateResult EquationErrorOf(const std::vector<const Trajectory*>& logs,
     }
     result.status = TerminationStatus::kTooLittleExcitation;
     result.converged = false;
-    result.message = "too little sliding to identify anything: " +
-                     std::to_string(result.steps_used) + " of " +
-                     std::to_string(result.steps_total) + " steps usable";
+    result.message =
+        "too little sliding to identify anything: " + std::to_string(result.steps_used) + " of " +
+        std::to_string(result.steps_total) + " steps usable";
     return result;
   }
 

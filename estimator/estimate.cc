@@ -14,38 +14,52 @@ bool Fail(std::string* why, const char* text) {
 
 const char* ToString(EstimatorMethod method) {
   switch (method) {
-    case EstimatorMethod::kClosedForm: return "closed-form";
-    case EstimatorMethod::kEquationError: return "equation-error";
-    case EstimatorMethod::kTrajectory: return "trajectory";
-    case EstimatorMethod::kQuasiStatic: return "quasi-static";
+    case EstimatorMethod::kClosedForm:
+      return "closed-form";
+    case EstimatorMethod::kEquationError:
+      return "equation-error";
+    case EstimatorMethod::kTrajectory:
+      return "trajectory";
+    case EstimatorMethod::kQuasiStatic:
+      return "quasi-static";
   }
   return "?";
 }
 
 const char* ToString(RobustLoss loss) {
   switch (loss) {
-    case RobustLoss::kNone: return "none";
-    case RobustLoss::kHuber: return "huber";
-    case RobustLoss::kCauchy: return "cauchy";
+    case RobustLoss::kNone:
+      return "none";
+    case RobustLoss::kHuber:
+      return "huber";
+    case RobustLoss::kCauchy:
+      return "cauchy";
   }
   return "?";
 }
 
 const char* ToString(Verdict verdict) {
   switch (verdict) {
-    case Verdict::kOk: return "ok";
-    case Verdict::kSuspect: return "suspect";
-    case Verdict::kNotIdentifiable: return "not identifiable";
+    case Verdict::kOk:
+      return "ok";
+    case Verdict::kSuspect:
+      return "suspect";
+    case Verdict::kNotIdentifiable:
+      return "not identifiable";
   }
   return "?";
 }
 
 const char* ToString(TerminationStatus status) {
   switch (status) {
-    case TerminationStatus::kConverged: return "converged";
-    case TerminationStatus::kConvergedWithCaveats: return "converged with caveats";
-    case TerminationStatus::kNoConvergence: return "no convergence";
-    case TerminationStatus::kTooLittleExcitation: return "too little excitation";
+    case TerminationStatus::kConverged:
+      return "converged";
+    case TerminationStatus::kConvergedWithCaveats:
+      return "converged with caveats";
+    case TerminationStatus::kNoConvergence:
+      return "no convergence";
+    case TerminationStatus::kTooLittleExcitation:
+      return "too little excitation";
   }
   return "?";
 }
@@ -112,12 +126,14 @@ bool TrajectoryOptions::IsValid(std::string* why) const {
 bool IdentifyOptions::IsValid(std::string* why) const {
   if (threads < 1) return Fail(why, "--threads must be >= 1");
   switch (method) {
-    case EstimatorMethod::kClosedForm: return closed_form.IsValid(why);
+    case EstimatorMethod::kClosedForm:
+      return closed_form.IsValid(why);
     case EstimatorMethod::kEquationError:
       return closed_form.IsValid(why) && equation_error.IsValid(why);
     case EstimatorMethod::kTrajectory:
       return closed_form.IsValid(why) && trajectory.IsValid(why);
-    case EstimatorMethod::kQuasiStatic: return quasi_static.IsValid(why);
+    case EstimatorMethod::kQuasiStatic:
+      return quasi_static.IsValid(why);
   }
   return Fail(why, "unknown method");
 }

@@ -21,7 +21,7 @@ enum class RobustLoss { kNone, kHuber, kCauchy };
 
 /// "closed-form", "equation-error", "trajectory", "quasi-static"
 const char* ToString(EstimatorMethod method);
-const char* ToString(RobustLoss loss);         ///< "none", "huber", "cauchy"
+const char* ToString(RobustLoss loss);  ///< "none", "huber", "cauchy"
 
 /// Index of a parameter in EstimateResult::parameters.
 enum ParameterIndex { kA = 0, kB = 1, kC = 2 };
@@ -30,9 +30,9 @@ const char* ParameterName(int index);
 
 /// How far an estimate can be trusted.
 enum class Verdict {
-  kOk,                ///< determined by the log, and every plausibility check passed
-  kSuspect,           ///< determined, but a check failed (the reason says which): doubtful
-  kNotIdentifiable,   ///< the log does not determine it; it was held, and has no value
+  kOk,               ///< determined by the log, and every plausibility check passed
+  kSuspect,          ///< determined, but a check failed (the reason says which): doubtful
+  kNotIdentifiable,  ///< the log does not determine it; it was held, and has no value
 };
 const char* ToString(Verdict verdict);  ///< "ok", "suspect", "not identifiable"
 
@@ -96,13 +96,13 @@ struct StepResidual {
 
 /// One log of a pooled identification, fitted on its own.
 struct LogResult {
-  std::string name;        ///< its source (file name), or "log N"
-  bool skipped = false;    ///< unreadable or unusable, and --skip-bad was given
+  std::string name;      ///< its source (file name), or "log N"
+  bool skipped = false;  ///< unreadable or unusable, and --skip-bad was given
   std::string skip_reason;
   int rows = 0;
   int steps_used = 0;
   TerminationStatus status = TerminationStatus::kConverged;
-  std::string message;     ///< how its own fit ended
+  std::string message;  ///< how its own fit ended
   std::array<ParameterEstimate, 3> parameters;
 };
 
@@ -112,7 +112,7 @@ struct LogResult {
 /// identify the parameter.
 struct Heterogeneity {
   bool tested = false;
-  int logs = 0;           ///< logs that identify the parameter
+  int logs = 0;  ///< logs that identify the parameter
   double q = std::numeric_limits<double>::quiet_NaN();
   double p_value = std::numeric_limits<double>::quiet_NaN();  ///< of Q under chi2(logs - 1)
   double i2 = std::numeric_limits<double>::quiet_NaN();       ///< share of spread beyond noise
@@ -134,7 +134,7 @@ struct EstimateResult {
   bool mu_pusher_examined = false;
   ParameterEstimate mu_pusher;
   double mu_pusher_lower_bound = std::numeric_limits<double>::quiet_NaN();
-  std::vector<NuisanceEstimate> nuisance;       ///< force offsets and delays, when fitted
+  std::vector<NuisanceEstimate> nuisance;  ///< force offsets and delays, when fitted
   int steps_total = 0;
   int steps_used = 0;
   /// Reasons steps were left out, with counts ("sticking", "v_t near zero", ...).

@@ -76,10 +76,10 @@ void HeldPartners(const Eigen::MatrixXd& h, double residual_variance,
 }  // namespace
 
 std::vector<ParameterIdentifiability> AssessIdentifiability(const Eigen::MatrixXd& fisher_log,
-                                                           double residual_variance,
-                                                           const std::vector<bool>& active,
-                                                           const std::vector<double>& max_stderr,
-                                                           const std::vector<int>& priority) {
+                                                            double residual_variance,
+                                                            const std::vector<bool>& active,
+                                                            const std::vector<double>& max_stderr,
+                                                            const std::vector<int>& priority) {
   const int n = static_cast<int>(fisher_log.rows());
   // The one to give up among candidates: the lowest priority, then the largest `score`.
   auto pick = [&](const std::vector<int>& set, const Eigen::VectorXd& score,
@@ -119,9 +119,9 @@ std::vector<ParameterIdentifiability> AssessIdentifiability(const Eigen::MatrixX
     if (!active[i]) {
       out[i].note = "held constant by the caller";
     } else if (!(h(i, i) > 0) || h(i, i) < kNegligibleInformationRatio * largest) {
-      out[i].note = Printf(
-          "the residuals do not depend on it (information %.3g of the largest, below %.0e)",
-          largest > 0 ? h(i, i) / largest : 0.0, kNegligibleInformationRatio);
+      out[i].note =
+          Printf("the residuals do not depend on it (information %.3g of the largest, below %.0e)",
+                 largest > 0 ? h(i, i) / largest : 0.0, kNegligibleInformationRatio);
     } else {
       set.push_back(i);
     }
@@ -157,9 +157,9 @@ std::vector<ParameterIdentifiability> AssessIdentifiability(const Eigen::MatrixX
     const Eigen::VectorXd d = s.diagonal().cwiseSqrt().cwiseInverse();
     // Invert in normalised form (better conditioned), then undo the scaling.
     const Eigen::MatrixXd hn = d.asDiagonal() * s * d.asDiagonal();
-    const Eigen::MatrixXd inv =
-        d.asDiagonal() * hn.ldlt().solve(Eigen::MatrixXd::Identity(hn.rows(), hn.cols())) *
-        d.asDiagonal();
+    const Eigen::MatrixXd inv = d.asDiagonal() *
+                                hn.ldlt().solve(Eigen::MatrixXd::Identity(hn.rows(), hn.cols())) *
+                                d.asDiagonal();
     Eigen::VectorXd se(set.size());
     for (int k = 0; k < static_cast<int>(set.size()); ++k) {
       se(k) = std::sqrt(residual_variance * std::max(inv(k, k), 0.0));
@@ -178,9 +178,9 @@ std::vector<ParameterIdentifiability> AssessIdentifiability(const Eigen::MatrixX
       }
       break;
     }
-    out[set[worst]].note = Printf(
-        "the log does not constrain it: its standard error %.3g exceeds %.3g", se(worst),
-        max_stderr[set[worst]]);
+    out[set[worst]].note =
+        Printf("the log does not constrain it: its standard error %.3g exceeds %.3g", se(worst),
+               max_stderr[set[worst]]);
     unconstrained.push_back(set[worst]);
     Remove(&set, worst);
   }

@@ -75,25 +75,25 @@ struct ParameterIdentifiability {
 /// in their own units), parameter i undetermined under (iii) when its standard error
 /// exceeds max_stderr[i], and under (iv) when it does so once the parameters (iii) gave up
 /// (of its priority or higher) are free within their own max_stderr: it was determined
-/// only by holding them (identifiability.cc). Where (ii) or (iii) must give one up, the one of lowest
-/// `priority` goes first (then the largest eigenvector component, or the furthest beyond
-/// its threshold): a sensor nuisance confounded with a, say, is held rather than a. `fisher`
-/// is n x n symmetric; `active`, `max_stderr` and `priority` (empty: all equal) have n
-/// entries. Throws std::invalid_argument for a non-finite H, a negative variance or
-/// mismatched sizes.
+/// only by holding them (identifiability.cc). Where (ii) or (iii) must give one up, the one of
+/// lowest `priority` goes first (then the largest eigenvector component, or the furthest beyond its
+/// threshold): a sensor nuisance confounded with a, say, is held rather than a. `fisher` is n x n
+/// symmetric; `active`, `max_stderr` and `priority` (empty: all equal) have n entries. Throws
+/// std::invalid_argument for a non-finite H, a negative variance or mismatched sizes.
 std::vector<ParameterIdentifiability> AssessIdentifiability(const Eigen::MatrixXd& fisher,
-                                                           double residual_variance,
-                                                           const std::vector<bool>& active,
-                                                           const std::vector<double>& max_stderr,
-                                                           const std::vector<int>& priority = {});
+                                                            double residual_variance,
+                                                            const std::vector<bool>& active,
+                                                            const std::vector<double>& max_stderr,
+                                                            const std::vector<int>& priority = {});
 
 /// Applies rules (i)-(iv) to `fisher_log` (3x3 symmetric, in order log a, log b, log c)
 /// with residual variance `residual_variance` (>= 0). Parameters with active[i] == false
 /// are reported not identifiable with the note "held constant by the caller" and do not
 /// take part. Throws std::invalid_argument for a non-finite H or a negative variance.
-std::array<ParameterIdentifiability, 3> AssessIdentifiability(
-    const Eigen::Matrix3d& fisher_log, double residual_variance,
-    const std::array<bool, 3>& active = {{true, true, true}});
+std::array<ParameterIdentifiability, 3> AssessIdentifiability(const Eigen::Matrix3d& fisher_log,
+                                                              double residual_variance,
+                                                              const std::array<bool, 3>& active = {
+                                                                  {true, true, true}});
 
 /// An identifiable parameter from its log estimate and that estimate's one-sigma error:
 /// value = exp(log_value), stderr = value * stderr_log (delta method), and the 95% interval

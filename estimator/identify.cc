@@ -25,12 +25,19 @@ EstimateResult Identify(const Trajectory& log, const IdentifyOptions& options) {
   }
   EstimateResult r;
   switch (options.method) {
-    case EstimatorMethod::kClosedForm: r = EstimateClosedForm(log, options); break;
-    case EstimatorMethod::kEquationError: r = EstimateEquationError(log, options); break;
-    case EstimatorMethod::kTrajectory: r = EstimateTrajectory(log, options); break;
+    case EstimatorMethod::kClosedForm:
+      r = EstimateClosedForm(log, options);
+      break;
+    case EstimatorMethod::kEquationError:
+      r = EstimateEquationError(log, options);
+      break;
+    case EstimatorMethod::kTrajectory:
+      r = EstimateTrajectory(log, options);
+      break;
     case EstimatorMethod::kQuasiStatic:
-      throw std::invalid_argument("the quasi-static method fits wrench-twist pairs "
-                                  "(EstimateQuasiStatic), not a push log");
+      throw std::invalid_argument(
+          "the quasi-static method fits wrench-twist pairs "
+          "(EstimateQuasiStatic), not a push log");
   }
   AddPusherFriction({&log}, &r);  // mu_p, from the tip's path where the log has it
   return r;
@@ -47,17 +54,23 @@ EstimateResult Identify(const std::vector<Trajectory>& logs, const IdentifyOptio
         r.method = options.method;
         r.status = TerminationStatus::kTooLittleExcitation;
         r.converged = false;
-        r.message = (logs[k].source.empty() ? "log " + std::to_string(k) : logs[k].source) +
-                    ": " + *dead;
+        r.message =
+            (logs[k].source.empty() ? "log " + std::to_string(k) : logs[k].source) + ": " + *dead;
         return r;
       }
     }
   }
   EstimateResult r;
   switch (options.method) {
-    case EstimatorMethod::kClosedForm: r = EstimateClosedForm(logs, options); break;
-    case EstimatorMethod::kEquationError: r = EstimateEquationError(logs, options); break;
-    case EstimatorMethod::kTrajectory: r = EstimateTrajectory(logs, options); break;
+    case EstimatorMethod::kClosedForm:
+      r = EstimateClosedForm(logs, options);
+      break;
+    case EstimatorMethod::kEquationError:
+      r = EstimateEquationError(logs, options);
+      break;
+    case EstimatorMethod::kTrajectory:
+      r = EstimateTrajectory(logs, options);
+      break;
     case EstimatorMethod::kQuasiStatic:
       throw std::invalid_argument(std::string("method ") + ToString(options.method) +
                                   " does not take push logs");

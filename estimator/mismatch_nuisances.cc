@@ -35,14 +35,13 @@ void ThroughRowLoss(const RowLoss& loss, const Eigen::VectorXd& r, Eigen::Matrix
 
 }  // namespace
 
-const char* MismatchNuisanceName(int index) {
-  return index == 0 ? "discretisation" : "force hold";
-}
+const char* MismatchNuisanceName(int index) { return index == 0 ? "discretisation" : "force hold"; }
 
 Trajectory InterpolatedHold(const Trajectory& log) {
   Trajectory out = log;
   double largest = 0;
-  for (const TrajectorySample& s : log.samples) largest = std::max(largest, HorizontalForce(s.applied));
+  for (const TrajectorySample& s : log.samples)
+    largest = std::max(largest, HorizontalForce(s.applied));
   const double contact = kContactForceFraction * largest;
   if (!(contact > 0)) return out;
   for (size_t u = 0; u + 1 < log.samples.size(); ++u) {

@@ -30,17 +30,20 @@ void JudgeEstimates(const PlausibilityContext& c, std::array<ParameterEstimate, 
       held.held_at = p.value;
       held.reason =
           p.ci95_lo > 0
-              ? Printf("its 95%% interval [%.3g, %.3g] spans a factor %.3g: the log does not "
-                       "determine it",
-                       p.ci95_lo, p.ci95_hi, factor)
-              : Printf("its 95%% interval [%.3g, %.3g] reaches down to zero: the log does not "
-                       "determine it",
-                       p.ci95_lo, p.ci95_hi);
+              ? Printf(
+                    "its 95%% interval [%.3g, %.3g] spans a factor %.3g: the log does not "
+                    "determine it",
+                    p.ci95_lo, p.ci95_hi, factor)
+              : Printf(
+                    "its 95%% interval [%.3g, %.3g] reaches down to zero: the log does not "
+                    "determine it",
+                    p.ci95_lo, p.ci95_hi);
       if (mismatch > kMismatchRatio) {
-        held.reason += Printf(" (its residuals are %.3g times the log's own noise and the "
-                              "model's discretisation: the model does not fit it, which widens "
-                              "the interval)",
-                              mismatch);
+        held.reason += Printf(
+            " (its residuals are %.3g times the log's own noise and the "
+            "model's discretisation: the model does not fit it, which widens "
+            "the interval)",
+            mismatch);
       }
       p = held;
       continue;
@@ -70,8 +73,7 @@ void JudgeEstimates(const PlausibilityContext& c, std::array<ParameterEstimate, 
     const double v = std::log(p.value);
     if (std::abs(v - std::log(c.lower[i])) < kAtBoundLog ||
         std::abs(v - std::log(c.upper[i])) < kAtBoundLog) {
-      AddReason(&p, Printf("at a bound of the search range [%.3g, %.3g]", c.lower[i],
-                           c.upper[i]));
+      AddReason(&p, Printf("at a bound of the search range [%.3g, %.3g]", c.lower[i], c.upper[i]));
     }
     if (c.seed[i] > 0 && std::abs(v - std::log(c.seed[i])) > std::log(kSeedFactor)) {
       AddReason(&p, Printf("%.3g times the seed %.3g the fit started from", p.value / c.seed[i],

@@ -35,8 +35,8 @@ Heterogeneity TestHeterogeneity(const std::vector<LogResult>& logs, int index) {
     // logs whose error happened to come out small far from the rest (Q then rejects
     // agreeing logs). Without a finite interval, the standard error as it is.
     const bool bounded = p.ci95_lo > 0 && std::isfinite(p.ci95_hi) && p.ci95_hi > p.ci95_lo;
-    const double se_log = bounded ? std::log(p.ci95_hi / p.ci95_lo) / (2.0 * kZ95)
-                                  : p.stderr_value / p.value;
+    const double se_log =
+        bounded ? std::log(p.ci95_hi / p.ci95_lo) / (2.0 * kZ95) : p.stderr_value / p.value;
     const double w = 1.0 / (se_log * se_log);
     yw.emplace_back(std::log(p.value), w);
     sw += w;
@@ -61,8 +61,7 @@ Heterogeneity TestHeterogeneity(const std::vector<LogResult>& logs, int index) {
 
 double StudentT95(double dof) {
   if (dof > 1e6) return kZ95;
-  return boost::math::quantile(
-      boost::math::complement(boost::math::students_t(dof), 0.025));
+  return boost::math::quantile(boost::math::complement(boost::math::students_t(dof), 0.025));
 }
 
 }  // namespace slideid

@@ -70,8 +70,8 @@ std::vector<ContactRow> ContactRows(const Trajectory& log, double min_force_n,
     // The slider's contact point relative to the tip, along t: minus the tip's drift.
     const double slip =
         -(TipInBody(log.samples[hi]) - TipInBody(log.samples[lo])).dot(t_body) / window;
-    const double arm = (c.point_world - Eigen::Vector2d(a.state.x, a.state.y)).norm() +
-                       *log.tip_radius_m;
+    const double arm =
+        (c.point_world - Eigen::Vector2d(a.state.x, a.state.y)).norm() + *log.tip_radius_m;
     const double slip_noise = std::sqrt(2.0) * std::hypot(pose_noise, arm * angle_noise) / window;
     const Eigen::Vector2d tip_velocity =
         (*log.samples[hi].tip_world - *log.samples[lo].tip_world) / window;
@@ -110,8 +110,8 @@ ParameterEstimate FromSliding(const std::vector<double>& ratios, const PusherFri
   p.ci95_lo = p.value - half;
   p.ci95_hi = p.value + half;
   p.note = "median |f_t| / f_n over " + std::to_string(ratios.size()) +
-           " rows where the tip slides along the edge; interval from " +
-           std::to_string(batches) + " batch medians, t on " + std::to_string(batches - 1) + " df";
+           " rows where the tip slides along the edge; interval from " + std::to_string(batches) +
+           " batch medians, t on " + std::to_string(batches - 1) + " df";
   if (batches < kMinBatches) {
     p.verdict = Verdict::kSuspect;
     p.reason = "the tip slides in only " + std::to_string(ratios.size()) +
@@ -148,8 +148,9 @@ bool PusherFrictionOptions::IsValid(std::string* why) const {
     return fail("pusher friction: slip thresholds must be >= 0");
   }
   if (min_sliding_rows < 2 || batch_rows < 1 || max_batches < 2 || slip_half_window_rows < 1) {
-    return fail("pusher friction: min_sliding_rows >= 2, batch_rows >= 1, max_batches >= 2, "
-                "slip_half_window_rows >= 1");
+    return fail(
+        "pusher friction: min_sliding_rows >= 2, batch_rows >= 1, max_batches >= 2, "
+        "slip_half_window_rows >= 1");
   }
   if (!(sticking_quantile > 0 && sticking_quantile <= 1)) {
     return fail("pusher friction: sticking_quantile must be in (0, 1]");
@@ -183,14 +184,15 @@ std::optional<PusherFrictionResult> EstimatePusherFriction(
   }
   r.mu.verdict = Verdict::kNotIdentifiable;
   if (all.empty()) {
-    r.mu.reason = "the tip never pushes the object's edge (no row with the tip on the outline "
-                  "and a force into it)";
+    r.mu.reason =
+        "the tip never pushes the object's edge (no row with the tip on the outline "
+        "and a force into it)";
     return r;
   }
   r.lower_bound = Quantile(all, options.sticking_quantile);
   r.mu.reason = "the tip does not slide along the edge (" + std::to_string(r.sliding_rows) +
-                " of " + std::to_string(r.contact_rows) + " contact rows): mu_p >= " +
-                Rounded(r.lower_bound) + ", the " +
+                " of " + std::to_string(r.contact_rows) +
+                " contact rows): mu_p >= " + Rounded(r.lower_bound) + ", the " +
                 Rounded(100 * options.sticking_quantile) +
                 "th percentile of |f_t| / f_n while it sticks";
   return r;

@@ -6,8 +6,9 @@
 // while it sticks, the ratio only stays inside the cone. So mu_p is the median ratio over
 // the rows where the tip slides (the slip, the contact point's velocity along the edge
 // relative to the tip, read in the body frame over a few rows, beyond its noise and against
-// the tangential force), with an interval from the medians of consecutive batches of them. A log whose tip never slides
-// gives only a lower bound, a high quantile of the ratio while it sticks, and says so.
+// the tangential force), with an interval from the medians of consecutive batches of them. A log
+// whose tip never slides gives only a lower bound, a high quantile of the ratio while it sticks,
+// and says so.
 
 #include <cstdint>
 #include <limits>

@@ -2,8 +2,6 @@
 
 #include <ceres/ceres.h>
 
-#include "estimator/internal/quasi_static_residuals.h"
-
 #include <Eigen/Core>
 #include <algorithm>
 #include <chrono>
@@ -13,6 +11,7 @@
 #include <string>
 
 #include "estimator/identifiability.h"
+#include "estimator/internal/quasi_static_residuals.h"
 #include "estimator/plausibility.h"
 #include "estimator/robust_statistics.h"
 #include "forward_model/number_format.h"
@@ -268,8 +267,7 @@ EstimateResult EstimateQuasiStatic(const std::vector<WrenchTwistPair>& pairs,
     if (!active[i]) theta[i] = seed[i];
   }
   result.final_cost = summary.final_cost;
-  const bool solve_converged =
-      summary.termination_type == ceres::CONVERGENCE && at_solution.ok;
+  const bool solve_converged = summary.termination_type == ceres::CONVERGENCE && at_solution.ok;
   result.message = summary.BriefReport() + "; residual scales: magnitude " +
                    Short(1.0 / costs.w_magnitude) + " (log ratio), direction " +
                    Short(1.0 / costs.w_direction) +

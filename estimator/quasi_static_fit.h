@@ -26,7 +26,7 @@ namespace slideid {
 struct QuasiStaticFitOptions {
   /// Robust loss, its scale and iterations.
   QuasiStaticOptions method;
-  int threads = 1;  ///< Ceres threads
+  int threads = 1;        ///< Ceres threads
   double weight_n = 0.0;  ///< m g [N], > 0: a pair's normal force is weight_n - fz
   /// L [m] (>= 0): spin enters twist directions as L w_z and the predicted normal as
   /// L m_z / c^2, so that lengths and angles mix in one direction. 0: the seed's c.

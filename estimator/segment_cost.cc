@@ -99,8 +99,8 @@ void DelayedMean(const Trajectory& log, int row, double delay_s, RowValue value,
 
 void DelayedWrench(const Trajectory& log, int row, double delay_s, AppliedWrench* wrench,
                    AppliedWrench* d_wrench_d_delay) {
-  DelayedMean(log, row, delay_s, [&](int j) { return log.samples[j].applied; }, wrench,
-              d_wrench_d_delay);
+  DelayedMean(
+      log, row, delay_s, [&](int j) { return log.samples[j].applied; }, wrench, d_wrench_d_delay);
 }
 
 void OffsetWrenchJacobian(const Trajectory& log, int row, AppliedWrench* d_wrench_d_ox,
@@ -108,8 +108,7 @@ void OffsetWrenchJacobian(const Trajectory& log, int row, AppliedWrench* d_wrenc
   const TrajectorySample& s = log.samples[row];
   Eigen::Vector3d r = Eigen::Vector3d::Zero();
   if (s.push_point_world) {
-    r = *s.push_point_world -
-        Eigen::Vector3d(s.state.x, s.state.y, log.slider.com_height_m);
+    r = *s.push_point_world - Eigen::Vector3d(s.state.x, s.state.y, log.slider.com_height_m);
   }
   *d_wrench_d_ox = WrenchFromForceAt(-1, 0, 0, r.x(), r.y(), r.z());
   *d_wrench_d_oy = WrenchFromForceAt(0, -1, 0, r.x(), r.y(), r.z());
@@ -132,8 +131,12 @@ void DelayedOffsetWrenchJacobian(const Trajectory& log, int row, double delay_s,
 
 SegmentCost::SegmentCost(const Trajectory& log, int first_row, int last_row, int substeps,
                          bool use_pose, SegmentNuisances nuisances)
-    : log_(log), first_(first_row), last_(last_row), substeps_(substeps),
-      use_pose_(use_pose), nuisances_(nuisances),
+    : log_(log),
+      first_(first_row),
+      last_(last_row),
+      substeps_(substeps),
+      use_pose_(use_pose),
+      nuisances_(nuisances),
       length_m_(std::sqrt(log.slider.inertia_kgm2 / log.slider.mass_kg)),
       warm_start_((last_row - first_row) * substeps, Eigen::Vector4d::Zero()) {
   set_num_residuals(3 * (last_row - first_row + 1));
@@ -209,10 +212,8 @@ bool SegmentCost::SimulatedStates(double const* const* params,
 
 bool SegmentCost::Simulate(double const* const* params, double* residuals, double** jacobians,
                            std::vector<PlanarState>* states) const {
-  PlanarState s{params[0][0], params[0][1], params[0][2],
-                params[0][3], params[0][4], params[0][5]};
-  const ReducedFriction abc{std::exp(params[1][0]), std::exp(params[2][0]),
-                            std::exp(params[3][0])};
+  PlanarState s{params[0][0], params[0][1], params[0][2], params[0][3], params[0][4], params[0][5]};
+  const ReducedFriction abc{std::exp(params[1][0]), std::exp(params[2][0]), std::exp(params[3][0])};
   if (!(abc.a > 0 && abc.b > 0 && abc.c > 0) || !std::isfinite(abc.a * abc.b * abc.c)) {
     return false;
   }
@@ -239,7 +240,8 @@ bool SegmentCost::Simulate(double const* const* params, double* residuals, doubl
       residuals[r] = scale * (got[c] - logged[c]);
       if (!jacobians) continue;
       if (jacobians[kStateBlock]) {
-        for (int j = 0; j < 6; ++j) jacobians[kStateBlock][6 * r + j] = scale * d_state(offset + c, j);
+        for (int j = 0; j < 6; ++j)
+          jacobians[kStateBlock][6 * r + j] = scale * d_state(offset + c, j);
       }
       for (int p = 0; p < 3; ++p) {
         if (jacobians[kFirstFrictionBlock + p]) {
@@ -306,8 +308,7 @@ bool SegmentCost::Simulate(double const* const* params, double* residuals, doubl
       if (want) {
         // nu' = f(nu, theta, wrench); q' = q + h nu'.
         const Eigen::Matrix<double, 3, 6> dnu_state = sens.dnu_dnu * d_state.bottomRows<3>();
-        const Eigen::Matrix3d dnu_param =
-            sens.dnu_dnu * d_param.bottomRows<3>() + sens.dnu_dlogabc;
+        const Eigen::Matrix3d dnu_param = sens.dnu_dnu * d_param.bottomRows<3>() + sens.dnu_dlogabc;
         d_state.bottomRows<3>() = dnu_state;
         d_param.bottomRows<3>() = dnu_param;
         d_state.topRows<3>() += h * dnu_state;

@@ -77,16 +77,17 @@ bool CorrectNoiseBias(const SimexBias& bias, int i, LogEstimate* e, std::string*
   const double b = bias.bias_log[i];
   if (!std::isfinite(b)) return true;
   if (std::abs(b) > kMaxSimexBiasLog) {
-    *reason = Printf("the log's noise biases it by about %+.0f%% (SIMEX), beyond what a "
-                     "correction can be trusted for (%.0f%%)",
-                     100 * std::expm1(b), 100 * std::expm1(kMaxSimexBiasLog));
+    *reason = Printf(
+        "the log's noise biases it by about %+.0f%% (SIMEX), beyond what a "
+        "correction can be trusted for (%.0f%%)",
+        100 * std::expm1(b), 100 * std::expm1(kMaxSimexBiasLog));
     return false;
   }
   e->log_value -= b;
   e->stderr_log = std::hypot(e->stderr_log, bias.stderr_log[i]);
-  e->note += (e->note.empty() ? "" : "; ") +
-             Printf("corrected by %+.2f%% for the bias of the log's noise (SIMEX)",
-                    100 * std::expm1(-b));
+  e->note +=
+      (e->note.empty() ? "" : "; ") +
+      Printf("corrected by %+.2f%% for the bias of the log's noise (SIMEX)", 100 * std::expm1(-b));
   return true;
 }
 

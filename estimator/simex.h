@@ -15,8 +15,8 @@
 
 #include <array>
 #include <cstdint>
-#include <limits>
 #include <functional>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -41,9 +41,9 @@ constexpr double kMaxSimexBiasLog = 0.15;
 
 /// What SIMEX found for each parameter, in log(parameter); NaN where not estimated.
 struct SimexBias {
-  std::array<double, 3> bias_log;     ///< mean change of the estimate with the noise doubled
-  std::array<double, 3> stderr_log;   ///< standard error of that mean
-  std::array<int, 3> replicates{};    ///< copies that gave an estimate
+  std::array<double, 3> bias_log;    ///< mean change of the estimate with the noise doubled
+  std::array<double, 3> stderr_log;  ///< standard error of that mean
+  std::array<int, 3> replicates{};   ///< copies that gave an estimate
 };
 
 /// The logs' estimate (log a, log b, log c; NaN where none) as a function of the logs.

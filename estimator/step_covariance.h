@@ -46,8 +46,8 @@ constexpr int kMinBlocks = 4;
 /// continues the previous one (adjacent in one sliding phase: rows within max_lag[log]). A
 /// phase splits into blocks of kBlockSteps; a shorter remainder joins the previous block.
 struct StepBlocks {
-  std::vector<int> block;           ///< per step
-  std::vector<bool> continues;      ///< per block: adjacent to the previous block
+  std::vector<int> block;       ///< per step
+  std::vector<bool> continues;  ///< per block: adjacent to the previous block
   int count = 0;
 };
 StepBlocks BlocksOfSteps(const std::vector<int>& log, const std::vector<int>& row,

@@ -121,9 +121,9 @@ bool SlidingStep(const StepObservation& step, const StepNoise& noise, double rad
     result->Exclude("next to a force switch");
     return false;
   }
-  const double rest = kRestSpeedSigmas *
-                      std::sqrt(2 * noise.velocity_mps * noise.velocity_mps +
-                                radius_m * radius_m * noise.spin_radps * noise.spin_radps);
+  const double rest =
+      kRestSpeedSigmas * std::sqrt(2 * noise.velocity_mps * noise.velocity_mps +
+                                   radius_m * radius_m * noise.spin_radps * noise.spin_radps);
   // Exact logs (no noise): only an exact 0 is rest.
   if (!(Speed(step.end, radius_m) > rest)) {
     result->Exclude("at rest (speed within the noise)");

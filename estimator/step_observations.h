@@ -7,20 +7,20 @@
 #include <string>
 #include <vector>
 
+#include "estimator/estimate.h"
 #include "forward_model/planar_state.h"
 #include "forward_model/slider.h"
-#include "estimator/estimate.h"
 #include "forward_model/trajectory.h"
 
 namespace slideid {
 
 /// One log interval u -> u+1, as measured.
 struct StepObservation {
-  int row = 0;                  ///< index u of the starting sample in the log
-  double h_s = 0;               ///< t_{u+1} - t_u [s]
-  PlanarState start, end;       ///< measured states at u and u+1
-  AppliedWrench applied;        ///< held over the step (the row u wrench)
-  double pn = 0;                ///< h (m g - f_z) [N s]
+  int row = 0;             ///< index u of the starting sample in the log
+  double h_s = 0;          ///< t_{u+1} - t_u [s]
+  PlanarState start, end;  ///< measured states at u and u+1
+  AppliedWrench applied;   ///< held over the step (the row u wrench)
+  double pn = 0;           ///< h (m g - f_z) [N s]
   /// (p_t, p_o, p_r) = M (nu' - nu) - applied, with the coupling term (*) [N s, N s, N m s].
   Eigen::Vector3d friction_impulse = Eigen::Vector3d::Zero();
   /// (v_t, v_o, v_r) at the end of the step, at the ECP implied by friction_impulse.
@@ -48,8 +48,8 @@ struct StepObservation {
 constexpr double kForceSwitchFraction = 0.25;
 
 /// All steps of a log (rows 0..N-2 start a step). Without the velocity columns, velocities
-/// come from the poses by the kinematic map (SetVelocitiesFromPoses). The slider must have mass, inertia,
-/// com_height and gravity set.
+/// come from the poses by the kinematic map (SetVelocitiesFromPoses). The slider must have mass,
+/// inertia, com_height and gravity set.
 std::vector<StepObservation> ExtractStepObservations(const Trajectory& log);
 
 /// The noise on the velocities and their changes as the steps use them, read off the log

@@ -37,18 +37,16 @@ StepTerms<ceres::Jet<double, N>> JetTerms(const StepTerms<double>& t, const Plan
   } else {
     s.ptx = Jet(t.ptx);
     s.pty = Jet(t.pty);
-    s.k << s.m * vx + dt_s * applied.fx, s.m * vy + dt_s * applied.fy,
-        s.I * wz + dt_s * applied.tz;
+    s.k << s.m * vx + dt_s * applied.fx, s.m * vy + dt_s * applied.fy, s.I * wz + dt_s * applied.tz;
   }
   return s;
 }
 
 // d nu' / dx for the step `eq` solved at scaled unknowns `z_value`.
 template <int N>
-bool Sensitivities(const StepEquations& eq, const ReducedFriction& abc,
-                   const PlanarState& state, const AppliedWrench& applied, double dt_s,
-                   const Eigen::Vector4d& z_value, double pn,
-                   Eigen::Matrix<double, 3, N>* dnu_dx) {
+bool Sensitivities(const StepEquations& eq, const ReducedFriction& abc, const PlanarState& state,
+                   const AppliedWrench& applied, double dt_s, const Eigen::Vector4d& z_value,
+                   double pn, Eigen::Matrix<double, 3, N>* dnu_dx) {
   using Jet = ceres::Jet<double, N>;
   const Eigen::Matrix<Jet, 4, 1> z = z_value.cast<Jet>();
   const StepTerms<Jet> terms = JetTerms<N>(eq.terms(), state, dt_s, applied);
@@ -127,8 +125,7 @@ void ExplicitPartials(const StepTerms<double>& t, const Eigen::Vector4d& z, doub
                  dp2 = p(2) * (d.dloga + d.dlogc);
     const double dnu0 = (d.dk(0) + dp0) / t.m, dnu1 = (d.dk(1) + dp1) / t.m;
     const double dnu2 =
-        (d.dk(2) + dp2 + (dp0 * t.ptx + p(0) * d.dptx + dp1 * t.pty + p(1) * d.dpty) / t.pn) /
-        t.I;
+        (d.dk(2) + dp2 + (dp0 * t.ptx + p(0) * d.dptx + dp1 * t.pty + p(1) * d.dpty) / t.pn) / t.I;
     const double dr0 = (d.dpty - t.qz * dp0) / t.pn, dr1 = (-d.dptx - t.qz * dp1) / t.pn;
     (*f_x)(0, col) = dnu0 - dnu2 * r1 - nu2 * dr1;
     (*f_x)(1, col) = t.b * d.dlogb * (nu1 + nu2 * r0) + t.b * (dnu1 + dnu2 * r0 + nu2 * dr0);
@@ -207,27 +204,24 @@ bool FillSensitivities(const SliderProperties& slider, const ReducedFriction& ab
 }  // namespace
 
 bool SolveStepWithSensitivity(const SliderProperties& slider, const ReducedFriction& abc,
-                              const PlanarState& state, const AppliedWrench& applied,
-                              double dt_s, StepSensitivity* out,
-                              const StepOptions& options, bool with_wrench) {
+                              const PlanarState& state, const AppliedWrench& applied, double dt_s,
+                              StepSensitivity* out, const StepOptions& options, bool with_wrench) {
   out->step = SolveStep(slider, abc, state, applied, dt_s, options);
   const double pn = out->step.pn;
   return FillSensitivities(slider, abc, state, applied, dt_s, with_wrench, out,
-                           [&](const StepEquations& eq, const Eigen::Vector4d& z, auto n,
-                               auto* d) {
+                           [&](const StepEquations& eq, const Eigen::Vector4d& z, auto n, auto* d) {
                              return ExplicitSensitivities<decltype(n)::value>(eq, z, pn, dt_s, d);
                            });
 }
 
 bool StepSensitivityByAutodiff(const SliderProperties& slider, const ReducedFriction& abc,
-                               const PlanarState& state, const AppliedWrench& applied,
-                               double dt_s, StepSensitivity* out, bool with_wrench) {
+                               const PlanarState& state, const AppliedWrench& applied, double dt_s,
+                               StepSensitivity* out, bool with_wrench) {
   const double pn = out->step.pn;
   return FillSensitivities(slider, abc, state, applied, dt_s, with_wrench, out,
-                           [&](const StepEquations& eq, const Eigen::Vector4d& z, auto n,
-                               auto* d) {
-                             return Sensitivities<decltype(n)::value>(eq, abc, state, applied,
-                                                                      dt_s, z, pn, d);
+                           [&](const StepEquations& eq, const Eigen::Vector4d& z, auto n, auto* d) {
+                             return Sensitivities<decltype(n)::value>(eq, abc, state, applied, dt_s,
+                                                                      z, pn, d);
                            });
 }
 

@@ -13,12 +13,12 @@
 #include "estimator/cluster_covariance.h"
 #include "estimator/equation_error.h"
 #include "estimator/identifiability.h"
-#include "estimator/log_diagnostics.h"
 #include "estimator/internal/mismatch_nuisances.h"
+#include "estimator/internal/trajectory_problem.h"
+#include "estimator/log_diagnostics.h"
 #include "estimator/plausibility.h"
 #include "estimator/pooling.h"
 #include "estimator/robust_statistics.h"
-#include "estimator/internal/trajectory_problem.h"
 #include "forward_model/number_format.h"
 
 namespace slideid {
@@ -221,7 +221,8 @@ int LongSegmentSteps(const TrajectoryProblem& problem) {
   for (const TrajectorySegment& seg : problem.segments()) {
     longest = std::max(longest, seg.last_row - seg.first_row);
   }
-  const int steps = std::min(rows - 1, std::max(kMinLongSegmentSteps, kLongSegmentFactor * longest));
+  const int steps =
+      std::min(rows - 1, std::max(kMinLongSegmentSteps, kLongSegmentFactor * longest));
   return steps > longest ? steps : 0;
 }
 
@@ -247,13 +248,12 @@ int LongSegmentSteps(const TrajectoryProblem& problem) {
 struct SecondStart {
   bool moved = false;
   double cost_first = 0, cost_second = 0;
-  int steps = 0;                   ///< intervals per long segment
+  int steps = 0;  ///< intervals per long segment
   int iterations = 0;
   ceres::Solver::Summary summary;  ///< of the fit's own solve from the second start
 };
 
-SecondStart TrySecondStart(TrajectoryProblem* problem, const std::vector<bool>& free,
-                           bool stage) {
+SecondStart TrySecondStart(TrajectoryProblem* problem, const std::vector<bool>& free, bool stage) {
   SecondStart out;
   out.steps = LongSegmentSteps(*problem);
   if (out.steps == 0) return out;
@@ -642,9 +642,8 @@ double AutocorrelationInflation(const TrajectoryProblem& problem) {
 /// from the augmented problem when `info` carries mismatch directions. `inflation`
 /// multiplies the white-noise covariance (AutocorrelationInflation).
 IntervalChoice ChooseIntervals(const FitInformation& info, const std::vector<int>& free,
-                               const std::vector<int>& free_owner, int state_parameters,
-                               int logs, const std::vector<bool>& correctable,
-                               double inflation) {
+                               const std::vector<int>& free_owner, int state_parameters, int logs,
+                               const std::vector<bool>& correctable, double inflation) {
   const int n = static_cast<int>(free.size());
   IntervalChoice choice;
   choice.intervals.resize(n);
@@ -686,7 +685,8 @@ IntervalChoice ChooseIntervals(const FitInformation& info, const std::vector<int
   }
 
   const double sum_squares = info.sum_squares + 2 * delta.dot(a.g) + delta.dot(a.H * delta);
-  if (info.sum_squares > 0 && sum_squares > 0) choice.residual_ratio = sum_squares / info.sum_squares;
+  if (info.sum_squares > 0 && sum_squares > 0)
+    choice.residual_ratio = sum_squares / info.sum_squares;
   const int dof = info.residuals - state_parameters - p;
   const double s2 = dof > 0 ? std::max(0.0, sum_squares) / dof : 0.0;
   ClusterCovariance by_segment = ClusterRobustCovariance(a.segments, Hinv);
@@ -804,8 +804,9 @@ void FillResiduals(const TrajectoryProblem& problem, EstimateResult* result) {
     }
   }
   const bool pose = problem.use_pose(0);
-  result->residual_names = pose ? std::array<std::string, 3>{{"x_m", "y_m", "theta_times_L_m"}}
-                                : std::array<std::string, 3>{{"vx_mps", "vy_mps", "wz_times_L_mps"}};
+  result->residual_names = pose
+                               ? std::array<std::string, 3>{{"x_m", "y_m", "theta_times_L_m"}}
+                               : std::array<std::string, 3>{{"vx_mps", "vy_mps", "wz_times_L_mps"}};
 }
 
 FitOutcome Fit(const std::vector<const Trajectory*>& logs, const IdentifyOptions& options,
@@ -852,8 +853,8 @@ FitOutcome Fit(const std::vector<const Trajectory*>& logs, const IdentifyOptions
     ApplyStart(*start, &problem);
   } else {
     std::array<double, 3> closed_form_seed;
-    iterations += SeedFromHeads(&problem, CandidateSeeds(*logs[0], options, &closed_form_seed),
-                                &seed);
+    iterations +=
+        SeedFromHeads(&problem, CandidateSeeds(*logs[0], options, &closed_form_seed), &seed);
   }
 
   // Fit: plain least squares first (and with the delays held, to seed them), then the loss
@@ -933,9 +934,9 @@ FitOutcome Fit(const std::vector<const Trajectory*>& logs, const IdentifyOptions
   // friction is what the user asked for (priority 1 over 0).
   std::vector<int> priority(G, 0);
   for (int i = 0; i < 3; ++i) priority[i] = 1;
-  const std::vector<ParameterIdentifiability> verdict = AssessIdentifiability(
-      info.fisher, dof0 > 0 ? info.sum_squares / dof0 : 0.0, std::vector<bool>(G, true),
-      max_stderr, priority);
+  const std::vector<ParameterIdentifiability> verdict =
+      AssessIdentifiability(info.fisher, dof0 > 0 ? info.sum_squares / dof0 : 0.0,
+                            std::vector<bool>(G, true), max_stderr, priority);
   for (int i = 0; i < G; ++i) free[i] = verdict[i].identifiable;
   // A nuisance the logs do not determine is held at zero (no offset, no delay), not where
   // the undetermined fit left it: that value is arbitrary, and through its confounded
@@ -965,8 +966,8 @@ FitOutcome Fit(const std::vector<const Trajectory*>& logs, const IdentifyOptions
   std::vector<int> free_owner;
   for (int i : free_index) free_owner.push_back(problem.GlobalLog(i));
   const IntervalChoice choice =
-      ChooseIntervals(info, free_index, free_owner, problem.StateParameters(),
-                      problem.num_logs(), correctable, AutocorrelationInflation(problem));
+      ChooseIntervals(info, free_index, free_owner, problem.StateParameters(), problem.num_logs(),
+                      correctable, AutocorrelationInflation(problem));
   std::vector<Interval> interval_of(G);
   std::vector<double> value_of(G);
   for (int i = 0; i < G; ++i) value_of[i] = problem.global(i);
@@ -991,20 +992,22 @@ FitOutcome Fit(const std::vector<const Trajectory*>& logs, const IdentifyOptions
     result.parameters[i].minimum_value = std::exp(problem.global(i));
     result.parameters[i].note = iv.note;
     if (stderr_log > kNoticeableWidening * iv.stderr_value) {
-      result.parameters[i].note += Printf("; widened %.2gx for the friction parameters held "
-                                          "(not identifiable) over their plausible range",
-                                          stderr_log / iv.stderr_value);
+      result.parameters[i].note += Printf(
+          "; widened %.2gx for the friction parameters held "
+          "(not identifiable) over their plausible range",
+          stderr_log / iv.stderr_value);
     }
     if (!choice.correction.empty() && !choice.correction_refused) {
-      result.parameters[i].note += Printf("; %+.2g%% ", 100 * std::expm1(value_of[i] - problem.global(i))) +
-                                   choice.correction;
+      result.parameters[i].note +=
+          Printf("; %+.2g%% ", 100 * std::expm1(value_of[i] - problem.global(i))) +
+          choice.correction;
     }
   }
   for (int i = 3; i < G; ++i) {
     NuisanceEstimate n;
     n.name = problem.GlobalName(i);
-    n.log = problem.GlobalLog(i) >= 0 ? LogName(*logs[problem.GlobalLog(i)], problem.GlobalLog(i))
-                                      : "";
+    n.log =
+        problem.GlobalLog(i) >= 0 ? LogName(*logs[problem.GlobalLog(i)], problem.GlobalLog(i)) : "";
     if (!free[i]) {
       n.held_at = problem.global(i);
       n.reason = verdict[i].note;
@@ -1035,8 +1038,8 @@ FitOutcome Fit(const std::vector<const Trajectory*>& logs, const IdentifyOptions
     noise2 += rows_of[k] * row_noise[k] * row_noise[k];
     scale2 += rows_of[k] * residual_scale[k] * residual_scale[k];
     rows += rows_of[k];
-    context.logs.push_back({logs[k]->slider.mass_kg * logs[k]->slider.gravity_mps2,
-                            diagnostics[k].max_push_n});
+    context.logs.push_back(
+        {logs[k]->slider.mass_kg * logs[k]->slider.gravity_mps2, diagnostics[k].max_push_n});
   }
   result.log_noise = rows > 0 ? std::sqrt(noise2 / rows) : kNaN;
   // The residuals the estimate leaves: those of the mismatch-corrected model.
@@ -1082,9 +1085,10 @@ FitOutcome Fit(const std::vector<const Trajectory*>& logs, const IdentifyOptions
   result.iterations = iterations;
   result.message = summary.BriefReport();
   if (second.moved) {
-    result.message += Printf("; a second start over %d-interval segments ended in a lower "
-                             "minimum (sum of squares %.4g against %.4g): kept",
-                             second.steps, second.cost_second, second.cost_first);
+    result.message += Printf(
+        "; a second start over %d-interval segments ended in a lower "
+        "minimum (sum of squares %.4g against %.4g): kept",
+        second.steps, second.cost_second, second.cost_first);
   }
   FillResiduals(problem, &result);
   // Usable is not converged: a solve cut off by the iteration limit is usable to Ceres.
@@ -1126,9 +1130,10 @@ void RefitFromPooled(const Trajectory& log, int k, const TrajectoryProblem& pool
   const double own_cost = own_problem->RawCost(), again_cost = again.problem->RawCost();
   if (!(again_cost < own_cost)) return;
   *own = AsLogResult(again.result, log, k);
-  own->message += Printf("; started from the pooled estimate (from its own seeds the fit "
-                         "ended in a worse minimum: sum of squares %.3g against %.3g)",
-                         own_cost, again_cost);
+  own->message += Printf(
+      "; started from the pooled estimate (from its own seeds the fit "
+      "ended in a worse minimum: sum of squares %.3g against %.3g)",
+      own_cost, again_cost);
 }
 
 // ---- a cross-check -----------------------------------------------------------------------
@@ -1180,9 +1185,10 @@ void CrossCheck(const Trajectory& log, const IdentifyOptions& options, FitOutcom
     if (!p.identifiable || !q.identifiable || Consistent(p, q)) continue;
     if (p.verdict == Verdict::kOk) {
       p.verdict = Verdict::kSuspect;
-      p.reason = Printf("a fit over %d-interval segments gives %.4g, beyond both fits' "
-                        "errors: the estimate depends on how the log is cut",
-                        other.trajectory.segment_steps, q.value);
+      p.reason = Printf(
+          "a fit over %d-interval segments gives %.4g, beyond both fits' "
+          "errors: the estimate depends on how the log is cut",
+          other.trajectory.segment_steps, q.value);
     }
   }
   r.Conclude(r.converged);  // the status follows the new verdicts
@@ -1227,8 +1233,8 @@ FitOutcome EstimatePooled(const std::vector<Trajectory>& logs, const IdentifyOpt
       if (p.identifiable) log_values[i].push_back(std::log(p.value));
     }
   }
-  std::array<double, 3> defaults{{kDefaultA, 1.0,
-                                  std::sqrt(logs[0].slider.inertia_kgm2 / logs[0].slider.mass_kg)}};
+  std::array<double, 3> defaults{
+      {kDefaultA, 1.0, std::sqrt(logs[0].slider.inertia_kgm2 / logs[0].slider.mass_kg)}};
   for (int i = 0; i < 3; ++i) {
     start.friction[i] = log_values[i].empty() ? defaults[i] : std::exp(Median(log_values[i]));
   }

@@ -151,8 +151,8 @@ TrajectoryProblem::TrajectoryProblem(const std::vector<const Trajectory*>& logs,
   if (segments_.empty()) {
     int rows = 0;
     for (const Trajectory* log : logs) rows = std::max(rows, int(log->samples.size()));
-    throw std::invalid_argument("log too short for the trajectory method: " +
-                                std::to_string(rows) + " rows");
+    throw std::invalid_argument("log too short for the trajectory method: " + std::to_string(rows) +
+                                " rows");
   }
 }
 
@@ -214,9 +214,9 @@ TrajectorySegment TrajectoryProblem::NewSegment(int log, int first_row, int last
   seg.first_row = first_row;
   seg.last_row = last_row;
   seg.state = state;
-  seg.cost = std::make_unique<SegmentCost>(*logs_[log], first_row, last_row,
-                                           options_.trajectory.substeps, use_pose(log),
-                                           FittedNuisances());
+  seg.cost =
+      std::make_unique<SegmentCost>(*logs_[log], first_row, last_row, options_.trajectory.substeps,
+                                    use_pose(log), FittedNuisances());
   return seg;
 }
 
@@ -455,8 +455,8 @@ FitInformation TrajectoryProblem::Information(const std::vector<Eigen::MatrixXd>
       for (int c = 0; c < sizes[b]; ++c) share.columns.push_back(first + c);
     }
     const int m = static_cast<int>(share.columns.size());
-    Eigen::MatrixXd Js = Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, 6, Eigen::RowMajor>>(
-        jac[0], n, 6);
+    Eigen::MatrixXd Js =
+        Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, 6, Eigen::RowMajor>>(jac[0], n, 6);
     const bool pose = use_pose(seg.log);
     if (!pose) Js.leftCols<3>().setZero();  // poses are not parameters then
     Eigen::MatrixXd Jg(n, m);
@@ -509,8 +509,15 @@ FitInformation TrajectoryProblem::Information(const std::vector<Eigen::MatrixXd>
       for (size_t b = 0; b < s.columns.size(); ++b) h(s.columns[a], s.columns[b]) += s.h(a, b);
     }
     info.fisher += h;
-    SegmentInformation si{segments_[k].log, std::move(h), g, {}, {}, {},
-                          s.sum_squares, s.residuals, use_pose(segments_[k].log) ? 6 : 3};
+    SegmentInformation si{segments_[k].log,
+                          std::move(h),
+                          g,
+                          {},
+                          {},
+                          {},
+                          s.sum_squares,
+                          s.residuals,
+                          use_pose(segments_[k].log) ? 6 : 3};
     if (s.extra_h.size() > 0) {
       si.extra_cross = Eigen::MatrixXd::Zero(s.extra_h.rows(), G);
       for (size_t a = 0; a < s.columns.size(); ++a) {

@@ -17,8 +17,8 @@ using Vec2 = Eigen::Vector2d;
 
 void RequirePositive(const char* what, double value) {
   if (!std::isfinite(value) || value <= 0.0) {
-    throw std::invalid_argument(std::string("contact patch: ") + what + " = " +
-                                ExactNumber(value) + ": must be finite and > 0");
+    throw std::invalid_argument(std::string("contact patch: ") + what + " = " + ExactNumber(value) +
+                                ": must be finite and > 0");
   }
 }
 
@@ -56,8 +56,8 @@ double SignedArea(const std::vector<Vec2>& v) {
 }
 
 std::string VertexText(size_t i, const Vec2& p) {
-  return "vertex " + std::to_string(i) + " (" + ExactNumber(p.x()) + ", " +
-         ExactNumber(p.y()) + ")";
+  return "vertex " + std::to_string(i) + " (" + ExactNumber(p.x()) + ", " + ExactNumber(p.y()) +
+         ")";
 }
 
 void CheckVerticesFinite(const std::vector<Vec2>& v) {
@@ -227,12 +227,10 @@ ContactPatch ContactPatch::Disk(double radius_m) {
 
 ContactPatch ContactPatch::Ring(double outer_radius_m, double inner_radius_m) {
   RequirePositive("ring outer radius", outer_radius_m);
-  if (!std::isfinite(inner_radius_m) || inner_radius_m < 0.0 ||
-      inner_radius_m >= outer_radius_m) {
-    throw std::invalid_argument("contact patch: ring inner radius = " +
-                                ExactNumber(inner_radius_m) +
-                                ": must be >= 0 and < the outer radius " +
-                                ExactNumber(outer_radius_m));
+  if (!std::isfinite(inner_radius_m) || inner_radius_m < 0.0 || inner_radius_m >= outer_radius_m) {
+    throw std::invalid_argument(
+        "contact patch: ring inner radius = " + ExactNumber(inner_radius_m) +
+        ": must be >= 0 and < the outer radius " + ExactNumber(outer_radius_m));
   }
   ContactPatch patch;
   patch.shape_ = Shape::kRing;

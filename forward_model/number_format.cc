@@ -13,10 +13,14 @@ namespace {
 
 const char* KindName(ArgType::Kind kind) {
   switch (kind) {
-    case ArgType::kInteger: return "an integer";
-    case ArgType::kFloating: return "a floating-point number";
-    case ArgType::kString: return "a string";
-    case ArgType::kPointer: return "a pointer";
+    case ArgType::kInteger:
+      return "an integer";
+    case ArgType::kFloating:
+      return "a floating-point number";
+    case ArgType::kString:
+      return "a string";
+    case ArgType::kPointer:
+      return "a pointer";
   }
   return "?";
 }
@@ -53,10 +57,10 @@ void CheckArguments(const char* format, std::initializer_list<ArgType> types) {
                           : given.kind == kind && (kind == ArgType::kString || given.size == size);
     if (!fits) {
       fail("argument " + std::to_string(number) + " is " + KindName(given.kind) + " of " +
-           std::to_string(given.size) + " bytes, but " + conversion + " reads " +
-           KindName(kind) + (kind == ArgType::kString || kind == ArgType::kPointer
-                                 ? std::string()
-                                 : " of " + std::to_string(size) + " bytes"));
+           std::to_string(given.size) + " bytes, but " + conversion + " reads " + KindName(kind) +
+           (kind == ArgType::kString || kind == ArgType::kPointer
+                ? std::string()
+                : " of " + std::to_string(size) + " bytes"));
     }
   };
   for (const char* p = format; *p != '\0'; ++p) {
@@ -86,7 +90,12 @@ void CheckArguments(const char* format, std::initializer_list<ArgType> types) {
     const std::string conversion(start, p + 1);
     const std::size_t integer = IntegerSize(length);
     switch (*p) {
-      case 'd': case 'i': case 'o': case 'u': case 'x': case 'X':
+      case 'd':
+      case 'i':
+      case 'o':
+      case 'u':
+      case 'x':
+      case 'X':
         if (integer == 0) fail("unknown length in " + conversion);
         take(conversion, ArgType::kInteger, integer);
         break;
@@ -94,7 +103,14 @@ void CheckArguments(const char* format, std::initializer_list<ArgType> types) {
         if (!length.empty()) fail("wide characters are not supported: " + conversion);
         take(conversion, ArgType::kInteger, sizeof(int));
         break;
-      case 'f': case 'F': case 'e': case 'E': case 'g': case 'G': case 'a': case 'A':
+      case 'f':
+      case 'F':
+      case 'e':
+      case 'E':
+      case 'g':
+      case 'G':
+      case 'a':
+      case 'A':
         if (!length.empty() && length != "l" && length != "L") {
           fail("unknown length in " + conversion);
         }

@@ -55,8 +55,9 @@ TipContact PolygonContact(const std::vector<Eigen::Vector2d>& ring, const Eigen:
   }
   const bool inside = Inside(ring, p);
   c.gap_m = inside ? -best : best;
-  c.normal_world = best > kOnOutlineM ? Eigen::Vector2d((p - c.point_world) / best * (inside ? -1 : 1))
-                                      : edge_normal;
+  c.normal_world = best > kOnOutlineM
+                       ? Eigen::Vector2d((p - c.point_world) / best * (inside ? -1 : 1))
+                       : edge_normal;
   return c;
 }
 

@@ -55,8 +55,8 @@ struct Pusher {
 
 /// Where a round tip is relative to the slider's outline (world frame).
 struct TipContact {
-  Eigen::Vector2d point_world = Eigen::Vector2d::Zero();   ///< nearest outline point [m]
-  Eigen::Vector2d normal_world = Eigen::Vector2d::UnitX(); ///< outward there (slider to tip)
+  Eigen::Vector2d point_world = Eigen::Vector2d::Zero();    ///< nearest outline point [m]
+  Eigen::Vector2d normal_world = Eigen::Vector2d::UnitX();  ///< outward there (slider to tip)
   /// Signed distance from the tip centre to the outline less the tip radius [m]: the gap,
   /// negative when the tip overlaps the slider.
   double gap_m = 0;

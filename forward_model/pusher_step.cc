@@ -37,12 +37,17 @@ class TipProblem {
     double slip = 0;      ///< u_t [m/s]: the contact point along t relative to the tip
   };
 
-  TipProblem(const SliderProperties& slider, const ReducedFriction& friction,
-             const Pusher& pusher, const PlanarState& state, const TipContact& contact,
+  TipProblem(const SliderProperties& slider, const ReducedFriction& friction, const Pusher& pusher,
+             const PlanarState& state, const TipContact& contact,
              const Eigen::Vector2d& tip_velocity, const AppliedWrench& applied, double h,
              const PusherStepOptions& options)
-      : slider_(slider), friction_(friction), state_(state), applied_(applied), h_(h),
-        options_(options), contact_(contact) {
+      : slider_(slider),
+        friction_(friction),
+        state_(state),
+        applied_(applied),
+        h_(h),
+        options_(options),
+        contact_(contact) {
     n_ = contact.normal_world;
     t_ = Eigen::Vector2d(-n_.y(), n_.x());
     arm_ = contact.point_world - Eigen::Vector2d(state.x, state.y);
@@ -113,7 +118,9 @@ class TipProblem {
   int evaluations_ = 0;
 };
 
-double StickResidual(const TipProblem::Eval& e) { return std::max(std::abs(e.gap_rate), std::abs(e.slip)); }
+double StickResidual(const TipProblem::Eval& e) {
+  return std::max(std::abs(e.gap_rate), std::abs(e.slip));
+}
 
 /// Sticking: gap_rate = 0 and slip = 0 by Broyden's method from the rigid-body response.
 std::optional<TipProblem::Eval> SolveStick(TipProblem& p, const TipProblem::Eval& free,
@@ -134,7 +141,8 @@ std::optional<TipProblem::Eval> SolveStick(TipProblem& p, const TipProblem::Eval
     if (!e.step.ok()) return std::nullopt;
     const Eigen::Vector2d r_next(e.gap_rate, e.slip);
     const Eigen::Vector2d s = next - lambda;
-    if (s.squaredNorm() > 0) jacobian += (r_next - r - jacobian * s) * s.transpose() / s.squaredNorm();
+    if (s.squaredNorm() > 0)
+      jacobian += (r_next - r - jacobian * s) * s.transpose() / s.squaredNorm();
     lambda = next;
     r = r_next;
     if (StickResidual(e) < StickResidual(best)) {
@@ -185,7 +193,8 @@ std::optional<TipProblem::Eval> SolveSlide(TipProblem& p, const TipProblem::Eval
       if (side == 1) flo *= 0.5;
       side = 1;
     }
-    if (hi.lambda_n - lo.lambda_n <= 1e-15 * hi.lambda_n) return std::abs(flo) < std::abs(fhi) ? lo : hi;
+    if (hi.lambda_n - lo.lambda_n <= 1e-15 * hi.lambda_n)
+      return std::abs(flo) < std::abs(fhi) ? lo : hi;
   }
   return std::nullopt;
 }
@@ -233,11 +242,12 @@ PusherStepResult Finish(const TipProblem& p, const TipProblem::Eval& e, TipMode 
   r.iterations = p.evaluations();
   const double slip_violation =
       mode == TipMode::kStick ? std::abs(e.slip)
-      : mode == TipMode::kSlide ? std::max(0.0, e.lambda_t * e.slip / std::max(std::abs(e.lambda_t), std::numeric_limits<double>::min()))
-                                : 0.0;
-  const double gap_violation =
-      std::max(0.0, (mode == TipMode::kApart ? -e.gap_rate : std::abs(e.gap_rate)) -
-                        kGapAllowanceM / p.h());
+      : mode == TipMode::kSlide
+          ? std::max(0.0, e.lambda_t * e.slip /
+                              std::max(std::abs(e.lambda_t), std::numeric_limits<double>::min()))
+          : 0.0;
+  const double gap_violation = std::max(
+      0.0, (mode == TipMode::kApart ? -e.gap_rate : std::abs(e.gap_rate)) - kGapAllowanceM / p.h());
   r.residual = std::max(slip_violation, gap_violation) / p.scale();
   return r;
 }
@@ -305,18 +315,22 @@ PusherStepResult SolvePusherStep(const SliderProperties& slider, const ReducedFr
   if (stick) return Finish(p, *stick, TipMode::kStick, contact, dt_s);
   PusherStepResult failed = Finish(p, plus ? *plus : free, TipMode::kSlide, contact, dt_s);
   failed.step.status = StepStatus::kNoConvergence;
-  failed.message = "the pusher's contact did not converge: no sticking or sliding impulse meets "
-                   "the tip's conditions (relative residual " +
-                   std::to_string(failed.residual) + ")";
+  failed.message =
+      "the pusher's contact did not converge: no sticking or sliding impulse meets "
+      "the tip's conditions (relative residual " +
+      std::to_string(failed.residual) + ")";
   failed.step.message = failed.message;
   return failed;
 }
 
 const char* ToString(TipMode mode) {
   switch (mode) {
-    case TipMode::kApart: return "apart";
-    case TipMode::kStick: return "stick";
-    case TipMode::kSlide: return "slide";
+    case TipMode::kApart:
+      return "apart";
+    case TipMode::kStick:
+      return "stick";
+    case TipMode::kSlide:
+      return "slide";
   }
   return "?";
 }

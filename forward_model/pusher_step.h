@@ -53,11 +53,11 @@ struct PusherStepResult {
   double lambda_n = 0, lambda_t = 0;
   /// The applied wrench the step held: the one given plus the tip's impulse over h.
   AppliedWrench applied;
-  double gap_end_m = 0;       ///< g0 - h u_n at the solution (>= 0 up to the tolerance)
-  double slip_mps = 0;        ///< the contact point's velocity along the edge relative to the tip
-  double residual = 0;        ///< the tip's conditions, relative to the velocity scale
-  int iterations = 0;         ///< outer iterations, all solves together
-  std::string message;        ///< why it failed, empty on success
+  double gap_end_m = 0;  ///< g0 - h u_n at the solution (>= 0 up to the tolerance)
+  double slip_mps = 0;   ///< the contact point's velocity along the edge relative to the tip
+  double residual = 0;   ///< the tip's conditions, relative to the velocity scale
+  int iterations = 0;    ///< outer iterations, all solves together
+  std::string message;   ///< why it failed, empty on success
 
   bool ok() const { return step.ok(); }
 };

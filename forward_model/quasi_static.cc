@@ -4,8 +4,7 @@
 
 namespace slideid {
 
-Eigen::Vector3d QuasiStaticTwist(const Eigen::Vector2d& r, const Eigen::Vector2d& vc,
-                                 double c_m) {
+Eigen::Vector3d QuasiStaticTwist(const Eigen::Vector2d& r, const Eigen::Vector2d& vc, double c_m) {
   if (!(c_m > 0)) throw std::invalid_argument("QuasiStaticTwist: c must be > 0");
   const double c2 = c_m * c_m;
   // The denominator is >= c^2 > 0.

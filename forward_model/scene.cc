@@ -6,10 +6,7 @@
 #include "forward_model/constants.h"
 
 namespace slideid {
-namespace {
-
-
-}  // namespace
+namespace {}  // namespace
 
 double PushSpec::MagnitudeAt(double t_s) const {
   if (t_s < start_s || t_s >= stop_s) return 0.0;

@@ -18,8 +18,8 @@ namespace slideid {
 /// force + amplitude cos(2 pi t / period) [N], clamped at 0 (a pusher cannot pull),
 /// applied during [start, stop).
 struct PushSpec {
-  Eigen::Vector2d point_body = Eigen::Vector2d::Zero();      ///< [m]
-  double height_m = 0.0;                                     ///< z of the push point [m]
+  Eigen::Vector2d point_body = Eigen::Vector2d::Zero();       ///< [m]
+  double height_m = 0.0;                                      ///< z of the push point [m]
   Eigen::Vector2d direction_body = Eigen::Vector2d::UnitX();  ///< unit vector
   double force_n = 0.0;
   double amplitude_n = 0.0;
@@ -48,7 +48,7 @@ struct Scene {
   /// A position-controlled pusher instead of the force pushes (a scene has one or the
   /// other): its tip follows its path and the step solves its contact (pusher_step.h).
   std::optional<Pusher> pusher;
-  double dt_s = 0.01;        ///< simulation step [s]
+  double dt_s = 0.01;       ///< simulation step [s]
   double duration_s = 1.0;  ///< simulated time [s]
 };
 

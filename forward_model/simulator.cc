@@ -23,8 +23,12 @@ AppliedWrench PushWrench(const Scene& scene, double t, const PlanarState& pose,
     if (push.MagnitudeAt(t) <= 0.0) continue;
     Eigen::Vector3d where;
     const AppliedWrench w = push.WrenchAt(t, pose, scene.slider.com_height_m, &where);
-    total.fx += w.fx; total.fy += w.fy; total.fz += w.fz;
-    total.tx += w.tx; total.ty += w.ty; total.tz += w.tz;
+    total.fx += w.fx;
+    total.fy += w.fy;
+    total.fz += w.fz;
+    total.tx += w.tx;
+    total.ty += w.ty;
+    total.tz += w.tz;
     if (++active == 1) *point = where;
   }
   if (active > 1) point->reset();
@@ -65,21 +69,20 @@ void Fail(SimulationSummary* summary, SimulationStatus status, double t,
 
 /// One step of a pusher-driven scene from `row`, whose applied wrench and push point
 /// become the tip's (held over the step, as a log row's force is).
-StepResult PusherStep(const Scene& scene, const SimulationOptions& options,
-                      TrajectorySample* row, double t_next, TipMode* tip_mode) {
+StepResult PusherStep(const Scene& scene, const SimulationOptions& options, TrajectorySample* row,
+                      double t_next, TipMode* tip_mode) {
   const Pusher& pusher = *scene.pusher;
   PusherStepOptions pusher_options = options.pusher;
   pusher_options.step = options.step;
-  const PusherStepResult r = SolvePusherStep(
-      scene.slider, ReducedFriction::From(scene.friction), scene.patch, pusher, row->state,
-      pusher.path.PositionAt(row->t_s), pusher.path.PositionAt(t_next), AppliedWrench{},
-      scene.dt_s, pusher_options);
+  const PusherStepResult r =
+      SolvePusherStep(scene.slider, ReducedFriction::From(scene.friction), scene.patch, pusher,
+                      row->state, pusher.path.PositionAt(row->t_s), pusher.path.PositionAt(t_next),
+                      AppliedWrench{}, scene.dt_s, pusher_options);
   row->applied = r.applied;
   row->push_point_world.reset();
   if (r.tip_mode != TipMode::kApart) {
-    row->push_point_world = Eigen::Vector3d(
-        r.contact.point_world.x(), r.contact.point_world.y(),
-        pusher.height_m.value_or(scene.slider.com_height_m));
+    row->push_point_world = Eigen::Vector3d(r.contact.point_world.x(), r.contact.point_world.y(),
+                                            pusher.height_m.value_or(scene.slider.com_height_m));
   }
   *tip_mode = r.tip_mode;
   StepResult step = r.step;
@@ -108,8 +111,9 @@ SimulationResult Simulate(const Scene& scene, const SimulationOptions& options) 
   }
   if (scene.pusher) {
     if (!scene.pushes.empty()) {
-      throw std::invalid_argument("Simulate: a scene is driven by force pushes or by a pusher, "
-                                  "not both");
+      throw std::invalid_argument(
+          "Simulate: a scene is driven by force pushes or by a pusher, "
+          "not both");
     }
     if (!scene.pusher->IsValid(&why)) throw std::invalid_argument("Simulate: " + why);
   }
@@ -140,10 +144,9 @@ SimulationResult Simulate(const Scene& scene, const SimulationOptions& options) 
     TrajectorySample& prev = traj.samples.back();
     const double t_next = (u + 1) * scene.dt_s;
     TipMode tip_mode = TipMode::kApart;
-    const StepResult step =
-        scene.pusher ? PusherStep(scene, options, &prev, t_next, &tip_mode)
-                     : SolveStep(scene.slider, scene.friction, prev.state, prev.applied,
-                                 scene.dt_s, options.step);
+    const StepResult step = scene.pusher ? PusherStep(scene, options, &prev, t_next, &tip_mode)
+                                         : SolveStep(scene.slider, scene.friction, prev.state,
+                                                     prev.applied, scene.dt_s, options.step);
     if (!step.ok()) {
       Fail(&summary,
            step.status == StepStatus::kLiftOff ? SimulationStatus::kLiftOff
@@ -182,8 +185,7 @@ SimulationResult Simulate(const Scene& scene, const SimulationOptions& options) 
       Fail(&summary, SimulationStatus::kToppling, t_next,
            Printf("ECP (%.6g, %.6g) m world, (%.6g, %.6g) m body, left the patch hull: the "
                   "slider would tip",
-                  step.ecp_world.x(), step.ecp_world.y(), step.EcpBody().x(),
-                  step.EcpBody().y()));
+                  step.ecp_world.x(), step.ecp_world.y(), step.EcpBody().x(), step.EcpBody().y()));
       return result;
     }
   }
@@ -201,8 +203,8 @@ PlanarState ReplayStart(const Trajectory& log) {
   return s;
 }
 
-SimulationResult ReplayLog(const Trajectory& log, const FrictionParameters& friction,
-                           int substeps, const SimulationOptions& options) {
+SimulationResult ReplayLog(const Trajectory& log, const FrictionParameters& friction, int substeps,
+                           const SimulationOptions& options) {
   std::string why;
   if (!options.IsValid(&why)) throw std::invalid_argument("ReplayLog: " + why);
   if (log.samples.size() < 2) throw std::invalid_argument("ReplayLog: the log has < 2 rows");
@@ -251,10 +253,14 @@ SimulationResult ReplayLog(const Trajectory& log, const FrictionParameters& fric
 
 const char* ToString(SimulationStatus status) {
   switch (status) {
-    case SimulationStatus::kOk: return "ok";
-    case SimulationStatus::kToppling: return "toppling";
-    case SimulationStatus::kNoConvergence: return "no convergence";
-    case SimulationStatus::kLiftOff: return "lift-off";
+    case SimulationStatus::kOk:
+      return "ok";
+    case SimulationStatus::kToppling:
+      return "toppling";
+    case SimulationStatus::kNoConvergence:
+      return "no convergence";
+    case SimulationStatus::kLiftOff:
+      return "lift-off";
   }
   return "?";
 }

@@ -33,7 +33,7 @@ enum class SimulationStatus {
 
 struct SimulationSummary {
   SimulationStatus status = SimulationStatus::kOk;
-  std::string message;             ///< names the time and the ECP on failure
+  std::string message;  ///< names the time and the ECP on failure
   double failure_time_s = 0;
   Eigen::Vector2d failure_ecp_world = Eigen::Vector2d::Zero();
   int steps = 0, slide_steps = 0, stick_steps = 0;

@@ -6,10 +6,10 @@ namespace slideid {
 /// Rigid slider on a horizontal plane (SI units). Invariant: mass, inertia, gravity > 0,
 /// com_height >= 0.
 struct SliderProperties {
-  double mass_kg = 1.0;            ///< m [kg]
-  double inertia_kgm2 = 1.0;       ///< I_z about the vertical axis through the CM [kg m^2]
-  double com_height_m = 0.0;       ///< q_z, CM height above the support plane [m]
-  double gravity_mps2 = 9.81;      ///< g [m/s^2]
+  double mass_kg = 1.0;        ///< m [kg]
+  double inertia_kgm2 = 1.0;   ///< I_z about the vertical axis through the CM [kg m^2]
+  double com_height_m = 0.0;   ///< q_z, CM height above the support plane [m]
+  double gravity_mps2 = 9.81;  ///< g [m/s^2]
 };
 
 /// The paper's friction ellipsoid: mu and the constants e_t, e_o (dimensionless), e_r [m].

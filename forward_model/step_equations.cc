@@ -29,8 +29,7 @@ constexpr double kEllipsoidFloor = 1e-6;
 }  // namespace
 
 StepEquations::StepEquations(const SliderProperties& slider, const ReducedFriction& friction,
-                             const PlanarState& state, const AppliedWrench& applied,
-                             double dt_s) {
+                             const PlanarState& state, const AppliedWrench& applied, double dt_s) {
   t_.m = slider.mass_kg;
   t_.I = slider.inertia_kgm2;
   t_.qz = slider.com_height_m;
@@ -59,7 +58,8 @@ const Eigen::Vector3d& StepEquations::RowTerms() const {
   // Magnitudes of the terms of u = (v_t, b v_o, c v_r) with every friction impulse at the
   // size of the ellipsoid (|p_t| <= P, |p_o| <= P b, |p_r| <= P c).
   const double w = (std::abs(t_.k(2)) + P_ * t_.c +
-                    P_ * ((std::abs(t_.ptx) + t_.b * std::abs(t_.pty)) / t_.pn)) / t_.I;
+                    P_ * ((std::abs(t_.ptx) + t_.b * std::abs(t_.pty)) / t_.pn)) /
+                   t_.I;
   const double rx = std::abs(t_.pty) / t_.pn + t_.qz * t_.a;
   const double ry = std::abs(t_.ptx) / t_.pn + t_.qz * t_.a * t_.b;
   row_terms_ << (std::abs(t_.k(0)) + P_) / t_.m + w * ry,
@@ -94,8 +94,7 @@ Eigen::Vector2d StepEquations::EcpOffset(const Eigen::Vector3d& p) const {
   return StepEcpOffset(t_, p);
 }
 
-Eigen::Vector3d StepEquations::EcpVelocity(const Eigen::Vector3d& p,
-                                           Eigen::Matrix3d* dv_dp) const {
+Eigen::Vector3d StepEquations::EcpVelocity(const Eigen::Vector3d& p, Eigen::Matrix3d* dv_dp) const {
   const Eigen::Vector3d nu = EndVelocity(p);
   const Eigen::Vector2d r = EcpOffset(p);
   const double w = nu(2);
@@ -136,8 +135,7 @@ void StepEquations::Evaluate(const Eigen::Vector4d& z, Eigen::Vector4d* f,
   }
 }
 
-double StepEquations::RelativeResidual(const Eigen::Vector4d& z,
-                                       const Eigen::Vector4d& f) const {
+double StepEquations::RelativeResidual(const Eigen::Vector4d& z, const Eigen::Vector4d& f) const {
   const double scale = velocity_scale_ + std::abs(z(3));
   const double motion = scale > 0 ? f.head<3>().cwiseAbs().maxCoeff() / scale : 0.0;
   const double sphere = velocity_scale_ > 0 ? 2.0 * std::abs(f(3)) / velocity_scale_ : 0.0;
@@ -149,8 +147,8 @@ double StepEquations::ComponentwiseResidual(const Eigen::Vector4d& z,
   // |terms| of nu' = M^-1 (k + p + coupling), of the ECP offsets and of u + s tau at z,
   // plus kEllipsoidFloor of the same with the impulses at the ellipsoid's size.
   const Eigen::Vector3d p = Impulses(z).cwiseAbs();
-  const double w = (std::abs(t_.k(2)) + p(2) +
-                    p(0) * (std::abs(t_.ptx) / t_.pn) + p(1) * (std::abs(t_.pty) / t_.pn)) /
+  const double w = (std::abs(t_.k(2)) + p(2) + p(0) * (std::abs(t_.ptx) / t_.pn) +
+                    p(1) * (std::abs(t_.pty) / t_.pn)) /
                    t_.I;
   const double rx = std::abs(t_.pty) / t_.pn + t_.qz * (p(0) / t_.pn);
   const double ry = std::abs(t_.ptx) / t_.pn + t_.qz * (p(1) / t_.pn);
@@ -202,8 +200,8 @@ bool StepEquations::ScalesRepresentable(std::string* why, bool with_equation_ter
 }
 
 double StepEquations::CouplingSpeed() const {
-  const double offset = (std::abs(t_.ptx) + std::abs(t_.pty)) / t_.pn +
-                        t_.qz * t_.a * std::max(1.0, t_.b);
+  const double offset =
+      (std::abs(t_.ptx) + std::abs(t_.pty)) / t_.pn + t_.qz * t_.a * std::max(1.0, t_.b);
   return std::abs(t_.k(2)) / t_.I * offset;
 }
 
@@ -240,7 +238,10 @@ Eigen::Vector4d StepEquations::LinearisedStopGuess() const {
     const double n = tau.norm();
     const double g = 1.0 / n - 1.0;
     if (std::abs(g) <= kGuessTolerance || !std::isfinite(g)) break;
-    if (g < 0) lo = s; else hi = s;
+    if (g < 0)
+      lo = s;
+    else
+      hi = s;
     const double dg = -tau.dot(dtau) / (n * n * n);
     double next = s - g / dg;
     if (!(next > lo && next < hi)) next = lo > 0 ? std::sqrt(lo * hi) : 0.5 * hi;
@@ -270,8 +271,7 @@ Eigen::Vector4d StepEquations::DecoupledAt(double s) const {
           -t_.c * t_.k(2) / (t_.I * s + P_ * t_.c * t_.c), s};
 }
 
-bool StepEquations::SolveDecoupled(Eigen::Vector4d* z, int* iterations,
-                                   double tolerance) const {
+bool StepEquations::SolveDecoupled(Eigen::Vector4d* z, int* iterations, double tolerance) const {
   tolerance = std::max(tolerance, kScalarTolerance);
   const Eigen::Vector3d mass(t_.m, t_.m, t_.I);
   const Eigen::Vector3d weight(1.0, t_.b, t_.c);
@@ -299,7 +299,10 @@ bool StepEquations::SolveDecoupled(Eigen::Vector4d* z, int* iterations,
     const double g = 1.0 / std::sqrt(phi) - 1.0;
     *iterations = it;
     if (std::abs(g) <= tolerance) break;
-    if (g < 0) lo = s; else hi = s;
+    if (g < 0)
+      lo = s;
+    else
+      hi = s;
     if (hi - lo <= 2 * kEps * hi) break;
     const double dg = -0.5 * dphi / (phi * std::sqrt(phi));
     double next = s - g / dg;

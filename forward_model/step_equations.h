@@ -154,8 +154,8 @@ class StepEquations {
   StepTerms<double> t_;
   mutable Eigen::Vector3d row_terms_;
   mutable bool row_terms_ready_ = false;
-  double P_;                  // a p_n
-  double velocity_scale_;     // |k / M| weighted by (1, b, c): free slip speed [m/s]
+  double P_;               // a p_n
+  double velocity_scale_;  // |k / M| weighted by (1, b, c): free slip speed [m/s]
 };
 
 }  // namespace slideid

@@ -56,8 +56,8 @@ void Validate(const SliderProperties& slider, const ReducedFriction& f, double d
   require(std::isfinite(slider.mass_kg) && slider.mass_kg > 0, "mass must be > 0", slider.mass_kg);
   require(std::isfinite(slider.inertia_kgm2) && slider.inertia_kgm2 > 0, "inertia must be > 0",
           slider.inertia_kgm2);
-  require(std::isfinite(slider.com_height_m) && slider.com_height_m >= 0,
-          "com_height must be >= 0", slider.com_height_m);
+  require(std::isfinite(slider.com_height_m) && slider.com_height_m >= 0, "com_height must be >= 0",
+          slider.com_height_m);
   require(std::isfinite(slider.gravity_mps2) && slider.gravity_mps2 > 0, "gravity must be > 0",
           slider.gravity_mps2);
   require(std::isfinite(f.a) && f.a > 0, "a = e_t mu must be > 0", f.a);
@@ -70,9 +70,9 @@ void Validate(const SliderProperties& slider, const ReducedFriction& f, double d
 // (relative residual nan)"; it is bad input and says which field.
 void ValidateFinite(const PlanarState& s, const AppliedWrench& w) {
   const std::pair<const char*, double> fields[] = {
-      {"state.x", s.x},   {"state.y", s.y},   {"state.theta", s.theta}, {"state.vx", s.vx},
-      {"state.vy", s.vy}, {"state.wz", s.wz}, {"applied.fx", w.fx},     {"applied.fy", w.fy},
-      {"applied.fz", w.fz}, {"applied.tx", w.tx}, {"applied.ty", w.ty}, {"applied.tz", w.tz}};
+      {"state.x", s.x},     {"state.y", s.y},     {"state.theta", s.theta}, {"state.vx", s.vx},
+      {"state.vy", s.vy},   {"state.wz", s.wz},   {"applied.fx", w.fx},     {"applied.fy", w.fy},
+      {"applied.fz", w.fz}, {"applied.tx", w.tx}, {"applied.ty", w.ty},     {"applied.tz", w.tz}};
   double probe = 0.0;  // v * 0 is 0 for every finite v, NaN for Inf or NaN: one test
   for (const auto& field : fields) probe += field.second * 0.0;
   if (probe == 0.0) return;
@@ -88,8 +88,7 @@ void ValidateFinite(const PlanarState& s, const AppliedWrench& w) {
 // The Jacobian is bordered, [[A, tau], [V tau^T, 0]]: eliminate through the 3x3 block A
 // (cofactor inverse, cheaper than a 4x4 LU); fall back to pivoted LU where A is singular
 // or the border is degenerate.
-bool SolveNewtonSystem(const Eigen::Matrix4d& jac, const Eigen::Vector4d& f,
-                       Eigen::Vector4d* dz) {
+bool SolveNewtonSystem(const Eigen::Matrix4d& jac, const Eigen::Vector4d& f, Eigen::Vector4d* dz) {
   const Eigen::Matrix3d A = jac.topLeftCorner<3, 3>();
   Eigen::Matrix3d A_inv;
   bool invertible = false;
@@ -268,8 +267,7 @@ StepResult SolveStep(const SliderProperties& slider, const FrictionParameters& f
   require(friction.e_t, "e_t");
   require(friction.e_o, "e_o");
   require(friction.e_r, "e_r");
-  StepResult r =
-      SolveStep(slider, ReducedFriction::From(friction), state, applied, dt_s, options);
+  StepResult r = SolveStep(slider, ReducedFriction::From(friction), state, applied, dt_s, options);
   r.sigma *= friction.e_t;  // the reduced step's slip is sigma / e_t
   return r;
 }
@@ -374,8 +372,7 @@ StepResult SolveStep(const SliderProperties& slider, const ReducedFriction& fric
 }
 
 Eigen::Vector4d SlidingEquationResiduals(const SliderProperties& slider,
-                                         const FrictionParameters& f,
-                                         const PlanarState& state,
+                                         const FrictionParameters& f, const PlanarState& state,
                                          const AppliedWrench& applied, double dt_s,
                                          const Eigen::Vector4d& x) {
   const double m = slider.mass_kg, I = slider.inertia_kgm2, qz = slider.com_height_m;
@@ -399,17 +396,16 @@ Eigen::Vector4d SlidingEquationResiduals(const SliderProperties& slider,
   // solution.
   const double cap_t = kEllipsoidFloor * k * f.e_t, cap_o = kEllipsoidFloor * k * f.e_o,
                cap_r = kEllipsoidFloor * k * f.e_r;
-  const double abs_vr = std::abs(state.wz) + (std::abs(pr) + cap_r + std::abs(ptz) +
-                                              (std::abs(pt * ptx) + std::abs(po * pty)) / pn) / I;
+  const double abs_vr =
+      std::abs(state.wz) +
+      (std::abs(pr) + cap_r + std::abs(ptz) + (std::abs(pt * ptx) + std::abs(po * pty)) / pn) / I;
   const double abs_ry = (std::abs(ptx) + qz * (std::abs(po) + cap_o)) / pn;
   const double abs_rx = (std::abs(pty) + qz * (std::abs(pt) + cap_t)) / pn;
-  const double abs_vt = std::abs(state.vx) + (std::abs(pt) + cap_t + std::abs(px)) / m +
-                        abs_vr * abs_ry;
-  const double abs_vo = std::abs(state.vy) + (std::abs(po) + cap_o + std::abs(py)) / m +
-                        abs_vr * abs_rx;
-  auto relative = [](double value, double scale) {
-    return scale > 0 ? value / scale : value;
-  };
+  const double abs_vt =
+      std::abs(state.vx) + (std::abs(pt) + cap_t + std::abs(px)) / m + abs_vr * abs_ry;
+  const double abs_vo =
+      std::abs(state.vy) + (std::abs(po) + cap_o + std::abs(py)) / m + abs_vr * abs_rx;
+  auto relative = [](double value, double scale) { return scale > 0 ? value / scale : value; };
   const double abs_sigma = std::abs(sigma);
   Eigen::Vector4d r;
   r(0) = relative(k * f.e_t * f.e_t * vt + pt * sigma,
@@ -433,10 +429,14 @@ const char* ToString(StepMode mode) { return mode == StepMode::kStick ? "stick" 
 
 const char* ToString(StepPath path) {
   switch (path) {
-    case StepPath::kStick: return "stick";
-    case StepPath::kPureTranslation: return "pure-translation";
-    case StepPath::kDecoupled: return "decoupled";
-    case StepPath::kGeneral: return "general";
+    case StepPath::kStick:
+      return "stick";
+    case StepPath::kPureTranslation:
+      return "pure-translation";
+    case StepPath::kDecoupled:
+      return "decoupled";
+    case StepPath::kGeneral:
+      return "general";
   }
   return "?";
 }

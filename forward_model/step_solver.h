@@ -49,21 +49,21 @@ enum class StepStatus {
 /// meaningful only when status == kConverged.
 struct StepResult {
   StepStatus status = StepStatus::kNoConvergence;
-  std::string message;       ///< why it failed, empty on success
-  PlanarState state;         ///< state at the end of the step
-  double pt = 0, po = 0;     ///< friction impulses [N s], world axes
-  double pr = 0;             ///< friction angular impulse [N m s]
-  double sigma = 0;          ///< slip multiplier of model.md [m/s]; 0 when sticking
-  double pn = 0;             ///< normal impulse h (m g - f_z) [N s]
+  std::string message;    ///< why it failed, empty on success
+  PlanarState state;      ///< state at the end of the step
+  double pt = 0, po = 0;  ///< friction impulses [N s], world axes
+  double pr = 0;          ///< friction angular impulse [N m s]
+  double sigma = 0;       ///< slip multiplier of model.md [m/s]; 0 when sticking
+  double pn = 0;          ///< normal impulse h (m g - f_z) [N s]
   Eigen::Vector2d ecp_offset_world = Eigen::Vector2d::Zero();  ///< ECP - CM, world [m]
-  Eigen::Vector2d ecp_world = Eigen::Vector2d::Zero();  ///< end-of-step CM + offset [m]
+  Eigen::Vector2d ecp_world = Eigen::Vector2d::Zero();         ///< end-of-step CM + offset [m]
   StepMode mode = StepMode::kSlide;
   StepPath path = StepPath::kGeneral;
   /// The solution in the solver's scaled unknowns (tau_t, tau_o, tau_r, s) of
   /// step_equations.h, for StepOptions::initial_guess (zero when sticking).
   Eigen::Vector4d scaled_solution = Eigen::Vector4d::Zero();
-  double residual = 0;       ///< relative residual of the four equations (0 when sticking)
-  int iterations = 0;        ///< Newton (or scalar root) iterations
+  double residual = 0;  ///< relative residual of the four equations (0 when sticking)
+  int iterations = 0;   ///< Newton (or scalar root) iterations
 
   bool ok() const { return status == StepStatus::kConverged; }
   /// The ECP offset in the body frame at the end of the step [m] (computed on demand: the
@@ -90,9 +90,8 @@ StepResult SolveStep(const SliderProperties& slider, const FrictionParameters& f
 /// terms. Independent of the solver's internal scaling; used to verify solutions.
 Eigen::Vector4d SlidingEquationResiduals(const SliderProperties& slider,
                                          const FrictionParameters& friction,
-                                         const PlanarState& state,
-                                         const AppliedWrench& applied, double dt_s,
-                                         const Eigen::Vector4d& pt_po_pr_sigma);
+                                         const PlanarState& state, const AppliedWrench& applied,
+                                         double dt_s, const Eigen::Vector4d& pt_po_pr_sigma);
 
 const char* ToString(StepMode mode);
 const char* ToString(StepPath path);

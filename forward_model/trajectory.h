@@ -39,17 +39,17 @@ struct TrajectorySample {
 
 /// Which column groups a log has (read) or should have (write).
 struct LogColumns {
-  bool pose = true;        ///< x, y, theta
-  bool velocity = true;    ///< vx, vy, wz
-  bool force = true;       ///< fx, fy (written when any is non-zero, or always if set)
-  bool fz = false;         ///< fz
-  bool moments = false;    ///< tx, ty, tz (residual moments when push points are written)
-  bool push_point = false; ///< px, py, pz
-  bool step_info = true;   ///< ax, ay, pt, po, pr, sigma, mode
+  bool pose = true;         ///< x, y, theta
+  bool velocity = true;     ///< vx, vy, wz
+  bool force = true;        ///< fx, fy (written when any is non-zero, or always if set)
+  bool fz = false;          ///< fz
+  bool moments = false;     ///< tx, ty, tz (residual moments when push points are written)
+  bool push_point = false;  ///< px, py, pz
+  bool step_info = true;    ///< ax, ay, pt, po, pr, sigma, mode
   /// The mode column alone (a log whose rows are split into runs by gaps); written whenever
   /// a row after the first starts a run, whatever this says.
   bool mode = false;
-  bool tip = false;        ///< tip_x, tip_y (the pusher's tip centre)
+  bool tip = false;  ///< tip_x, tip_y (the pusher's tip centre)
 };
 
 /// A push log: known slider properties (metadata), optional truth, and samples.

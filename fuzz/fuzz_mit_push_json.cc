@@ -47,8 +47,14 @@ void CheckImport(const slideid::MitPushRecording& r) {
   Require(accepted == result.report.reason.empty(), "a reason exactly when rejected");
   for (std::size_t u = 0; u < result.log.samples.size(); ++u) {
     const slideid::TrajectorySample& s = result.log.samples[u];
-    const double values[] = {s.t_s, s.state.x, s.state.y, s.state.theta, s.applied.fx,
-                             s.applied.fy, s.applied.tz, s.push_point_world->x(),
+    const double values[] = {s.t_s,
+                             s.state.x,
+                             s.state.y,
+                             s.state.theta,
+                             s.applied.fx,
+                             s.applied.fy,
+                             s.applied.tz,
+                             s.push_point_world->x(),
                              s.push_point_world->y()};
     for (double v : values) Require(std::isfinite(v), "every imported number is finite");
     if (u > 0) Require(s.t_s > result.log.samples[u - 1].t_s, "imported t strictly increases");

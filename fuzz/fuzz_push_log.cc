@@ -7,8 +7,8 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
-#include <cstdlib>
 #include <cstdio>
+#include <cstdlib>
 #include <sstream>
 #include <stdexcept>
 #include <string>
@@ -28,10 +28,9 @@ void Require(bool ok, const char* what) {
 }
 
 bool Finite(const TrajectorySample& s) {
-  const double values[] = {s.t_s,         s.state.x,    s.state.y,    s.state.theta,
-                           s.state.vx,    s.state.vy,   s.state.wz,   s.applied.fx,
-                           s.applied.fy,  s.applied.fz, s.applied.tx, s.applied.ty,
-                           s.applied.tz};
+  const double values[] = {s.t_s,        s.state.x,    s.state.y,    s.state.theta, s.state.vx,
+                           s.state.vy,   s.state.wz,   s.applied.fx, s.applied.fy,  s.applied.fz,
+                           s.applied.tx, s.applied.ty, s.applied.tz};
   for (double v : values) {
     if (!std::isfinite(v)) return false;
   }

@@ -42,13 +42,13 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   Require(std::isfinite(scene.dt_s) && scene.dt_s > 0, "dt > 0");
   Require(std::isfinite(scene.duration_s) && scene.duration_s > 0, "duration > 0");
   const auto& f = scene.friction;
-  Require(std::isfinite(f.mu) && std::isfinite(f.e_t) && std::isfinite(f.e_o) &&
-              std::isfinite(f.e_r),
-          "finite friction");
+  Require(
+      std::isfinite(f.mu) && std::isfinite(f.e_t) && std::isfinite(f.e_o) && std::isfinite(f.e_r),
+      "finite friction");
   for (const slideid::PushSpec& p : scene.pushes) {
-    Require(std::isfinite(p.force_n) && std::isfinite(p.amplitude_n) &&
-                std::isfinite(p.period_s) && std::isfinite(p.height_m) &&
-                p.point_body.allFinite() && p.direction_body.allFinite(),
+    Require(std::isfinite(p.force_n) && std::isfinite(p.amplitude_n) && std::isfinite(p.period_s) &&
+                std::isfinite(p.height_m) && p.point_body.allFinite() &&
+                p.direction_body.allFinite(),
             "finite push");
   }
   return 0;

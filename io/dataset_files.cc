@@ -19,8 +19,8 @@ std::string TruthCsvRow(const DatasetEntry& e) {
   const FrictionParameters& f = e.scene.friction;
   const ReducedFriction r = ReducedFriction::From(f);
   std::string row = e.file;
-  for (double v : {s.mass_kg, s.inertia_kgm2, s.com_height_m, f.mu, f.e_t, f.e_o, f.e_r, r.a,
-                   r.b, r.c}) {
+  for (double v :
+       {s.mass_kg, s.inertia_kgm2, s.com_height_m, f.mu, f.e_t, f.e_o, f.e_r, r.a, r.b, r.c}) {
     row += "," + ExactNumber(v);
   }
   // mu_p: the tip-edge friction of a pusher-driven log; empty for a force-driven one.

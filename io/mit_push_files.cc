@@ -1,7 +1,7 @@
 #include "io/mit_push_files.h"
 
-#include "io/push_log.h"
 #include "io/mit_push_json.h"
+#include "io/push_log.h"
 
 namespace slideid {
 namespace {
@@ -9,7 +9,8 @@ namespace {
 std::string Stem(const std::string& path) {
   const std::size_t slash = path.find_last_of('/');
   std::string name = slash == std::string::npos ? path : path.substr(slash + 1);
-  if (name.size() > 5 && name.compare(name.size() - 5, 5, ".json") == 0) name.resize(name.size() - 5);
+  if (name.size() > 5 && name.compare(name.size() - 5, 5, ".json") == 0)
+    name.resize(name.size() - 5);
   return name.empty() ? "log" : name;
 }
 
@@ -40,7 +41,8 @@ std::string ResolveObject(const std::string& object, const MitObjectSource& sour
     }
   };
   pick(source.mass_kg, &ObjectProperties::mass_kg, "mass", &options->slider.mass_kg);
-  pick(source.inertia_kgm2, &ObjectProperties::inertia_kgm2, "inertia", &options->slider.inertia_kgm2);
+  pick(source.inertia_kgm2, &ObjectProperties::inertia_kgm2, "inertia",
+       &options->slider.inertia_kgm2);
   pick(source.com_height_m, &ObjectProperties::com_height_m, "com_height",
        &options->slider.com_height_m);
   if (source.patch_spec) {
@@ -50,7 +52,8 @@ std::string ResolveObject(const std::string& object, const MitObjectSource& sour
   } else {
     missing += std::string(missing.empty() ? "" : ", ") + "patch";
   }
-  if (row && !row->source.empty()) options->extra_metadata.emplace_back("object_source", row->source);
+  if (row && !row->source.empty())
+    options->extra_metadata.emplace_back("object_source", row->source);
   return missing;
 }
 
@@ -73,7 +76,8 @@ MitImportReport ImportMitPushFile(const std::string& path, const MitObjectSource
   const std::string missing = ResolveObject(failed.object, objects, &options);
   if (!missing.empty()) {
     failed.reason = "object '" + (failed.object.empty() ? std::string("?") : failed.object) +
-                    "': " + missing + " unknown (give them as options or in an --objects row; "
+                    "': " + missing +
+                    " unknown (give them as options or in an --objects row; "
                     "they are never guessed)";
     return failed;
   }

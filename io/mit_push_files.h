@@ -15,7 +15,7 @@ namespace slideid {
 /// Where an imported file's object properties come from: the given values, else the
 /// table's row for the object named in the file name ("shape=rect1"). Never a default.
 struct MitObjectSource {
-  const ObjectTable* table = nullptr;        ///< not owned; may be null
+  const ObjectTable* table = nullptr;  ///< not owned; may be null
   std::optional<double> mass_kg, inertia_kgm2, com_height_m;
   std::optional<std::string> patch_spec;
 };

@@ -66,8 +66,9 @@ constexpr double kSpeedHalfWindowS = 0.02;
 double Interpolate(const std::vector<MitStreamRow>& rows, double t, int k) {
   if (t <= rows.front()[0]) return rows.front()[k];
   if (t >= rows.back()[0]) return rows.back()[k];
-  const auto hi = std::upper_bound(rows.begin(), rows.end(), t,
-                                   [](double value, const MitStreamRow& r) { return value < r[0]; });
+  const auto hi =
+      std::upper_bound(rows.begin(), rows.end(), t,
+                       [](double value, const MitStreamRow& r) { return value < r[0]; });
   const auto lo = hi - 1;
   const double w = (t - (*lo)[0]) / ((*hi)[0] - (*lo)[0]);  // rows strictly increase in t
   return (*lo)[k] + w * ((*hi)[k] - (*lo)[k]);
@@ -94,7 +95,8 @@ std::string Implausible(const std::vector<MitStreamRow>& rows, const char* strea
   for (std::size_t i = 0; i < rows.size(); ++i) {
     for (int k = 0; k < 4; ++k) {
       if (std::abs(rows[i][k]) <= limits[k]) continue;
-      return std::string(stream) + ": " + names[k] + Printf(" = %.6g beyond any plausible value ", rows[i][k]) +
+      return std::string(stream) + ": " + names[k] +
+             Printf(" = %.6g beyond any plausible value ", rows[i][k]) +
              Printf("(|value| <= %.0e): a unit or format error?", limits[k]);
     }
   }
@@ -160,7 +162,8 @@ int DropPoseGlitches(std::vector<MitStreamRow>* pose) {
   std::vector<char> glitch(n, 0);
   for (int i = 0; i < n; ++i) {
     std::vector<double> x, y;
-    for (int j = std::max(0, i - kGlitchNeighbours); j <= std::min(n - 1, i + kGlitchNeighbours); ++j) {
+    for (int j = std::max(0, i - kGlitchNeighbours); j <= std::min(n - 1, i + kGlitchNeighbours);
+         ++j) {
       if (j == i) continue;
       x.push_back((*pose)[j][1]);
       y.push_back((*pose)[j][2]);
@@ -213,7 +216,10 @@ struct Contact {
 class Streams {
  public:
   Streams(const MitPushRecording& r, const MitImportOptions& o)
-      : object(r.object_pose), tip(r.tip_pose), ft(r.ft_wrench), options_(o),
+      : object(r.object_pose),
+        tip(r.tip_pose),
+        ft(r.ft_wrench),
+        options_(o),
         patch_(ContactPatch::Parse(o.patch_spec)) {}
 
   std::vector<MitStreamRow> object, tip, ft;
@@ -225,8 +231,8 @@ class Streams {
   /// The tip against the outline (forward_model/pusher.h, as the pusher-driven model sees it).
   Contact ContactAtTime(double t) const {
     const Eigen::Vector3d pose = PoseAt(t);
-    const TipContact c = ContactWithTip(patch_, PlanarState{pose.x(), pose.y(), pose.z()},
-                                        TipAt(t), options_.tip_radius_m);
+    const TipContact c = ContactWithTip(patch_, PlanarState{pose.x(), pose.y(), pose.z()}, TipAt(t),
+                                        options_.tip_radius_m);
     return {c.gap_m, c.point_world, -c.normal_world};
   }
   /// Tip velocity by a central difference over +-kSpeedHalfWindowS, inside the stream [m/s].
@@ -247,8 +253,8 @@ class Streams {
 /// A force sample with what the push detection needs.
 struct ForceSample {
   double t;
-  Eigen::Vector2d f;  ///< stored force [N]
-  bool known = false; ///< tip and object streams cover t
+  Eigen::Vector2d f;    ///< stored force [N]
+  bool known = false;   ///< tip and object streams cover t
   bool active = false;  ///< tip moving and touching
   Contact contact{};
   Eigen::Vector2d tip_velocity = Eigen::Vector2d::Zero();
@@ -262,8 +268,8 @@ std::vector<ForceSample> ClassifyForceSamples(const Streams& s, const MitImportO
     if (f.known) {
       f.contact = s.ContactAtTime(f.t);
       f.tip_velocity = s.TipVelocityAt(f.t);
-      f.active = f.tip_velocity.norm() > o.still_speed_mps &&
-                 f.contact.gap_m < o.contact_tolerance_m;
+      f.active =
+          f.tip_velocity.norm() > o.still_speed_mps && f.contact.gap_m < o.contact_tolerance_m;
     }
     out.push_back(f);
   }
@@ -332,8 +338,9 @@ Rejection EstimateOffset(const std::vector<ForceSample>& samples, double t_first
   std::vector<const ForceSample*> used[2];
   std::optional<Eigen::Vector2d> median[2];
   for (int k = 0; k < 2; ++k) {
-    used[k] = side[k].HasClear() ? side[k].clear : side[k].HasResting() ? side[k].resting
-                                                                        : std::vector<const ForceSample*>{};
+    used[k] = side[k].HasClear()     ? side[k].clear
+              : side[k].HasResting() ? side[k].resting
+                                     : std::vector<const ForceSample*>{};
     if (!used[k].empty()) median[k] = ComponentMedian(used[k]);
   }
   report->offset_before_samples = static_cast<int>(used[0].size());
@@ -341,8 +348,8 @@ Rejection EstimateOffset(const std::vector<ForceSample>& samples, double t_first
   if (!median[0] && !median[1]) {
     return "force offset unknown: too few force samples outside the push before (" +
            std::to_string(side[0].clear.size() + side[0].resting.size()) + ") and after (" +
-           std::to_string(side[1].clear.size() + side[1].resting.size()) +
-           ") it (need " + std::to_string(kMinStillSamples) + ")";
+           std::to_string(side[1].clear.size() + side[1].resting.size()) + ") it (need " +
+           std::to_string(kMinStillSamples) + ")";
   }
   const bool both_clear = side[0].HasClear() && side[1].HasClear();
   const double differ_by = median[0] && median[1] ? (*median[1] - *median[0]).norm() : 0.0;
@@ -351,8 +358,10 @@ Rejection EstimateOffset(const std::vector<ForceSample>& samples, double t_first
       report->offset_drift_n = differ_by;
       return Printf("force offset drift %.3g N between before (", *report->offset_drift_n) +
              Vec(*median[0]) + ") and after (" + Vec(*median[1]) +
-             Printf(") the push, both with the tip clear of the object, exceeds %.3g N "
-                    "(--max-offset-drift)", o.max_offset_drift_n);
+             Printf(
+                 ") the push, both with the tip clear of the object, exceeds %.3g N "
+                 "(--max-offset-drift)",
+                 o.max_offset_drift_n);
     }
     // A resting side that disagrees: a clear side, else the side after the push, is the
     // offset (a pushing tip stops pressing once the push is over: the MIT rig then reads
@@ -361,9 +370,10 @@ Rejection EstimateOffset(const std::vector<ForceSample>& samples, double t_first
     const Eigen::Vector2d preload = *median[load] - *median[1 - load];
     report->preload_n = preload;
     report->notes.push_back(std::string("the tip rests against the object ") +
-                           (load == 0 ? "before" : "after") +
-                           Printf(" the push, pressing it with %.3g N: kept as a real force, "
-                                  "not taken for the sensor's offset", preload.norm()));
+                            (load == 0 ? "before" : "after") +
+                            Printf(" the push, pressing it with %.3g N: kept as a real force, "
+                                   "not taken for the sensor's offset",
+                                   preload.norm()));
     median[load].reset();
     used[load].clear();
   }
@@ -417,8 +427,10 @@ Rejection CheckSign(const std::vector<const ForceSample*>& push, const Offset& o
   const double alignment = *report->normal_alignment;
   if (o.force_sign == ForceSign::kAuto) {
     if (std::abs(alignment) < kMinNormalAlignment) {
-      return Printf("sign check inconclusive: the force is not along the contact normal "
-                    "(alignment %+.2f; a push gives about +-1)", alignment);
+      return Printf(
+          "sign check inconclusive: the force is not along the contact normal "
+          "(alignment %+.2f; a push gives about +-1)",
+          alignment);
     }
     report->force_flipped = alignment < 0;
     return std::nullopt;
@@ -428,7 +440,8 @@ Rejection CheckSign(const std::vector<const ForceSample*>& push, const Offset& o
   if (effective < kMinNormalAlignment) {
     report->notes.push_back(std::string("--force-sign ") + ToString(o.force_sign) +
                             Printf(" disagrees with the contact normal (alignment of the "
-                                   "force used %+.2f)", effective));
+                                   "force used %+.2f)",
+                                   effective));
   }
   return std::nullopt;
 }
@@ -481,12 +494,12 @@ Rejection PrepareStreams(const MitImportOptions& o, Streams* s, std::vector<Froz
   r->object_pose = Clean(&s->object);
   r->tip_pose = Clean(&s->tip);
   r->ft_wrench = Clean(&s->ft);
-  for (const auto& [name, stream] : {std::pair{"object_pose", &r->object_pose},
-                                     std::pair{"tip_pose", &r->tip_pose},
-                                     std::pair{"ft_wrench", &r->ft_wrench}}) {
+  for (const auto& [name, stream] :
+       {std::pair{"object_pose", &r->object_pose}, std::pair{"tip_pose", &r->tip_pose},
+        std::pair{"ft_wrench", &r->ft_wrench}}) {
     if (stream->rows < kMinStreamRows) {
-      return std::string(name) + " has " + std::to_string(stream->rows) +
-             " distinct times (need " + std::to_string(kMinStreamRows) + ")";
+      return std::string(name) + " has " + std::to_string(stream->rows) + " distinct times (need " +
+             std::to_string(kMinStreamRows) + ")";
     }
   }
   constexpr std::array<double, 4> kPose = {kMaxAbsTimeS, kMaxAbsPositionM, kMaxAbsPositionM,
@@ -514,8 +527,10 @@ Rejection PrepareStreams(const MitImportOptions& o, Streams* s, std::vector<Froz
   r->pose_glitches = DropPoseGlitches(&s->object);
   if (r->pose_glitches > kMaxGlitchFraction * poses) {
     return "object_pose: " + std::to_string(r->pose_glitches) + " of " + std::to_string(poses) +
-           Printf(" poses lie more than %.3g mm from their neighbours (marker swaps?): too many "
-                  "to drop", kGlitchDistanceM * 1e3);
+           Printf(
+               " poses lie more than %.3g mm from their neighbours (marker swaps?): too many "
+               "to drop",
+               kGlitchDistanceM * 1e3);
   }
   if (r->pose_glitches > 0) {
     r->notes.push_back(std::to_string(r->pose_glitches) +
@@ -545,12 +560,14 @@ Rejection FindPush(const Streams& s, const MitImportOptions& o, Push* push, MitI
   }
   if (!first_active) {
     return std::isfinite(closest)
-               ? Printf("no contact: the tip never touches the object while it moves "
-                        "(closest approach %.1f mm beyond the tip radius)", closest * 1e3)
+               ? Printf(
+                     "no contact: the tip never touches the object while it moves "
+                     "(closest approach %.1f mm beyond the tip radius)",
+                     closest * 1e3)
                : std::string("no contact: the streams do not overlap in time");
   }
-  if (Rejection no = EstimateOffset(push->samples, first_active->t, last_active->t, o,
-                                    &push->offset, r)) {
+  if (Rejection no =
+          EstimateOffset(push->samples, first_active->t, last_active->t, o, &push->offset, r)) {
     return no;
   }
   for (const ForceSample& f : push->samples) {
@@ -559,8 +576,10 @@ Rejection FindPush(const Streams& s, const MitImportOptions& o, Push* push, MitI
     }
   }
   if (push->above.empty()) {
-    return Printf("no push: the force stays below the noise threshold (%.3g N) while the tip "
-                  "touches the object and moves", r->force_threshold_n);
+    return Printf(
+        "no push: the force stays below the noise threshold (%.3g N) while the tip "
+        "touches the object and moves",
+        r->force_threshold_n);
   }
   return CheckSign(push->above, push->offset, o, r);
 }
@@ -568,8 +587,7 @@ Rejection FindPush(const Streams& s, const MitImportOptions& o, Push* push, MitI
 /// The object-pose gaps longer than o.max_pose_gap_s that overlap [start, end], as
 /// (last pose before, first pose after) [s, stream clock].
 std::vector<std::pair<double, double>> PoseGaps(const Streams& s, double start, double end,
-                                                const MitImportOptions& o,
-                                                MitImportReport* r) {
+                                                const MitImportOptions& o, MitImportReport* r) {
   std::vector<std::pair<double, double>> gaps;
   for (std::size_t i = 1; i < s.object.size(); ++i) {
     const double t0 = s.object[i - 1][0], t1 = s.object[i][0];
@@ -602,8 +620,8 @@ Rejection ChooseWindow(const Streams& s, const Push& push, const std::vector<Fro
     return Printf("log too short: the push lasts %.3g s (need %.3g s, --min-push-duration)",
                   push_end - push_start, o.min_push_duration_s);
   }
-  *start = std::max({push_start - o.margin_s, s.object.front()[0], s.tip.front()[0],
-                     s.ft.front()[0]});
+  *start =
+      std::max({push_start - o.margin_s, s.object.front()[0], s.tip.front()[0], s.ft.front()[0]});
   *end = std::min({push_end + o.margin_s, s.object.back()[0], s.tip.back()[0], s.ft.back()[0]});
   for (const FrozenRun& run : frozen) {
     if (run.t_last >= *start && run.t_first <= *end) {
@@ -617,17 +635,20 @@ Rejection ChooseWindow(const Streams& s, const Push& push, const std::vector<Fro
   if (kept < o.min_push_duration_s) {
     std::string which;
     for (const auto& [t0, t1] : *gaps) {
-      which += (which.empty() ? "" : ", ") + Printf("%.0f ms at %.3f s", (t1 - t0) * 1e3,
-                                                    t0 - push_start);
+      which += (which.empty() ? "" : ", ") +
+               Printf("%.0f ms at %.3f s", (t1 - t0) * 1e3, t0 - push_start);
     }
-    return Printf("object_pose gaps leave %.3g s of the %.3g s push (need %.3g s, "
-                  "--min-push-duration; gaps over --max-pose-gap split the log): ",
-                  kept, push_end - push_start, o.min_push_duration_s) + which +
-           " after the push starts";
+    return Printf(
+               "object_pose gaps leave %.3g s of the %.3g s push (need %.3g s, "
+               "--min-push-duration; gaps over --max-pose-gap split the log): ",
+               kept, push_end - push_start, o.min_push_duration_s) +
+           which + " after the push starts";
   }
   if ((*end - *start) * o.rate_hz >= kMaxRows) {
-    return Printf("push window of %.3g s at %.3g Hz: more rows than any push needs (times "
-                  "not in seconds?)", *end - *start, o.rate_hz);
+    return Printf(
+        "push window of %.3g s at %.3g Hz: more rows than any push needs (times "
+        "not in seconds?)",
+        *end - *start, o.rate_hz);
   }
   return std::nullopt;
 }
@@ -705,8 +726,8 @@ Trajectory BuildLog(const Streams& s, const Offset& offset, double start, double
   r->pose_gaps_split = static_cast<int>(Runs(log).size()) - 1;
   if (r->pose_gaps_split > 0) {
     r->notes.push_back(std::to_string(r->pose_gaps_split) + " object_pose gap(s) over " +
-                       Printf("%.0f ms", o.max_pose_gap_s * 1e3) + " inside the window: " +
-                       std::to_string(r->rows_dropped_in_pose_gaps) +
+                       Printf("%.0f ms", o.max_pose_gap_s * 1e3) +
+                       " inside the window: " + std::to_string(r->rows_dropped_in_pose_gaps) +
                        " rows left out, the log split into runs there (mode 'start')");
   }
   return log;
@@ -730,16 +751,17 @@ void AddMetadata(const MitImportReport& r, const MitImportOptions& o, const std:
   if (!r.object.empty()) add("object", r.object);
   add("time_origin_unix_s", ExactNumber(r.time_origin_s));
   add("rate_hz", ExactNumber(o.rate_hz));
-  add("stream_rates_hz", Printf("object_pose %.1f, tip_pose %.1f, ft_wrench %.1f",
-                                r.object_pose.median_rate_hz, r.tip_pose.median_rate_hz,
-                                r.ft_wrench.median_rate_hz));
+  add("stream_rates_hz",
+      Printf("object_pose %.1f, tip_pose %.1f, ft_wrench %.1f", r.object_pose.median_rate_hz,
+             r.tip_pose.median_rate_hz, r.ft_wrench.median_rate_hz));
   add("force_offset_before_n", r.offset_before_n ? Vec(*r.offset_before_n) : "none");
   add("force_offset_after_n", r.offset_after_n ? Vec(*r.offset_after_n) : "none");
-  add("force_sign", r.force_flipped ? "flipped (the stored force is the reaction on the sensor)"
-                                    : "as stored");
+  add("force_sign",
+      r.force_flipped ? "flipped (the stored force is the reaction on the sensor)" : "as stored");
   add("theta_jumps_repaired", std::to_string(r.theta_jumps_repaired));
-  add("pz", "com_height: the pusher height is not recorded; at the CM height the push has no "
-            "tilting moment");
+  add("pz",
+      "com_height: the pusher height is not recorded; at the CM height the push has no "
+      "tilting moment");
   for (const auto& [key, value] : o.extra_metadata) add(key, value);
 }
 
@@ -771,12 +793,15 @@ bool MitImportOptions::IsValid(std::string* why) const {
     if (why) *why = message;
     return false;
   };
-  const std::pair<const char*, double> positive[] = {
-      {"tip_radius", tip_radius_m},         {"rate", rate_hz},
-      {"max_offset_drift", max_offset_drift_n}, {"max_pose_gap", max_pose_gap_s},
-      {"min_push_duration", min_push_duration_s}, {"theta_jump", theta_jump_rad},
-      {"contact_tolerance", contact_tolerance_m}, {"still_speed", still_speed_mps},
-      {"offset_clearance", offset_clearance_m}};
+  const std::pair<const char*, double> positive[] = {{"tip_radius", tip_radius_m},
+                                                     {"rate", rate_hz},
+                                                     {"max_offset_drift", max_offset_drift_n},
+                                                     {"max_pose_gap", max_pose_gap_s},
+                                                     {"min_push_duration", min_push_duration_s},
+                                                     {"theta_jump", theta_jump_rad},
+                                                     {"contact_tolerance", contact_tolerance_m},
+                                                     {"still_speed", still_speed_mps},
+                                                     {"offset_clearance", offset_clearance_m}};
   for (const auto& [name, value] : positive) {
     if (!(std::isfinite(value) && value > 0)) return fail(std::string(name) + " must be > 0");
   }

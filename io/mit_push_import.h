@@ -96,21 +96,21 @@ struct MitImportOptions {
 
 /// One stream as found.
 struct StreamSummary {
-  StreamCleanup cleanup;       ///< sorting and repeated times
-  int rows = 0;                ///< after cleanup
-  double median_rate_hz = 0;   ///< 1 / median interval
-  double largest_gap_s = 0;    ///< longest interval, whole stream
+  StreamCleanup cleanup;      ///< sorting and repeated times
+  int rows = 0;               ///< after cleanup
+  double median_rate_hz = 0;  ///< 1 / median interval
+  double largest_gap_s = 0;   ///< longest interval, whole stream
 };
 
 enum class ImportVerdict { kAccepted, kRejected, kUnreadable };
 
 /// What the import found and did, one per input file (a row of import_report.csv).
 struct MitImportReport {
-  std::string source;       ///< input file
-  std::string output;       ///< written log, empty when none
-  std::string object;       ///< object name from the file name, or empty
+  std::string source;  ///< input file
+  std::string output;  ///< written log, empty when none
+  std::string object;  ///< object name from the file name, or empty
   ImportVerdict verdict = ImportVerdict::kRejected;
-  std::string reason;       ///< why rejected or unreadable; empty when accepted
+  std::string reason;  ///< why rejected or unreadable; empty when accepted
 
   StreamSummary object_pose, tip_pose, ft_wrench;
   int frozen_force_samples = 0;       ///< dropped (a repeated reading)
@@ -130,8 +130,8 @@ struct MitImportReport {
   /// The force the tip pressed with while resting against the object before the push
   /// (median of those samples, offset removed) [N]: kept in the log as a real force.
   std::optional<Eigen::Vector2d> preload_n;
-  double force_noise_n = 0;              ///< robust std of the still samples, offset removed
-  double force_threshold_n = 0;          ///< "force above noise"
+  double force_noise_n = 0;      ///< robust std of the still samples, offset removed
+  double force_threshold_n = 0;  ///< "force above noise"
 
   /// Sign check over the push samples: mean of f . n_in / mean |f| for the stored force
   /// (n_in: contact normal into the object), and the correlation of the stored force with

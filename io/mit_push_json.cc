@@ -34,7 +34,8 @@ constexpr std::array<StreamField, 3> kStreams = {{
 std::string FormatMessage(const std::string& file, const std::string& json_path, int line,
                           int column, const std::string& what) {
   if (!json_path.empty()) return file + ": " + json_path + ": " + what;
-  if (line > 0) return file + ":" + std::to_string(line) + ":" + std::to_string(column) + ": " + what;
+  if (line > 0)
+    return file + ":" + std::to_string(line) + ":" + std::to_string(column) + ": " + what;
   return file + ": " + what;
 }
 
@@ -76,8 +77,9 @@ std::string SyntaxMessage(const std::string& what) {
 
 json ParseText(std::string_view text, const std::string& source) {
   if (text.find_first_not_of(" \t\r\n") == std::string_view::npos) {
-    throw MitPushError(source, "", 0, 0, "empty file (expected a JSON object with the streams "
-                                         "object_pose, tip_pose and ft_wrench)");
+    throw MitPushError(source, "", 0, 0,
+                       "empty file (expected a JSON object with the streams "
+                       "object_pose, tip_pose and ft_wrench)");
   }
   try {
     return json::parse(text.begin(), text.end());
@@ -98,8 +100,9 @@ MitStreamRow ParseRow(const json& row, const std::string& source, const std::str
                        "not a row (expected an array of 4 numbers, found " + TypeName(row) + ")");
   }
   if (row.size() != 4) {
-    throw MitPushError(source, path, 0, 0,
-                       "row of " + std::to_string(row.size()) + " values (expected 4: t and three values)");
+    throw MitPushError(
+        source, path, 0, 0,
+        "row of " + std::to_string(row.size()) + " values (expected 4: t and three values)");
   }
   MitStreamRow out{};
   for (std::size_t k = 0; k < 4; ++k) {
@@ -119,8 +122,9 @@ std::vector<MitStreamRow> ParseStream(const json& document, const char* key,
   const std::string path = std::string("$.") + key;
   const auto it = document.find(key);
   if (it == document.end()) {
-    throw MitPushError(source, path, 0, 0, "missing stream (the file needs object_pose, "
-                                           "tip_pose and ft_wrench)");
+    throw MitPushError(source, path, 0, 0,
+                       "missing stream (the file needs object_pose, "
+                       "tip_pose and ft_wrench)");
   }
   if (!it->is_array()) {
     throw MitPushError(source, path, 0, 0, "not an array of rows (found " + TypeName(*it) + ")");
@@ -229,9 +233,8 @@ void WriteMitPushJson(const MitPushRecording& recording, const std::string& path
 }
 
 MitPushFileName ParseMitPushFileName(const std::string& path) {
-  std::string name = path.substr(path.find_last_of('/') == std::string::npos
-                                     ? 0
-                                     : path.find_last_of('/') + 1);
+  std::string name =
+      path.substr(path.find_last_of('/') == std::string::npos ? 0 : path.find_last_of('/') + 1);
   if (name.size() > 5 && name.compare(name.size() - 5, 5, ".json") == 0) {
     name.resize(name.size() - 5);
   }

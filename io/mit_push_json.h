@@ -63,9 +63,9 @@ MitPushFileName ParseMitPushFileName(const std::string& path);
 
 /// What SortAndDeduplicate did to one stream.
 struct StreamCleanup {
-  int rows_in = 0;            ///< rows as stored
-  int backward_steps = 0;     ///< times a row's t is below the previous row's, in file order
-  int duplicates_dropped = 0; ///< rows dropped because an earlier row has the same t
+  int rows_in = 0;             ///< rows as stored
+  int backward_steps = 0;      ///< times a row's t is below the previous row's, in file order
+  int duplicates_dropped = 0;  ///< rows dropped because an earlier row has the same t
   /// Of those, rows whose values differed from the kept row (not just repeated).
   int conflicting_duplicates = 0;
 };

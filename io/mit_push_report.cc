@@ -78,39 +78,34 @@ const std::vector<std::pair<std::string, Cell>>& Columns() {
     c.push_back({"pose_glitches_dropped", [](R r) { return Count(r, r.pose_glitches); }});
     c.push_back({"theta_wraps", [](R r) { return Count(r, r.theta_wraps); }});
     c.push_back({"theta_jumps_repaired", [](R r) { return Count(r, r.theta_jumps_repaired); }});
-    c.push_back({"theta_jumps_unrepaired",
-                 [](R r) { return Count(r, r.theta_jumps_unrepaired); }});
-    c.push_back({"largest_theta_step_deg",
-                 [](R r) { return Examined(r) ? Number(r.largest_theta_step_rad * kRadToDeg) : ""; }});
-    c.push_back({"largest_pose_gap_in_window_ms",
-                 [](R r) { return r.rows > 0 ? Number(r.largest_pose_gap_in_window_s * 1e3) : ""; }});
-    c.push_back({"pose_gaps_split", [](R r) { return r.rows > 0 ? std::to_string(r.pose_gaps_split) : ""; }});
-    c.push_back({"rows_dropped_in_pose_gaps",
-                 [](R r) { return r.rows > 0 ? std::to_string(r.rows_dropped_in_pose_gaps) : ""; }});
-    c.push_back({"offset_before_fx_n", [](R r) {
-                   return r.offset_before_n ? Number(r.offset_before_n->x()) : "";
+    c.push_back({"theta_jumps_unrepaired", [](R r) { return Count(r, r.theta_jumps_unrepaired); }});
+    c.push_back({"largest_theta_step_deg", [](R r) {
+                   return Examined(r) ? Number(r.largest_theta_step_rad * kRadToDeg) : "";
                  }});
-    c.push_back({"offset_before_fy_n", [](R r) {
-                   return r.offset_before_n ? Number(r.offset_before_n->y()) : "";
+    c.push_back({"largest_pose_gap_in_window_ms", [](R r) {
+                   return r.rows > 0 ? Number(r.largest_pose_gap_in_window_s * 1e3) : "";
                  }});
+    c.push_back({"pose_gaps_split",
+                 [](R r) { return r.rows > 0 ? std::to_string(r.pose_gaps_split) : ""; }});
+    c.push_back({"rows_dropped_in_pose_gaps", [](R r) {
+                   return r.rows > 0 ? std::to_string(r.rows_dropped_in_pose_gaps) : "";
+                 }});
+    c.push_back({"offset_before_fx_n",
+                 [](R r) { return r.offset_before_n ? Number(r.offset_before_n->x()) : ""; }});
+    c.push_back({"offset_before_fy_n",
+                 [](R r) { return r.offset_before_n ? Number(r.offset_before_n->y()) : ""; }});
     c.push_back({"offset_before_samples", [](R r) { return Count(r, r.offset_before_samples); }});
-    c.push_back({"offset_after_fx_n", [](R r) {
-                   return r.offset_after_n ? Number(r.offset_after_n->x()) : "";
-                 }});
-    c.push_back({"offset_after_fy_n", [](R r) {
-                   return r.offset_after_n ? Number(r.offset_after_n->y()) : "";
-                 }});
+    c.push_back({"offset_after_fx_n",
+                 [](R r) { return r.offset_after_n ? Number(r.offset_after_n->x()) : ""; }});
+    c.push_back({"offset_after_fy_n",
+                 [](R r) { return r.offset_after_n ? Number(r.offset_after_n->y()) : ""; }});
     c.push_back({"offset_after_samples", [](R r) { return Count(r, r.offset_after_samples); }});
     c.push_back({"offset_drift_n", [](R r) { return Number(r.offset_drift_n); }});
-    c.push_back({"preload_n", [](R r) {
-                   return r.preload_n ? Number(r.preload_n->norm()) : "";
-                 }});
-    c.push_back({"force_noise_n", [](R r) {
-                   return r.force_threshold_n > 0 ? Number(r.force_noise_n) : "";
-                 }});
-    c.push_back({"force_threshold_n", [](R r) {
-                   return r.force_threshold_n > 0 ? Number(r.force_threshold_n) : "";
-                 }});
+    c.push_back({"preload_n", [](R r) { return r.preload_n ? Number(r.preload_n->norm()) : ""; }});
+    c.push_back({"force_noise_n",
+                 [](R r) { return r.force_threshold_n > 0 ? Number(r.force_noise_n) : ""; }});
+    c.push_back({"force_threshold_n",
+                 [](R r) { return r.force_threshold_n > 0 ? Number(r.force_threshold_n) : ""; }});
     c.push_back({"normal_alignment", [](R r) { return Number(r.normal_alignment); }});
     c.push_back({"velocity_correlation", [](R r) { return Number(r.velocity_correlation); }});
     c.push_back({"force_flipped", [](R r) {
@@ -119,15 +114,13 @@ const std::vector<std::pair<std::string, Cell>>& Columns() {
     c.push_back({"contact_gap_median_mm", [](R r) { return Number(r.contact_gap_median_m, 1e3); }});
     c.push_back({"contact_gap_p05_mm", [](R r) { return Number(r.contact_gap_p05_m, 1e3); }});
     c.push_back({"contact_gap_p95_mm", [](R r) { return Number(r.contact_gap_p95_m, 1e3); }});
-    c.push_back({"rows_out_of_contact_fraction", [](R r) {
-                   return r.rows > 0 ? Number(r.rows_out_of_contact_fraction) : "";
-                 }});
+    c.push_back({"rows_out_of_contact_fraction",
+                 [](R r) { return r.rows > 0 ? Number(r.rows_out_of_contact_fraction) : ""; }});
     c.push_back({"rows", [](R r) { return std::to_string(r.rows); }});
     c.push_back({"window_s", [](R r) { return r.rows > 0 ? Number(r.window_end_s) : ""; }});
     c.push_back({"peak_force_n", [](R r) { return r.rows > 0 ? Number(r.peak_force_n) : ""; }});
-    c.push_back({"time_origin_unix_s", [](R r) {
-                   return r.rows == 0 ? std::string() : ExactNumber(r.time_origin_s);
-                 }});
+    c.push_back({"time_origin_unix_s",
+                 [](R r) { return r.rows == 0 ? std::string() : ExactNumber(r.time_origin_s); }});
     c.push_back({"notes", [](R r) {
                    std::string all;
                    for (const std::string& note : r.notes) all += (all.empty() ? "" : "; ") + note;

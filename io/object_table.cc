@@ -42,8 +42,9 @@ ObjectTable ReadObjectTable(const std::string& path) {
                        "inertia", "com_height", "patch", "source");
     for (const char* required : {"name", "mass", "inertia", "com_height"}) {
       if (!reader.has_column(required)) {
-        throw std::runtime_error(path + ": missing column '" + required +
-                                 "' (need name, mass, inertia, com_height; optional patch, source)");
+        throw std::runtime_error(
+            path + ": missing column '" + required +
+            "' (need name, mass, inertia, com_height; optional patch, source)");
       }
     }
     char *name = nullptr, *mass = nullptr, *inertia = nullptr, *com = nullptr;

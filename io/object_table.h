@@ -19,11 +19,11 @@ namespace slideid {
 
 /// One object's known properties.
 struct ObjectProperties {
-  double mass_kg = 0.0;        ///< > 0
-  double inertia_kgm2 = 0.0;   ///< > 0, about the vertical axis through the CM
-  double com_height_m = 0.0;   ///< >= 0
-  std::string patch_spec;      ///< "rectangle W L" etc.; empty when the table has none
-  std::string source;          ///< where the values come from; may be empty
+  double mass_kg = 0.0;       ///< > 0
+  double inertia_kgm2 = 0.0;  ///< > 0, about the vertical axis through the CM
+  double com_height_m = 0.0;  ///< >= 0
+  std::string patch_spec;     ///< "rectangle W L" etc.; empty when the table has none
+  std::string source;         ///< where the values come from; may be empty
 };
 
 /// Object name -> properties.

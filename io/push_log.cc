@@ -16,10 +16,10 @@
 #include <string_view>
 #include <system_error>
 
+#include "forward_model/constants.h"
 #include "forward_model/contact_patch.h"
 #include "forward_model/number_format.h"
 #include "io/text_lines.h"
-#include "forward_model/constants.h"
 
 namespace slideid {
 
@@ -37,11 +37,11 @@ constexpr int kMaxResidualNudges = 4;
 constexpr double kWarnGapRatio = 3.0;
 // Reader: magnitudes no pushing experiment reaches. A value beyond one is read, but warned
 // about: a unit error (mm for m, g for kg, g cm^2 for kg m^2) is far likelier.
-constexpr double kAbsurdPosition_m = 1e3;    // x, y, px, py, pz
-constexpr double kAbsurdSpeed_mps = 1e2;     // vx, vy, given or from poses
-constexpr double kAbsurdSpin_radps = 1e3;    // wz: 160 turns a second
-constexpr double kAbsurdForce_n = 1e5;       // fx, fy, fz
-constexpr double kAbsurdMoment_Nm = 1e5;     // tx, ty, tz
+constexpr double kAbsurdPosition_m = 1e3;  // x, y, px, py, pz
+constexpr double kAbsurdSpeed_mps = 1e2;   // vx, vy, given or from poses
+constexpr double kAbsurdSpin_radps = 1e3;  // wz: 160 turns a second
+constexpr double kAbsurdForce_n = 1e5;     // fx, fy, fz
+constexpr double kAbsurdMoment_Nm = 1e5;   // tx, ty, tz
 constexpr double kAbsurdMass_kg = 1e4;
 constexpr double kAbsurdComHeight_m = 1e2;
 // Theta in degrees (WarnThetaInDegrees): a jump between rows of 300-420 is a wrap at +-180
@@ -50,10 +50,10 @@ constexpr double kAbsurdComHeight_m = 1e2;
 constexpr double kDegreeWrapLo = 300.0, kDegreeWrapHi = 420.0;
 constexpr double kDegreesSpin_radps = 60.0;
 constexpr double kDegreesSpinFraction = 0.1;
-constexpr double kMinGyration_m = 1e-4;      // radius of gyration sqrt(I/m)
+constexpr double kMinGyration_m = 1e-4;  // radius of gyration sqrt(I/m)
 constexpr double kMaxGyration_m = 1e2;
 constexpr double kMinGravity_mps2 = 0.1;
-constexpr double kMaxGravity_mps2 = 1e2;     // 981 would be cm/s^2
+constexpr double kMaxGravity_mps2 = 1e2;  // 981 would be cm/s^2
 
 // ---------------------------------------------------------------------------------------
 // Columns
@@ -61,13 +61,35 @@ constexpr double kMaxGravity_mps2 = 1e2;     // 981 would be cm/s^2
 
 /// The numeric columns the reader knows; `mode` is the only text column.
 enum Col : int {
-  kT, kX, kY, kTheta, kVx, kVy, kWz, kFx, kFy, kFz, kTx, kTy, kTz,
-  kPx, kPy, kPz, kAx, kAy, kPt, kPo, kPr, kSigma, kTipX, kTipY, kNumNumeric
+  kT,
+  kX,
+  kY,
+  kTheta,
+  kVx,
+  kVy,
+  kWz,
+  kFx,
+  kFy,
+  kFz,
+  kTx,
+  kTy,
+  kTz,
+  kPx,
+  kPy,
+  kPz,
+  kAx,
+  kAy,
+  kPt,
+  kPo,
+  kPr,
+  kSigma,
+  kTipX,
+  kTipY,
+  kNumNumeric
 };
 constexpr std::array<const char*, kNumNumeric> kColumnNames = {
-    "t",  "x",  "y",  "theta", "vx", "vy", "wz", "fx", "fy", "fz",    "tx",
-    "ty", "tz", "px", "py",    "pz", "ax", "ay", "pt", "po", "pr", "sigma",
-    "tip_x", "tip_y"};
+    "t",  "x",  "y",  "theta", "vx", "vy", "wz", "fx", "fy", "fz",    "tx",    "ty",
+    "tz", "px", "py", "pz",    "ax", "ay", "pt", "po", "pr", "sigma", "tip_x", "tip_y"};
 constexpr const char* kModeColumn = "mode";
 
 /// Where each known column sits in the header (field index, -1 when absent).
@@ -100,8 +122,7 @@ struct Metadata {
   std::vector<std::pair<std::string, std::string>> extra;
 };
 
-constexpr std::array<const char*, 4> kSliderKeys = {"mass", "inertia", "com_height",
-                                                    "gravity"};
+constexpr std::array<const char*, 4> kSliderKeys = {"mass", "inertia", "com_height", "gravity"};
 constexpr std::array<const char*, 4> kTruthKeys = {"mu", "e_t", "e_o", "e_r"};
 
 // ---------------------------------------------------------------------------------------
@@ -118,9 +139,12 @@ std::string RoundedNumber(double value) { return Printf("%.3g", value); }
 
 const char* ModeName(SampleMode mode) {
   switch (mode) {
-    case SampleMode::kStart: return "start";
-    case SampleMode::kSlide: return "slide";
-    case SampleMode::kStick: return "stick";
+    case SampleMode::kStart:
+      return "start";
+    case SampleMode::kSlide:
+      return "slide";
+    case SampleMode::kStick:
+      return "stick";
   }
   return "slide";
 }
@@ -161,8 +185,7 @@ struct ReadContext {
 };
 
 /// Adds one `# ...` comment line to the metadata when it has the `key = value` form.
-void ParseCommentLine(const ReadContext& ctx, std::string_view line, int line_no,
-                      Metadata& meta) {
+void ParseCommentLine(const ReadContext& ctx, std::string_view line, int line_no, Metadata& meta) {
   line.remove_prefix(1);  // '#'
   const auto eq = line.find('=');
   if (eq == std::string_view::npos) return;
@@ -193,8 +216,7 @@ void ParseCommentLine(const ReadContext& ctx, std::string_view line, int line_no
 }
 
 /// Reads comment and blank lines up to the header; returns the header line's text.
-std::string ReadPreamble(const ReadContext& ctx, TextLines& in, Metadata& meta,
-                         int& header_line) {
+std::string ReadPreamble(const ReadContext& ctx, TextLines& in, Metadata& meta, int& header_line) {
   while (const auto raw = in.Next()) {
     const std::string_view line = Trim(*raw);
     const int line_no = in.LineNumber();
@@ -209,8 +231,7 @@ std::string ReadPreamble(const ReadContext& ctx, TextLines& in, Metadata& meta,
   ctx.Fail(0, "", "no header line: the file is empty or holds only comments");
 }
 
-void RequireGroup(const ReadContext& ctx, const Header& h, Col a, Col b, Col c,
-                  const char* group) {
+void RequireGroup(const ReadContext& ctx, const Header& h, Col a, Col b, Col c, const char* group) {
   if (h.HasAny(a, b, c) && !h.HasAll(a, b, c)) {
     const Col missing = !h.Has(a) ? a : !h.Has(b) ? b : c;
     ctx.Fail(h.line, kColumnNames[missing],
@@ -225,8 +246,9 @@ void CheckRequiredColumns(const ReadContext& ctx, const Header& h) {
   RequireGroup(ctx, h, kVx, kVy, kWz, "velocity");
   RequireGroup(ctx, h, kPx, kPy, kPz, "push point");
   if (!h.Has(kX) && !h.Has(kVx)) {
-    ctx.Fail(h.line, "", "neither the pose columns (x, y, theta) nor the velocity columns "
-                         "(vx, vy, wz) are present");
+    ctx.Fail(h.line, "",
+             "neither the pose columns (x, y, theta) nor the velocity columns "
+             "(vx, vy, wz) are present");
   }
   if (h.Has(kPx) && !h.Has(kX)) {
     ctx.Fail(h.line, "px", "push points need the pose columns x, y, theta to form r");
@@ -262,11 +284,13 @@ Header ParseHeader(const ReadContext& ctx, const std::string& text, int line) {
   if (h.num_fields == 1) {
     for (const char separator : {';', '\t', ' ', '|'}) {
       if (text.find(separator) != std::string::npos) {
-        ctx.Fail(line, "", "the header '" + text + "' has one field: fields must be separated "
-                           "by commas (this line seems to use " +
-                           (separator == '\t' ? std::string("tabs")
-                                               : "'" + std::string(1, separator) + "'") +
-                           ")");
+        ctx.Fail(
+            line, "",
+            "the header '" + text +
+                "' has one field: fields must be separated "
+                "by commas (this line seems to use " +
+                (separator == '\t' ? std::string("tabs") : "'" + std::string(1, separator) + "'") +
+                ")");
       }
     }
   }
@@ -274,8 +298,9 @@ Header ParseHeader(const ReadContext& ctx, const std::string& text, int line) {
   for (int i = 0; i < h.num_fields; ++i) {
     const std::string name(names[i]);
     if (ParseFiniteNumber(name)) {
-      ctx.Fail(line, "", "no header: the first non-comment line holds numbers ('" + text +
-                             "'); it must name the columns, e.g. t,x,y,theta");
+      ctx.Fail(line, "",
+               "no header: the first non-comment line holds numbers ('" + text +
+                   "'); it must name the columns, e.g. t,x,y,theta");
     }
     if (name.empty()) ctx.Fail(line, "", "empty column name in field " + std::to_string(i + 1));
     if (!seen.emplace(name, i).second) ctx.Fail(line, name, "duplicate column name");
@@ -342,13 +367,12 @@ void WarnAbsurd(const ReadContext& ctx, const std::array<MagnitudeTally, kNumNum
     const MagnitudeTally& t = tally[c];
     if (t.count == 0) continue;
     const AbsurdLimit& l = kAbsurdLimits[c];
-    ctx.report.warnings.push_back(
-        text::Located(ctx.path, t.first_line, kColumnNames[c],
-                       std::string(how) + ShortNumber(t.first_value) + " " + l.unit +
-                           " is beyond " + ShortNumber(l.limit) + " " + l.unit +
-                           ", absurd for a pushing experiment (a unit error?)" +
-                           (t.count > 1 ? "; " + std::to_string(t.count) + " rows like it"
-                                        : std::string())));
+    ctx.report.warnings.push_back(text::Located(
+        ctx.path, t.first_line, kColumnNames[c],
+        std::string(how) + ShortNumber(t.first_value) + " " + l.unit + " is beyond " +
+            ShortNumber(l.limit) + " " + l.unit +
+            ", absurd for a pushing experiment (a unit error?)" +
+            (t.count > 1 ? "; " + std::to_string(t.count) + " rows like it" : std::string())));
   }
 }
 
@@ -357,9 +381,9 @@ void ParseRow(const ReadContext& ctx, const Header& h, std::string_view line, in
               std::vector<std::string_view>& cells, RawRow& row) {
   SplitCells(line, cells);
   if (static_cast<int>(cells.size()) != h.num_fields) {
-    ctx.Fail(line_no, "", "expected " + std::to_string(h.num_fields) +
-                              " fields as in the header on line " + std::to_string(h.line) +
-                              ", found " + std::to_string(cells.size()));
+    ctx.Fail(line_no, "",
+             "expected " + std::to_string(h.num_fields) + " fields as in the header on line " +
+                 std::to_string(h.line) + ", found " + std::to_string(cells.size()));
   }
   row.line = line_no;
   for (int c = 0; c < kNumNumeric; ++c) {
@@ -387,8 +411,10 @@ bool UnwrapAgainst(double prev, double& theta, bool& shifted) {
   // Rounding of the quotient can leave the difference just outside (-pi, pi].
   for (int i = 0; i < 2; ++i) {
     const double diff = raw + k * kTwoPi - prev;
-    if (diff > kPi) k -= 1.0;
-    else if (diff <= -kPi) k += 1.0;
+    if (diff > kPi)
+      k -= 1.0;
+    else if (diff <= -kPi)
+      k += 1.0;
   }
   shifted = k != 0.0;
   if (shifted) theta = raw + k * kTwoPi;
@@ -410,8 +436,7 @@ AppliedWrench RowWrench(const RawRow& row, bool push_point, double com_height_m)
   return w;
 }
 
-TrajectorySample RowSample(const RawRow& row, const Header& h, double com_height_m,
-                           bool first) {
+TrajectorySample RowSample(const RawRow& row, const Header& h, double com_height_m, bool first) {
   const auto& v = row.v;
   TrajectorySample s;
   s.t_s = v[kT];
@@ -429,15 +454,15 @@ TrajectorySample RowSample(const RawRow& row, const Header& h, double com_height
 }
 
 bool IsFinite(const AppliedWrench& w) {
-  return std::isfinite(w.fx) && std::isfinite(w.fy) && std::isfinite(w.fz) &&
-         std::isfinite(w.tx) && std::isfinite(w.ty) && std::isfinite(w.tz);
+  return std::isfinite(w.fx) && std::isfinite(w.fy) && std::isfinite(w.fz) && std::isfinite(w.tx) &&
+         std::isfinite(w.ty) && std::isfinite(w.tz);
 }
 
 /// Reads the data rows one at a time into trajectory.samples (the line of each in `lines`),
 /// checking each as it comes: strictly increasing t, a positive normal force m g - fz
 /// (log-format.md: fz reduces it) when the mass is known, finite moments, theta unwrapped.
-void ReadSamples(const ReadContext& ctx, TextLines& in, const Header& h,
-                 Trajectory& trajectory, std::vector<int>& lines, bool mass_known) {
+void ReadSamples(const ReadContext& ctx, TextLines& in, const Header& h, Trajectory& trajectory,
+                 std::vector<int>& lines, bool mass_known) {
   const double weight = trajectory.slider.mass_kg * trajectory.slider.gravity_mps2;
   const double com_height = trajectory.slider.com_height_m;
   std::vector<std::string_view> cells;
@@ -455,13 +480,14 @@ void ReadSamples(const ReadContext& ctx, TextLines& in, const Header& h,
     ParseRow(ctx, h, line, line_no, cells, row);
     const bool first = lines.empty();
     if (!first && !(row.v[kT] > prev_t)) {
-      ctx.Fail(line_no, "t", "t = " + ShortNumber(row.v[kT]) + " is not greater than t = " +
-                                 ShortNumber(prev_t) + " on line " + std::to_string(prev_line));
+      ctx.Fail(line_no, "t",
+               "t = " + ShortNumber(row.v[kT]) + " is not greater than t = " + ShortNumber(prev_t) +
+                   " on line " + std::to_string(prev_line));
     }
     if (mass_known && !(weight - row.v[kFz] > 0.0)) {
-      ctx.Fail(line_no, "fz", "vertical force lifts the slider: fz = " +
-                                  ShortNumber(row.v[kFz]) + " N is not below m g = " +
-                                  ShortNumber(weight) + " N");
+      ctx.Fail(line_no, "fz",
+               "vertical force lifts the slider: fz = " + ShortNumber(row.v[kFz]) +
+                   " N is not below m g = " + ShortNumber(weight) + " N");
     }
     if (!first && h.Has(kTheta)) {
       const double jump = std::abs(row.v[kTheta] - prev_raw_theta);
@@ -473,9 +499,9 @@ void ReadSamples(const ReadContext& ctx, TextLines& in, const Header& h,
     if (!first && h.Has(kTheta)) {
       bool shifted = false;
       if (!UnwrapAgainst(prev_theta, row.v[kTheta], shifted)) {
-        ctx.Fail(line_no, "theta", "theta = " + ShortNumber(row.v[kTheta]) +
-                                       " cannot be unwrapped against " +
-                                       ShortNumber(prev_theta) + ": the difference overflows");
+        ctx.Fail(line_no, "theta",
+                 "theta = " + ShortNumber(row.v[kTheta]) + " cannot be unwrapped against " +
+                     ShortNumber(prev_theta) + ": the difference overflows");
       }
       unwrapped += shifted;
     }
@@ -500,7 +526,8 @@ void ReadSamples(const ReadContext& ctx, TextLines& in, const Header& h,
     ctx.report.warnings.push_back(text::Located(
         ctx.path, first_degree_wrap, "theta",
         "theta looks like degrees: it jumps by about 360 between rows (a wrap at +-180 "
-        "degrees; " + std::to_string(degree_wraps) + " such jumps): give theta in radians"));
+        "degrees; " +
+            std::to_string(degree_wraps) + " such jumps): give theta in radians"));
   }
   if (lines.empty()) ctx.Fail(h.line, "", "the header is not followed by any data row");
   if (unwrapped > 0) {
@@ -514,7 +541,8 @@ void ReadSamples(const ReadContext& ctx, TextLines& in, const Header& h,
 /// 1 rad/s becomes 57 "rad/s". Beyond kDegreesSpin_radps (nearly 10 turns a second) in at
 /// least kDegreesSpinFraction of the intervals in which it turns, no pushed or thrown
 /// object on a table spins (a disk thrown hard: 20-30 rad/s), and the log is warned of.
-void WarnThetaInDegrees(const ReadContext& ctx, const Trajectory& tr, const std::vector<int>& lines) {
+void WarnThetaInDegrees(const ReadContext& ctx, const Trajectory& tr,
+                        const std::vector<int>& lines) {
   if (!tr.columns.pose) return;
   int turning = 0, fast = 0, first_fast = 0;
   for (size_t u = 1; u < tr.samples.size(); ++u) {
@@ -561,10 +589,11 @@ void CheckTimeGaps(const ReadContext& ctx, const Trajectory& tr, const std::vect
     const std::size_t u = end[i];
     if (max_ratio > 0 && !(ratio <= max_ratio)) {
       ctx.Fail(lines[u], "t",
-               "t jumps by " + ShortNumber(dt[i]) + " s from t = " +
-                   ShortNumber(tr.samples[u - 1].t_s) + " (line " + std::to_string(lines[u - 1]) +
-                   "), " + RoundedNumber(ratio) + " times the median interval " +
-                   ShortNumber(median) + " s: the model holds the force across an interval "
+               "t jumps by " + ShortNumber(dt[i]) +
+                   " s from t = " + ShortNumber(tr.samples[u - 1].t_s) + " (line " +
+                   std::to_string(lines[u - 1]) + "), " + RoundedNumber(ratio) +
+                   " times the median interval " + ShortNumber(median) +
+                   " s: the model holds the force across an interval "
                    "and cannot represent the motion missing from it; mark the row after the "
                    "gap 'start' in a mode column, or allow it with --max-gap-ratio (now " +
                    ShortNumber(max_ratio) + ")");
@@ -588,8 +617,11 @@ void CheckTimeGaps(const ReadContext& ctx, const Trajectory& tr, const std::vect
 void NoteRuns(const ReadContext& ctx, const Trajectory& tr) {
   const std::size_t runs = Runs(tr).size();
   if (runs < 2) return;
-  ctx.report.notes.push_back(std::to_string(runs - 1) + " rows after the first are marked "
-                             "'start': " + std::to_string(runs) + " runs, no step taken "
+  ctx.report.notes.push_back(std::to_string(runs - 1) +
+                             " rows after the first are marked "
+                             "'start': " +
+                             std::to_string(runs) +
+                             " runs, no step taken "
                              "across the gaps between them");
 }
 
@@ -632,8 +664,8 @@ constexpr std::array<PropertySpec, 4> kPropertySpecs = {{
     {"mass", "--mass", &SliderOverrides::mass_kg, &SliderProperties::mass_kg, false},
     {"inertia", "--inertia", &SliderOverrides::inertia_kgm2, &SliderProperties::inertia_kgm2,
      false},
-    {"com_height", "--com-height", &SliderOverrides::com_height_m,
-     &SliderProperties::com_height_m, true},
+    {"com_height", "--com-height", &SliderOverrides::com_height_m, &SliderProperties::com_height_m,
+     true},
     {"gravity", "--gravity", &SliderOverrides::gravity_mps2, &SliderProperties::gravity_mps2,
      false},
 }};
@@ -648,10 +680,11 @@ bool ResolveProperty(const ReadContext& ctx, const PropertySpec& spec, const Met
   const int line = override_value ? 0 : it->second.second;
   const bool ok = std::isfinite(value) && (spec.zero_allowed ? value >= 0.0 : value > 0.0);
   if (!ok) {
-    ctx.Fail(line, "", std::string(spec.key) + " = " + ShortNumber(value) +
-                           (override_value ? std::string(" (from ") + spec.option + ")"
-                                           : std::string(" (metadata)")) +
-                           (spec.zero_allowed ? " must be >= 0" : " must be > 0"));
+    ctx.Fail(line, "",
+             std::string(spec.key) + " = " + ShortNumber(value) +
+                 (override_value ? std::string(" (from ") + spec.option + ")"
+                                 : std::string(" (metadata)")) +
+                 (spec.zero_allowed ? " must be >= 0" : " must be > 0"));
   }
   slider.*(spec.field) = value;
   return true;
@@ -680,9 +713,9 @@ SliderProperties ResolveSlider(const ReadContext& ctx, const Metadata& meta,
     known[i] = ResolveProperty(ctx, spec, meta, slider);
     const bool is_gravity = i + 1 == kPropertySpecs.size();
     if (!known[i] && !is_gravity && ctx.options.require_slider_properties) {
-      ctx.Fail(0, "", std::string("slider ") + spec.key + " is not known: add '# " + spec.key +
-                          " = ...' to the log or pass " + spec.option +
-                          MisspeltKeyHint(meta, spec.key));
+      ctx.Fail(0, "",
+               std::string("slider ") + spec.key + " is not known: add '# " + spec.key +
+                   " = ...' to the log or pass " + spec.option + MisspeltKeyHint(meta, spec.key));
     }
   }
   return slider;
@@ -693,9 +726,9 @@ void ResolveTruth(const ReadContext& ctx, const Metadata& meta, Trajectory& traj
   std::size_t present = 0;
   for (const char* key : kTruthKeys) present += meta.numbers.count(key);
   if (present == kTruthKeys.size()) {
-    trajectory.true_friction = FrictionParameters{
-        meta.numbers.at("mu").first, meta.numbers.at("e_t").first,
-        meta.numbers.at("e_o").first, meta.numbers.at("e_r").first};
+    trajectory.true_friction =
+        FrictionParameters{meta.numbers.at("mu").first, meta.numbers.at("e_t").first,
+                           meta.numbers.at("e_o").first, meta.numbers.at("e_r").first};
     return;
   }
   for (const char* key : kTruthKeys) {
@@ -705,8 +738,9 @@ void ResolveTruth(const ReadContext& ctx, const Metadata& meta, Trajectory& traj
     }
   }
   if (present > 0) {
-    ctx.report.notes.push_back("partial true friction (needs mu, e_t, e_o, e_r) kept as "
-                               "extra metadata");
+    ctx.report.notes.push_back(
+        "partial true friction (needs mu, e_t, e_o, e_r) kept as "
+        "extra metadata");
   }
 }
 
@@ -715,8 +749,8 @@ void ResolveTruth(const ReadContext& ctx, const Metadata& meta, Trajectory& traj
 // ---------------------------------------------------------------------------------------
 
 /// Warnings for slider properties no pushing experiment has (a unit error is likelier).
-void WarnAbsurdSlider(const ReadContext& ctx, const Metadata& meta,
-                      const SliderProperties& s, const std::array<bool, 4>& known) {
+void WarnAbsurdSlider(const ReadContext& ctx, const Metadata& meta, const SliderProperties& s,
+                      const std::array<bool, 4>& known) {
   auto where = [&](const char* key) {
     const auto it = meta.numbers.find(key);
     return it == meta.numbers.end() ? 0 : it->second.second;
@@ -731,10 +765,12 @@ void WarnAbsurdSlider(const ReadContext& ctx, const Metadata& meta,
   if (known[0] && known[1]) {
     const double gyration = std::sqrt(s.inertia_kgm2 / s.mass_kg);
     if (!(gyration >= kMinGyration_m && gyration <= kMaxGyration_m)) {
-      warn("inertia", "inertia = " + ShortNumber(s.inertia_kgm2) + " kg m^2 gives a radius of "
-                      "gyration sqrt(I/m) = " + ShortNumber(gyration) + " m, outside [" +
-                      ShortNumber(kMinGyration_m) + ", " + ShortNumber(kMaxGyration_m) +
-                      "] m (inertia in kg m^2 about the vertical axis through the CM?)");
+      warn("inertia", "inertia = " + ShortNumber(s.inertia_kgm2) +
+                          " kg m^2 gives a radius of "
+                          "gyration sqrt(I/m) = " +
+                          ShortNumber(gyration) + " m, outside [" + ShortNumber(kMinGyration_m) +
+                          ", " + ShortNumber(kMaxGyration_m) +
+                          "] m (inertia in kg m^2 about the vertical axis through the CM?)");
     }
   }
   if (known[2] && s.com_height_m > kAbsurdComHeight_m) {
@@ -790,8 +826,9 @@ Trajectory ReadFromLines(const ReadContext& ctx, TextLines& in) {
   std::array<bool, 4> known{};  // mass, inertia, com_height, gravity (kPropertySpecs order)
   trajectory.slider = ResolveSlider(ctx, meta, known);
   if (header.Has(kPx) && !known[2]) {
-    ctx.Fail(0, "", "slider com_height is not known but needed for the moments of px, py, pz: "
-                    "add '# com_height = ...' to the log or pass --com-height");
+    ctx.Fail(0, "",
+             "slider com_height is not known but needed for the moments of px, py, pz: "
+             "add '# com_height = ...' to the log or pass --com-height");
   }
   WarnAbsurdSlider(ctx, meta, trajectory.slider, known);
   if (!known[0] && header.Has(kFz)) {
@@ -833,13 +870,12 @@ Eigen::Vector3d WrittenPushPoint(const TrajectorySample& s, double com_height_m)
 }
 
 /// The tx, ty, tz to write: total moments, minus r x f when push points are written.
-Eigen::Vector3d WrittenMoments(const TrajectorySample& s, bool push_point,
-                               double com_height_m) {
+Eigen::Vector3d WrittenMoments(const TrajectorySample& s, bool push_point, double com_height_m) {
   const AppliedWrench& a = s.applied;
   if (!push_point) return {a.tx, a.ty, a.tz};
   const Eigen::Vector3d p = WrittenPushPoint(s, com_height_m);
-  const AppliedWrench m = WrenchFromForceAt(a.fx, a.fy, a.fz, p.x() - s.state.x,
-                                            p.y() - s.state.y, p.z() - com_height_m);
+  const AppliedWrench m = WrenchFromForceAt(a.fx, a.fy, a.fz, p.x() - s.state.x, p.y() - s.state.y,
+                                            p.z() - com_height_m);
   return {ResidualFor(a.tx, m.tx), ResidualFor(a.ty, m.ty), ResidualFor(a.tz, m.tz)};
 }
 
@@ -868,15 +904,16 @@ void CheckMetadataEntry(const Trajectory& tr, const std::string& key, const std:
                         (key == "tip_radius" && tr.tip_radius_m.has_value()) ||
                         (Contains(kTruthKeys, key) && tr.true_friction.has_value());
   if (!IsIdentifier(key) || reserved || value.find('\n') != std::string::npos) {
-    throw std::invalid_argument("push log metadata '" + key + "' cannot be written: keys must "
+    throw std::invalid_argument("push log metadata '" + key +
+                                "' cannot be written: keys must "
                                 "be identifiers not written elsewhere, values one line");
   }
 }
 
 void WriteMetadata(const Trajectory& tr, std::ostream& out) {
   const SliderProperties& s = tr.slider;
-  out << "# mass = " << ExactNumber(s.mass_kg) << "\n# inertia = "
-      << ExactNumber(s.inertia_kgm2) << "\n# com_height = " << ExactNumber(s.com_height_m)
+  out << "# mass = " << ExactNumber(s.mass_kg) << "\n# inertia = " << ExactNumber(s.inertia_kgm2)
+      << "\n# com_height = " << ExactNumber(s.com_height_m)
       << "\n# gravity = " << ExactNumber(s.gravity_mps2) << "\n";
   if (!tr.patch_spec.empty()) out << "# patch = " << tr.patch_spec << "\n";
   if (tr.tip_radius_m) out << "# tip_radius = " << ExactNumber(*tr.tip_radius_m) << "\n";
@@ -976,8 +1013,9 @@ namespace {
 
 void NoteMissingFinalLineBreak(const ReadContext& ctx, bool empty, bool ends_with_newline) {
   if (!empty && !ends_with_newline) {
-    ctx.report.notes.push_back("the last line has no line break: check that the file was not "
-                               "cut short");
+    ctx.report.notes.push_back(
+        "the last line has no line break: check that the file was not "
+        "cut short");
   }
 }
 

@@ -76,9 +76,9 @@ void WritePushLog(const Trajectory& trajectory, std::ostream& out);
 /// module's arrays). Numbers as written; theta unwrapped; moments are the residual ones when
 /// push points are written (log-format.md).
 struct PushLogColumns {
-  std::vector<std::string> names;            ///< "t", "x", ... in file order, without "mode"
-  std::vector<std::vector<double>> values;   ///< one per name, one value per row
-  std::vector<std::string> mode;             ///< the mode column ("start", "slide", "stick"), or empty
+  std::vector<std::string> names;           ///< "t", "x", ... in file order, without "mode"
+  std::vector<std::vector<double>> values;  ///< one per name, one value per row
+  std::vector<std::string> mode;  ///< the mode column ("start", "slide", "stick"), or empty
 };
 
 /// The columns WritePushLog would write for `trajectory` (metadata aside).

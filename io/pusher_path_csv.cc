@@ -44,8 +44,8 @@ PusherPath ReadPusherPathCsv(const std::string& path) {
       const double time = Number(t, Where(path, line, "t"));
       if (!times.empty() && !(time > times.back())) {
         throw std::runtime_error(Where(path, line, "t") + "t = " + ShortNumber(time) +
-                                 " s is not after the previous row's " +
-                                 ShortNumber(times.back()) + " s");
+                                 " s is not after the previous row's " + ShortNumber(times.back()) +
+                                 " s");
       }
       times.push_back(time);
       points.emplace_back(Number(x, Where(path, line, "x")), Number(y, Where(path, line, "y")));

@@ -47,8 +47,8 @@ Json ParameterJson(const ParameterEstimate& p) {
   Json j = Json::object();
   j["value"] = id ? NumberOrNull(p.value) : Json(nullptr);
   j["stderr"] = id ? NumberOrNull(p.stderr_value) : Json(nullptr);
-  j["ci95"] = Json::array({id ? NumberOrNull(p.ci95_lo) : Json(nullptr),
-                           id ? NumberOrNull(p.ci95_hi) : Json(nullptr)});
+  j["ci95"] = Json::array(
+      {id ? NumberOrNull(p.ci95_lo) : Json(nullptr), id ? NumberOrNull(p.ci95_hi) : Json(nullptr)});
   j["identifiable"] = id;
   j["verdict"] = ToString(p.verdict);
   j["reason"] = p.reason;
@@ -63,8 +63,8 @@ Json NuisanceJson(const NuisanceEstimate& n) {
   j["log"] = n.log;
   j["value"] = id ? NumberOrNull(n.value) : Json(nullptr);
   j["stderr"] = id ? NumberOrNull(n.stderr_value) : Json(nullptr);
-  j["ci95"] = Json::array({id ? NumberOrNull(n.ci95_lo) : Json(nullptr),
-                           id ? NumberOrNull(n.ci95_hi) : Json(nullptr)});
+  j["ci95"] = Json::array(
+      {id ? NumberOrNull(n.ci95_lo) : Json(nullptr), id ? NumberOrNull(n.ci95_hi) : Json(nullptr)});
   j["identifiable"] = id;
   j["verdict"] = ToString(n.verdict);
   j["reason"] = n.reason;
@@ -184,7 +184,8 @@ TerminationStatus ReadStatus(const Json& j, const std::string& path) {
 
 void ReadInterval(const Json& j, const std::string& path, double* lo, double* hi) {
   const Json& ci = Member(j, path, "ci95");
-  if (!ci.is_array() || ci.size() != 2) Fail(path + "/ci95", "expected [lo, hi], got " + Quoted(ci));
+  if (!ci.is_array() || ci.size() != 2)
+    Fail(path + "/ci95", "expected [lo, hi], got " + Quoted(ci));
   *lo = NumberOrNaN(ci[0], path + "/ci95/0");
   *hi = NumberOrNaN(ci[1], path + "/ci95/1");
 }
@@ -266,8 +267,8 @@ EstimatorMethod ReadMethod(const Json& root) {
                             EstimatorMethod::kTrajectory, EstimatorMethod::kQuasiStatic}) {
     if (name == ToString(m)) return m;
   }
-  Fail("/method", "unknown method '" + name +
-                      "' (closed-form, equation-error, trajectory, quasi-static)");
+  Fail("/method",
+       "unknown method '" + name + "' (closed-form, equation-error, trajectory, quasi-static)");
 }
 
 /// The result as FormatJson writes it, before printing.
@@ -302,7 +303,8 @@ Json ResultDoc(const EstimateResult& r) {
   doc["logs"] = Json::array();
   for (const LogResult& log : r.logs) doc["logs"].push_back(LogJson(log));
   Json heterogeneity = Json::object();
-  for (int i = 0; i < 3; ++i) heterogeneity[ParameterName(i)] = HeterogeneityJson(r.heterogeneity[i]);
+  for (int i = 0; i < 3; ++i)
+    heterogeneity[ParameterName(i)] = HeterogeneityJson(r.heterogeneity[i]);
   doc["heterogeneity"] = heterogeneity;
   if (r.mu_pusher_examined) {
     Json mu = ParameterJson(r.mu_pusher);
@@ -352,8 +354,8 @@ EstimateResult ParseResultJson(const std::string& json) {
   r.steps_used = Field(root, "", "steps_used", Count);
   r.steps_total = Field(root, "", "steps_total", Count);
   const int excluded = Field(root, "", "steps_excluded", Count);
-  const Json& reasons = Object(Member(root, "", "steps_excluded_by_reason"),
-                               "/steps_excluded_by_reason");
+  const Json& reasons =
+      Object(Member(root, "", "steps_excluded_by_reason"), "/steps_excluded_by_reason");
   long long sum = 0;
   for (auto it = reasons.begin(); it != reasons.end(); ++it) {
     const int count = Count(it.value(), "/steps_excluded_by_reason/" + it.key());
@@ -385,8 +387,9 @@ EstimateResult ParseResultJson(const std::string& json) {
   }
   const Json& heterogeneity = Object(Member(root, "", "heterogeneity"), "/heterogeneity");
   for (int i = 0; i < 3; ++i) {
-    r.heterogeneity[i] = ReadHeterogeneity(Member(heterogeneity, "/heterogeneity", ParameterName(i)),
-                                           std::string("/heterogeneity/") + ParameterName(i));
+    r.heterogeneity[i] =
+        ReadHeterogeneity(Member(heterogeneity, "/heterogeneity", ParameterName(i)),
+                          std::string("/heterogeneity/") + ParameterName(i));
   }
   // Optional: results written before mu_p was estimated have no such key.
   if (const auto it = root.find("mu_pusher"); it != root.end() && !it->is_null()) {

@@ -65,8 +65,8 @@ void ReportLogs(std::ostringstream& out, const EstimateResult& r) {
       continue;
     }
     out << Printf("%s (%d logs, Q = %.3g, p = %.3g, I2 = %.0f%%, tau = %.3g)\n",
-                  h.consistent ? "consistent within their noise" : "the logs DISAGREE", h.logs,
-                  h.q, h.p_value, 100 * h.i2, h.tau_log);
+                  h.consistent ? "consistent within their noise" : "the logs DISAGREE", h.logs, h.q,
+                  h.p_value, 100 * h.i2, h.tau_log);
   }
 }
 
@@ -79,8 +79,8 @@ std::string FormatReport(const EstimateResult& r, const std::optional<ReducedFri
     out << r.message << "\n";
     return out.str();
   }
-  out << Printf("%-14s %12s %12s %27s  %-16s%s\n", "parameter", "estimate", "std. error",
-                "95% CI", "verdict", truth ? "  truth (log metadata)" : "");
+  out << Printf("%-14s %12s %12s %27s  %-16s%s\n", "parameter", "estimate", "std. error", "95% CI",
+                "verdict", truth ? "  truth (log metadata)" : "");
   for (int i = 0; i < 3; ++i) {
     const ParameterEstimate& p = r.parameters[i];
     out << Printf("%-14s %12s %12s %27s  %-16s", ParameterName(i), Number(p.value),

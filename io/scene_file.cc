@@ -1,8 +1,8 @@
 #include "io/scene_file.h"
 
 #include <algorithm>
-#include <cerrno>
 #include <boost/program_options.hpp>
+#include <cerrno>
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
@@ -12,9 +12,9 @@
 #include <sstream>
 
 #include "datasets/push_program.h"
-#include "io/pusher_path_csv.h"
 #include "forward_model/constants.h"
 #include "forward_model/number_format.h"
+#include "io/pusher_path_csv.h"
 
 namespace slideid {
 namespace {
@@ -26,31 +26,81 @@ namespace po = boost::program_options;
 constexpr double kPusherRunOut_s = 0.2;
 
 /// Every key a scene may hold, as Boost names it ("section.key").
-const char* const kKnownKeys[] = {
-    "slider.mass",    "slider.inertia", "slider.com_height", "slider.gravity",
-    "friction.mu",    "friction.e_t",   "friction.e_o",      "friction.e_r",
-    "patch.shape",    "patch.width",    "patch.length",      "patch.radius",
-    "patch.inner_radius",               "patch.vertices",
-    "initial.x",      "initial.y",      "initial.theta",
-    "initial.vx",     "initial.vy",     "initial.wz",
-    "push.point",     "push.height",    "push.direction",    "push.force",
-    "push.amplitude", "push.period",    "push.start",        "push.stop",
-    "sim.dt",         "sim.duration",   "sim.log_every",
-    "log.write",      "log.push",       "log.step_info",     "log.wrap_theta",
-    "log.wrench",
-    "noise.pose",     "noise.angle",    "noise.velocity",    "noise.spin",
-    "noise.force_relative",             "noise.force",       "noise.outlier_fraction",
-    "noise.outlier",  "noise.seed",     "noise.force_bias_x", "noise.force_bias_y",
-    "noise.force_delay", "noise.push_point",
-    "program.random", "program.seed",   "program.force",     "program.amplitude_fraction",
-    "program.period", "program.duration",                    "program.rest",
-    "program.height", "program.spread", "program.through_cm", "program.start",
-    "program.max_lever",  "program.time_grid",
-    "pusher.tip_radius", "pusher.mu",   "pusher.height",     "pusher.point",
-    "pusher.direction",  "pusher.distance", "pusher.speed",  "pusher.start",
-    "pusher.path",       "pusher.start_time",     "pusher.path_file"};
-const std::set<std::string> kKnownSections = {"slider", "friction", "patch", "initial", "push",
-                                              "program", "sim",    "log",   "noise", "pusher"};
+const char* const kKnownKeys[] = {"slider.mass",
+                                  "slider.inertia",
+                                  "slider.com_height",
+                                  "slider.gravity",
+                                  "friction.mu",
+                                  "friction.e_t",
+                                  "friction.e_o",
+                                  "friction.e_r",
+                                  "patch.shape",
+                                  "patch.width",
+                                  "patch.length",
+                                  "patch.radius",
+                                  "patch.inner_radius",
+                                  "patch.vertices",
+                                  "initial.x",
+                                  "initial.y",
+                                  "initial.theta",
+                                  "initial.vx",
+                                  "initial.vy",
+                                  "initial.wz",
+                                  "push.point",
+                                  "push.height",
+                                  "push.direction",
+                                  "push.force",
+                                  "push.amplitude",
+                                  "push.period",
+                                  "push.start",
+                                  "push.stop",
+                                  "sim.dt",
+                                  "sim.duration",
+                                  "sim.log_every",
+                                  "log.write",
+                                  "log.push",
+                                  "log.step_info",
+                                  "log.wrap_theta",
+                                  "log.wrench",
+                                  "noise.pose",
+                                  "noise.angle",
+                                  "noise.velocity",
+                                  "noise.spin",
+                                  "noise.force_relative",
+                                  "noise.force",
+                                  "noise.outlier_fraction",
+                                  "noise.outlier",
+                                  "noise.seed",
+                                  "noise.force_bias_x",
+                                  "noise.force_bias_y",
+                                  "noise.force_delay",
+                                  "noise.push_point",
+                                  "program.random",
+                                  "program.seed",
+                                  "program.force",
+                                  "program.amplitude_fraction",
+                                  "program.period",
+                                  "program.duration",
+                                  "program.rest",
+                                  "program.height",
+                                  "program.spread",
+                                  "program.through_cm",
+                                  "program.start",
+                                  "program.max_lever",
+                                  "program.time_grid",
+                                  "pusher.tip_radius",
+                                  "pusher.mu",
+                                  "pusher.height",
+                                  "pusher.point",
+                                  "pusher.direction",
+                                  "pusher.distance",
+                                  "pusher.speed",
+                                  "pusher.start",
+                                  "pusher.path",
+                                  "pusher.start_time",
+                                  "pusher.path_file"};
+const std::set<std::string> kKnownSections = {"slider",  "friction", "patch", "initial", "push",
+                                              "program", "sim",      "log",   "noise",   "pusher"};
 /// The keys of a [push] section, also those of each [push.N].
 const char* const kPushKeys[] = {"point",     "height", "direction", "force",
                                  "amplitude", "period", "start",     "stop"};
@@ -170,8 +220,7 @@ bool Reader::HasSection(const std::string& section) const {
   const auto named = [&](const auto& s) { return s.first == section; };
   const std::string prefix = section + ".";
   const auto in_section = [&](const auto& kv) {  // "push.force", not "push.1.force"
-    return kv.first.rfind(prefix, 0) == 0 &&
-           kv.first.find('.', prefix.size()) == std::string::npos;
+    return kv.first.rfind(prefix, 0) == 0 && kv.first.find('.', prefix.size()) == std::string::npos;
   };
   return std::any_of(layout_.sections.begin(), layout_.sections.end(), named) ||
          std::any_of(values_.begin(), values_.end(), in_section);
@@ -270,9 +319,7 @@ void Reader::Fail(const std::string& key, const std::string& message) const {
   throw SceneError(where + ": " + message + " (line " + std::to_string(line->second) + ")");
 }
 
-void Reader::FailAt(const std::string& message, int line) const {
-  ThrowAt(source_, message, line);
-}
+void Reader::FailAt(const std::string& message, int line) const { ThrowAt(source_, message, line); }
 
 /// Boost's parse; its exceptions become SceneError naming the file and the key.
 po::parsed_options ParseWithBoost(const std::string& text, const po::options_description& options,
@@ -283,8 +330,7 @@ po::parsed_options ParseWithBoost(const std::string& text, const po::options_des
   } catch (const po::unknown_option& e) {
     const std::string key = e.get_option_name();
     const auto line = layout.key_lines.find(key);
-    ThrowAt(source, "unknown key '" + key + "'",
-            line == layout.key_lines.end() ? 0 : line->second);
+    ThrowAt(source, "unknown key '" + key + "'", line == layout.key_lines.end() ? 0 : line->second);
   } catch (const po::invalid_config_file_syntax& e) {
     ThrowAt(source, "invalid line '" + e.tokens() + "': expected 'key = value' or '[section]'",
             LineOf(text, e.tokens()));
@@ -294,8 +340,7 @@ po::parsed_options ParseWithBoost(const std::string& text, const po::options_des
 }
 
 std::map<std::string, std::string> ParseKeyValues(const std::string& text,
-                                                  const std::string& source,
-                                                  const Layout& layout) {
+                                                  const std::string& source, const Layout& layout) {
   po::options_description options;
   for (const char* key : kKnownKeys) options.add_options()(key, po::value<std::string>());
   std::set<std::string> push_sections;  // [push.N]: their keys are those of [push]
@@ -470,8 +515,9 @@ Eigen::Vector2d TouchingStart(const ContactPatch& patch, const PlanarState& pose
 
 /// The tip's path of [pusher]: either a straight push from a point of the outline (`point`,
 /// `direction` in the body frame at the initial pose, `distance`, `speed`), the tip centre
-/// starting behind the point along the direction, just touching; or waypoints (`start`, `path` "x1 y1 x2 y2 ..."
-/// in the world frame, `speed` one for all segments or one each). `start_time` delays it.
+/// starting behind the point along the direction, just touching; or waypoints (`start`, `path` "x1
+/// y1 x2 y2 ..." in the world frame, `speed` one for all segments or one each). `start_time` delays
+/// it.
 PusherPath ReadPusherPath(const Reader& r, const PlanarState& initial, const ContactPatch& patch,
                           double tip_radius_m, const std::string& directory) {
   using C = Reader::Check;
@@ -519,8 +565,8 @@ PusherPath ReadPusherPath(const Reader& r, const PlanarState& initial, const Con
     std::vector<double> each = speeds;
     if (each.size() == 1) each.assign(points.size(), speeds.front());
     if (each.size() != points.size()) {
-      r.Fail("pusher.speed", "needs one speed, or one per path segment (" +
-                                 std::to_string(points.size()) + ")");
+      r.Fail("pusher.speed",
+             "needs one speed, or one per path segment (" + std::to_string(points.size()) + ")");
     }
     return PusherPath::Polyline(start_s, r.Pair("pusher.start"), points, each);
   } catch (const std::invalid_argument& e) {
@@ -550,16 +596,15 @@ RandomProgramSpec ReadProgramSpec(const Reader& r) {
   spec.count = static_cast<int>(count);
   spec.seed = r.Integer("program.seed", spec.seed, 0);
   spec.force_n = r.Range("program.force", C::kPositive);
-  spec.amplitude_fraction = r.Range("program.amplitude_fraction", spec.amplitude_fraction,
-                                    C::kNonNegative);
+  spec.amplitude_fraction =
+      r.Range("program.amplitude_fraction", spec.amplitude_fraction, C::kNonNegative);
   spec.period_s = r.Range("program.period", spec.period_s, C::kPositive);
   spec.duration_s = r.Range("program.duration", spec.duration_s, C::kPositive);
   spec.rest_s = r.Range("program.rest", spec.rest_s, C::kNonNegative);
   spec.height_m = r.Range("program.height", C::kFinite);
   spec.spread_rad = r.Number("program.spread", spec.spread_rad, C::kNonNegative);
   if (!(spec.spread_rad <= kPi / 2)) r.Fail("program.spread", "must be <= pi/2 rad");
-  spec.max_lever_fraction =
-      r.Number("program.max_lever", spec.max_lever_fraction, C::kNonNegative);
+  spec.max_lever_fraction = r.Number("program.max_lever", spec.max_lever_fraction, C::kNonNegative);
   if (!(spec.max_lever_fraction <= 1.0)) r.Fail("program.max_lever", "must be <= 1");
   spec.through_cm = r.Bool("program.through_cm", spec.through_cm);
   spec.time_grid_s = r.Number("program.time_grid", 0.0, C::kNonNegative);
@@ -606,8 +651,9 @@ LogSpec ReadLogSpec(const Reader& r, bool has_pushes) {
     r.Fail("log.wrench", "must be at-row-time or interval-mean");
   }
   if (log.wrench == LogWrench::kIntervalMean && log.push == LogPush::kPoint && has_pushes) {
-    r.Fail("log.wrench", "interval-mean needs [log] push = moments (a mean wrench has no push "
-                         "point)");
+    r.Fail("log.wrench",
+           "interval-mean needs [log] push = moments (a mean wrench has no push "
+           "point)");
   }
   if (r.Has("log.step_info")) log.step_info = r.Bool("log.step_info", true);
   log.wrap_theta = r.Bool("log.wrap_theta", false);
@@ -631,13 +677,16 @@ LoggedScene ParseScene(const std::string& ini_text, const std::string& source) {
   scene.pushes = ReadPushes(r, layout, scene.slider.com_height_m);
   if (r.HasSection("pusher")) {
     if (!scene.pushes.empty() || r.HasSection("program")) {
-      r.FailAt("[pusher] cannot be combined with [push] or [program] sections: a scene is "
-               "driven by forces or by a pusher", LineOf(ini_text, "[pusher]"));
+      r.FailAt(
+          "[pusher] cannot be combined with [push] or [program] sections: a scene is "
+          "driven by forces or by a pusher",
+          LineOf(ini_text, "[pusher]"));
     }
     // A path file is found beside the scene file (source is its path when it has one).
     const auto slash = source.find_last_of('/');
-    scene.pusher = ReadPusher(r, scene.initial, scene.patch,
-                              slash == std::string::npos ? std::string(".") : source.substr(0, slash));
+    scene.pusher =
+        ReadPusher(r, scene.initial, scene.patch,
+                   slash == std::string::npos ? std::string(".") : source.substr(0, slash));
   }
   scene.dt_s = r.Number("sim.dt", Reader::Check::kPositive);
   if (r.HasSection("program")) {
@@ -650,8 +699,7 @@ LoggedScene ParseScene(const std::string& ini_text, const std::string& source) {
       if (!(spec.time_grid_s > scene.dt_s)) r.Fail("program.time_grid", "must be > [sim] dt");
       spec.grid_lead_s = scene.dt_s / 2;  // switch half a step early: see RandomProgramSpec
     }
-    const PushProgram program =
-        RandomPushProgram(spec, scene.patch, scene.slider, scene.friction);
+    const PushProgram program = RandomPushProgram(spec, scene.patch, scene.slider, scene.friction);
     scene.pushes = program.pushes;
     scene.duration_s = r.Number("sim.duration", program.end_s, Reader::Check::kPositive);
   } else {

@@ -210,8 +210,9 @@ class Reader {
     data.gravity_mps2 =
         Property(meta, "gravity", overrides_.gravity_mps2, false).value_or(kDefaultGravity_mps2);
     if (!std::isfinite(data.WeightN())) {
-      Fail(0, "", "the weight m g overflows: mass = " + ShortNumber(data.mass_kg) +
-                      " kg, gravity = " + ShortNumber(data.gravity_mps2) + " m/s^2");
+      Fail(0, "",
+           "the weight m g overflows: mass = " + ShortNumber(data.mass_kg) +
+               " kg, gravity = " + ShortNumber(data.gravity_mps2) + " m/s^2");
     }
     data.inertia_kgm2 = Property(meta, "inertia", overrides_.inertia_kgm2, false);
     data.com_height_m = Property(meta, "com_height", overrides_.com_height_m, true);
@@ -377,16 +378,16 @@ void CheckWritable(const WrenchTwistData& data) {
 void WriteUnchecked(const WrenchTwistData& data, std::ostream& out) {
   out << "# slideid wrench-twist pairs: one push per row; SI units; frame origin at the CM "
          "(docs/real-data.md)\n";
-  out << "# mass = " << ShortNumber(data.mass_kg) << "\n# gravity = "
-      << ShortNumber(data.gravity_mps2) << "\n";
+  out << "# mass = " << ShortNumber(data.mass_kg)
+      << "\n# gravity = " << ShortNumber(data.gravity_mps2) << "\n";
   if (data.inertia_kgm2) out << "# inertia = " << ShortNumber(*data.inertia_kgm2) << "\n";
   if (data.com_height_m) out << "# com_height = " << ShortNumber(*data.com_height_m) << "\n";
   if (!data.supports.empty()) out << "# supports = " << data.supports << "\n";
   if (!data.source.empty()) out << "# source = " << data.source << "\n";
   if (data.true_friction) {
     const FrictionParameters& f = *data.true_friction;
-    out << "# mu = " << ShortNumber(f.mu) << "\n# e_t = " << ShortNumber(f.e_t) << "\n# e_o = "
-        << ShortNumber(f.e_o) << "\n# e_r = " << ShortNumber(f.e_r) << "\n";
+    out << "# mu = " << ShortNumber(f.mu) << "\n# e_t = " << ShortNumber(f.e_t)
+        << "\n# e_o = " << ShortNumber(f.e_o) << "\n# e_r = " << ShortNumber(f.e_r) << "\n";
   }
   for (const auto& [key, value] : data.extra_metadata) out << "# " << key << " = " << value << "\n";
   for (int c = 0; c < kNumCols; ++c) out << (c ? "," : "") << kColumnNames[c];

@@ -216,8 +216,7 @@ void WriteUnchecked(const TripodLog& log, std::ostream& out) {
     WritePose(push.post, out);
     out << '\n' << push.forces.size() << '\n';
     for (const TripodForceSample& s : push.forces) {
-      out << ShortNumber(s.t_s) << ' ' << ShortNumber(s.fx_n) << ' ' << ShortNumber(s.fy_n)
-          << '\n';
+      out << ShortNumber(s.t_s) << ' ' << ShortNumber(s.fx_n) << ' ' << ShortNumber(s.fy_n) << '\n';
     }
     out << push.robot.size() << '\n';
     for (const TripodRobotSample& s : push.robot) {

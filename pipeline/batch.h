@@ -2,8 +2,9 @@
 // Batch identification: many logs, each fitted on its own, on a few worker threads, one JSON
 // line per log written to a stream as each finishes (JSON Lines), so that memory stays
 // bounded however many logs there are. A log that fails gives a line with its error and
-// does not stop the batch (its line says why). Shards split the work without shared state: shard i of n takes
-// the logs whose index in the sorted list is i modulo n (a Slurm job array, GNU parallel).
+// does not stop the batch (its line says why). Shards split the work without shared state: shard i
+// of n takes the logs whose index in the sorted list is i modulo n (a Slurm job array, GNU
+// parallel).
 
 #include <functional>
 #include <iosfwd>

@@ -144,8 +144,8 @@ FileIdentifyResult IdentifyPairFiles(const std::vector<std::string>& paths,
     for (size_t k = 0; k < files.size(); ++k) {
       if (std::abs(files[k].WeightN() / all.WeightN() - 1) > kSameWeight) {
         throw FileError(files[k].source + ": its slider weighs " +
-                        std::to_string(files[k].WeightN()) + " N, " + files[0].source +
-                        "'s " + std::to_string(all.WeightN()) +
+                        std::to_string(files[k].WeightN()) + " N, " + files[0].source + "'s " +
+                        std::to_string(all.WeightN()) +
                         " N: pooled pairs must come from one slider");
       }
       if (k > 0) all.rows.insert(all.rows.end(), files[k].rows.begin(), files[k].rows.end());
@@ -205,8 +205,9 @@ FileIdentifyResult IdentifyReadLogs(std::vector<Trajectory> logs,
   std::string why;
   if (!options.identify.IsValid(&why)) throw std::invalid_argument(why);
   if (options.identify.method == EstimatorMethod::kQuasiStatic) {
-    throw std::invalid_argument("the quasi-static method fits wrench-twist pairs, read from "
-                                "files: give their paths, not push logs");
+    throw std::invalid_argument(
+        "the quasi-static method fits wrench-twist pairs, read from "
+        "files: give their paths, not push logs");
   }
   FileIdentifyResult out;
   std::vector<LogResult> skipped;
@@ -278,7 +279,8 @@ std::vector<std::string> ExpandAllFiles(const std::string& directory_or_glob,
   }
   std::sort(files.begin(), files.end());
   if (files.empty()) {
-    throw FileError(directory_or_glob + ": names no " + extension + " file (a directory or a glob)");
+    throw FileError(directory_or_glob + ": names no " + extension +
+                    " file (a directory or a glob)");
   }
   return files;
 }

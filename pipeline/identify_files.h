@@ -60,7 +60,8 @@ EstimateResult IdentifyLogs(const std::vector<Trajectory>& logs, const IdentifyO
 /// as skipped (options.skip_bad) or fails the run with a FileError naming its source.
 /// options.read is not used. Throws std::invalid_argument for invalid options or the
 /// quasi-static method (it fits wrench-twist pairs, read from files).
-FileIdentifyResult IdentifyReadLogs(std::vector<Trajectory> logs, const FileIdentifyOptions& options);
+FileIdentifyResult IdentifyReadLogs(std::vector<Trajectory> logs,
+                                    const FileIdentifyOptions& options);
 
 /// The files named by a directory (its files ending in `extension`), or by a glob pattern,
 /// sorted; without the manifests our tools write beside their logs (truth.csv of

@@ -23,8 +23,8 @@ Enum Choose(const po::variables_map& vm, const char* option,
     if (given == name) return value;
     names += (names.empty() ? "" : ", ") + std::string(name);
   }
-  throw po::error(std::string("--") + option + ": unknown value '" + given + "' (one of " +
-                  names + ")");
+  throw po::error(std::string("--") + option + ": unknown value '" + given + "' (one of " + names +
+                  ")");
 }
 
 /// Whether the user gave `option` (not just its default).
@@ -58,12 +58,13 @@ IdentifyOptions ReadEstimatorOptions(const po::variables_map& vm) {
                                       {"trajectory", EstimatorMethod::kTrajectory},
                                       {"quasi-static", EstimatorMethod::kQuasiStatic}});
   RejectOptionsTheMethodIgnores(vm, o.method);
-  const RobustLoss loss = Choose<RobustLoss>(vm, "loss", {{"huber", RobustLoss::kHuber},
-                                                          {"cauchy", RobustLoss::kCauchy},
-                                                          {"none", RobustLoss::kNone}});
+  const RobustLoss loss = Choose<RobustLoss>(vm, "loss",
+                                             {{"huber", RobustLoss::kHuber},
+                                              {"cauchy", RobustLoss::kCauchy},
+                                              {"none", RobustLoss::kNone}});
   const int iterations = vm["max-iterations"].as<int>();
-  for (LossOptions* l : std::initializer_list<LossOptions*>{&o.equation_error, &o.trajectory,
-                                                            &o.quasi_static}) {
+  for (LossOptions* l :
+       std::initializer_list<LossOptions*>{&o.equation_error, &o.trajectory, &o.quasi_static}) {
     l->loss = loss;
     l->max_iterations = iterations;
   }
@@ -79,7 +80,8 @@ IdentifyOptions ReadEstimatorOptions(const po::variables_map& vm) {
   o.threads = vm["threads"].as<int>();
   std::string why;
   if (!o.IsValid(&why)) throw po::error(why);
-  if (o.threads > kMaxThreads) throw po::error("--threads must be <= " + std::to_string(kMaxThreads));
+  if (o.threads > kMaxThreads)
+    throw po::error("--threads must be <= " + std::to_string(kMaxThreads));
   if (o.trajectory.substeps > kMaxSubsteps) {
     throw po::error("--substeps must be <= " + std::to_string(kMaxSubsteps));
   }
@@ -92,9 +94,9 @@ std::optional<double> PhysicalOption(const po::variables_map& vm, const char* op
   if (!vm.count(option)) return std::nullopt;
   const double value = vm[option].as<double>();
   if (!std::isfinite(value) || value < 0.0 || (!zero_allowed && value == 0.0)) {
-    throw po::error(std::string("--") + option + " = " + std::to_string(value) +
-                    (zero_allowed ? ": must be a finite number >= 0"
-                                  : ": must be a finite number > 0"));
+    throw po::error(
+        std::string("--") + option + " = " + std::to_string(value) +
+        (zero_allowed ? ": must be a finite number >= 0" : ": must be a finite number > 0"));
   }
   return value;
 }
@@ -121,60 +123,62 @@ FileIdentifyOptions ReadFileIdentifyOptions(const po::variables_map& vm) {
 }
 
 void AddIdentifyOptions(po::options_description* options, po::options_description* advanced) {
-  options->add_options()
-      ("log", po::value<std::vector<std::string>>()->value_name("FILE"),
-       "push log (CSV, log format); repeat it to pool several logs of one slider on one "
-       "surface. With --method quasi-static: wrench-twist pairs (CSV)")
-      ("logs", po::value<std::vector<std::string>>()->value_name("DIR|GLOB"),
-       "every *.csv file of a directory, or the files a quoted glob names (repeatable)")
-      ("mass", po::value<double>()->value_name("KG"), "slider mass; overrides the logs'")
-      ("inertia", po::value<double>()->value_name("KG_M2"),
-       "moment of inertia about the vertical axis through the CM; overrides the logs'")
-      ("com-height", po::value<double>()->value_name("M"), "CM height; overrides the logs'")
-      ("gravity", po::value<double>()->value_name("M_S2"), "gravity; overrides the logs' (9.81)")
-      ("method", po::value<std::string>()->default_value("trajectory"),
-       "closed-form (Appendix A per step, median), equation-error (Ceres fit of the friction "
-       "impulses), trajectory (Ceres fit of the simulated trajectory) or quasi-static (Ceres "
-       "fit of the limit surface to wrench-twist pairs)")
-      ("loss", po::value<std::string>()->default_value("huber"),
-       "robust loss: huber, cauchy, none (not closed-form)")
-      ("fit-force-bias", "trajectory only: fit a constant offset (x, y) of each log's force "
-                         "channel, with its interval")
-      ("no-cross-check", "trajectory only: on a log of at most 300 rows, do not fit it again over "
-                         "long segments to mark estimates that depend on how it is cut")
-      ("fit-delay", po::value<std::string>()->implicit_value("shared")->value_name("MODE"),
-       "trajectory only: fit the delay of the force stream against the poses, one for all "
-       "logs (shared, the default) or one per log (per-log)")
-      ("threads", po::value<int>()->default_value(1)->value_name("N"), "Ceres threads (1 to 256)")
-      ("strict", "a suspect verdict is an error (exit code 3) instead of a warning")
-      ("skip-bad", "list a log that cannot be read or used as skipped, with the reason, "
-                   "instead of failing the run")
-      ("json", "print one JSON object instead of the table")
-      ("residuals", po::value<std::string>()->value_name("OUT.csv"),
-       "write per-step residuals (only when the fit succeeds)")
-      ("verbose,v", "also print what the readers noticed about the logs (notes)")
-      ("batch", po::value<std::string>()->value_name("DIR|GLOB"),
-       "fit every log of a directory (or a quoted glob) on its own, writing one JSON line per "
-       "log to --out as each finishes (a failed log gives a line with its error)")
-      ("jobs", po::value<int>()->default_value(1)->value_name("N"),
-       "with --batch: logs fitted at once (threads)")
-      ("out", po::value<std::string>()->value_name("RESULTS.jsonl"),
-       "with --batch: where the JSON lines go")
-      ("shard", po::value<std::string>()->value_name("I/N"),
-       "with --batch: take only the logs whose index in the sorted list is I modulo N "
-       "(0 <= I < N), for job arrays");
-  advanced->add_options()
-      ("segment", po::value<int>()->default_value(0)->value_name("N"),
-       "trajectory only: log intervals per shooting segment (>= 2; 0 adapts it to the log)")
-      ("substeps", po::value<int>()->default_value(1)->value_name("N"),
-       "trajectory only: forward-model steps per log interval (1 to 1000)")
-      ("max-delay", po::value<double>()->default_value(0.1)->value_name("S"),
-       "with --fit-delay: the largest delay searched [s]")
-      ("max-gap-ratio", po::value<double>()->default_value(10.0)->value_name("R"),
-       "an interval between rows longer than R times the median one is an error (the force "
-       "is held across it); 0 accepts any gap")
-      ("max-iterations", po::value<int>()->default_value(100)->value_name("N"),
-       "Ceres iterations per solve; a fit that needs more fails with exit code 3");
+  options->add_options()(
+      "log", po::value<std::vector<std::string>>()->value_name("FILE"),
+      "push log (CSV, log format); repeat it to pool several logs of one slider on one "
+      "surface. With --method quasi-static: wrench-twist pairs (CSV)")(
+      "logs", po::value<std::vector<std::string>>()->value_name("DIR|GLOB"),
+      "every *.csv file of a directory, or the files a quoted glob names (repeatable)")(
+      "mass", po::value<double>()->value_name("KG"), "slider mass; overrides the logs'")(
+      "inertia", po::value<double>()->value_name("KG_M2"),
+      "moment of inertia about the vertical axis through the CM; overrides the logs'")(
+      "com-height", po::value<double>()->value_name("M"), "CM height; overrides the logs'")(
+      "gravity", po::value<double>()->value_name("M_S2"), "gravity; overrides the logs' (9.81)")(
+      "method", po::value<std::string>()->default_value("trajectory"),
+      "closed-form (Appendix A per step, median), equation-error (Ceres fit of the friction "
+      "impulses), trajectory (Ceres fit of the simulated trajectory) or quasi-static (Ceres "
+      "fit of the limit surface to wrench-twist pairs)")(
+      "loss", po::value<std::string>()->default_value("huber"),
+      "robust loss: huber, cauchy, none (not closed-form)")(
+      "fit-force-bias",
+      "trajectory only: fit a constant offset (x, y) of each log's force "
+      "channel, with its interval")(
+      "no-cross-check",
+      "trajectory only: on a log of at most 300 rows, do not fit it again over "
+      "long segments to mark estimates that depend on how it is cut")(
+      "fit-delay", po::value<std::string>()->implicit_value("shared")->value_name("MODE"),
+      "trajectory only: fit the delay of the force stream against the poses, one for all "
+      "logs (shared, the default) or one per log (per-log)")(
+      "threads", po::value<int>()->default_value(1)->value_name("N"), "Ceres threads (1 to 256)")(
+      "strict", "a suspect verdict is an error (exit code 3) instead of a warning")(
+      "skip-bad",
+      "list a log that cannot be read or used as skipped, with the reason, "
+      "instead of failing the run")("json", "print one JSON object instead of the table")(
+      "residuals", po::value<std::string>()->value_name("OUT.csv"),
+      "write per-step residuals (only when the fit succeeds)")(
+      "verbose,v", "also print what the readers noticed about the logs (notes)")(
+      "batch", po::value<std::string>()->value_name("DIR|GLOB"),
+      "fit every log of a directory (or a quoted glob) on its own, writing one JSON line per "
+      "log to --out as each finishes (a failed log gives a line with its error)")(
+      "jobs", po::value<int>()->default_value(1)->value_name("N"),
+      "with --batch: logs fitted at once (threads)")(
+      "out", po::value<std::string>()->value_name("RESULTS.jsonl"),
+      "with --batch: where the JSON lines go")(
+      "shard", po::value<std::string>()->value_name("I/N"),
+      "with --batch: take only the logs whose index in the sorted list is I modulo N "
+      "(0 <= I < N), for job arrays");
+  advanced->add_options()(
+      "segment", po::value<int>()->default_value(0)->value_name("N"),
+      "trajectory only: log intervals per shooting segment (>= 2; 0 adapts it to the log)")(
+      "substeps", po::value<int>()->default_value(1)->value_name("N"),
+      "trajectory only: forward-model steps per log interval (1 to 1000)")(
+      "max-delay", po::value<double>()->default_value(0.1)->value_name("S"),
+      "with --fit-delay: the largest delay searched [s]")(
+      "max-gap-ratio", po::value<double>()->default_value(10.0)->value_name("R"),
+      "an interval between rows longer than R times the median one is an error (the force "
+      "is held across it); 0 accepts any gap")(
+      "max-iterations", po::value<int>()->default_value(100)->value_name("N"),
+      "Ceres iterations per solve; a fit that needs more fails with exit code 3");
 }
 
 // --batch and its companions; the batch's files, sharded.

@@ -18,7 +18,7 @@ struct IdentifyRequest {
   FileIdentifyOptions options;
   bool json = false;
   bool verbose = false;
-  bool strict = false;  ///< a suspect verdict exits with the numerical code
+  bool strict = false;         ///< a suspect verdict exits with the numerical code
   std::string residuals_path;  ///< --residuals, empty when not asked
   /// --batch: fit each file on its own (files come from --batch DIR|GLOB, sharded) on
   /// `jobs` threads and write JSON lines to `batch_out`.

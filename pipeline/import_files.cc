@@ -17,9 +17,8 @@ void CreateDirectory(const std::string& dir) {
 
 }  // namespace
 
-ImportSummary ImportMitFiles(const std::vector<std::string>& files,
-                             const MitObjectSource& objects, const MitImportOptions& options,
-                             const std::string& out_dir) {
+ImportSummary ImportMitFiles(const std::vector<std::string>& files, const MitObjectSource& objects,
+                             const MitImportOptions& options, const std::string& out_dir) {
   CreateDirectory(out_dir);
   ImportSummary summary;
   std::vector<MitImportReport> reports;
@@ -73,7 +72,7 @@ ImportSummary ImportTripodFiles(const std::vector<std::string>& files,
     try {
       data = ImportZhouTripod(file, options, &report);
     } catch (const std::invalid_argument&) {
-      throw;  // invalid options: a usage error, not the file's
+      throw;                                 // invalid options: a usage error, not the file's
     } catch (const std::runtime_error& e) {  // LogError: unreadable; its message names it
       summary.rejections.push_back(std::string("unreadable: ") + e.what());
       continue;
@@ -87,10 +86,9 @@ ImportSummary ImportTripodFiles(const std::vector<std::string>& files,
     }
     WriteWrenchTwistCsv(data, stem + ".csv");
     ++summary.accepted;
-    summary.accepted_lines.push_back("accepted " + stem + ".csv from " + file + " (" +
-                                     std::to_string(data.rows.size()) + " of " +
-                                     std::to_string(report.pushes) + " pushes; report " + stem +
-                                     "_import_report.csv)");
+    summary.accepted_lines.push_back(
+        "accepted " + stem + ".csv from " + file + " (" + std::to_string(data.rows.size()) +
+        " of " + std::to_string(report.pushes) + " pushes; report " + stem + "_import_report.csv)");
   }
   // One report per file, each named after its pairs (identify --logs skips them).
   summary.report_path = out_dir + "/*_import_report.csv (one per file)";

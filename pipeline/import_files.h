@@ -26,9 +26,8 @@ struct ImportSummary {
 
 /// MIT push JSON files into DIR/<stem>.csv push logs. Throws std::runtime_error naming a
 /// path that cannot be written.
-ImportSummary ImportMitFiles(const std::vector<std::string>& files,
-                             const MitObjectSource& objects, const MitImportOptions& options,
-                             const std::string& out_dir);
+ImportSummary ImportMitFiles(const std::vector<std::string>& files, const MitObjectSource& objects,
+                             const MitImportOptions& options, const std::string& out_dir);
 
 /// Zhou tripod logs into DIR/<stem>.csv wrench-twist pairs (one row per accepted push) and
 /// DIR/<stem>_import_report.csv (one row per push). A file is rejected when it cannot be read or

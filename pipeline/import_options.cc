@@ -14,7 +14,8 @@ std::optional<double> Physical(const po::variables_map& vm, const char* option, 
   if (!vm.count(option)) return std::nullopt;
   const double value = vm[option].as<double>();
   if (!std::isfinite(value) || value < 0.0 || (!zero_ok && value == 0.0)) {
-    throw po::error(std::string("--") + option + " must be a finite number " + (zero_ok ? ">= 0" : "> 0"));
+    throw po::error(std::string("--") + option + " must be a finite number " +
+                    (zero_ok ? ">= 0" : "> 0"));
   }
   return value;
 }
@@ -29,10 +30,14 @@ MitImportOptions MitOptions(const po::variables_map& vm) {
   o.max_pose_gap_s = vm["max-pose-gap"].as<double>();
   o.min_push_duration_s = vm["min-push-duration"].as<double>();
   const std::string sign = vm["force-sign"].as<std::string>();
-  if (sign == "auto") o.force_sign = ForceSign::kAuto;
-  else if (sign == "applied") o.force_sign = ForceSign::kApplied;
-  else if (sign == "reaction") o.force_sign = ForceSign::kReaction;
-  else throw po::error("--force-sign must be auto, applied or reaction");
+  if (sign == "auto")
+    o.force_sign = ForceSign::kAuto;
+  else if (sign == "applied")
+    o.force_sign = ForceSign::kApplied;
+  else if (sign == "reaction")
+    o.force_sign = ForceSign::kReaction;
+  else
+    throw po::error("--force-sign must be auto, applied or reaction");
   std::string why;
   if (!o.IsValid(&why)) throw po::error("invalid import setting: " + why);
   return o;
@@ -46,9 +51,11 @@ MitObjectSource Objects(const po::variables_map& vm, std::shared_ptr<const Objec
   if (vm.count("patch")) objects.patch_spec = vm["patch"].as<std::string>();
   if (vm.count("objects")) {
     *table = std::make_shared<const ObjectTable>(ReadObjectTable(vm["objects"].as<std::string>()));
-  } else if (!objects.mass_kg || !objects.inertia_kgm2 || !objects.com_height_m || !objects.patch_spec) {
-    throw po::error("the object is not known: give --mass, --inertia, --com-height and --patch, "
-                    "or an --objects table (masses are never guessed)");
+  } else if (!objects.mass_kg || !objects.inertia_kgm2 || !objects.com_height_m ||
+             !objects.patch_spec) {
+    throw po::error(
+        "the object is not known: give --mass, --inertia, --com-height and --patch, "
+        "or an --objects table (masses are never guessed)");
   }
   return objects;
 }
@@ -66,36 +73,37 @@ TripodImportOptions TripodOptions(const po::variables_map& vm) {
 }  // namespace
 
 void AddImportOptions(po::options_description* options, po::options_description* hidden) {
-  options->add_options()
-      ("format", po::value<std::string>()->value_name("NAME"), "mit-push (MIT push dataset JSON: push logs) or zhou-tripod (ICRA 2016 tripod logs: wrench-twist pairs)")
-      ("out", po::value<std::string>()->value_name("DIR"),
-       "output directory: one DIR/<stem>.csv per accepted file and DIR/import_report.csv")
-      ("objects", po::value<std::string>()->value_name("FILE"),
-       "CSV table name,mass,inertia,com_height[,patch,source] by object name (shape=NAME)")
-      ("mass", po::value<double>()->value_name("KG"), "object mass (overrides the table)")
-      ("inertia", po::value<double>()->value_name("KG_M2"),
-       "moment of inertia about the vertical axis through the CM (overrides the table)")
-      ("com-height", po::value<double>()->value_name("M"), "CM height (overrides the table)")
-      ("patch", po::value<std::string>()->value_name("SPEC"),
-       "object outline = contact patch, e.g. \"rectangle 0.09 0.09\" (overrides the table)")
-      ("tip-radius", po::value<double>()->default_value(0.00475)->value_name("M"), "pusher radius")
-      ("rate", po::value<double>()->default_value(100.0)->value_name("HZ"), "rows per second")
-      ("margin", po::value<double>()->default_value(0.05)->value_name("S"),
-       "kept before and after the push")
-      ("max-offset-drift", po::value<double>()->default_value(0.5)->value_name("N"),
-       "reject a file whose force offsets before and after the push differ by more (only "
-       "when both exist)")
-      ("offset-clearance", po::value<double>()->default_value(3e-3)->value_name("M"),
-       "the force offset is measured only where the tip is farther than this from the "
-       "object's outline; before that, a tip resting on the object is a real pre-load")
-      ("max-pose-gap", po::value<double>()->default_value(0.05)->value_name("S"),
-       "a longer gap between object poses inside the push splits the log there (its rows "
-       "left out, the next marked 'start'); a file whose gaps leave less of the push than "
-       "--min-push-duration is rejected")
-      ("min-push-duration", po::value<double>()->default_value(0.2)->value_name("S"),
-       "reject a shorter push")
-      ("force-sign", po::value<std::string>()->default_value("auto"),
-       "auto (per file, from the contact normal), applied or reaction (stored = -force)");
+  options->add_options()("format", po::value<std::string>()->value_name("NAME"),
+                         "mit-push (MIT push dataset JSON: push logs) or zhou-tripod (ICRA 2016 "
+                         "tripod logs: wrench-twist pairs)")(
+      "out", po::value<std::string>()->value_name("DIR"),
+      "output directory: one DIR/<stem>.csv per accepted file and DIR/import_report.csv")(
+      "objects", po::value<std::string>()->value_name("FILE"),
+      "CSV table name,mass,inertia,com_height[,patch,source] by object name (shape=NAME)")(
+      "mass", po::value<double>()->value_name("KG"), "object mass (overrides the table)")(
+      "inertia", po::value<double>()->value_name("KG_M2"),
+      "moment of inertia about the vertical axis through the CM (overrides the table)")(
+      "com-height", po::value<double>()->value_name("M"), "CM height (overrides the table)")(
+      "patch", po::value<std::string>()->value_name("SPEC"),
+      "object outline = contact patch, e.g. \"rectangle 0.09 0.09\" (overrides the table)")(
+      "tip-radius", po::value<double>()->default_value(0.00475)->value_name("M"), "pusher radius")(
+      "rate", po::value<double>()->default_value(100.0)->value_name("HZ"), "rows per second")(
+      "margin", po::value<double>()->default_value(0.05)->value_name("S"),
+      "kept before and after the push")(
+      "max-offset-drift", po::value<double>()->default_value(0.5)->value_name("N"),
+      "reject a file whose force offsets before and after the push differ by more (only "
+      "when both exist)")(
+      "offset-clearance", po::value<double>()->default_value(3e-3)->value_name("M"),
+      "the force offset is measured only where the tip is farther than this from the "
+      "object's outline; before that, a tip resting on the object is a real pre-load")(
+      "max-pose-gap", po::value<double>()->default_value(0.05)->value_name("S"),
+      "a longer gap between object poses inside the push splits the log there (its rows "
+      "left out, the next marked 'start'); a file whose gaps leave less of the push than "
+      "--min-push-duration is rejected")("min-push-duration",
+                                         po::value<double>()->default_value(0.2)->value_name("S"),
+                                         "reject a shorter push")(
+      "force-sign", po::value<std::string>()->default_value("auto"),
+      "auto (per file, from the contact normal), applied or reaction (stored = -force)");
   hidden->add_options()("files", po::value<std::vector<std::string>>());
 }
 

@@ -1,9 +1,10 @@
-#include "forward_model/number_format.h"
 #include "pipeline/log_cli_options.h"
 
 #include <cerrno>
 #include <cstdio>
 #include <cstdlib>
+
+#include "forward_model/number_format.h"
 
 namespace slideid::cli {
 namespace {
@@ -53,8 +54,7 @@ ValueRange RangeOption(const po::variables_map& vm, const char* name) {
 }
 
 /// A "LO:HI" option with its default shown.
-void AddRange(po::options_description* o, const char* name, const ValueRange& d,
-              const char* help) {
+void AddRange(po::options_description* o, const char* name, const ValueRange& d, const char* help) {
   o->add_options()(name, po::value<std::string>()->default_value(ToString(d))->value_name("LO:HI"),
                    help);
 }
@@ -65,32 +65,35 @@ std::uint64_t ParseSeed(const std::string& text, const std::string& option) {
   char* end = nullptr;
   errno = 0;
   const unsigned long long v = std::strtoull(text.c_str(), &end, 10);
-  if (text.empty() || text.find_first_not_of("0123456789") != std::string::npos ||
-      *end != '\0' || errno == ERANGE) {
+  if (text.empty() || text.find_first_not_of("0123456789") != std::string::npos || *end != '\0' ||
+      errno == ERANGE) {
     throw po::error("--" + option + ": '" + text + "' is not an integer in [0, 2^64)");
   }
   return v;
 }
 
 void AddLogOptions(po::options_description* o, const LogSpec* d, bool with_seed) {
-  o->add_options()
-      ("log-every", po::value<int>()->value_name("K"),
-       ("log every K-th simulated step, e.g. dt 1e-4 s and K = 100 for a 100 Hz log; a row's "
-        "force is the one --wrench says" +
-        Default(d, d ? std::to_string(d->log_every) : "")).c_str())
-      ("wrench", po::value<std::string>()->value_name("WHICH"),
-       ("a row's wrench: at-row-time (the one applied at its time) or interval-mean (the mean "
-        "over its log interval; needs --push-columns moments)" +
-        Default(d, d ? ToString(d->wrench) : "")).c_str())
-      ("write", po::value<std::string>()->value_name("WHAT"),
-       ("motion columns: poses (motion capture), velocities or both" +
-        Default(d, d ? ToString(d->motion) : "")).c_str())
-      ("push-columns", po::value<std::string>()->value_name("HOW"),
-       ("push as point (fx, fy, px, py, pz) or moments (fx, fy, tx, ty, tz)" +
-        Default(d, d ? ToString(d->push) : "")).c_str())
-      ("step-info", po::value<std::string>()->value_name("yes|no"),
-       "write the simulator's ECP, impulses, sigma and mode (default: only without noise)")
-      ("wrap-theta", "write theta wrapped to (-pi, pi] (noise is added before wrapping)");
+  o->add_options()(
+      "log-every", po::value<int>()->value_name("K"),
+      ("log every K-th simulated step, e.g. dt 1e-4 s and K = 100 for a 100 Hz log; a row's "
+       "force is the one --wrench says" +
+       Default(d, d ? std::to_string(d->log_every) : ""))
+          .c_str())(
+      "wrench", po::value<std::string>()->value_name("WHICH"),
+      ("a row's wrench: at-row-time (the one applied at its time) or interval-mean (the mean "
+       "over its log interval; needs --push-columns moments)" +
+       Default(d, d ? ToString(d->wrench) : ""))
+          .c_str())("write", po::value<std::string>()->value_name("WHAT"),
+                    ("motion columns: poses (motion capture), velocities or both" +
+                     Default(d, d ? ToString(d->motion) : ""))
+                        .c_str())(
+      "push-columns", po::value<std::string>()->value_name("HOW"),
+      ("push as point (fx, fy, px, py, pz) or moments (fx, fy, tx, ty, tz)" +
+       Default(d, d ? ToString(d->push) : ""))
+          .c_str())(
+      "step-info", po::value<std::string>()->value_name("yes|no"),
+      "write the simulator's ECP, impulses, sigma and mode (default: only without noise)")(
+      "wrap-theta", "write theta wrapped to (-pi, pi] (noise is added before wrapping)");
   for (const NoiseOption& n : kNoiseOptions) {
     o->add_options()(n.name, po::value<double>()->value_name("X"),
                      (std::string(n.help) + Default(d, d ? G(d->noise.*n.field) : "")).c_str());
@@ -131,18 +134,19 @@ void ApplyLogOptions(const po::variables_map& vm, LogSpec* spec) {
 }
 
 void AddDatasetOptions(po::options_description* o, const DatasetSpec& d) {
-  o->add_options()
-      ("count", po::value<int>()->default_value(d.count)->value_name("N"), "number of logs")
-      ("seed", po::value<std::string>()->default_value(std::to_string(d.seed))->value_name("S"),
-       "seed of every draw (sliders, friction, programs, noise): same seed, same files")
-      ("out", po::value<std::string>()->value_name("DIR"),
-       "directory for log_0000.csv ... and truth.csv (created if missing; required)");
+  o->add_options()("count", po::value<int>()->default_value(d.count)->value_name("N"),
+                   "number of logs")(
+      "seed", po::value<std::string>()->default_value(std::to_string(d.seed))->value_name("S"),
+      "seed of every draw (sliders, friction, programs, noise): same seed, same files")(
+      "out", po::value<std::string>()->value_name("DIR"),
+      "directory for log_0000.csv ... and truth.csv (created if missing; required)");
   AddRange(o, "mass-range", d.mass_kg, "slider mass [kg]");
   o->add_options()("inertia-range", po::value<std::string>()->value_name("LO:HI"),
                    "moment of inertia about the vertical axis [kg m^2] (default: that of a "
                    "uniform slider over the drawn patch, e.g. m (W^2 + L^2) / 12)");
   AddRange(o, "com-height-range", d.com_height_m, "CM height above the support plane [m]");
-  o->add_options()("patch", po::value<std::string>()->default_value(d.patch.ToString())->value_name("SHAPE"),
+  o->add_options()("patch",
+                   po::value<std::string>()->default_value(d.patch.ToString())->value_name("SHAPE"),
                    "contact patch: 'rectangle W L', 'disk R', 'ring R r' or 'polygon x1 y1 "
                    "...' [m], each number a value or a range LO:HI");
   AddRange(o, "mu-range", d.mu, "friction coefficient mu");
@@ -160,22 +164,30 @@ void AddDatasetOptions(po::options_description* o, const DatasetSpec& d) {
   AddRange(o, "push-duration-range", d.program.duration_s, "duration of each push [s]");
   AddRange(o, "rest-range", d.program.rest_s, "rest after each push [s]");
   o->add_options()("height-range", po::value<std::string>()->value_name("LO:HI"),
-                   "height of the push point [m] (default: 0.25:0.75 times the drawn CM height)")
-      ("spread", po::value<double>()->default_value(d.program.spread_rad, G(d.program.spread_rad))->value_name("RAD"),
-       "push directions within this angle [rad] of the direction to the CM")
-      ("max-lever", po::value<double>()->default_value(d.program.max_lever_fraction, G(d.program.max_lever_fraction))->value_name("F"),
-       "largest distance of a push's line of action from the CM, as a fraction of the patch "
-       "radius (pushes turn with the slider: a long lever spins it up)")
-      ("through-cm", "aim every push at the CM at CM height: no rotation (c not identifiable)")
-      ("unaligned-pushes", "let pushes start and stop between log samples (default: on "
-       "them, as a pusher commanded at the log rate)")
-      ("dt", po::value<double>()->default_value(d.dt_s, G(d.dt_s))->value_name("S"), "simulation step [s]")
-      ("max-redraws", po::value<int>()->default_value(d.max_redraws)->value_name("N"),
-       "redraws allowed per log when a draw tips the slider (ECP leaves the patch hull)")
-      ("drive", po::value<std::string>()->default_value("force"),
-       "force: each log a random program of force pushes; pusher: each log one straight push "
-       "by a round tip (4.75 mm) from a random heading and offset, its path in the log "
-       "(tip_x, tip_y)");
+                   "height of the push point [m] (default: 0.25:0.75 times the drawn CM height)")(
+      "spread",
+      po::value<double>()
+          ->default_value(d.program.spread_rad, G(d.program.spread_rad))
+          ->value_name("RAD"),
+      "push directions within this angle [rad] of the direction to the CM")(
+      "max-lever",
+      po::value<double>()
+          ->default_value(d.program.max_lever_fraction, G(d.program.max_lever_fraction))
+          ->value_name("F"),
+      "largest distance of a push's line of action from the CM, as a fraction of the patch "
+      "radius (pushes turn with the slider: a long lever spins it up)")(
+      "through-cm", "aim every push at the CM at CM height: no rotation (c not identifiable)")(
+      "unaligned-pushes",
+      "let pushes start and stop between log samples (default: on "
+      "them, as a pusher commanded at the log rate)")(
+      "dt", po::value<double>()->default_value(d.dt_s, G(d.dt_s))->value_name("S"),
+      "simulation step [s]")(
+      "max-redraws", po::value<int>()->default_value(d.max_redraws)->value_name("N"),
+      "redraws allowed per log when a draw tips the slider (ECP leaves the patch hull)")(
+      "drive", po::value<std::string>()->default_value("force"),
+      "force: each log a random program of force pushes; pusher: each log one straight push "
+      "by a round tip (4.75 mm) from a random heading and offset, its path in the log "
+      "(tip_x, tip_y)");
   const PusherDraw p;
   AddRange(o, "mu-pusher-range", p.mu, "pusher drive: tip-edge friction mu_p");
   AddRange(o, "tip-speed-range", p.speed_mps, "pusher drive: tip speed [m/s]");

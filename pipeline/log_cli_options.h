@@ -15,8 +15,8 @@ namespace slideid::cli {
 /// the push stream's defects --force-bias-x, --force-bias-y, --force-delay and,
 /// when `with_seed`, --seed (the noise seed). `defaults`, when given, are quoted in the
 /// help text; an option not given leaves the value it overrides unchanged.
-void AddLogOptions(boost::program_options::options_description* options,
-                   const LogSpec* defaults, bool with_seed);
+void AddLogOptions(boost::program_options::options_description* options, const LogSpec* defaults,
+                   bool with_seed);
 
 /// Overrides the fields of `spec` whose options were given.
 void ApplyLogOptions(const boost::program_options::variables_map& vm, LogSpec* spec);

@@ -6,14 +6,14 @@ namespace po = boost::program_options;
 
 void AddPictureOptions(po::options_description* options, const PictureOptions& defaults,
                        const std::string& height_help, const std::string& title_help) {
-  options->add_options()
-      ("out", po::value<std::string>()->value_name("FIG.png"), "the picture to write (required)")
-      ("width", po::value<int>()->default_value(defaults.width_px), "picture width [px]")
-      ("height", po::value<int>()->default_value(defaults.height_px), height_help.c_str())
-      ("title", po::value<std::string>(), title_help.c_str())
-      ("gnuplot", po::value<std::string>()->default_value(defaults.gnuplot), "gnuplot program")
-      ("keep", po::value<std::string>()->value_name("DIR"),
-       "write the gnuplot script and data into DIR and keep them");
+  options->add_options()("out", po::value<std::string>()->value_name("FIG.png"),
+                         "the picture to write (required)")(
+      "width", po::value<int>()->default_value(defaults.width_px), "picture width [px]")(
+      "height", po::value<int>()->default_value(defaults.height_px), height_help.c_str())(
+      "title", po::value<std::string>(), title_help.c_str())(
+      "gnuplot", po::value<std::string>()->default_value(defaults.gnuplot), "gnuplot program")(
+      "keep", po::value<std::string>()->value_name("DIR"),
+      "write the gnuplot script and data into DIR and keep them");
 }
 
 void ReadPictureOptions(const po::variables_map& vm, const std::string& default_title,

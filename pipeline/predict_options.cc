@@ -16,7 +16,10 @@ namespace {
 Json Optional(const std::optional<double>& v) { return v ? Json(*v) : Json(nullptr); }
 
 Json SummaryJson(const ErrorSummary& s) {
-  return {{"pushes", s.pushes}, {"median", s.median}, {"q25", s.q25}, {"q75", s.q75},
+  return {{"pushes", s.pushes},
+          {"median", s.median},
+          {"q25", s.q25},
+          {"q75", s.q75},
           {"worst", s.worst}};
 }
 
@@ -37,21 +40,21 @@ Json ErrorsJson(const PredictionErrors& e) {
 }  // namespace
 
 void AddPredictOptions(po::options_description* options) {
-  options->add_options()
-      ("friction", po::value<std::string>()->value_name("RESULT.json"),
-       "the friction: what identify --json printed (a, b, c, and mu_pusher when found)")
-      ("mu", po::value<double>()->value_name("A"), "a = e_t mu (overrides the result's)")
-      ("b", po::value<double>()->value_name("B"), "b = e_o / e_t")
-      ("c", po::value<double>()->value_name("C"), "c = e_r / e_t [m]")
-      ("mu-pusher", po::value<double>()->value_name("MU_P"),
-       "tip-edge friction coefficient (the pusher drive needs it)")
-      ("drive", po::value<std::string>(),
-       "pusher, force or quasi-static (the tip's path through the quasi-static ellipsoid "
-       "model; default: pusher when the log has tip_x, tip_y, else force)")
-      ("substeps", po::value<int>()->default_value(1), "simulation steps per log interval")
-      ("no-register-tip",
-       "use the log's tip radius as it is (by default it is set so that the tip touches the "
-       "outline, on the median, where the log pushes)");
+  options->add_options()(
+      "friction", po::value<std::string>()->value_name("RESULT.json"),
+      "the friction: what identify --json printed (a, b, c, and mu_pusher when found)")(
+      "mu", po::value<double>()->value_name("A"), "a = e_t mu (overrides the result's)")(
+      "b", po::value<double>()->value_name("B"), "b = e_o / e_t")(
+      "c", po::value<double>()->value_name("C"), "c = e_r / e_t [m]")(
+      "mu-pusher", po::value<double>()->value_name("MU_P"),
+      "tip-edge friction coefficient (the pusher drive needs it)")(
+      "drive", po::value<std::string>(),
+      "pusher, force or quasi-static (the tip's path through the quasi-static ellipsoid "
+      "model; default: pusher when the log has tip_x, tip_y, else force)")(
+      "substeps", po::value<int>()->default_value(1), "simulation steps per log interval")(
+      "no-register-tip",
+      "use the log's tip radius as it is (by default it is set so that the tip touches the "
+      "outline, on the median, where the log pushes)");
 }
 
 PredictRequest ReadPredictOptions(const po::variables_map& vm) {
@@ -81,7 +84,8 @@ PredictRequest ReadPredictOptions(const po::variables_map& vm) {
   if (vm.count("mu-pusher")) r.mu_pusher = vm["mu-pusher"].as<double>();
   const char* missing = !a ? "a (--mu)" : !b ? "b (--b)" : !c ? "c (--c)" : nullptr;
   if (missing) {
-    throw po::error(std::string("no value for ") + missing + ": give --friction RESULT.json "
+    throw po::error(std::string("no value for ") + missing +
+                    ": give --friction RESULT.json "
                     "where it is identified, or the option");
   }
   if (!(r.friction.a > 0 && r.friction.b > 0 && r.friction.c > 0)) {
@@ -125,15 +129,15 @@ std::string PredictionJson(const Prediction& p, const ReducedFriction& friction)
 }
 
 void AddValidateOptions(po::options_description* options) {
-  options->add_options()
-      ("folds", po::value<int>()->value_name("K"), "K folds, the logs dealt round-robin")
-      ("leave-one-out", "one fold per log (the default)")
-      ("drive", po::value<std::string>(),
-       "pusher or force (default: pusher when every log has the tip's path, else force); "
-       "the pusher drive also runs the folds' friction through the quasi-static model")
-      ("mu-pusher", po::value<double>()->value_name("MU_P"), "mu_p for every prediction")
-      ("substeps", po::value<int>()->default_value(1), "simulation steps per log interval")
-      ("threads", po::value<int>()->default_value(1), "folds and pushes in parallel");
+  options->add_options()("folds", po::value<int>()->value_name("K"),
+                         "K folds, the logs dealt round-robin")("leave-one-out",
+                                                                "one fold per log (the default)")(
+      "drive", po::value<std::string>(),
+      "pusher or force (default: pusher when every log has the tip's path, else force); "
+      "the pusher drive also runs the folds' friction through the quasi-static model")(
+      "mu-pusher", po::value<double>()->value_name("MU_P"), "mu_p for every prediction")(
+      "substeps", po::value<int>()->default_value(1), "simulation steps per log interval")(
+      "threads", po::value<int>()->default_value(1), "folds and pushes in parallel");
 }
 
 ValidationOptions ReadValidateOptions(const po::variables_map& vm, bool all_tip) {
@@ -157,14 +161,19 @@ ValidationOptions ReadValidateOptions(const po::variables_map& vm, bool all_tip)
 }
 
 std::string ValidationJson(const ValidationResult& r) {
-  Json j = {{"drive", ToString(r.drive)}, {"folds", r.folds}, {"logs", r.logs},
-            {"seconds", r.seconds}};
+  Json j = {
+      {"drive", ToString(r.drive)}, {"folds", r.folds}, {"logs", r.logs}, {"seconds", r.seconds}};
   j["fold_fits"] = Json::array();
   for (const FoldFit& f : r.fold_fits) {
-    j["fold_fits"].push_back({{"fold", f.fold}, {"held_out", f.held_out}, {"ok", f.ok},
-                              {"error", f.error}, {"e_t_mu", f.friction.a},
-                              {"e_o_over_e_t", f.friction.b}, {"e_r_over_e_t", f.friction.c},
-                              {"mu_pusher", f.mu_pusher}, {"mu_pusher_from", f.mu_pusher_from}});
+    j["fold_fits"].push_back({{"fold", f.fold},
+                              {"held_out", f.held_out},
+                              {"ok", f.ok},
+                              {"error", f.error},
+                              {"e_t_mu", f.friction.a},
+                              {"e_o_over_e_t", f.friction.b},
+                              {"e_r_over_e_t", f.friction.c},
+                              {"mu_pusher", f.mu_pusher},
+                              {"mu_pusher_from", f.mu_pusher_from}});
   }
   j["methods"] = Json::array();
   for (const MethodValidation& m : r.methods) {

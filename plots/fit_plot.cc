@@ -1,4 +1,3 @@
-#include "forward_model/number_format.h"
 #include "plots/fit_plot.h"
 
 #include <algorithm>
@@ -9,6 +8,7 @@
 #include <stdexcept>
 #include <vector>
 
+#include "forward_model/number_format.h"
 #include "plots/gnuplot.h"
 
 namespace slideid {
@@ -42,8 +42,6 @@ const char* const kBandColour = "#dde7f3";
 
 const char* const kLongNames[3] = {"a = e_t mu", "b = e_o / e_t", "c = e_r / e_t [m]"};
 
-
-
 /// A round tick step (1, 2 or 5 times a power of ten) giving at most kMaxTicks ticks over
 /// `span`: gnuplot's own choice ignores the panel's width and crowds narrow panels.
 double NiceStep(double span) {
@@ -63,7 +61,8 @@ std::string LogTicks(double x0, double x1) {
     for (double m : {1.0, 2.0, 5.0}) {
       const double x = m * decade;
       if (x < x0 || x > x1) continue;
-      out += (out.empty() ? "" : ", ") + std::string("\"") + GnuplotNumber(x) + "\" " + GnuplotNumber(x);
+      out += (out.empty() ? "" : ", ") + std::string("\"") + GnuplotNumber(x) + "\" " +
+             GnuplotNumber(x);
     }
   }
   return "(" + out + ")";
@@ -115,7 +114,6 @@ std::string AgreementText(const EstimateResult& r, int i) {
                 100 * h.i2, 100 * h.tau_log);
 }
 
-
 int Rows(const EstimateResult& r) { return static_cast<int>(DrawnLogs(r).size()); }
 
 }  // namespace
@@ -126,8 +124,8 @@ bool FitPlotOptions::IsValid(std::string* why) const {
 
 int FitPlotHeight(const EstimateResult& result, const FitPlotOptions& options) {
   if (options.height_px > 0) return options.height_px;
-  return std::min(20000, std::max(kFitPlotMinHeightPx,
-                                  kChromePx + kFitPlotRowPx * (Rows(result) + 2)));
+  return std::min(20000,
+                  std::max(kFitPlotMinHeightPx, kChromePx + kFitPlotRowPx * (Rows(result) + 2)));
 }
 
 void WriteFitPlotData(const EstimateResult& r, const std::string& dir) {
@@ -142,8 +140,8 @@ void WriteFitPlotData(const EstimateResult& r, const std::string& dir) {
       const ParameterEstimate& p = logs[k]->parameters[i];
       if (!HasInterval(p)) continue;
       const bool agrees = r.logs.empty() || !std::isfinite(pooled) || Holds(p, pooled);
-      out << n - k << ' ' << GnuplotNumber(p.value) << ' ' << GnuplotNumber(p.ci95_lo) << ' ' << GnuplotNumber(p.ci95_hi)
-          << ' ' << (agrees ? "0x1f4e9a" : "0xd62728") << ' '
+      out << n - k << ' ' << GnuplotNumber(p.value) << ' ' << GnuplotNumber(p.ci95_lo) << ' '
+          << GnuplotNumber(p.ci95_hi) << ' ' << (agrees ? "0x1f4e9a" : "0xd62728") << ' '
           << (p.verdict == Verdict::kSuspect ? 1 : 0) << '\n';
     }
     WritePlotFile(dir + "/p" + std::to_string(i) + ".dat", out.str() + "\n");
@@ -181,7 +179,8 @@ std::string FitPlotScript(const EstimateResult& r, const FitPlotOptions& o,
     << "set yrange [-1:" << n + 1 << "]\n"
     << "set xtics font ',9'\n"
     << "set bmargin at screen " << GnuplotNumber(static_cast<double>(kAxesPx + kLegendPx) / height)
-    << "\nset tmargin at screen " << GnuplotNumber(1.0 - static_cast<double>(kTopPx) / height) << "\n";
+    << "\nset tmargin at screen " << GnuplotNumber(1.0 - static_cast<double>(kTopPx) / height)
+    << "\n";
   // Row labels: the logs from the top, the pooled estimate at the bottom.
   std::string ytics = "set ytics (" + GnuplotDoubleQuoted(n > 0 ? "pooled" : "estimate") + " 0";
   for (int k = 0; k < n; ++k) {
@@ -214,26 +213,28 @@ std::string FitPlotScript(const EstimateResult& r, const FitPlotOptions& o,
     }
     s << "\n# ---- " << ParameterName(i) << "\n"
       << "set lmargin at screen " << GnuplotNumber(kNamesFraction + j * panel_width + 0.01) << "\n"
-      << "set rmargin at screen " << GnuplotNumber(kNamesFraction + (j + 1) * panel_width - 0.01) << "\n"
+      << "set rmargin at screen " << GnuplotNumber(kNamesFraction + (j + 1) * panel_width - 0.01)
+      << "\n"
       << (j == 0 ? ytics : "unset ytics\nset ytics 1 format '' scale 0.5\n")
-      << (log_axis ? "set logscale x\n" : "unset logscale x\n")
-      << "set xrange [" << GnuplotNumber(x0) << ":" << GnuplotNumber(x1) << "]\n"
+      << (log_axis ? "set logscale x\n" : "unset logscale x\n") << "set xrange ["
+      << GnuplotNumber(x0) << ":" << GnuplotNumber(x1) << "]\n"
       << "set xtics " << (log_axis ? LogTicks(x0, x1) : GnuplotNumber(NiceStep(x1 - x0))) << "\n"
-      << "set xlabel " << GnuplotDoubleQuoted(std::string(ParameterName(i)) + "   (" + kLongNames[i] + ")")
+      << "set xlabel "
+      << GnuplotDoubleQuoted(std::string(ParameterName(i)) + "   (" + kLongNames[i] + ")")
       << "\nset title " << GnuplotDoubleQuoted(AgreementText(r, i)) << " textcolor rgb '"
-      << (r.heterogeneity[i].tested && !r.heterogeneity[i].consistent ? kDisagreeColour
-                                                                       : "#000000")
+      << (r.heterogeneity[i].tested && !r.heterogeneity[i].consistent ? kDisagreeColour : "#000000")
       << "'\nunset object\nunset arrow\n";
     if (HasInterval(pooled)) {
       // The pooled interval shaded across the rows, its value dashed, and a diamond.
       s << "set object 1 rect from " << GnuplotNumber(pooled.ci95_lo) << ", graph 0 to "
         << GnuplotNumber(pooled.ci95_hi) << ", graph 1 fc rgb '" << kBandColour
         << "' fs solid 1.0 noborder behind\n"
-        << "set arrow 1 from " << GnuplotNumber(pooled.value) << ", graph 0 to " << GnuplotNumber(pooled.value)
-        << ", graph 1 nohead dt 2 lc rgb '" << kPooledColour << "'\n"
-        << "set object 2 polygon from " << GnuplotNumber(pooled.ci95_lo) << ",0 to " << GnuplotNumber(pooled.value)
-        << ",0.4 to " << GnuplotNumber(pooled.ci95_hi) << ",0 to " << GnuplotNumber(pooled.value) << ",-0.4 to "
-        << GnuplotNumber(pooled.ci95_lo) << ",0 fc rgb '" << kPooledColour << "' fs solid 1.0 front\n";
+        << "set arrow 1 from " << GnuplotNumber(pooled.value) << ", graph 0 to "
+        << GnuplotNumber(pooled.value) << ", graph 1 nohead dt 2 lc rgb '" << kPooledColour << "'\n"
+        << "set object 2 polygon from " << GnuplotNumber(pooled.ci95_lo) << ",0 to "
+        << GnuplotNumber(pooled.value) << ",0.4 to " << GnuplotNumber(pooled.ci95_hi) << ",0 to "
+        << GnuplotNumber(pooled.value) << ",-0.4 to " << GnuplotNumber(pooled.ci95_lo)
+        << ",0 fc rgb '" << kPooledColour << "' fs solid 1.0 front\n";
     } else if (!r.logs.empty()) {
       s << "set label 1 'pooled: not identifiable' at graph 0.02, first 0 front\n";
     }
@@ -251,10 +252,11 @@ std::string FitPlotScript(const EstimateResult& r, const FitPlotOptions& o,
     << "set lmargin 0\nset rmargin 0\nset tmargin 0\nset bmargin 0\n"
     << "set xrange [0:1]\nset yrange [0:1]\n"
     << "set label 10 "
-    << GnuplotDoubleQuoted(n > 0 ? "rows: each log's own estimate and 95% interval (red: misses the pooled "
-                     "value; open: suspect)    diamond and band: the pooled estimate and its "
-                     "95% interval"
-                   : "diamond and band: the estimate and its 95% interval")
+    << GnuplotDoubleQuoted(
+           n > 0 ? "rows: each log's own estimate and 95% interval (red: misses the pooled "
+                   "value; open: suspect)    diamond and band: the pooled estimate and its "
+                   "95% interval"
+                 : "diamond and band: the estimate and its 95% interval")
     << " at 0.5,0.5 center font ',9'\n"
     << "plot 2 with lines lc rgb 'white'\n"
     << "unset multiplot\nset output\n";
@@ -267,8 +269,9 @@ void PlotFit(const EstimateResult& result, const FitPlotOptions& options) {
   bool any = false;
   for (int i = 0; i < 3; ++i) any = any || PanelHasData(result, i);
   if (!any) {
-    throw std::invalid_argument("plot: nothing to draw: no parameter was identified, by the "
-                                "pooled fit or by any log");
+    throw std::invalid_argument(
+        "plot: nothing to draw: no parameter was identified, by the "
+        "pooled fit or by any log");
   }
   if (options.out_png.find('\'') != std::string::npos) {
     throw std::invalid_argument("plot: quote characters in '" + options.out_png +

@@ -86,16 +86,17 @@ void RunGnuplot(const PictureOptions& options,
   } cleanup{work_dir.empty() ? dir : ""};
 
   WritePlotFile(dir + "/plot.gp", write_data(dir));
-  // GnuplotSingleQuoted() is also the shell's quoting for text without single quotes; refuse the rest
-  // rather than pass it to the shell.
+  // GnuplotSingleQuoted() is also the shell's quoting for text without single quotes; refuse the
+  // rest rather than pass it to the shell.
   for (const std::string* s : std::initializer_list<const std::string*>{&gnuplot, &dir}) {
     if (s->find('\'') != std::string::npos) {
       throw std::invalid_argument("plot: quote characters in '" + *s + "' are not supported");
     }
   }
   const std::string errors = dir + "/gnuplot.err";
-  const std::string command =
-      GnuplotSingleQuoted(gnuplot) + " " + GnuplotSingleQuoted(dir + "/plot.gp") + " 2> " + GnuplotSingleQuoted(errors);
+  const std::string command = GnuplotSingleQuoted(gnuplot) + " " +
+                              GnuplotSingleQuoted(dir + "/plot.gp") + " 2> " +
+                              GnuplotSingleQuoted(errors);
   const int status = std::system(command.c_str());
   std::ifstream err_in(errors);
   std::string message((std::istreambuf_iterator<char>(err_in)), std::istreambuf_iterator<char>());

@@ -19,8 +19,8 @@ constexpr int kMaxPicturePx = 20000;
 struct PictureOptions {
   std::string out_png;  ///< where the picture goes (required)
   int width_px = 1400;
-  int height_px = 900;  ///< 0: chosen by the picture, where it can (FitPlotOptions)
-  std::string title;    ///< above the figure (e.g. the input file's name)
+  int height_px = 900;              ///< 0: chosen by the picture, where it can (FitPlotOptions)
+  std::string title;                ///< above the figure (e.g. the input file's name)
   std::string gnuplot = "gnuplot";  ///< the program to run
   /// When not empty, the script and data files are written here and kept (for debugging or
   /// editing the figure); otherwise a temporary directory is used and removed.

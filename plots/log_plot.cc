@@ -1,4 +1,3 @@
-#include "forward_model/number_format.h"
 #include "plots/log_plot.h"
 
 #include <sys/wait.h>
@@ -13,8 +12,9 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "forward_model/contact_patch.h"
 #include "forward_model/constants.h"
+#include "forward_model/contact_patch.h"
+#include "forward_model/number_format.h"
 
 namespace slideid {
 namespace {
@@ -26,8 +26,6 @@ constexpr double kArrowPatchSizes = 1.0;
 /// outlines would only pile up.
 constexpr double kSamePlaceFraction = 0.05;
 constexpr double kSameAngle_rad = 0.05;
-
-
 
 std::optional<ContactPatch> PatchOf(const Trajectory& log) {
   if (log.patch_spec.empty()) return std::nullopt;
@@ -63,19 +61,20 @@ void WriteOutline(std::ostream& out, const std::vector<Eigen::Vector2d>& body,
                   const PlanarState& q) {
   const double c = std::cos(q.theta), s = std::sin(q.theta);
   for (const Eigen::Vector2d& p : body) {
-    out << GnuplotNumber(q.x + c * p.x() - s * p.y()) << ' ' << GnuplotNumber(q.y + s * p.x() + c * p.y()) << '\n';
+    out << GnuplotNumber(q.x + c * p.x() - s * p.y()) << ' '
+        << GnuplotNumber(q.y + s * p.x() + c * p.y()) << '\n';
   }
   out << '\n';
 }
-
 
 void WriteMotion(std::ostream& out, const Trajectory& t, const std::vector<PlanarState>& poses) {
   out << "# t x y theta vx vy wz\n";
   for (size_t u = 0; u < t.samples.size(); ++u) {
     const PlanarState& q = poses[u];
     const PlanarState& v = t.samples[u].state;
-    out << GnuplotNumber(t.samples[u].t_s) << ' ' << GnuplotNumber(q.x) << ' ' << GnuplotNumber(q.y) << ' ' << GnuplotNumber(q.theta)
-        << ' ' << GnuplotNumber(v.vx) << ' ' << GnuplotNumber(v.vy) << ' ' << GnuplotNumber(v.wz) << '\n';
+    out << GnuplotNumber(t.samples[u].t_s) << ' ' << GnuplotNumber(q.x) << ' ' << GnuplotNumber(q.y)
+        << ' ' << GnuplotNumber(q.theta) << ' ' << GnuplotNumber(v.vx) << ' ' << GnuplotNumber(v.vy)
+        << ' ' << GnuplotNumber(v.wz) << '\n';
   }
 }
 
@@ -144,11 +143,12 @@ void WritePlotData(const Trajectory& log, const Trajectory* fit, const PlotOptio
     const TrajectorySample& s = log.samples[u];
     const double fx = s.applied.fx, fy = s.applied.fy;
     if (fx == 0.0 && fy == 0.0) continue;
-    const Eigen::Vector2d at = s.push_point_world
-                                   ? Eigen::Vector2d(s.push_point_world->x(), s.push_point_world->y())
-                                   : Eigen::Vector2d(poses[u].x, poses[u].y);
-    push << GnuplotNumber(at.x() - arrow_scale * fx) << ' ' << GnuplotNumber(at.y() - arrow_scale * fy) << ' '
-         << GnuplotNumber(arrow_scale * fx) << ' ' << GnuplotNumber(arrow_scale * fy) << '\n';
+    const Eigen::Vector2d at =
+        s.push_point_world ? Eigen::Vector2d(s.push_point_world->x(), s.push_point_world->y())
+                           : Eigen::Vector2d(poses[u].x, poses[u].y);
+    push << GnuplotNumber(at.x() - arrow_scale * fx) << ' '
+         << GnuplotNumber(at.y() - arrow_scale * fy) << ' ' << GnuplotNumber(arrow_scale * fx)
+         << ' ' << GnuplotNumber(arrow_scale * fy) << '\n';
   }
   ecp << "# ax ay\n";
   for (size_t u = 1; u < log.samples.size(); ++u) {
@@ -201,9 +201,11 @@ std::string PlotScript(const Trajectory& log, const Trajectory* fit, const PlotO
     << "'\n";
   std::vector<std::string> plots;
   if (has_patch) {
-    plots.push_back(file("patch.dat") + " using 1:2 with lines lc rgb '#9a9a9a' lw 1 title 'patch'");
+    plots.push_back(file("patch.dat") +
+                    " using 1:2 with lines lc rgb '#9a9a9a' lw 1 title 'patch'");
   }
-  plots.push_back(file("path.dat") + " using 2:3 with lines lc rgb '#1f4e9a' lw 1.5 title 'CM (log)'");
+  plots.push_back(file("path.dat") +
+                  " using 2:3 with lines lc rgb '#1f4e9a' lw 1.5 title 'CM (log)'");
   if (has_ecp) {
     plots.push_back(file("ecp.dat") +
                     " using 1:2 with points pt 7 ps 0.25 lc rgb '#d62728' title 'ECP'");
@@ -214,12 +216,16 @@ std::string PlotScript(const Trajectory& log, const Trajectory* fit, const PlotO
                     "'#2ca02c' lw 1.5 title 'push'");
   }
   if (fit && has_patch && o.overlay_patches) {
-    plots.push_back(file("fit_patch.dat") + " using 1:2 with lines dt 2 lc rgb '#f5b971' lw 1 "
-                    "title 'patch (" + o.overlay_name + ")'");
+    plots.push_back(file("fit_patch.dat") +
+                    " using 1:2 with lines dt 2 lc rgb '#f5b971' lw 1 "
+                    "title 'patch (" +
+                    o.overlay_name + ")'");
   }
   if (fit) {
-    plots.push_back(file("fit.dat") + " using 2:3 with lines dt 2 lc rgb '#ff7f0e' lw 2 title "
-                    "'CM (" + o.overlay_name + ")'");
+    plots.push_back(file("fit.dat") +
+                    " using 2:3 with lines dt 2 lc rgb '#ff7f0e' lw 2 title "
+                    "'CM (" +
+                    o.overlay_name + ")'");
   }
   plots.push_back(file("path.dat") +
                   " every ::0::0 using 2:3 with points pt 7 ps 1.2 lc rgb 'black' title 'start'");

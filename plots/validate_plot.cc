@@ -63,12 +63,12 @@ void PlotValidation(const ValidationResult& result, const ValidationPlotOptions&
   for (const MethodValidation& m : result.methods) any = any || m.final_position_m.pushes > 0;
   if (!any) throw std::invalid_argument("plot: nothing to draw: no push was predicted");
   if (out_png.find('\'') != std::string::npos || title.find('\'') != std::string::npos) {
-    throw std::invalid_argument("plot: quote characters in the file name or title are not "
-                                "supported");
+    throw std::invalid_argument(
+        "plot: quote characters in the file name or title are not "
+        "supported");
   }
-  RunGnuplot(options, [&](const std::string& dir) {
-    return ValidationPlotScript(result, dir, options);
-  });
+  RunGnuplot(options,
+             [&](const std::string& dir) { return ValidationPlotScript(result, dir, options); });
 }
 
 }  // namespace slideid

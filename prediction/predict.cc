@@ -1,12 +1,11 @@
 #include "prediction/predict.h"
 
+#include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <stdexcept>
 #include <tuple>
-
-#include <Eigen/Dense>
 
 #include "estimator/pusher_friction.h"
 #include "estimator/robust_statistics.h"
@@ -26,18 +25,22 @@ std::string Named(const Trajectory& log) { return log.source.empty() ? "the log"
 
 /// The pusher the log describes: its tip's path, radius and mu_p.
 Pusher LoggedPusher(const Trajectory& log, double mu_pusher) {
-  const bool every_row = std::all_of(log.samples.begin(), log.samples.end(),
-                                     [](const TrajectorySample& s) { return s.tip_world.has_value(); });
+  const bool every_row =
+      std::all_of(log.samples.begin(), log.samples.end(),
+                  [](const TrajectorySample& s) { return s.tip_world.has_value(); });
   if (!log.columns.tip || !every_row) {
-    throw std::invalid_argument(Named(log) + ": the pusher drive needs the tip's path (columns "
+    throw std::invalid_argument(Named(log) +
+                                ": the pusher drive needs the tip's path (columns "
                                 "tip_x, tip_y); use the force drive, or add them");
   }
   if (!log.tip_radius_m) {
-    throw std::invalid_argument(Named(log) + ": the pusher drive needs the tip's radius "
+    throw std::invalid_argument(Named(log) +
+                                ": the pusher drive needs the tip's radius "
                                 "(metadata '# tip_radius = ...' [m])");
   }
   if (log.patch_spec.empty()) {
-    throw std::invalid_argument(Named(log) + ": the pusher drive needs the outline the tip "
+    throw std::invalid_argument(Named(log) +
+                                ": the pusher drive needs the outline the tip "
                                 "touches (metadata '# patch = ...')");
   }
   std::vector<double> times;
@@ -143,8 +146,9 @@ SimulationResult ReplayPusher(const Trajectory& log, const ReducedFriction& fric
     TrajectorySample& held = out.samples.back();
     const Eigen::Vector2d force = impulse / (log.samples[u + 1].t_s - t0);
     if (held.push_point_world) {
-      const Eigen::Vector3d arm = *held.push_point_world -
-                                  Eigen::Vector3d(held.state.x, held.state.y, log.slider.com_height_m);
+      const Eigen::Vector3d arm =
+          *held.push_point_world -
+          Eigen::Vector3d(held.state.x, held.state.y, log.slider.com_height_m);
       held.applied = WrenchFromForceAt(force.x(), force.y(), 0.0, arm.x(), arm.y(), arm.z());
     }
     TrajectorySample next;
@@ -323,8 +327,9 @@ Prediction PredictPush(const Trajectory& log, const ReducedFriction& friction,
   p.drive = options.drive;
   if (options.drive != PredictionDrive::kForce) {
     if (!mu_pusher) {
-      throw std::invalid_argument("the pusher drive needs the tip-edge friction mu_p (a fit's "
-                                  "mu_pusher, or --mu-pusher)");
+      throw std::invalid_argument(
+          "the pusher drive needs the tip-edge friction mu_p (a fit's "
+          "mu_pusher, or --mu-pusher)");
     }
     p.mu_pusher = *mu_pusher;
     Pusher pusher = LoggedPusher(log, *mu_pusher);
@@ -339,7 +344,8 @@ Prediction PredictPush(const Trajectory& log, const ReducedFriction& friction,
     p.summary = r.summary;
   } else {
     if (!AnyForce(log)) {
-      throw std::invalid_argument(Named(log) + ": the force drive needs logged forces (fx, fy); "
+      throw std::invalid_argument(Named(log) +
+                                  ": the force drive needs logged forces (fx, fy); "
                                   "this log has none");
     }
     SimulationOptions sim;
@@ -356,18 +362,25 @@ Prediction PredictPush(const Trajectory& log, const ReducedFriction& friction,
 
 const char* ToString(PredictionDrive drive) {
   switch (drive) {
-    case PredictionDrive::kPusher: return "pusher";
-    case PredictionDrive::kForce: return "force";
-    case PredictionDrive::kQuasiStatic: return "quasi-static";
+    case PredictionDrive::kPusher:
+      return "pusher";
+    case PredictionDrive::kForce:
+      return "force";
+    case PredictionDrive::kQuasiStatic:
+      return "quasi-static";
   }
   return "?";
 }
 
 bool ParsePredictionDrive(const std::string& text, PredictionDrive* drive) {
-  if (text == "pusher") *drive = PredictionDrive::kPusher;
-  else if (text == "force") *drive = PredictionDrive::kForce;
-  else if (text == "quasi-static") *drive = PredictionDrive::kQuasiStatic;
-  else return false;
+  if (text == "pusher")
+    *drive = PredictionDrive::kPusher;
+  else if (text == "force")
+    *drive = PredictionDrive::kForce;
+  else if (text == "quasi-static")
+    *drive = PredictionDrive::kQuasiStatic;
+  else
+    return false;
   return true;
 }
 

@@ -53,9 +53,9 @@ struct PredictionOptions {
 
 /// How far a prediction lands from the log. Errors compare poses at the log's rows.
 struct PredictionErrors {
-  double final_position_m = 0;   ///< |predicted - logged| CM position at the last row
-  double final_rotation_rad = 0; ///< |predicted - logged| theta at the last row
-  double mean_position_m = 0;    ///< mean over the rows
+  double final_position_m = 0;    ///< |predicted - logged| CM position at the last row
+  double final_rotation_rad = 0;  ///< |predicted - logged| theta at the last row
+  double mean_position_m = 0;     ///< mean over the rows
   double mean_rotation_rad = 0;
   /// The pusher's travel over the log [m] (the tip's path; without it, the push point's,
   /// and without that, the CM's), and the errors per 100 mm of it [m, rad per 0.1 m].
@@ -72,12 +72,12 @@ struct PredictionErrors {
 };
 
 struct Prediction {
-  Trajectory predicted;        ///< rows at the log's times (up to a failing step)
-  PredictionErrors errors;     ///< over the rows predicted
-  SimulationSummary summary;   ///< the simulation's status; not ok: the errors cover less
+  Trajectory predicted;       ///< rows at the log's times (up to a failing step)
+  PredictionErrors errors;    ///< over the rows predicted
+  SimulationSummary summary;  ///< the simulation's status; not ok: the errors cover less
   PredictionDrive drive = PredictionDrive::kPusher;
-  double mu_pusher = 0;        ///< used (pusher drive)
-  double tip_radius_m = 0;     ///< used (pusher drive): the log's, or registered
+  double mu_pusher = 0;     ///< used (pusher drive)
+  double tip_radius_m = 0;  ///< used (pusher drive): the log's, or registered
 };
 
 /// Predicts `log` with `friction` (and `mu_pusher`, the tip-edge friction, for the pusher

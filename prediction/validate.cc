@@ -1,9 +1,9 @@
 #include "prediction/validate.h"
 
 #include <algorithm>
-#include <memory>
 #include <chrono>
 #include <cmath>
+#include <memory>
 #include <stdexcept>
 #include <tuple>
 
@@ -125,9 +125,10 @@ ReducedFriction TextbookFriction(const ContactPatch& patch) {
     lo = lo.cwiseMin(p);
     hi = hi.cwiseMax(p);
   }
-  const double inner = patch.shape() == ContactPatch::Shape::kRing
-                           ? patch.InnerOutline().empty() ? 0.0 : patch.InnerOutline().front().norm()
-                           : 0.0;
+  const double inner =
+      patch.shape() == ContactPatch::Shape::kRing
+          ? patch.InnerOutline().empty() ? 0.0 : patch.InnerOutline().front().norm()
+          : 0.0;
   double distance = 0;
   long cells = 0;
   const Eigen::Vector2d size = (hi - lo) / kPressureGrid;
@@ -249,7 +250,8 @@ ValidationResult Validate(const std::vector<Trajectory>& logs, const ValidationO
               Unpredicted(result.logs[i], -1, "its own fit did not converge: " + r.message);
           return;
         }
-        own.pushes[i] = Predict(logs[i], i, -1, f, MuPusherOf(r, options).first, options.prediction);
+        own.pushes[i] =
+            Predict(logs[i], i, -1, f, MuPusherOf(r, options).first, options.prediction);
       } catch (const std::exception& e) {
         own.pushes[i] = Unpredicted(result.logs[i], -1, e.what());
       }
@@ -274,8 +276,7 @@ ValidationResult Validate(const std::vector<Trajectory>& logs, const ValidationO
     SummariseMethod(&textbook);
     result.methods.push_back(textbook);
   }
-  result.seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return result;
 }
 

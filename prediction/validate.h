@@ -33,7 +33,7 @@ struct ValidationOptions {
   /// The pusher drive: also the folds' friction through the quasi-static model (what the
   /// pushing literature predicts with).
   bool quasi_static = true;
-  int threads = 1;       ///< folds fitted and pushes predicted in parallel
+  int threads = 1;  ///< folds fitted and pushes predicted in parallel
 
   bool IsValid(std::string* why) const;
 };
@@ -42,7 +42,7 @@ struct ValidationOptions {
 struct PushPrediction {
   std::string log;
   int fold = 0;
-  bool ok = false;        ///< predicted to the end; else `error` says why
+  bool ok = false;  ///< predicted to the end; else `error` says why
   std::string error;
   PredictionErrors errors;
   ReducedFriction friction;

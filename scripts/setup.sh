@@ -18,6 +18,7 @@ packages=(
   pybind11-dev python3-dev python3-numpy  # the Python module, for Debian's /usr/bin/python3
   python3-pytest         # the Python module's tests
   python3-distributed    # slideid.dask: many logs on a Dask cluster (docs/scale-out.md)
+  clang-format           # the code's format (.clang-format), checked by scripts/check_format.sh
   clang libclang-rt-14-dev  # fuzz targets: libFuzzer and clang's sanitizer runtimes (scripts/fuzz.sh)
 )
 

@@ -5,12 +5,14 @@
 # Then the robustness passes of docs/robustness.md: each fuzzer for 30 s (scripts/fuzz.sh)
 # and the whole suite under ASan + UBSan (scripts/sanitizers.sh).
 # After the build, that every relative link in README.md and docs/ resolves
-# (scripts/check_links.py).
+# (scripts/check_links.py) and that every C++ file is formatted as .clang-format says
+# (scripts/check_format.sh).
 # SLIDEID_QUICK=1 skips the robustness passes.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/build.sh  # installs what is missing first (scripts/setup.sh), python3 included
 /usr/bin/python3 scripts/check_links.py  # every relative link of README.md and docs/ resolves
+bash scripts/check_format.sh  # every C++ file as .clang-format says
 (cd build && ctest --output-on-failure -j"$(nproc)")
 if [ "${SLIDEID_QUICK:-0}" != 1 ]; then
   bash scripts/fuzz.sh 30

@@ -20,10 +20,10 @@
 #include <string>
 #include <vector>
 
+#include "forward_model/constants.h"
 #include "io/push_log.h"
 #include "io/scene_file.h"
 #include "tests/estimator_test_support.h"
-#include "forward_model/constants.h"
 
 namespace slideid {
 namespace {
@@ -85,7 +85,9 @@ void ExpectError(const std::string& name, const std::string& content, int line,
   const std::string what = e.what();
   EXPECT_EQ(e.line(), line) << what;
   EXPECT_EQ(e.column(), column) << what;
-  EXPECT_TRUE(Contains(what, testing::TempDirectory() + "/" + name + ":" + std::to_string(line) + ": ")) << what;
+  EXPECT_TRUE(
+      Contains(what, testing::TempDirectory() + "/" + name + ":" + std::to_string(line) + ": "))
+      << what;
   EXPECT_TRUE(Contains(what, fragment)) << "wanted '" << fragment << "' in: " << what;
 }
 
@@ -103,8 +105,8 @@ TEST(BadLog, HeaderProblemsNameTheHeaderLine) {
   ExpectError("semicolons.csv", std::string(kSliderMeta) + "t;x;y;theta\n0;0;0;0\n", 4, "",
               "separated by commas (this line seems to use ';')");
   ExpectError("tabs.csv", std::string(kSliderMeta) + "t\tx\ty\ttheta\n", 4, "", "tabs");
-  ExpectError("trailing_comma.csv", std::string(kSliderMeta) + "t,x,y,theta,\n0,0,0,0,\n", 4,
-              "", "empty column name in field 5");
+  ExpectError("trailing_comma.csv", std::string(kSliderMeta) + "t,x,y,theta,\n0,0,0,0,\n", 4, "",
+              "empty column name in field 5");
   ExpectError("upper_case.csv", std::string(kSliderMeta) + "T,X,Y,THETA\n0,0,0,0\n", 4, "t",
               "lower case");
   ExpectError("duplicate.csv", std::string(kSliderMeta) + "t,vx,vy,wz,vx\n0,0,0,0,0\n", 4, "vx",
@@ -114,9 +116,9 @@ TEST(BadLog, HeaderProblemsNameTheHeaderLine) {
 }
 
 TEST(BadLog, QuotedCellsAsSpreadsheetsWriteThemAreAccepted) {
-  const Trajectory tr = ReadPushLog(WriteFile(
-      "quoted.csv", std::string(kSliderMeta) + "\"t\",\"x\",\"y\",\"theta\"\n0,0,0,0\n"
-                                               "0.1,\"0.5\",0,0\n"));
+  const Trajectory tr = ReadPushLog(
+      WriteFile("quoted.csv", std::string(kSliderMeta) + "\"t\",\"x\",\"y\",\"theta\"\n0,0,0,0\n"
+                                                         "0.1,\"0.5\",0,0\n"));
   ASSERT_EQ(tr.samples.size(), 2u);
   EXPECT_EQ(tr.samples[1].state.x, 0.5);
 }
@@ -132,9 +134,9 @@ TEST(BadLog, NulByteIsAnErrorNamingItsLineInFilesAndInMemory) {
     EXPECT_EQ(e.line(), 6) << e.what();
   }
   // A crash can leave a zero-filled tail after the last complete line.
-  ExpectError("zero_tail.csv", std::string(kSliderMeta) + "t,x,y,theta\n0,0,0,0\n" +
-                                   std::string(64, '\0'),
-              6, "", "NUL byte");
+  ExpectError("zero_tail.csv",
+              std::string(kSliderMeta) + "t,x,y,theta\n0,0,0,0\n" + std::string(64, '\0'), 6, "",
+              "NUL byte");
 }
 
 // A line of 16 MiB or more (fccp's block) is an error naming that line, in files and in
@@ -164,15 +166,14 @@ TEST(BadLog, DirectoryIsAnErrorSayingSo) {
 
 TEST(BadLog, MetadataErrorsNameTheirLine) {
   const std::string rows = "t,x,y,theta\n0,0,0,0\n";
-  ExpectError("bad_patch.csv", std::string(kSliderMeta) + "# patch = polygon 0 0 1 1 1 0 0 1\n" +
-                                   rows,
-              4, "", "metadata 'patch'");
-  ExpectError("text_mass.csv", "# mass = 0.5 kg\n# inertia = 2e-4\n# com_height = 0\n" + rows,
-              1, "", "'0.5 kg' is not a finite number");
-  ExpectError("twice.csv", std::string(kSliderMeta) + "# mass = 1\n" + rows, 4, "",
-              "given twice");
-  const LogError e = ErrorOf("misspelt.csv", "# Mass = 1\n# inertia = 2e-4\n# com_height = 0\n" +
-                                                 rows);
+  ExpectError("bad_patch.csv",
+              std::string(kSliderMeta) + "# patch = polygon 0 0 1 1 1 0 0 1\n" + rows, 4, "",
+              "metadata 'patch'");
+  ExpectError("text_mass.csv", "# mass = 0.5 kg\n# inertia = 2e-4\n# com_height = 0\n" + rows, 1,
+              "", "'0.5 kg' is not a finite number");
+  ExpectError("twice.csv", std::string(kSliderMeta) + "# mass = 1\n" + rows, 4, "", "given twice");
+  const LogError e =
+      ErrorOf("misspelt.csv", "# Mass = 1\n# inertia = 2e-4\n# com_height = 0\n" + rows);
   EXPECT_TRUE(Contains(e.what(), "--mass")) << e.what();
   EXPECT_TRUE(Contains(e.what(), "found '# Mass = 1'")) << e.what();
 }
@@ -182,10 +183,10 @@ TEST(BadLog, SliderPropertiesMustBePhysical) {
   ExpectError("no_inertia.csv", "# mass = 1\n# com_height = 0\n" + rows, 0, "", "inertia");
   ExpectError("zero_inertia.csv", "# mass = 1\n# inertia = 0\n# com_height = 0\n" + rows, 2, "",
               "inertia = 0 (metadata) must be > 0");
-  ExpectError("negative_mass.csv", "# mass = -1\n# inertia = 1\n# com_height = 0\n" + rows, 1,
-              "", "must be > 0");
-  ExpectError("negative_height.csv", "# mass = 1\n# inertia = 1\n# com_height = -0.1\n" + rows,
-              3, "", "must be >= 0");
+  ExpectError("negative_mass.csv", "# mass = -1\n# inertia = 1\n# com_height = 0\n" + rows, 1, "",
+              "must be > 0");
+  ExpectError("negative_height.csv", "# mass = 1\n# inertia = 1\n# com_height = -0.1\n" + rows, 3,
+              "", "must be >= 0");
   ExpectError("no_com_height.csv", "# mass = 1\n# inertia = 1\n" + rows, 0, "", "com_height");
 }
 
@@ -193,8 +194,8 @@ TEST(BadLog, VerticalForceThatLiftsTheSliderIsAnError) {
   // m g = 0.5 * 9.81 = 4.905 N: fz = 4.905 leaves p_n = 0, fz = 10 makes it negative.
   ExpectError("lift_zero.csv", std::string(kSliderMeta) + "t,x,y,theta,fz\n0,0,0,0,4.905\n", 5,
               "fz", "lifts the slider");
-  ExpectError("lift.csv", std::string(kSliderMeta) + "t,x,y,theta,fz\n0,0,0,0,0\n0.1,0,0,0,10\n",
-              6, "fz", "not below m g");
+  ExpectError("lift.csv", std::string(kSliderMeta) + "t,x,y,theta,fz\n0,0,0,0,0\n0.1,0,0,0,10\n", 6,
+              "fz", "not below m g");
 }
 
 TEST(BadLog, TimeMustIncreaseStrictly) {
@@ -241,10 +242,10 @@ TEST(BadLog, GapFarLongerThanTheMedianIntervalIsAnErrorUnlessAllowed) {
 TEST(BadLog, AbsurdMagnitudesAreReadWithWarningsNamingLineAndColumn) {
   // Millimetres for metres, and a force in mN: every such row is counted.
   LogReadReport report;
-  const std::string path = WriteFile(
-      "millimetres.csv", "# mass = 20000\n# inertia = 1e-5\n# com_height = 0.08\n"
-                         "t,x,y,theta,fx,fy\n0,1500,0,0,0,0\n0.01,1510,0,0,2e5,0\n"
-                         "0.02,1520,0,0,0,0\n");
+  const std::string path = WriteFile("millimetres.csv",
+                                     "# mass = 20000\n# inertia = 1e-5\n# com_height = 0.08\n"
+                                     "t,x,y,theta,fx,fy\n0,1500,0,0,0,0\n0.01,1510,0,0,2e5,0\n"
+                                     "0.02,1520,0,0,0,0\n");
   const Trajectory tr = ReadPushLog(path, {}, &report);
   EXPECT_EQ(tr.samples.size(), 3u);
   const auto has = [&](const std::string& fragment) {
@@ -253,7 +254,8 @@ TEST(BadLog, AbsurdMagnitudesAreReadWithWarningsNamingLineAndColumn) {
     }
     return false;
   };
-  EXPECT_TRUE(has(path + ":5: column 'x': 1500 m is beyond 1000 m")) << ::testing::PrintToString(report.warnings);
+  EXPECT_TRUE(has(path + ":5: column 'x': 1500 m is beyond 1000 m"))
+      << ::testing::PrintToString(report.warnings);
   EXPECT_TRUE(has("3 rows like it"));
   EXPECT_TRUE(has(path + ":6: column 'fx': 2e+05 N is beyond 1e+05 N"));
   EXPECT_TRUE(has(path + ":1: mass = 20000 kg"));
@@ -261,15 +263,15 @@ TEST(BadLog, AbsurdMagnitudesAreReadWithWarningsNamingLineAndColumn) {
   EXPECT_TRUE(has(path + ":6: column 'vx': from poses: 1000 m/s is beyond 100 m/s"));
   // Sensible values: no warnings.
   report = {};
-  ReadPushLog(WriteFile("sensible.csv", std::string(kSliderMeta) + "t,x,y,theta\n0,0,0,0\n"),
-              {}, &report);
+  ReadPushLog(WriteFile("sensible.csv", std::string(kSliderMeta) + "t,x,y,theta\n0,0,0,0\n"), {},
+              &report);
   EXPECT_TRUE(report.warnings.empty()) << ::testing::PrintToString(report.warnings);
 }
 
 TEST(BadLog, DerivedValuesThatOverflowAreErrors) {
   ExpectError("theta_overflow.csv",
-              std::string(kSliderMeta) + "t,x,y,theta\n0,0,0,1e308\n0.1,0,0,-1e308\n", 6,
-              "theta", "cannot be unwrapped");
+              std::string(kSliderMeta) + "t,x,y,theta\n0,0,0,1e308\n0.1,0,0,-1e308\n", 6, "theta",
+              "cannot be unwrapped");
   ExpectError("moment_overflow.csv",
               std::string(kSliderMeta) + "t,x,y,theta,fx,fy,px,py,pz\n0,0,0,0,1e300,0,0,1e300,0\n",
               5, "px", "overflows");
@@ -280,9 +282,10 @@ TEST(BadLog, DerivedValuesThatOverflowAreErrors) {
 
 TEST(BadLog, MissingFinalLineBreakIsReadWithANote) {
   LogReadReport report;
-  const Trajectory tr = ReadPushLog(
-      WriteFile("no_final_newline.csv", std::string(kSliderMeta) + "t,x,y,theta\n0,0,0,0\n0.1,1,2,3"),
-      {}, &report);
+  const Trajectory tr =
+      ReadPushLog(WriteFile("no_final_newline.csv",
+                            std::string(kSliderMeta) + "t,x,y,theta\n0,0,0,0\n0.1,1,2,3"),
+                  {}, &report);
   ASSERT_EQ(tr.samples.size(), 2u);
   EXPECT_EQ(tr.samples[1].state.theta, 3.0);
   bool noted = false;
@@ -299,8 +302,8 @@ std::string Outcome(const std::string& text, bool from_file) {
   LogReadReport report;
   std::ostringstream out;
   try {
-    const Trajectory tr =
-        from_file ? ReadPushLog(path, options, &report) : ParsePushLog(text, path, options, &report);
+    const Trajectory tr = from_file ? ReadPushLog(path, options, &report)
+                                    : ParsePushLog(text, path, options, &report);
     for (const TrajectorySample& s : tr.samples) {
       out << s.t_s << " " << s.state.x << " " << s.state.theta << " " << s.state.vx << " "
           << s.applied.tz << " " << static_cast<int>(s.mode) << "\n";
@@ -316,10 +319,16 @@ std::string Outcome(const std::string& text, bool from_file) {
 // ParsePushLog splits lines itself (fuzzing it spares fccp's 48 MiB buffer per input); it
 // must read every text exactly as ReadPushLog reads the same bytes from a file.
 TEST(BadLog, ReadingFromMemoryMatchesReadingTheFile) {
-  std::vector<std::string> texts = {
-      "", "\n", "\r\n", "\xEF\xBB\xBF", "# only a comment", "t,x,y,theta",
-      "t,x,y,theta\r\n0,0,0,0\r\n0.1,1,2,3", "\xEF\xBB\xBFt,x,y,theta\n0,0,0,0\n\n\n",
-      "t,x,y,theta\n0,0,0,0\r\r\n", "t,x,y,theta\n0,0,0,0\n\r\n0.1,0,0,0\n"};
+  std::vector<std::string> texts = {"",
+                                    "\n",
+                                    "\r\n",
+                                    "\xEF\xBB\xBF",
+                                    "# only a comment",
+                                    "t,x,y,theta",
+                                    "t,x,y,theta\r\n0,0,0,0\r\n0.1,1,2,3",
+                                    "\xEF\xBB\xBFt,x,y,theta\n0,0,0,0\n\n\n",
+                                    "t,x,y,theta\n0,0,0,0\r\r\n",
+                                    "t,x,y,theta\n0,0,0,0\n\r\n0.1,0,0,0\n"};
   const std::string corpus = std::string(SLIDEID_SOURCE_DIR) + "/fuzz/corpus/log";
   if (std::filesystem::is_directory(corpus)) {
     for (const auto& entry : std::filesystem::directory_iterator(corpus)) {
@@ -342,7 +351,7 @@ struct BadLogCase {
 };
 
 TEST(IdentifyBadLog, EveryMalformedLogExitsOneNamingFileLineAndColumn) {
-  const std::string m = kSliderMeta;  // lines 1-3
+  const std::string m = kSliderMeta;          // lines 1-3
   const std::string h = m + "t,x,y,theta\n";  // header on line 4
   const std::vector<BadLogCase> cases = {
       {"empty.csv", "", "0: "},
@@ -432,7 +441,8 @@ TEST(IdentifyOptions, UsageErrorsExitTwoNamingTheOption) {
       {"--log", "'--log' is missing"},
       {"--log " + log + " --fit-delay sometimes", "--fit-delay"},
       {"--logs /nonexistent/dir", "--logs"},
-      {"--log " + log + " --method closed-form --fit-force-bias", "--fit-force-bias does not apply"},
+      {"--log " + log + " --method closed-form --fit-force-bias",
+       "--fit-force-bias does not apply"},
       {log, "'--log' (or '--logs') is required"},
       {"--log " + log + " --mass", "'--mass' is missing"},
       {"--log " + log + " --mass heavy", "--mass"},
@@ -485,8 +495,8 @@ TEST(IdentifyOptions, HelpVersionAndCompatibleOptionsSucceed) {
 
 TEST(IdentifyOptions, UnwritableResidualsFileExitsFour) {
   const std::string log = PushedLog("residuals_io.csv");
-  const ToolRun r = Identify("--log " + log + " --method closed-form --residuals " + testing::TempDirectory() +
-                         "/no_such_dir/residuals.csv");
+  const ToolRun r = Identify("--log " + log + " --method closed-form --residuals " +
+                             testing::TempDirectory() + "/no_such_dir/residuals.csv");
   EXPECT_EQ(r.code, 4) << r.err;
   EXPECT_TRUE(Contains(r.err, "no_such_dir/residuals.csv")) << r.err;
 }
@@ -517,10 +527,12 @@ TEST(NumericalFailure, FitCutOffByTheIterationLimitExitsThreeAndWritesNoResidual
   const std::string log = NoisyVelocityLog("noisy.csv");
   const std::string residuals = testing::TempDirectory() + "/residuals_failed.csv";
   const ToolRun failed = Identify("--log " + log + " --method equation-error --max-iterations 1 " +
-                              "--residuals " + residuals);
+                                  "--residuals " + residuals);
   EXPECT_EQ(failed.code, 3) << failed.out << failed.err;
-  EXPECT_TRUE(Contains(failed.err, "identify: error: " + log + ": the equation-error fit did "
-                                   "not converge")) << failed.err;
+  EXPECT_TRUE(Contains(failed.err, "identify: error: " + log +
+                                       ": the equation-error fit did "
+                                       "not converge"))
+      << failed.err;
   EXPECT_FALSE(Exists(residuals));
   EXPECT_FALSE(Exists(residuals + ".tmp"));
   ExpectNoNaN(failed);
@@ -585,8 +597,10 @@ std::string Edited(const std::string& from, const std::string& to, const std::st
   std::string text = std::string(kScene) + patch;
   if (!from.empty()) {
     const auto at = text.find(from);
-    if (at == std::string::npos) ADD_FAILURE() << from;
-    else text.replace(at, from.size(), to);
+    if (at == std::string::npos)
+      ADD_FAILURE() << from;
+    else
+      text.replace(at, from.size(), to);
   }
   return text + extra;
 }
@@ -613,14 +627,12 @@ std::vector<BadSceneCase> BadScenes() {
       {"inf_value.ini", Edited("duration = 0.2", "duration = inf"), "duration", "finite"},
       {"zero_mass.ini", Edited("mass = 0.5", "mass = 0"), "mass", "> 0"},
       {"negative_inertia.ini", Edited("inertia = 2e-4", "inertia = -2e-4"), "inertia", "> 0"},
-      {"negative_height.ini", Edited("com_height = 0.08", "com_height = -1"), "com_height",
-       ">= 0"},
+      {"negative_height.ini", Edited("com_height = 0.08", "com_height = -1"), "com_height", ">= 0"},
       {"zero_dt.ini", Edited("dt = 0.01", "dt = 0"), "dt", "> 0"},
       {"negative_mu.ini", Edited("mu = 0.31", "mu = -0.31"), "mu", "> 0"},
-      {"zero_width.ini", Edited("", "", "", "[patch]\nshape = rectangle\nwidth = 0\nlength = 0.05\n"),
-       "width", "0"},
-      {"zero_radius.ini", Edited("", "", "", "[patch]\nshape = disk\nradius = 0\n"), "radius",
-       "0"},
+      {"zero_width.ini",
+       Edited("", "", "", "[patch]\nshape = rectangle\nwidth = 0\nlength = 0.05\n"), "width", "0"},
+      {"zero_radius.ini", Edited("", "", "", "[patch]\nshape = disk\nradius = 0\n"), "radius", "0"},
       {"ring_inner_equal.ini",
        Edited("", "", "", "[patch]\nshape = ring\nradius = 0.1\ninner_radius = 0.1\n"),
        "inner_radius", "outer"},
@@ -631,12 +643,10 @@ std::vector<BadSceneCase> BadScenes() {
        Edited("", "", "", "[patch]\nshape = polygon\nvertices = 0 0 0.1 0 0.2 0\n"), "vertices",
        "zero area"},
       {"polygon_self_intersecting.ini",
-       Edited("", "", "",
-              "[patch]\nshape = polygon\nvertices = 0 0 0.1 0.1 0.1 0 0 0.1\n"),
+       Edited("", "", "", "[patch]\nshape = polygon\nvertices = 0 0 0.1 0.1 0.1 0 0 0.1\n"),
        "vertices", "self-intersecting"},
       {"polygon_odd_count.ini",
-       Edited("", "", "", "[patch]\nshape = polygon\nvertices = 0 0 0.1 0 0.1\n"), "vertices",
-       ""},
+       Edited("", "", "", "[patch]\nshape = polygon\nvertices = 0 0 0.1 0 0.1\n"), "vertices", ""},
       {"polygon_clockwise.ini",
        Edited("", "", "", "[patch]\nshape = polygon\nvertices = 0 0 0 0.1 0.1 0.1 0.1 0\n"),
        "vertices", "counter-clockwise"},
@@ -682,8 +692,8 @@ TEST(BadScene, SimulateUsageErrorsExitTwo) {
   EXPECT_EQ(RunTool("simulate", "--version").code, 0);
   const ToolRun ok = RunTool("simulate", "--scene " + ini);
   EXPECT_EQ(ok.code, 0) << ok.err;
-  const ToolRun unwritable =
-      RunTool("simulate", "--scene " + ini + " --out " + testing::TempDirectory() + "/no_such_dir/log.csv");
+  const ToolRun unwritable = RunTool(
+      "simulate", "--scene " + ini + " --out " + testing::TempDirectory() + "/no_such_dir/log.csv");
   EXPECT_EQ(unwritable.code, 4) << unwritable.err;
 }
 

@@ -42,7 +42,8 @@ std::vector<std::string> Logs() {
       WritePushLog(testing::SimulateOrFail(scenes[k]), f.back());
     }
     f.push_back(Dir() + "/log_9_bad.csv");
-    std::ofstream(f.back()) << "# mass = 1\n# inertia = 0.01\n# com_height = 0\nt,x,y,theta\n0,0,0,0\n0.01,abc,0,0\n";
+    std::ofstream(f.back())
+        << "# mass = 1\n# inertia = 0.01\n# com_height = 0\nt,x,y,theta\n0,0,0,0\n0.01,abc,0,0\n";
     return f;
   }();
   return files;
@@ -153,8 +154,7 @@ TEST(Batch, ToolExitsOneWhenALogFailedAndWritesEveryLine) {
   Logs();
   std::string output;
   const std::string results = Dir() + "/results.jsonl";
-  EXPECT_EQ(RunIdentify("--batch '" + Dir() + "/log_*.csv' --jobs 2 --out " + results, &output),
-            1)
+  EXPECT_EQ(RunIdentify("--batch '" + Dir() + "/log_*.csv' --jobs 2 --out " + results, &output), 1)
       << output;
   EXPECT_NE(output.find("1 of 4 logs failed"), std::string::npos) << output;
   std::stringstream text;

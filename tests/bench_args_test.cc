@@ -43,8 +43,8 @@ std::string ErrorOf(std::vector<std::string> words, Read read) {
 }
 
 TEST(BenchArgs, ReadsOptionsAndTheirValuesInOrder) {
-  Argv a({"--logs", "30", "--quick", "--timestep", "2.5e-4", "--lengths", "100,1000",
-          "--methods", "closed-form,trajectory", "--threads", "-3"});
+  Argv a({"--logs", "30", "--quick", "--timestep", "2.5e-4", "--lengths", "100,1000", "--methods",
+          "closed-form,trajectory", "--threads", "-3"});
   bench::Args args(a.argc(), a.argv());
   ASSERT_TRUE(args.Next());
   EXPECT_TRUE(args.Is("--logs"));

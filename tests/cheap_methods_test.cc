@@ -97,8 +97,7 @@ TEST(CheapMethods, NoisyMotionCaptureIsNotIdentifiableWithTheReason) {
       const ParameterEstimate& p = r->parameters[i];
       SCOPED_TRACE(std::string(ToString(r->method)) + " " + ParameterName(i));
       EXPECT_FALSE(p.identifiable);
-      EXPECT_NE(p.reason.find("differentiated from noisy poses"), std::string::npos)
-          << p.reason;
+      EXPECT_NE(p.reason.find("differentiated from noisy poses"), std::string::npos) << p.reason;
     }
     EXPECT_GT(Excluded(*r, r->method == EstimatorMethod::kClosedForm
                                ? "a: impulse noise swamps the friction"
@@ -299,8 +298,8 @@ TEST(CheapMethods, EquationErrorIntervalsAreCalibratedOnNoisyVelocities) {
   ExpectCalibrated(forces, "3% force noise and outliers, simulated finer than logged");
 }
 
-
-// ---- the full Monte Carlo (docs/identify.md, "Which estimator"; run on demand) ---------------------
+// ---- the full Monte Carlo (docs/identify.md, "Which estimator"; run on demand)
+// ---------------------
 
 /// One condition of the coverage table.
 struct Condition {
@@ -356,8 +355,9 @@ TEST(CheapMethodsCoverage, FullMonteCarlo) {
   const char* logs_env = std::getenv("SLIDEID_COVERAGE_LOGS");
   if (!logs_env) GTEST_SKIP() << "set SLIDEID_COVERAGE_LOGS to run";
   const int logs = std::atoi(logs_env);
-  std::printf("| condition | method | parameter | reported | suspect | coverage | bias | "
-              "median rel. stderr |\n|---|---|---|---|---|---|---|---|\n");
+  std::printf(
+      "| condition | method | parameter | reported | suspect | coverage | bias | "
+      "median rel. stderr |\n|---|---|---|---|---|---|---|---|\n");
   for (const Condition& c : CoverageConditions()) {
     std::array<std::array<std::vector<double>, 3>, 2> error, stderr_rel;
     std::array<std::array<int, 3>, 2> covered{}, suspect{};

@@ -22,9 +22,9 @@ using testing::SimulateOrFail;
 using testing::ExpectRecovers;
 using testing::ExpectWithinStandardErrors;
 using testing::FullyIdentifiableScenes;
+using testing::kExactRelTol;
 using testing::NamedScene;
 using testing::PosesOnly;
-using testing::kExactRelTol;
 
 TEST(ClosedForm, RecoversTruthExactlyFromNoiselessLogs) {
   for (const NamedScene& s : FullyIdentifiableScenes()) {
@@ -191,8 +191,7 @@ TEST(ClosedForm, NoisyStraightLineStillCannotIdentifyBOrC) {
         EstimateClosedForm(AddNoise(clean, VelocityNoise(seed, kLowNoise)), {});
     EXPECT_TRUE(r.parameters[kA].identifiable || DeclinedForNoiseBias(r.parameters[kA]))
         << r.parameters[kA].reason;
-    EXPECT_NEAR(r.parameters[kA].identifiable ? r.parameters[kA].value
-                                              : r.parameters[kA].held_at,
+    EXPECT_NEAR(r.parameters[kA].identifiable ? r.parameters[kA].value : r.parameters[kA].held_at,
                 0.3, kMaxDeclinedError * 0.3);
     EXPECT_FALSE(r.parameters[kB].identifiable) << r.parameters[kB].value;
     EXPECT_FALSE(r.parameters[kC].identifiable) << r.parameters[kC].value;

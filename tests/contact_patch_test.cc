@@ -86,8 +86,9 @@ TEST(ContactPatch, PolygonHullDropsCollinearAndInteriorVertices) {
 }
 
 TEST(ContactPatch, SelfIntersectingPolygonIsRejected) {
-  const std::string bowtie = InvalidArgumentMessage(
-      [] { ContactPatch::Polygon({Vec2(0, 0), Vec2(1, 1), Vec2(1, 0), Vec2(0, 1)}); });
+  const std::string bowtie = InvalidArgumentMessage([] {
+    ContactPatch::Polygon({Vec2(0, 0), Vec2(1, 1), Vec2(1, 0), Vec2(0, 1)});
+  });
   EXPECT_NE(bowtie.find("self-intersecting"), std::string::npos) << bowtie;
   // A vertex touching a non-adjacent edge is not simple either.
   const std::string touching = InvalidArgumentMessage([] {
@@ -97,8 +98,9 @@ TEST(ContactPatch, SelfIntersectingPolygonIsRejected) {
 }
 
 TEST(ContactPatch, ClockwisePolygonIsRejectedSayingCounterClockwise) {
-  const std::string message = InvalidArgumentMessage(
-      [] { ContactPatch::Polygon({Vec2(0, 0), Vec2(0, 1), Vec2(1, 1), Vec2(1, 0)}); });
+  const std::string message = InvalidArgumentMessage([] {
+    ContactPatch::Polygon({Vec2(0, 0), Vec2(0, 1), Vec2(1, 1), Vec2(1, 0)});
+  });
   EXPECT_NE(message.find("counter-clockwise"), std::string::npos) << message;
 }
 

@@ -13,13 +13,13 @@
 #include <sstream>
 
 #include "datasets/dataset.h"
-#include "plots/log_plot.h"
 #include "datasets/sensor_model.h"
 #include "estimator/identify.h"
 #include "forward_model/simulator.h"
 #include "io/push_log.h"
 #include "io/result_json.h"
 #include "io/scene_file.h"
+#include "plots/log_plot.h"
 #include "tests/estimator_test_support.h"
 
 namespace slideid {
@@ -181,12 +181,13 @@ TEST(DatasetEndToEnd, ToolsMakeADatasetAndIdentifyItsLog) {
   const std::string bin = env ? env : "build/bin";
   std::string dir = ::testing::TempDir() + "e2e_tools_XXXXXX";
   ASSERT_NE(mkdtemp(dir.data()), nullptr);
-  ASSERT_EQ(Shell(bin + "/make-dataset --count 1 --seed 2024 --quiet --noise-pose 3e-4 "
-                "--noise-angle 3e-3 --noise-force-relative 0.02 --noise-force 0.05 --out " +
-                dir),
+  ASSERT_EQ(Shell(bin +
+                  "/make-dataset --count 1 --seed 2024 --quiet --noise-pose 3e-4 "
+                  "--noise-angle 3e-3 --noise-force-relative 0.02 --noise-force 0.05 --out " +
+                  dir),
             0);
   ASSERT_EQ(Shell(bin + "/identify --log " + dir + "/log_0000.csv --substeps 10 --json > " + dir +
-                "/fit.json 2> /dev/null"),
+                  "/fit.json 2> /dev/null"),
             0);
   const ReducedFriction fit = ParseIdentifyJson(ReadText(dir + "/fit.json"));
   // The same draw as the library's log 0 of RealisticSpec().

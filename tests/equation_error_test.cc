@@ -1,5 +1,4 @@
 #include "estimator/equation_error.h"
-#include "estimator/internal/equation_error_residual.h"
 
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -15,6 +14,7 @@
 
 #include "datasets/noise.h"
 #include "estimator/identifiability.h"
+#include "estimator/internal/equation_error_residual.h"
 #include "fixtures/jacobian_check.h"
 #include "io/push_log.h"
 #include "tests/estimator_test_support.h"
@@ -29,10 +29,10 @@ using testing::ExpectRecovers;
 using testing::ExpectWithinStandardErrors;
 using testing::FullyIdentifiableScenes;
 using testing::JacobianCheck;
+using testing::kExactRelTol;
 using testing::kJacobianTolerance;
 using testing::NamedScene;
 using testing::PosesOnly;
-using testing::kExactRelTol;
 
 double Radius(const Scene& s) { return std::sqrt(s.slider.inertia_kgm2 / s.slider.mass_kg); }
 

@@ -77,8 +77,8 @@ inline ToolRun RunTool(const std::string& tool, const std::string& args) {
   static int runs = 0;
   const char* bin = std::getenv("SLIDEID_BIN_DIR");
   const std::string stem = TempPath("run" + std::to_string(++runs));
-  const std::string cmd = std::string(bin ? bin : "build/bin") + "/" + tool + " " + args +
-                          " > " + stem + ".out 2> " + stem + ".err < /dev/null";
+  const std::string cmd = std::string(bin ? bin : "build/bin") + "/" + tool + " " + args + " > " +
+                          stem + ".out 2> " + stem + ".err < /dev/null";
   const int status = std::system(cmd.c_str());
   return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, ReadText(stem + ".out"),
           ReadText(stem + ".err")};

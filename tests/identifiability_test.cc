@@ -53,17 +53,14 @@ TEST(Identifiability, RankDeficientInformationFlagsTheParameterThatDominatesTheN
 
 TEST(Identifiability, WellConditionedInformationGivesSqrtOfInverseDiagonal) {
   Eigen::Matrix3d j;
-  j << 2.0, 0.3, -0.1,
-       0.4, 1.5, 0.2,
-       -0.2, 0.1, 0.8;
+  j << 2.0, 0.3, -0.1, 0.4, 1.5, 0.2, -0.2, 0.1, 0.8;
   const Eigen::Matrix3d h = j.transpose() * j * 50.0;
   const double s2 = 0.02;
   const Eigen::Matrix3d inv = h.inverse();
   const auto v = AssessIdentifiability(h, s2);
   for (int i = 0; i < 3; ++i) {
     ASSERT_TRUE(v[i].identifiable) << i << ": " << v[i].note;
-    EXPECT_NEAR(v[i].stderr_log, std::sqrt(s2 * inv(i, i)), kRecomputeTol * std::sqrt(s2))
-        << i;
+    EXPECT_NEAR(v[i].stderr_log, std::sqrt(s2 * inv(i, i)), kRecomputeTol * std::sqrt(s2)) << i;
     EXPECT_TRUE(v[i].note.empty());
   }
 }
@@ -93,9 +90,7 @@ TEST(Identifiability, ACorrelatedOneIsNotRescuedByHoldingItsPartner) {
   // sqrt(s2 (H + diag(0, s2 / 0.25))^-1_aa), computed here by Cramer's rule: beyond the
   // limit too (rule iv).
   Eigen::Matrix3d h;
-  h << 1.0, 0.999, 0.0,
-       0.999, 0.9981, 0.0,
-       0.0, 0.0, 4.0;
+  h << 1.0, 0.999, 0.0, 0.999, 0.9981, 0.0, 0.0, 0.0, 4.0;
   const double s2 = 0.01;
   const auto v = AssessIdentifiability(h, s2);
   EXPECT_FALSE(v[kB].identifiable);
@@ -113,9 +108,7 @@ TEST(Identifiability, AModeratelyCorrelatedOneKeepsItsValueWithTheHiddenVariance
   // free within the limit, sqrt(s2 (H + diag(0, 0, s2 / 0.25))^-1_aa), is reported for the
   // interval to carry.
   Eigen::Matrix3d h;
-  h << 100.0, 0.0, 0.06,
-       0.0, 100.0, 0.0,
-       0.06, 0.0, 1e-4;
+  h << 100.0, 0.0, 0.06, 0.0, 100.0, 0.0, 0.06, 0.0, 1e-4;
   const double s2 = 1.0;
   const auto v = AssessIdentifiability(h, s2);
   ASSERT_FALSE(v[kC].identifiable);

@@ -28,8 +28,8 @@ Output RunIdentify(const std::string& args) {
   // ctest runs tests in parallel processes: one output file per process.
   const std::string out_file =
       ::testing::TempDir() + "/identify_stdout_" + std::to_string(getpid()) + ".txt";
-  const std::string cmd = std::string(bin ? bin : "build/bin") + "/identify " + args + " > " +
-                          out_file + " 2>&1";
+  const std::string cmd =
+      std::string(bin ? bin : "build/bin") + "/identify " + args + " > " + out_file + " 2>&1";
   const int status = std::system(cmd.c_str());
   std::ifstream in(out_file);
   std::stringstream text;
@@ -96,7 +96,8 @@ TEST(IdentifyTool, JsonHasTheDocumentedKeysAndNullForUnidentifiable) {
 }
 
 TEST(IdentifyTool, WritesResidualsFileWithOneRowPerResidualRow) {
-  const std::string log = WriteLog(testing::SimulateOrFail(testing::FreeSlideWithSpin()), "free.csv");
+  const std::string log =
+      WriteLog(testing::SimulateOrFail(testing::FreeSlideWithSpin()), "free.csv");
   const std::string res = ::testing::TempDir() + "/residuals.csv";
   std::remove(res.c_str());
   ASSERT_EQ(RunIdentify("--log " + log + " --segment 20 --residuals " + res).exit_code, 0);
@@ -106,8 +107,10 @@ TEST(IdentifyTool, WritesResidualsFileWithOneRowPerResidualRow) {
   int rows = 0;
   bool header = false;
   while (std::getline(in, line)) {
-    if (line.rfind("row,t,", 0) == 0) header = true;
-    else if (!line.empty() && line[0] != '#') ++rows;
+    if (line.rfind("row,t,", 0) == 0)
+      header = true;
+    else if (!line.empty() && line[0] != '#')
+      ++rows;
   }
   EXPECT_TRUE(header);
   EXPECT_GT(rows, 40);
@@ -184,8 +187,8 @@ TEST(IdentifyTool, QuasiStaticNamesTheRowOfAZeroTwist) {
   std::ofstream(path) << "# mass = 1\nfx,fy,mz,vx,vy,wz\n1,0,0,1,0,0\n2,1,0,0,0,0\n";
   const Output o = RunIdentify("--log " + path + " --method quasi-static");
   EXPECT_EQ(o.exit_code, 1) << o.out;
-  EXPECT_NE(o.out.find(path + ":4: column 'vx': the twist (vx, vy, wz) is zero"),
-            std::string::npos) << o.out;
+  EXPECT_NE(o.out.find(path + ":4: column 'vx': the twist (vx, vy, wz) is zero"), std::string::npos)
+      << o.out;
 }
 
 }  // namespace

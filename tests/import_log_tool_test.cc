@@ -4,20 +4,19 @@
 // import report, the two other files the tool reads and writes.
 
 #include <gtest/gtest.h>
-
-#include <filesystem>
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 
 #include "datasets/mit_push_synth.h"
-#include "io/push_log.h"
 #include "io/mit_push_json.h"
 #include "io/mit_push_report.h"
 #include "io/object_table.h"
+#include "io/push_log.h"
 #include "io/result_json.h"
 #include "io/zhou_tripod_log.h"
 #include "io/zhou_tripod_synth.h"
@@ -99,14 +98,16 @@ std::string MakeInputs() {
 
 TEST(ImportLogTool, ImportsEachFileOnItsOwnAndReportsEveryOne) {
   const std::string in = MakeInputs(), out = NewDir("import_log_out");
-  const ToolRun o = RunTool("import-log", "--format mit-push --objects " + in + "/objects.csv --out " +
-                                         out + " " + in + "/" + kGood + " " + in + "/" + kDead +
-                                         " " + in + "/" + kCut + " " + in + "/" + kHex);
+  const ToolRun o =
+      RunTool("import-log", "--format mit-push --objects " + in + "/objects.csv --out " + out +
+                                " " + in + "/" + kGood + " " + in + "/" + kDead + " " + in + "/" +
+                                kCut + " " + in + "/" + kHex);
   EXPECT_EQ(o.code, 1) << o.all();  // some files were not imported
   EXPECT_NE(o.all().find("imported 1 of 4 files"), std::string::npos) << o.all();
   EXPECT_NE(o.all().find("force channel constant (dead sensor?)"), std::string::npos) << o.all();
   EXPECT_NE(o.all().find("unreadable"), std::string::npos) << o.all();
-  EXPECT_NE(o.all().find("object 'hex': mass, inertia, com_height, patch unknown"), std::string::npos)
+  EXPECT_NE(o.all().find("object 'hex': mass, inertia, com_height, patch unknown"),
+            std::string::npos)
       << o.all();
 
   const std::vector<std::string> report = Lines(out + "/import_report.csv");
@@ -123,7 +124,8 @@ TEST(ImportLogTool, ImportsEachFileOnItsOwnAndReportsEveryOne) {
   EXPECT_EQ(Cell(header, report[3], "object_pose_rows_in"), "");  // unknown, not 0
   EXPECT_EQ(Cell(header, report[4], "verdict"), "rejected");
 
-  const std::string log_path = out + "/" + std::string(kGood).substr(0, std::string(kGood).size() - 5) + ".csv";
+  const std::string log_path =
+      out + "/" + std::string(kGood).substr(0, std::string(kGood).size() - 5) + ".csv";
   EXPECT_EQ(Cell(header, report[1], "output"), log_path);
   const Trajectory log = ReadPushLog(log_path);
   EXPECT_EQ(log.slider.mass_kg, 0.835);
@@ -138,9 +140,10 @@ TEST(ImportLogTool, ImportsEachFileOnItsOwnAndReportsEveryOne) {
 
 TEST(ImportLogTool, AllFilesImportedIsExitZeroAndOptionsGiveTheObject) {
   const std::string in = MakeInputs(), out = NewDir("import_log_ok");
-  const ToolRun o = RunTool("import-log", "--format mit-push --mass 0.835 --inertia 1.13e-3 "
-                                     "--com-height 0.0065 --patch 'rectangle 0.09 0.09' --out " +
-                                         out + " " + in + "/" + kGood + " " + in + "/" + kHex);
+  const ToolRun o = RunTool("import-log",
+                            "--format mit-push --mass 0.835 --inertia 1.13e-3 "
+                            "--com-height 0.0065 --patch 'rectangle 0.09 0.09' --out " +
+                                out + " " + in + "/" + kGood + " " + in + "/" + kHex);
   EXPECT_EQ(o.code, 0) << o.all();
   EXPECT_NE(o.all().find("imported 2 of 2 files"), std::string::npos) << o.all();
 }
@@ -158,11 +161,11 @@ TEST(ImportLogTool, UsageErrorsAreExitTwo) {
   EXPECT_EQ(RunTool("import-log", "--format csv --out " + out + " " + file).code, 2);
   EXPECT_EQ(RunTool("import-log", "--format mit-push " + file).code, 2);
   EXPECT_EQ(RunTool("import-log", "--format mit-push --out " + out).code, 2);
-  o = RunTool("import-log", "--format mit-push --objects " + in + "/objects.csv --rate 0 --out " + out +
-                            " " + file);
+  o = RunTool("import-log", "--format mit-push --objects " + in + "/objects.csv --rate 0 --out " +
+                                out + " " + file);
   EXPECT_EQ(o.code, 2) << o.all();
-  EXPECT_EQ(RunTool("import-log", "--format mit-push --objects " + in + "/objects.csv --mass -1 --out " +
-                                  out + " " + file)
+  EXPECT_EQ(RunTool("import-log", "--format mit-push --objects " + in +
+                                      "/objects.csv --mass -1 --out " + out + " " + file)
                 .code,
             2);
   EXPECT_EQ(RunTool("import-log", "--help").code, 0);
@@ -170,15 +173,17 @@ TEST(ImportLogTool, UsageErrorsAreExitTwo) {
 
 TEST(ImportLogTool, UnwritableOutputIsExitFour) {
   const std::string in = MakeInputs();
-  const ToolRun o = RunTool("import-log", "--format mit-push --objects " + in + "/objects.csv --out " +
-                                         in + "/objects.csv/sub " + in + "/" + kGood);
+  const ToolRun o =
+      RunTool("import-log", "--format mit-push --objects " + in + "/objects.csv --out " + in +
+                                "/objects.csv/sub " + in + "/" + kGood);
   EXPECT_EQ(o.code, 4) << o.all();
 }
 
 TEST(ObjectTable, ReadsRowsWithCommentsQuotesAndOptionalColumns) {
   const std::string dir = NewDir("objects");
-  WriteText(dir + "/t.csv", "# masses: an estimate\ncom_height,name,inertia,mass\n"
-                            "0.0065,rect1,1.1e-3,0.835\n0,hex,1.5e-3,0.98\n");
+  WriteText(dir + "/t.csv",
+            "# masses: an estimate\ncom_height,name,inertia,mass\n"
+            "0.0065,rect1,1.1e-3,0.835\n0,hex,1.5e-3,0.98\n");
   const ObjectTable t = ReadObjectTable(dir + "/t.csv");
   ASSERT_EQ(t.size(), 2u);
   EXPECT_EQ(t.at("rect1").mass_kg, 0.835);
@@ -245,8 +250,8 @@ TEST(ImportLogTool, TripodLogsBecomePairsThatIdentifyFits) {
   EXPECT_NE(imported.all().find("imported 1 of 1 files"), std::string::npos) << imported.all();
   std::ifstream report(out + "/exp_synthetic_import_report.csv");
   EXPECT_TRUE(report.good());
-  const ToolRun fit = RunTool("identify", "--method quasi-static --json --log " + out +
-                                             "/exp_synthetic.csv");
+  const ToolRun fit =
+      RunTool("identify", "--method quasi-static --json --log " + out + "/exp_synthetic.csv");
   ASSERT_EQ(fit.code, 0) << fit.all();
   const EstimateResult r = ParseResultJson(fit.out.substr(0, fit.out.find('\n')));
   ASSERT_TRUE(r.parameters[kA].identifiable);

@@ -1,8 +1,6 @@
 // Synthetic datasets: drawn from ranges, deterministic by seed, redrawn (with reasons) when
 // a draw tips, written with a truth manifest; and the make-dataset tool over them.
 
-#include "datasets/dataset.h"
-
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -12,6 +10,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "datasets/dataset.h"
 #include "io/dataset_files.h"
 #include "io/push_log.h"
 #include "tests/estimator_test_support.h"
@@ -79,7 +78,8 @@ TEST(Dataset, APusherDrivenDatasetLogsTheTipAndKeepsTheOtherDraws) {
     EXPECT_TRUE(by_pusher.columns.tip);
     ASSERT_TRUE(by_pusher.tip_radius_m.has_value());
     int pushing = 0;
-    for (const TrajectorySample& s : by_pusher.samples) pushing += s.applied.fx != 0 || s.applied.fy != 0;
+    for (const TrajectorySample& s : by_pusher.samples)
+      pushing += s.applied.fx != 0 || s.applied.fy != 0;
     EXPECT_GT(pushing, 10) << "the tip meets the slider";
     // Written and read back, the tip's path is there.
     std::istringstream text(Written(by_pusher));
@@ -130,7 +130,8 @@ TEST(Dataset, UniformInertiaOfEachShape) {
   EXPECT_NEAR(UniformInertia(ContactPatch::Disk(0.1), 2.0), 0.01, 1e-15);
   EXPECT_NEAR(UniformInertia(ContactPatch::Ring(0.1, 0.05), 1.0), 0.00625, 1e-15);
   // A polygon computed by the polygon formula agrees with the rectangle's.
-  const ContactPatch square = ContactPatch::Parse("polygon -0.05 -0.1 0.05 -0.1 0.05 0.1 -0.05 0.1");
+  const ContactPatch square =
+      ContactPatch::Parse("polygon -0.05 -0.1 0.05 -0.1 0.05 0.1 -0.05 0.1");
   EXPECT_NEAR(UniformInertia(square, 2.0), 2.0 * 0.05 / 12, 1e-15);
 }
 
@@ -146,8 +147,7 @@ TEST(Dataset, ADrawThatTipsIsRedrawnWithItsReasonRecorded) {
   Trajectory log;
   const DatasetEntry e = DrawDatasetLog(spec, 0, &log);
   ASSERT_FALSE(e.redraw_reasons.empty());
-  EXPECT_NE(e.redraw_reasons[0].find("draw 0: toppling"), std::string::npos)
-      << e.redraw_reasons[0];
+  EXPECT_NE(e.redraw_reasons[0].find("draw 0: toppling"), std::string::npos) << e.redraw_reasons[0];
   EXPECT_NE(e.redraw_reasons[0].find("ECP"), std::string::npos);
   // Deterministic, redraws included.
   Trajectory again;
@@ -173,7 +173,8 @@ TEST(Dataset, MakeDatasetWritesTheLogsAndATruthManifest) {
   std::istringstream truth(ReadText(dir + "/truth.csv"));
   std::string line;
   std::getline(truth, line);
-  EXPECT_EQ(line, "file,mass,inertia,com_height,mu,e_t,e_o,e_r,a,b,c,noise,patch,rows,redraws,mu_p");
+  EXPECT_EQ(line,
+            "file,mass,inertia,com_height,mu,e_t,e_o,e_r,a,b,c,noise,patch,rows,redraws,mu_p");
   for (int i = 0; i < 3; ++i) {
     ASSERT_TRUE(std::getline(truth, line));
     std::vector<std::string> f;
@@ -245,14 +246,24 @@ TEST(MakeDatasetTool, SameSeedGivesIdenticalFilesAndAnotherSeedOthers) {
 TEST(MakeDatasetTool, HelpDocumentsEveryOptionAndItsDefault) {
   std::string help;
   ASSERT_EQ(RunTool("make-dataset", "--help", &help), 0);
-  for (const char* option :
-       {"--count", "--seed", "--out", "--mass-range", "--inertia-range", "--com-height-range",
-        "--patch", "--mu-range", "--e-t-range", "--e-o-range", "--e-r-range", "--pushes",
-        "--force-range", "--amplitude-range", "--period-range", "--push-duration-range",
-        "--rest-range", "--height-range", "--spread", "--max-lever", "--through-cm", "--dt",
-        "--max-redraws", "--log-every", "--wrench", "--write", "--push-columns", "--noise-pose",
-        "--noise-angle", "--noise-velocity", "--noise-spin", "--noise-force-relative",
-        "--noise-force", "--noise-outlier-fraction", "--noise-outlier"}) {
+  for (const char* option : {"--count",         "--seed",
+                             "--out",           "--mass-range",
+                             "--inertia-range", "--com-height-range",
+                             "--patch",         "--mu-range",
+                             "--e-t-range",     "--e-o-range",
+                             "--e-r-range",     "--pushes",
+                             "--force-range",   "--amplitude-range",
+                             "--period-range",  "--push-duration-range",
+                             "--rest-range",    "--height-range",
+                             "--spread",        "--max-lever",
+                             "--through-cm",    "--dt",
+                             "--max-redraws",   "--log-every",
+                             "--wrench",        "--write",
+                             "--push-columns",  "--noise-pose",
+                             "--noise-angle",   "--noise-velocity",
+                             "--noise-spin",    "--noise-force-relative",
+                             "--noise-force",   "--noise-outlier-fraction",
+                             "--noise-outlier"}) {
     EXPECT_NE(help.find(option), std::string::npos) << option;
   }
   EXPECT_NE(help.find("(=0.3:1.5)"), std::string::npos) << "mass default";
@@ -315,16 +326,14 @@ TEST(SimulateLogOptions, SamplingAndColumnsFollowTheOptions) {
   EXPECT_EQ(RunTool("simulate", "--scene " + Scene("example1_square.ini") + " --wrench mean"), 2);
   EXPECT_EQ(RunTool("simulate", "--scene " + Scene("example1_square.ini") + " --log-every 0"), 2);
   EXPECT_EQ(RunTool("simulate", "--scene " + Scene("example1_square.ini") + " --seed x"), 2);
-  EXPECT_EQ(RunTool("simulate", "--scene " + Scene("example1_square.ini") + " --noise-pose -1"),
-            2);
+  EXPECT_EQ(RunTool("simulate", "--scene " + Scene("example1_square.ini") + " --noise-pose -1"), 2);
 }
 
 TEST(SimulateLogOptions, IntervalMeanWrenchNeedsMomentsAndIsRecorded) {
   const std::string dir = TempDir("sim_wrench");
   const std::string scene = "--scene " + Scene("example3_pushed_square.ini") +
                             " --dt 0.001 --log-every 10 --wrench interval-mean";
-  ASSERT_EQ(RunTool("simulate", scene + " --push-columns moments --out " + dir + "/mean.csv"),
-            0);
+  ASSERT_EQ(RunTool("simulate", scene + " --push-columns moments --out " + dir + "/mean.csv"), 0);
   const std::string text = ReadText(dir + "/mean.csv");
   EXPECT_NE(text.find("# log_wrench = interval-mean\n"), std::string::npos);
   EXPECT_NE(text.find("\nt,x,y,theta,vx,vy,wz,fx,fy,tx,ty,tz,"), std::string::npos);
@@ -335,8 +344,10 @@ TEST(SimulateLogOptions, ForceBiasAndDelayOptionsReachTheLogAndItsMetadata) {
   const std::string dir = TempDir("sim_defects");
   const std::string scene = "--scene " + Scene("example3_pushed_square.ini") + " --write poses";
   ASSERT_EQ(RunTool("simulate", scene + " --out " + dir + "/plain.csv"), 0);
-  ASSERT_EQ(RunTool("simulate", scene + " --force-bias-x 0.5 --force-bias-y -0.25 "
-                                        "--force-delay 0.02 --out " + dir + "/defects.csv"),
+  ASSERT_EQ(RunTool("simulate", scene +
+                                    " --force-bias-x 0.5 --force-bias-y -0.25 "
+                                    "--force-delay 0.02 --out " +
+                                    dir + "/defects.csv"),
             0);
   const Trajectory plain = ReadPushLog(dir + "/plain.csv");
   const Trajectory defects = ReadPushLog(dir + "/defects.csv");
@@ -345,10 +356,8 @@ TEST(SimulateLogOptions, ForceBiasAndDelayOptionsReachTheLogAndItsMetadata) {
   const size_t lag = static_cast<size_t>(std::lround(0.02 / dt));
   ASSERT_GE(lag, 1u);
   for (size_t u = lag; u < plain.samples.size(); ++u) {
-    EXPECT_NEAR(defects.samples[u].applied.fx, plain.samples[u - lag].applied.fx + 0.5, 1e-9)
-        << u;
-    EXPECT_NEAR(defects.samples[u].applied.fy, plain.samples[u - lag].applied.fy - 0.25, 1e-9)
-        << u;
+    EXPECT_NEAR(defects.samples[u].applied.fx, plain.samples[u - lag].applied.fx + 0.5, 1e-9) << u;
+    EXPECT_NEAR(defects.samples[u].applied.fy, plain.samples[u - lag].applied.fy - 0.25, 1e-9) << u;
   }
   const std::string text = ReadText(dir + "/defects.csv");
   EXPECT_NE(text.find("# noise_force_bias_x_n = 0.5\n"), std::string::npos);

@@ -4,6 +4,8 @@
 // or rejects the file naming it. Then identify on the imported log recovers the friction
 // the recording was simulated with, as it does on a native log of the same push.
 
+#include "io/mit_push_import.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -11,14 +13,12 @@
 #include "datasets/mit_push_synth.h"
 #include "datasets/sensor_model.h"
 #include "estimator/identify.h"
-#include "io/mit_push_import.h"
+#include "forward_model/constants.h"
 #include "io/mit_push_json.h"
 #include "tests/estimator_test_support.h"
-#include "forward_model/constants.h"
 
 namespace slideid {
 namespace {
-
 
 MitImportOptions Options(const MitSynthSpec& spec) {
   MitImportOptions o;
@@ -72,7 +72,8 @@ double WorstRowForceError(const MitSynthSpec& spec, const MitSynthResult& truth,
     Eigen::Vector2d sum = Eigen::Vector2d::Zero();
     int n = 0;
     for (double t = t0 + 0.5 * sim_dt; t < t0 + row_dt; t += sim_dt, ++n) {
-      const AppliedWrench& f = truth.simulated.samples[static_cast<std::size_t>(t / sim_dt)].applied;
+      const AppliedWrench& f =
+          truth.simulated.samples[static_cast<std::size_t>(t / sim_dt)].applied;
       sum += Eigen::Vector2d(f.fx, f.fy);
     }
     worst = std::max(worst, (Eigen::Vector2d(row.applied.fx, row.applied.fy) - sum / n).norm());
@@ -204,7 +205,8 @@ TEST(MitPushImport, APreloadBeforeThePushIsARealForceNotAnOffset) {
     EXPECT_NEAR((*r.report.offset_after_n - spec.offset_after_n).norm(), 0.0, 0.05);
     EXPECT_FALSE(r.report.offset_before_n.has_value());
     bool noted = false;
-    for (const std::string& n : r.report.notes) noted = noted || n.find("pressing it") != std::string::npos;
+    for (const std::string& n : r.report.notes)
+      noted = noted || n.find("pressing it") != std::string::npos;
     EXPECT_TRUE(noted) << preload;
   }
 }
@@ -238,7 +240,8 @@ TEST(MitPushImport, IsolatedPoseGlitchesAreDroppedAndTooManyRejected) {
   const EstimateResult fit_clean = Identify(clean.log, IdentifyOptions{});
   ASSERT_TRUE(fit.converged) << fit.message;
   for (int i = 0; i < 3; ++i) {
-    ASSERT_TRUE(fit.parameters[i].identifiable) << ParameterName(i) << ": " << fit.parameters[i].reason;
+    ASSERT_TRUE(fit.parameters[i].identifiable)
+        << ParameterName(i) << ": " << fit.parameters[i].reason;
     // Dropping one pose in 7 changes the rows' interpolation a little: within the clean
     // fit's own interval.
     EXPECT_TRUE(fit_clean.parameters[i].ci95_lo <= fit.parameters[i].value &&
@@ -328,15 +331,16 @@ TEST(MitPushImport, ForceAcrossTheContactNormalIsAnInconclusiveSign) {
   const MitImportResult r = ImportMitPush(MakeMitPushRecording(spec).recording, "s.json", forced);
   ASSERT_EQ(r.report.verdict, ImportVerdict::kAccepted);  // the user decided; it is noted
   bool noted = false;
-  for (const std::string& note : r.report.notes) noted |= note.find("disagrees") != std::string::npos;
+  for (const std::string& note : r.report.notes)
+    noted |= note.find("disagrees") != std::string::npos;
   EXPECT_TRUE(noted);
 }
 
 TEST(MitPushImport, MetadataRecordsTheProvenance) {
   MitImportOptions o = Options(MitSynthSpec{});
   o.extra_metadata = {{"object_source", "estimate"}};
-  const MitImportResult r =
-      ImportMitPush(MakeMitPushRecording(MitSynthSpec{}).recording, "dir/shape=rect1_v=100.json", o);
+  const MitImportResult r = ImportMitPush(MakeMitPushRecording(MitSynthSpec{}).recording,
+                                          "dir/shape=rect1_v=100.json", o);
   std::map<std::string, std::string> meta(r.log.extra_metadata.begin(), r.log.extra_metadata.end());
   EXPECT_EQ(meta["source"], "dir/shape=rect1_v=100.json");
   EXPECT_EQ(meta["object"], "rect1");
@@ -368,7 +372,8 @@ TEST(MitPushImport, InvalidSettingsAndObjectsThrow) {
 TEST(MitPushImport, TooFewRowsInAStreamIsRejected) {
   MitPushRecording rec = MakeMitPushRecording(MitSynthSpec{}).recording;
   rec.tip_pose.resize(5);
-  ExpectRejected(ImportMitPush(rec, "s.json", Options(MitSynthSpec{})), "tip_pose has 5 distinct times");
+  ExpectRejected(ImportMitPush(rec, "s.json", Options(MitSynthSpec{})),
+                 "tip_pose has 5 distinct times");
 }
 
 TEST(MitPushImport, ImplausibleMagnitudesAreRejectedNotComputedWith) {

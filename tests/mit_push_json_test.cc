@@ -2,6 +2,8 @@
 // named by its JSON path or line and column, file names, sorting and repeated times. The
 // files are synthetic (datasets/mit_push_synth.h), never the third-party ones.
 
+#include "io/mit_push_json.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -9,7 +11,6 @@
 #include <string>
 
 #include "datasets/mit_push_synth.h"
-#include "io/mit_push_json.h"
 #include "tests/estimator_test_support.h"
 
 namespace slideid {
@@ -78,7 +79,8 @@ TEST(MitPushJson, NonNumericValueIsNamedByRowAndColumn) {
   Replace(&text, "-1.77]", "\"-1.77\"]");
   const MitPushError e = ErrorFor(text);
   EXPECT_EQ(e.json_path(), "$.object_pose[1][3]");
-  EXPECT_NE(std::string(e.what()).find("not a number (found string)"), std::string::npos) << e.what();
+  EXPECT_NE(std::string(e.what()).find("not a number (found string)"), std::string::npos)
+      << e.what();
   text = SmallFile();
   Replace(&text, "-0.09", "null");
   EXPECT_EQ(ErrorFor(text).json_path(), "$.tip_pose[0][2]");
@@ -89,7 +91,8 @@ TEST(MitPushJson, RowOfTheWrongLengthOrTypeIsNamed) {
   Replace(&text, "-0.5, 0.004]", "-0.5]");
   MitPushError e = ErrorFor(text);
   EXPECT_EQ(e.json_path(), "$.ft_wrench[0]");
-  EXPECT_NE(std::string(e.what()).find("row of 3 values (expected 4"), std::string::npos) << e.what();
+  EXPECT_NE(std::string(e.what()).find("row of 3 values (expected 4"), std::string::npos)
+      << e.what();
   text = SmallFile();
   Replace(&text, "[1476728847.5, 0.35, -0.09, 0]", "{\"t\": 1}");
   e = ErrorFor(text);
@@ -125,7 +128,8 @@ TEST(MitPushJson, SyntaxErrorGivesItsLineAndColumn) {
   const MitPushError e = ErrorFor(text);
   EXPECT_EQ(e.line(), 3);
   EXPECT_EQ(e.column(), 24);  // the '-' after "0.3 "
-  EXPECT_NE(std::string(e.what()).find("push.json:3:24: invalid JSON"), std::string::npos) << e.what();
+  EXPECT_NE(std::string(e.what()).find("push.json:3:24: invalid JSON"), std::string::npos)
+      << e.what();
 }
 
 TEST(MitPushJson, OutOfRangeNumberAndUnreadableFileAreErrors) {
@@ -156,8 +160,8 @@ TEST(MitPushJson, FileNameGivesTheObjectAndThePush) {
 }
 
 TEST(MitPushJson, SortingCountsBackwardStepsAndDropsRepeatedTimes) {
-  std::vector<MitStreamRow> rows = {{3, 0, 0, 0}, {1, 1, 0, 0}, {2, 2, 0, 0}, {2, 2, 0, 0},
-                                    {2, 9, 0, 0}, {0, 3, 0, 0}};
+  std::vector<MitStreamRow> rows = {{3, 0, 0, 0}, {1, 1, 0, 0}, {2, 2, 0, 0},
+                                    {2, 2, 0, 0}, {2, 9, 0, 0}, {0, 3, 0, 0}};
   const StreamCleanup c = SortAndDeduplicate(&rows);
   EXPECT_EQ(c.rows_in, 6);
   EXPECT_EQ(c.backward_steps, 2);  // 3 -> 1 and 2 -> 0

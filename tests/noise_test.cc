@@ -11,9 +11,9 @@
 #include <sstream>
 
 #include "datasets/sensor_model.h"
+#include "forward_model/constants.h"
 #include "io/push_log.h"
 #include "tests/estimator_test_support.h"
-#include "forward_model/constants.h"
 
 namespace slideid {
 namespace {
@@ -94,8 +94,8 @@ TEST(Noise, ForceNoiseIsRelativePlusAbsolute) {
                  std::hypot(0.08, 0.05), "fy");
   // Without a push point the moments get the relative part.
   const double tz = StillLog(false).samples[0].applied.tz;
-  ExpectGaussian(Statistics(noisy, [](auto& s) { return s.applied.tz; }), tz,
-                 0.02 * std::abs(tz), "tz");
+  ExpectGaussian(Statistics(noisy, [](auto& s) { return s.applied.tz; }), tz, 0.02 * std::abs(tz),
+                 "tz");
 }
 
 TEST(Noise, OutliersHitTheSpecifiedFractionOfRowsWithTheSpecifiedJump) {
@@ -162,8 +162,8 @@ TEST(Noise, AddNoiseKeepsTheFirstVersionsStreamForPoseAngleAndVelocity) {
     EXPECT_EQ(q.wz, c.wz + n.spin_radps * z[5]) << u;
   }
   EXPECT_FALSE(noisy.columns.step_info);
-  EXPECT_EQ(noisy.extra_metadata.back(), std::make_pair(std::string("noise_seed"),
-                                                        std::string("5")));
+  EXPECT_EQ(noisy.extra_metadata.back(),
+            std::make_pair(std::string("noise_seed"), std::string("5")));
 }
 
 TEST(Noise, PushPointMomentsFollowTheNoisyForceAndKeepTheResidualMoment) {
@@ -183,9 +183,9 @@ TEST(Noise, PushPointMomentsFollowTheNoisyForceAndKeepTheResidualMoment) {
   const Trajectory noisy = AddNoise(clean, n);
   for (const TrajectorySample& s : noisy.samples) {
     const Eigen::Vector3d& p = *s.push_point_world;
-    const AppliedWrench rxf = WrenchFromForceAt(s.applied.fx, s.applied.fy, s.applied.fz,
-                                                p.x() - s.state.x, p.y() - s.state.y,
-                                                p.z() - noisy.slider.com_height_m);
+    const AppliedWrench rxf =
+        WrenchFromForceAt(s.applied.fx, s.applied.fy, s.applied.fz, p.x() - s.state.x,
+                          p.y() - s.state.y, p.z() - noisy.slider.com_height_m);
     EXPECT_NEAR(s.applied.tx - rxf.tx, residual.tx, 1e-15);
     EXPECT_NEAR(s.applied.ty - rxf.ty, residual.ty, 1e-15);
     EXPECT_NEAR(s.applied.tz - rxf.tz, residual.tz, 1e-15);
@@ -206,16 +206,18 @@ TEST(Noise, PushPointNoiseHasTheSpecifiedStdAndTheMomentFollowsTheReportedPoint)
   n.seed = 9;
   const Trajectory clean = StillLog(true);
   const Trajectory noisy = AddNoise(clean, n);
-  ExpectGaussian(Statistics(noisy, [](const TrajectorySample& s) { return s.push_point_world->x(); }),
-                 0.95, n.push_point_m, "px");
-  ExpectGaussian(Statistics(noisy, [](const TrajectorySample& s) { return s.push_point_world->y(); }),
-                 2.01, n.push_point_m, "py");
+  ExpectGaussian(
+      Statistics(noisy, [](const TrajectorySample& s) { return s.push_point_world->x(); }), 0.95,
+      n.push_point_m, "px");
+  ExpectGaussian(
+      Statistics(noisy, [](const TrajectorySample& s) { return s.push_point_world->y(); }), 2.01,
+      n.push_point_m, "py");
   for (const TrajectorySample& s : noisy.samples) {
     EXPECT_EQ(s.push_point_world->z(), 0.03);  // the height is not tracked
     const Eigen::Vector3d& p = *s.push_point_world;
-    const AppliedWrench rxf = WrenchFromForceAt(s.applied.fx, s.applied.fy, s.applied.fz,
-                                                p.x() - s.state.x, p.y() - s.state.y,
-                                                p.z() - noisy.slider.com_height_m);
+    const AppliedWrench rxf =
+        WrenchFromForceAt(s.applied.fx, s.applied.fy, s.applied.fz, p.x() - s.state.x,
+                          p.y() - s.state.y, p.z() - noisy.slider.com_height_m);
     ASSERT_NEAR(s.applied.tz, rxf.tz, 1e-15);  // consistent with its own columns
     ASSERT_EQ(s.applied.fx, 3.0);              // the force itself is untouched
   }

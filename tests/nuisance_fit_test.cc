@@ -107,10 +107,10 @@ TEST(NuisanceFit, NoiselessExactLogRecoversForceBiasDelayAndFriction) {
   // of the last two together, -0.3 N, 0.05 N and -30 ms, stopped at 5e-6 relative in c: the
   // solve ends once the parameters settle, and at the delay's kink (the truth, a whole
   // number of rows) they settle before the last digits.)
-  for (const Case& c : {Case{kBiasX_n, kBiasY_n, kDelay_s}, Case{-0.3, 0.05, 0.0},
-                        Case{0.0, 0.0, -0.03}}) {
-    SCOPED_TRACE(::testing::Message() << "bias " << c.bias_x << ", " << c.bias_y << " delay "
-                                      << c.delay);
+  for (const Case& c :
+       {Case{kBiasX_n, kBiasY_n, kDelay_s}, Case{-0.3, 0.05, 0.0}, Case{0.0, 0.0, -0.03}}) {
+    SCOPED_TRACE(::testing::Message()
+                 << "bias " << c.bias_x << ", " << c.bias_y << " delay " << c.delay);
     const Trajectory log =
         MakeLog(Simulated(scene), WithDefects(scene.log, c.bias_x, c.bias_y, c.delay));
     const EstimateResult r = EstimateTrajectory(log, NuisanceOptions(true, DelayFit::kShared));
@@ -165,10 +165,9 @@ TEST(NuisanceFit, NoisyExactLogsRecoverBiasAndDelayAndFrictionAsWithoutThem) {
     LogSpec spec = scene.log;
     spec.noise.seed = 100 + k;
     const EstimateResult without = EstimateTrajectory(MakeLog(Simulated(scene), spec), {});
-    const EstimateResult with =
-        EstimateTrajectory(
-            MakeLog(Simulated(scene), WithDefects(spec, kBiasX_n, kBiasY_n, kDelay_s)),
-            NuisanceOptions(true, DelayFit::kShared));
+    const EstimateResult with = EstimateTrajectory(
+        MakeLog(Simulated(scene), WithDefects(spec, kBiasX_n, kBiasY_n, kDelay_s)),
+        NuisanceOptions(true, DelayFit::kShared));
     ASSERT_TRUE(with.converged) << k << ": " << with.message;
     covered_nuisance[0] += Covers(Nuisance(with, "force_bias_x_n"), kBiasX_n);
     covered_nuisance[1] += Covers(Nuisance(with, "force_bias_y_n"), kBiasY_n);
@@ -185,8 +184,8 @@ TEST(NuisanceFit, NoisyExactLogsRecoverBiasAndDelayAndFrictionAsWithoutThem) {
   }
   const char* names[3] = {"force_bias_x_n", "force_bias_y_n", "delay_s"};
   for (int j = 0; j < 3; ++j) {
-    EXPECT_GE(covered_nuisance[j], kMinCovered) << names[j] << " covered in "
-                                                << covered_nuisance[j] << "/" << kLogs;
+    EXPECT_GE(covered_nuisance[j], kMinCovered)
+        << names[j] << " covered in " << covered_nuisance[j] << "/" << kLogs;
   }
   for (int i = 0; i < 3; ++i) {
     EXPECT_GE(covered_with[i], kMinCovered) << ParameterName(i);
@@ -314,9 +313,9 @@ TEST(NuisanceFit, SegmentCostJacobianWithBiasAndDelayMatchesCentralDifferences) 
     std::unique_ptr<ceres::CostFunction> cost(
         NewSegmentCost(log, 10, 30, 2, use_pose, SegmentNuisances{true, true}));
     ASSERT_EQ(cost->parameter_block_sizes().size(), 6u);
-    double state[6] = {log.samples[10].state.x, log.samples[10].state.y,
+    double state[6] = {log.samples[10].state.x,     log.samples[10].state.y,
                        log.samples[10].state.theta, log.samples[10].state.vx * 1.01,
-                       log.samples[10].state.vy, log.samples[10].state.wz + 0.1};
+                       log.samples[10].state.vy,    log.samples[10].state.wz + 0.1};
     double la = std::log(0.31), lb = std::log(1.1), lc = std::log(0.028);
     // The delay away from whole log intervals (10 ms), where the wrench has kinks.
     double offset_n[2] = {0.2, -0.15}, delay_s = 0.0137;

@@ -30,7 +30,7 @@ std::vector<double> AwkwardValues() {
           std::numeric_limits<double>::denorm_min(),  // 5e-324
           2.2250738585072009e-308,                    // the largest subnormal
           -1.2345678901234567e-300,
-          1e23,  // 9.9999999999999992e+22 in 17 digits
+          1e23,                // 9.9999999999999992e+22 in 17 digits
           9007199254740993.0,  // 2^53 + 1 rounds to 2^53
           123456789.125,
           1e-7,
@@ -64,8 +64,7 @@ TEST(ExactNumber, SpellsNumbersAsPercentPoint17gAlwaysHas) {
   EXPECT_EQ(ExactNumber(0.5), "0.5");
   EXPECT_EQ(ExactNumber(1e308), "1e+308");
   EXPECT_EQ(ExactNumber(1e23), "9.9999999999999992e+22");
-  EXPECT_EQ(ExactNumber(std::numeric_limits<double>::denorm_min()),
-            "4.9406564584124654e-324");
+  EXPECT_EQ(ExactNumber(std::numeric_limits<double>::denorm_min()), "4.9406564584124654e-324");
   EXPECT_EQ(ExactNumber(-0.0), "-0");
   EXPECT_EQ(ExactNumber(std::numeric_limits<double>::quiet_NaN()), "nan");
   EXPECT_EQ(ExactNumber(std::numeric_limits<double>::infinity()), "inf");
@@ -122,18 +121,18 @@ TEST(Printf, DoesNotTruncateLongTexts) {
 }
 
 TEST(Printf, ThrowsWhereSnprintfWouldReadTheWrongArgument) {
-  EXPECT_THROW(Printf("%f", 1), std::logic_error);                 // an int for a double
-  EXPECT_THROW(Printf("%d", 1.0), std::logic_error);               // a double for an int
-  EXPECT_THROW(Printf("%d", std::size_t{1}), std::logic_error);    // 8 bytes for 4
-  EXPECT_THROW(Printf("%zu", 1), std::logic_error);                // 4 bytes for 8
-  EXPECT_THROW(Printf("%s", 1), std::logic_error);                 // a number for a string
-  EXPECT_THROW(Printf("%d and %d", 1), std::logic_error);          // too few
-  EXPECT_THROW(Printf("%d", 1, 2), std::logic_error);              // too many
-  EXPECT_THROW(Printf("%*d", 2.0, 1), std::logic_error);           // a double for the width
-  EXPECT_THROW(Printf("%1$d", 1), std::logic_error);               // positional
+  EXPECT_THROW(Printf("%f", 1), std::logic_error);               // an int for a double
+  EXPECT_THROW(Printf("%d", 1.0), std::logic_error);             // a double for an int
+  EXPECT_THROW(Printf("%d", std::size_t{1}), std::logic_error);  // 8 bytes for 4
+  EXPECT_THROW(Printf("%zu", 1), std::logic_error);              // 4 bytes for 8
+  EXPECT_THROW(Printf("%s", 1), std::logic_error);               // a number for a string
+  EXPECT_THROW(Printf("%d and %d", 1), std::logic_error);        // too few
+  EXPECT_THROW(Printf("%d", 1, 2), std::logic_error);            // too many
+  EXPECT_THROW(Printf("%*d", 2.0, 1), std::logic_error);         // a double for the width
+  EXPECT_THROW(Printf("%1$d", 1), std::logic_error);             // positional
   int written = 0;
-  EXPECT_THROW(Printf("%n", &written), std::logic_error);          // writes through it
-  EXPECT_THROW(Printf("%", 1), std::logic_error);                  // ends inside a conversion
+  EXPECT_THROW(Printf("%n", &written), std::logic_error);  // writes through it
+  EXPECT_THROW(Printf("%", 1), std::logic_error);          // ends inside a conversion
   EXPECT_THROW(Printf(nullptr), std::logic_error);
   try {
     Printf("t = %.3f s", 3);

@@ -3,6 +3,8 @@
 // own discretisation on a noise-free log (issue 17: make-dataset --count 20 gave 60 of 60
 // estimates "residuals 10.9 times the log's own noise").
 
+#include "estimator/plausibility.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -11,7 +13,6 @@
 #include "datasets/dataset.h"
 #include "estimator/identifiability.h"
 #include "estimator/identify.h"
-#include "estimator/plausibility.h"
 #include "forward_model/constants.h"
 
 namespace slideid {

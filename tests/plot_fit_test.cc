@@ -1,8 +1,6 @@
 // Pictures of an identification (plot-fit): the forest plot's data and script, the PNG,
 // the errors, and the tool end to end on identify --json of pooled logs.
 
-#include "plots/fit_plot.h"
-
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -13,13 +11,14 @@
 
 #include "io/push_log.h"
 #include "io/result_json.h"
+#include "plots/fit_plot.h"
 #include "tests/estimator_test_support.h"
 
 namespace slideid {
 namespace {
 
-using testing::ReadText;
 using testing::HaveGnuplot;
+using testing::ReadText;
 
 ParameterEstimate Estimate(double value, double half_width, Verdict verdict = Verdict::kOk) {
   ParameterEstimate p;
@@ -43,7 +42,8 @@ EstimateResult Pooled() {
     LogResult log;
     log.name = names[k];
     log.rows = 100 + k;
-    log.parameters = {Estimate(a[k], 0.01), Estimate(1.3, 0.05, k == 2 ? Verdict::kSuspect : Verdict::kOk),
+    log.parameters = {Estimate(a[k], 0.01),
+                      Estimate(1.3, 0.05, k == 2 ? Verdict::kSuspect : Verdict::kOk),
                       Estimate(0.03, 0.002)};
     r.logs.push_back(log);
   }
@@ -151,8 +151,8 @@ TEST(FitPlot, WritesAPng) {
 int RunCommand(const std::string& command, std::string* output = nullptr) {
   const char* bin = std::getenv("SLIDEID_BIN_DIR");
   const std::string out = ::testing::TempDir() + "/plot_fit_output_" + std::to_string(getpid());
-  const std::string cmd = std::string(bin ? bin : "build/bin") + "/" + command + " > " + out +
-                          " 2>&1";
+  const std::string cmd =
+      std::string(bin ? bin : "build/bin") + "/" + command + " > " + out + " 2>&1";
   const int status = std::system(cmd.c_str());
   if (output) *output = ReadText(out);
   return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
@@ -168,7 +168,8 @@ TEST(PlotFitTool, DrawsWhatIdentifyFoundForPooledLogs) {
   std::string out;
   ASSERT_EQ(RunCommand("identify --logs " + dir + " --json", &out), 0) << out;
   std::ofstream(dir + "/fit.json") << out;
-  ASSERT_EQ(RunCommand("plot-fit " + dir + "/fit.json --out " + dir + "/fit.png --width 800", &out), 0)
+  ASSERT_EQ(RunCommand("plot-fit " + dir + "/fit.json --out " + dir + "/fit.png --width 800", &out),
+            0)
       << out;
   EXPECT_EQ(ReadText(dir + "/fit.png").substr(1, 3), "PNG");
   EXPECT_NE(out.find("wrote " + dir + "/fit.png"), std::string::npos);
@@ -179,17 +180,18 @@ TEST(PlotFitTool, ExitCodesSayWhatWentWrong) {
   std::ofstream(dir + "/fit.json") << FormatJson(Pooled());
   std::ofstream(dir + "/bad.json") << "{\"e_t_mu\": 3}";
   EXPECT_EQ(RunCommand("plot-fit --help"), 0);
-  EXPECT_EQ(RunCommand("plot-fit " + dir + "/fit.json"), 2);                      // no --out
-  EXPECT_EQ(RunCommand("plot-fit --out x.png"), 2);                              // no result
+  EXPECT_EQ(RunCommand("plot-fit " + dir + "/fit.json"), 2);  // no --out
+  EXPECT_EQ(RunCommand("plot-fit --out x.png"), 2);           // no result
   EXPECT_EQ(RunCommand("plot-fit " + dir + "/fit.json --out x.png --width 5"), 2);
   std::string out;
   EXPECT_EQ(RunCommand("plot-fit /nonexistent.json --out x.png", &out), 1);
   EXPECT_NE(out.find("/nonexistent.json"), std::string::npos) << out;
   EXPECT_EQ(RunCommand("plot-fit " + dir + "/bad.json --out x.png", &out), 1);
   EXPECT_NE(out.find("bad.json"), std::string::npos) << out;
-  EXPECT_EQ(RunCommand("plot-fit " + dir + "/fit.json --out " + dir + "/g.png --gnuplot /nonexistent/gp",
-                &out),
-            4);
+  EXPECT_EQ(
+      RunCommand("plot-fit " + dir + "/fit.json --out " + dir + "/g.png --gnuplot /nonexistent/gp",
+                 &out),
+      4);
   EXPECT_NE(out.find("gnuplot-nox"), std::string::npos) << out;
 }
 

@@ -1,8 +1,6 @@
 // Plots of logs: the gnuplot script and data, the PNG, a clear error without gnuplot, the
 // replay of a fit, and the plot-log tool end to end.
 
-#include "plots/log_plot.h"
-
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -16,13 +14,14 @@
 #include "forward_model/simulator.h"
 #include "io/push_log.h"
 #include "io/result_json.h"
+#include "plots/log_plot.h"
 #include "tests/estimator_test_support.h"
 
 namespace slideid {
 namespace {
 
-using testing::ReadText;
 using testing::HaveGnuplot;
+using testing::ReadText;
 
 std::string Source(const std::string& rel) { return std::string(SLIDEID_SOURCE_DIR) + "/" + rel; }
 
@@ -77,7 +76,8 @@ TEST(PlotLog, APredictionIsOverlaidWithItsPatches) {
   ASSERT_EQ(std::system(("mkdir -p " + dir).c_str()), 0);
   WritePlotData(log, &shifted, o, dir);
   // The overlay's outlines: as many as the log's, at its turned poses.
-  const std::string logged = ReadText(dir + "/patch.dat"), predicted = ReadText(dir + "/fit_patch.dat");
+  const std::string logged = ReadText(dir + "/patch.dat"),
+                    predicted = ReadText(dir + "/fit_patch.dat");
   EXPECT_GT(predicted.size(), 100u);
   EXPECT_NE(predicted, logged);
 }
@@ -187,23 +187,33 @@ TEST(PlotLogTool, DrawsTheDefaultLogWithItsFit) {
   std::remove(png.c_str());
   const char* bin = std::getenv("SLIDEID_BIN_DIR");
   ASSERT_EQ(std::system((std::string(bin ? bin : "build/bin") + "/identify --log " + log +
-                         " --json > " + json + " 2> /dev/null").c_str()),
+                         " --json > " + json + " 2> /dev/null")
+                            .c_str()),
             0);
   std::string out;
-  ASSERT_EQ(RunTool("plot-log", log + " --out " + png + " --fit " + json + " --width 700 "
-                    "--height 450", &out), 0) << out;
+  ASSERT_EQ(RunTool("plot-log",
+                    log + " --out " + png + " --fit " + json +
+                        " --width 700 "
+                        "--height 450",
+                    &out),
+            0)
+      << out;
   EXPECT_EQ(ReadText(png).substr(1, 3), "PNG");
 }
 
 TEST(PlotLogTool, ExitCodesSayWhatWentWrong) {
   const std::string log = Source("datasets/logs/default_push.csv");
   EXPECT_EQ(RunTool("plot-log", "--help"), 0);
-  EXPECT_EQ(RunTool("plot-log", log), 2);                              // no --out
-  EXPECT_EQ(RunTool("plot-log", "--out x.png"), 2);                    // no log
+  EXPECT_EQ(RunTool("plot-log", log), 2);                             // no --out
+  EXPECT_EQ(RunTool("plot-log", "--out x.png"), 2);                   // no log
   EXPECT_EQ(RunTool("plot-log", "/nonexistent.csv --out x.png"), 1);  // unreadable log
   std::string out;
-  EXPECT_EQ(RunTool("plot-log", log + " --out " + ::testing::TempDir() + "/g.png --gnuplot "
-                    "/nonexistent/gnuplot", &out), 4);
+  EXPECT_EQ(RunTool("plot-log",
+                    log + " --out " + ::testing::TempDir() +
+                        "/g.png --gnuplot "
+                        "/nonexistent/gnuplot",
+                    &out),
+            4);
   EXPECT_NE(out.find("gnuplot-nox"), std::string::npos) << out;
 }
 

@@ -60,8 +60,7 @@ std::vector<Trajectory> Logs(const DatasetSpec& spec) {
   return logs;
 }
 
-std::vector<Trajectory> Logs(int count, std::uint64_t seed, double mu = kMu,
-                             double mass_kg = 0.8) {
+std::vector<Trajectory> Logs(int count, std::uint64_t seed, double mu = kMu, double mass_kg = 0.8) {
   return Logs(OneSurface(count, seed, mu, mass_kg));
 }
 
@@ -111,8 +110,8 @@ TEST(PooledFit, FiftyLogsOfOneSliderGiveOneEstimateThatRecoversTheTruthAndAgree)
   for (const LogResult& log : r.logs) {
     const ParameterEstimate& own = log.parameters[kA];
     EXPECT_LT(r.parameters[kA].ci95_hi - r.parameters[kA].ci95_lo, own.ci95_hi - own.ci95_lo)
-        << log.name << " (" << log.rows << " rows): " << own.note << "; pooled: "
-        << r.parameters[kA].note;
+        << log.name << " (" << log.rows << " rows): " << own.note
+        << "; pooled: " << r.parameters[kA].note;
   }
 }
 
@@ -131,8 +130,8 @@ TEST(PooledFit, LogsOfTwoSurfacesAreFlaggedAndThePooledIntervalWidened) {
   ASSERT_TRUE(h.tested);
   EXPECT_FALSE(h.consistent);
   EXPECT_LT(h.p_value, 0.05);
-  EXPECT_GT(h.i2, 0.9);          // almost all the spread is between the logs
-  EXPECT_GT(h.tau_log, 0.1);     // log(0.4 / 0.3) / 2 = 0.14 either side of the middle
+  EXPECT_GT(h.i2, 0.9);       // almost all the spread is between the logs
+  EXPECT_GT(h.tau_log, 0.1);  // log(0.4 / 0.3) / 2 = 0.14 either side of the middle
   const ParameterEstimate& a = mixed.parameters[kA];
   EXPECT_NE(a.note.find("cluster-robust (CR2) over 20 logs"), std::string::npos) << a.note;
   // One surface pooled the same way: the mixed interval is many times wider (measured 70x:
@@ -218,9 +217,8 @@ std::string GoodAndBadLogs() {
   const std::vector<Trajectory> logs = Logs(2, 51);
   WritePushLog(logs[0], dir + "/a.csv");
   WritePushLog(logs[1], dir + "/c.csv");
-  std::ofstream(dir + "/b.csv")
-      << "# mass = 0.8\n# inertia = 1e-3\n# com_height = 0.03\n"
-         "t,x,y,theta\n0,0,0,0\n0.01,zero,0,0\n";
+  std::ofstream(dir + "/b.csv") << "# mass = 0.8\n# inertia = 1e-3\n# com_height = 0.03\n"
+                                   "t,x,y,theta\n0,0,0,0\n0.01,zero,0,0\n";
   return dir;
 }
 

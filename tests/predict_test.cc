@@ -9,13 +9,12 @@
 
 #include "datasets/sensor_model.h"
 #include "fixtures/pushed_square.h"
+#include "forward_model/constants.h"
 #include "forward_model/simulator.h"
 #include "tests/estimator_test_support.h"
-#include "forward_model/constants.h"
 
 namespace slideid {
 namespace {
-
 
 /// The fixture's square pushed 63 mm at 50 mm/s, 18 deg off the edge's normal: the tip
 /// slides along the edge for part of the push.
@@ -124,8 +123,8 @@ TEST(Predict, TheQuasiStaticModelIsTheSlowLimitOfTheDynamicOne) {
     Scene scene = PushedSquare();
     scene.slider.com_height_m = 0;
     const Eigen::Vector2d start(-0.045 - 0.00475, 0.02);
-    scene.pusher->path = PusherPath::Polyline(0.0, start, {start + Eigen::Vector2d(0.03, 0.012)},
-                                              {speed});
+    scene.pusher->path =
+        PusherPath::Polyline(0.0, start, {start + Eigen::Vector2d(0.03, 0.012)}, {speed});
     scene.duration_s = scene.pusher->path.end_s() + 0.05;
     scene.dt_s = speed < 0.01 ? 1e-2 : 1e-3;
     Trajectory log = testing::SimulateOrFail(scene);
@@ -159,7 +158,7 @@ TEST(Predict, ErrorsAreTheDistancesAtTheRowsAndTheFirstRowPastAThreshold) {
   }
   Trajectory predicted = log;
   for (int u = 6; u <= 10; ++u) {
-    predicted.samples[u].state.y = 0.002 * (u - 5);         // 2 mm per row from row 6
+    predicted.samples[u].state.y = 0.002 * (u - 5);  // 2 mm per row from row 6
     predicted.samples[u].state.theta = 0.01 * (u - 5);
   }
   const PredictionErrors e = CompareWithLog(log, predicted, PredictionOptions{});
@@ -193,12 +192,14 @@ TEST(Predict, ALogThatCannotBeDrivenThatWaySaysWhatIsMissing) {
   EXPECT_NE(message(log, std::nullopt, PredictionDrive::kPusher).find("mu_p"), std::string::npos);
   Trajectory no_tip = log;
   no_tip.columns.tip = false;
-  EXPECT_NE(message(no_tip, 0.25, PredictionDrive::kPusher).find("push.csv: the pusher drive needs "
-                                                                "the tip's path"),
+  EXPECT_NE(message(no_tip, 0.25, PredictionDrive::kPusher)
+                .find("push.csv: the pusher drive needs "
+                      "the tip's path"),
             std::string::npos);
   Trajectory no_radius = log;
   no_radius.tip_radius_m.reset();
-  EXPECT_NE(message(no_radius, 0.25, PredictionDrive::kPusher).find("tip_radius"), std::string::npos);
+  EXPECT_NE(message(no_radius, 0.25, PredictionDrive::kPusher).find("tip_radius"),
+            std::string::npos);
   Trajectory no_patch = log;
   no_patch.patch_spec.clear();
   EXPECT_NE(message(no_patch, 0.25, PredictionDrive::kPusher).find("patch"), std::string::npos);
@@ -214,18 +215,21 @@ TEST(PredictTool, PredictsFromOptionsAndWritesTheTrajectory) {
   const std::string log_path = testing::TempPath("predict_push.csv");
   WritePushLog(Logged(scene, 10), log_path);
   const std::string out = testing::TempPath("predicted.csv");
-  const testing::ToolRun run = testing::RunTool(
-      "predict", "--log " + log_path + " --mu 0.3 --b 1.2 --c 0.035 --mu-pusher 0.25 "
-                 "--substeps 10 --json --out " + out);
+  const testing::ToolRun run =
+      testing::RunTool("predict", "--log " + log_path +
+                                      " --mu 0.3 --b 1.2 --c 0.035 --mu-pusher 0.25 "
+                                      "--substeps 10 --json --out " +
+                                      out);
   ASSERT_EQ(run.code, 0) << run.all();
   EXPECT_NE(run.all().find("\"drive\":\"pusher\""), std::string::npos) << run.all();
   EXPECT_NE(run.all().find("\"final_position_m\""), std::string::npos) << run.all();
   const Trajectory predicted = ReadPushLog(out);
   EXPECT_GT(predicted.samples.size(), 100u);
   EXPECT_EQ(testing::RunTool("predict", "--log " + log_path + " --b 1 --c 0.03").code, 2);
-  EXPECT_EQ(testing::RunTool("predict", "--log " + log_path +
-                                            " --mu 0.3 --b 1 --c 0.03 --drive sideways").code,
-            2);
+  EXPECT_EQ(
+      testing::RunTool("predict", "--log " + log_path + " --mu 0.3 --b 1 --c 0.03 --drive sideways")
+          .code,
+      2);
   // No mu_p for the pusher drive: bad input, naming it.
   const testing::ToolRun no_mu_p =
       testing::RunTool("predict", "--log " + log_path + " --mu 0.3 --b 1 --c 0.03");

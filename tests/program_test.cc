@@ -1,14 +1,13 @@
 // Push programs: sections [push.N] run in sequence with rests; random programs are
 // reproducible by seed, stay within their ranges and excite rotation and stick-slip.
 
-#include "datasets/push_program.h"
-
 #include <gtest/gtest.h>
 
 #include <cmath>
 
-#include "forward_model/simulator.h"
+#include "datasets/push_program.h"
 #include "forward_model/constants.h"
+#include "forward_model/simulator.h"
 
 namespace slideid {
 namespace {
@@ -70,8 +69,8 @@ TEST(RandomProgram, PushesStayWithinTheirRangesAndRestBetween) {
     EXPECT_NEAR(q.direction_body.norm(), 1.0, kGeometryTol);
     const Eigen::Vector2d to_cm = -q.point_body.normalized();
     EXPECT_GE(q.direction_body.dot(to_cm), std::cos(spec.spread_rad) - kGeometryTol);
-    const double lever = std::abs(q.point_body.x() * q.direction_body.y() -
-                                  q.point_body.y() * q.direction_body.x());
+    const double lever =
+        std::abs(q.point_body.x() * q.direction_body.y() - q.point_body.y() * q.direction_body.x());
     EXPECT_LE(lever, spec.max_lever_fraction * std::hypot(0.06, 0.04) + kGeometryTol);
     previous_stop = q.stop_s;
   }
@@ -86,8 +85,8 @@ TEST(RandomProgram, PushesComeFromAllSidesAndMostAreOffCentre) {
   for (const PushSpec& q : p.pushes) {
     const double angle = std::atan2(q.direction_body.y(), q.direction_body.x());
     ++quadrant[static_cast<int>(std::floor((angle + kPi) / (kPi / 2))) % 4];
-    const double lever = std::abs(q.point_body.x() * q.direction_body.y() -
-                                  q.point_body.y() * q.direction_body.x());
+    const double lever =
+        std::abs(q.point_body.x() * q.direction_body.y() - q.point_body.y() * q.direction_body.x());
     if (lever > 1e-3) ++off_centre;
   }
   for (int k = 0; k < 4; ++k) EXPECT_GE(quadrant[k], 5) << "directions in quadrant " << k;
@@ -175,8 +174,8 @@ TEST(RandomProgram, SimulatedProgramHasStickSlipTransitionsAndRotation) {
   // Each push starts from rest, each rest ends at rest (the first push starts at t = 0).
   EXPECT_GE(stick_to_slide, spec.count - 1);
   EXPECT_GE(slide_to_stick, spec.count);
-  EXPECT_GT(max_spin, 0.5);    // off-centre pushes turn the slider...
-  EXPECT_LT(max_spin, 20.0);   // ...but the lever cap keeps it from spinning like a top
+  EXPECT_GT(max_spin, 0.5);   // off-centre pushes turn the slider...
+  EXPECT_LT(max_spin, 20.0);  // ...but the lever cap keeps it from spinning like a top
 }
 
 TEST(RandomProgram, ThroughTheCmProgramDoesNotRotate) {

@@ -1,11 +1,9 @@
 #include "io/push_log.h"
-#include "forward_model/simulator.h"
-#include "tests/estimator_test_support.h"
 
-#include <Eigen/Geometry>
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <Eigen/Geometry>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -16,6 +14,8 @@
 #include <vector>
 
 #include "forward_model/constants.h"
+#include "forward_model/simulator.h"
+#include "tests/estimator_test_support.h"
 
 namespace slideid {
 namespace {
@@ -67,8 +67,8 @@ Trajectory FullTrajectory() {
     s.push_point_world = Eigen::Vector3d(s.state.x - 0.025, s.state.y + 1.0 / 300, 0.05);
     // As a scene or the reader forms it: r x f plus a residual moment. (An arbitrary total
     // is reproduced only to an ulp of |r x f|: see TotalMomentsRoundTripToAnUlpOfRCrossF.)
-    const Eigen::Vector3d r = *s.push_point_world - Eigen::Vector3d(s.state.x, s.state.y,
-                                                                      tr.slider.com_height_m);
+    const Eigen::Vector3d r =
+        *s.push_point_world - Eigen::Vector3d(s.state.x, s.state.y, tr.slider.com_height_m);
     s.applied = WrenchFromForceAt(0.3 * u, -0.2 / 3.0, -0.5 * u, r.x(), r.y(), r.z());
     s.applied.tx += 1e-3 / 7.0;
     s.applied.ty += -2e-3 / 3.0;
@@ -175,17 +175,15 @@ TEST(PushLog, GoldenExampleReadsRowsMetadataAndTruth) {
   EXPECT_EQ(tr.samples[0].state.wz, 10.0);
   EXPECT_EQ(tr.samples[1].state.x, 0.006869995041976629);
   EXPECT_EQ(tr.samples[1].mode, SampleMode::kSlide);
-  EXPECT_TRUE(tr.columns.pose && tr.columns.velocity && tr.columns.force &&
-              tr.columns.step_info);
+  EXPECT_TRUE(tr.columns.pose && tr.columns.velocity && tr.columns.force && tr.columns.step_info);
   EXPECT_FALSE(tr.columns.push_point || tr.columns.moments || tr.columns.fz);
 }
 
 TEST(PushLog, ColumnsInShuffledOrderAreFoundByName) {
-  const std::string path = WriteFile(
-      "shuffled.csv", std::string(kSliderMeta) +
-                          "wz,fy,theta,extra,t,y,vy,x,vx,fx\n"
-                          "3,0.2,0.1,99,0,2,5,1,4,0.1\n"
-                          "6,0.4,0.2,99,0.5,2.5,5.5,1.5,4.5,0.3\n");
+  const std::string path = WriteFile("shuffled.csv", std::string(kSliderMeta) +
+                                                         "wz,fy,theta,extra,t,y,vy,x,vx,fx\n"
+                                                         "3,0.2,0.1,99,0,2,5,1,4,0.1\n"
+                                                         "6,0.4,0.2,99,0.5,2.5,5.5,1.5,4.5,0.3\n");
   LogReadReport report;
   const Trajectory tr = ReadPushLog(path, {}, &report);
   ASSERT_EQ(tr.samples.size(), 2u);
@@ -225,9 +223,9 @@ TEST(PushLog, AbsentOptionalColumnsReadAsZeroAndModesDefault) {
 }
 
 TEST(PushLog, PosesOnlyGiveBackwardEulerVelocities) {
-  const std::string path = WriteFile(
-      "poses.csv", std::string(kSliderMeta) + "t,x,y,theta\n0,0,0,0\n0.1,0.01,-0.02,0.05\n"
-                                              "0.3,0.03,-0.02,0.01\n");
+  const std::string path = WriteFile("poses.csv", std::string(kSliderMeta) +
+                                                      "t,x,y,theta\n0,0,0,0\n0.1,0.01,-0.02,0.05\n"
+                                                      "0.3,0.03,-0.02,0.01\n");
   LogReadReport report;
   const Trajectory tr = ReadPushLog(path, {}, &report);
   EXPECT_TRUE(report.velocities_from_poses);
@@ -281,17 +279,17 @@ TEST(PushLog, RowsMarkedStartAfterAGapSplitTheLogIntoRuns) {
   try {
     ReadPushLog(TempDirectory() + "/unmarked_gap.csv");
   } catch (const LogError& e) {
-    EXPECT_NE(std::string(e.what()).find("mark the row after the gap 'start'"),
-              std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("mark the row after the gap 'start'"), std::string::npos)
+        << e.what();
   }
 }
 
 TEST(PushLog, PushPointAddsRCrossFIncludingTiltingMoments) {
   // CM at (1, 2, 0.08); force (3, -1, 0.5) at (0.9, 2.2, 0.15): r = (-0.1, 0.2, 0.07).
-  const std::string path = WriteFile(
-      "push_point.csv", std::string(kSliderMeta) +
-                            "t,x,y,theta,fx,fy,fz,px,py,pz,tx,ty,tz\n"
-                            "0,1,2,0,3,-1,0.5,0.9,2.2,0.15,0.01,0.02,0.03\n");
+  const std::string path =
+      WriteFile("push_point.csv", std::string(kSliderMeta) +
+                                      "t,x,y,theta,fx,fy,fz,px,py,pz,tx,ty,tz\n"
+                                      "0,1,2,0,3,-1,0.5,0.9,2.2,0.15,0.01,0.02,0.03\n");
   const Trajectory tr = ReadPushLog(path);
   const AppliedWrench& w = tr.samples[0].applied;
   const Eigen::Vector3d r(-0.1, 0.2, 0.07), f(3, -1, 0.5);
@@ -323,9 +321,10 @@ TEST(PushLog, RowWithoutPushPointIsWrittenAtTheCentreOfMass) {
 }
 
 TEST(PushLog, ThetaWrappedAcrossPiIsUnwrapped) {
-  const std::string path = WriteFile(
-      "wrapped.csv", std::string(kSliderMeta) + "t,x,y,theta\n0,0,0,3.0\n0.1,0,0,3.1\n"
-                                                "0.2,0,0,-3.1\n0.3,0,0,-3.0\n0.4,0,0,3.1\n");
+  const std::string path =
+      WriteFile("wrapped.csv", std::string(kSliderMeta) +
+                                   "t,x,y,theta\n0,0,0,3.0\n0.1,0,0,3.1\n"
+                                   "0.2,0,0,-3.1\n0.3,0,0,-3.0\n0.4,0,0,3.1\n");
   LogReadReport report;
   const Trajectory tr = ReadPushLog(path, {}, &report);
   EXPECT_EQ(tr.samples[0].state.theta, 3.0);
@@ -342,9 +341,10 @@ TEST(PushLog, ThetaWrappedAcrossPiIsUnwrapped) {
 }
 
 TEST(PushLog, CrlfLineEndingsAndUtf8BomAreAccepted) {
-  const std::string path = WriteFile(
-      "crlf_bom.csv", "\xEF\xBB\xBF# mass = 0.5\r\n# inertia = 2e-4\r\n# com_height = 0.08\r\n"
-                      "\r\nt,x,y,theta,mode\r\n0,0,0,0,start\r\n\r\n0.1,1,2,3,stick\r\n");
+  const std::string path =
+      WriteFile("crlf_bom.csv",
+                "\xEF\xBB\xBF# mass = 0.5\r\n# inertia = 2e-4\r\n# com_height = 0.08\r\n"
+                "\r\nt,x,y,theta,mode\r\n0,0,0,0,start\r\n\r\n0.1,1,2,3,stick\r\n");
   const Trajectory tr = ReadPushLog(path);
   EXPECT_EQ(tr.slider.mass_kg, 0.5);
   ASSERT_EQ(tr.samples.size(), 2u);
@@ -499,7 +499,8 @@ std::string WithThetaInDegrees(const std::string& text, bool wrap) {
       if (!line.empty() && line[0] != '#') {
         std::istringstream header(line);
         std::string name;
-        for (int i = 0; std::getline(header, name, ','); ++i) if (name == "theta") column = i;
+        for (int i = 0; std::getline(header, name, ','); ++i)
+          if (name == "theta") column = i;
       }
       out << line << "\n";
       continue;

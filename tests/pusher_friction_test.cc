@@ -8,15 +8,14 @@
 
 #include <cmath>
 
-#include "fixtures/pushed_square.h"
 #include "estimator/identify.h"
+#include "fixtures/pushed_square.h"
+#include "forward_model/constants.h"
 #include "io/result_json.h"
 #include "tests/estimator_test_support.h"
-#include "forward_model/constants.h"
 
 namespace slideid {
 namespace {
-
 
 /// The fixture's square pushed 60 mm at 50 mm/s from its left edge, `angle` off the normal.
 Scene PushAt(double angle_rad, double mu_p, double offset_m) {

@@ -7,12 +7,12 @@
 #include <cmath>
 #include <random>
 
+#include "forward_model/constants.h"
 #include "forward_model/pusher_step.h"
 #include "forward_model/quasi_static.h"
 #include "forward_model/simulator.h"
 #include "io/push_log.h"
 #include "tests/estimator_test_support.h"
-#include "forward_model/constants.h"
 
 namespace slideid {
 namespace {
@@ -34,7 +34,8 @@ Pusher StraightPusher(double offset_m, const Eigen::Vector2d& direction, double 
                       double duration_s, double mu_p) {
   Pusher p;
   const Eigen::Vector2d start(-kHalfSide - kTip, offset_m);
-  p.path = PusherPath({0.0, duration_s}, {start, start + speed_mps * duration_s * direction.normalized()});
+  p.path = PusherPath({0.0, duration_s},
+                      {start, start + speed_mps * duration_s * direction.normalized()});
   p.tip_radius_m = kTip;
   p.mu = mu_p;
   return p;
@@ -62,7 +63,8 @@ TEST(Pusher, SlowStickingPushMatchesTheQuasiStaticClosedForm) {
       EXPECT_EQ(r.summary.tip_slide_steps, 0);
       const TrajectorySample& s = r.trajectory.samples.back();
       const TrajectorySample& before = r.trajectory.samples[r.trajectory.samples.size() - 2];
-      const Eigen::Vector2d arm = before.push_point_world->head<2>() - Eigen::Vector2d(before.state.x, before.state.y);
+      const Eigen::Vector2d arm =
+          before.push_point_world->head<2>() - Eigen::Vector2d(before.state.x, before.state.y);
       const Eigen::Vector3d expected = QuasiStaticTwist(arm, speed * direction, 0.035);
       const Eigen::Vector3d got(s.state.vx, s.state.vy, s.state.wz);
       const double scale = std::max(expected.head<2>().norm(), 1e-12);
@@ -95,8 +97,9 @@ TEST(Pusher, TheTipSticksInsideTheMotionConeAndSlidesOutsideIt) {
         const double a = edge + side * margin_deg * kPi / 180;
         SCOPED_TRACE(::testing::Message() << "offset " << offset << " edge " << edge * 180 / kPi
                                           << " deg, tip at " << a * 180 / kPi << " deg");
-        const SimulationResult r = RunPush(
-            SquareScene(c), StraightPusher(offset, {std::cos(a), std::sin(a)}, 2e-3, 1.0, mu_p), 0.3);
+        const SimulationResult r =
+            RunPush(SquareScene(c),
+                    StraightPusher(offset, {std::cos(a), std::sin(a)}, 2e-3, 1.0, mu_p), 0.3);
         const int contact = r.summary.tip_stick_steps + r.summary.tip_slide_steps;
         ASSERT_GT(contact, 250);
         if (margin_deg < 0) {
@@ -112,8 +115,8 @@ TEST(Pusher, TheTipSticksInsideTheMotionConeAndSlidesOutsideIt) {
 // Through the CM along a principal axis: the slider translates without turning.
 TEST(Pusher, APushThroughTheCentreAlongAnAxisDoesNotTurnTheSlider) {
   for (const double speed : {0.01, 0.2}) {
-    const SimulationResult r =
-        RunPush(SquareScene(), StraightPusher(0.0, Eigen::Vector2d::UnitX(), speed, 1.0, 0.25), 0.5);
+    const SimulationResult r = RunPush(
+        SquareScene(), StraightPusher(0.0, Eigen::Vector2d::UnitX(), speed, 1.0, 0.25), 0.5);
     for (const TrajectorySample& s : r.trajectory.samples) {
       ASSERT_NEAR(s.state.theta, 0.0, 1e-12);
       ASSERT_NEAR(s.state.y, 0.0, 1e-12);
@@ -137,7 +140,8 @@ TEST(Pusher, EnergyNeverRisesWithoutTheTipsWorkAndEveryStepMeetsItsConditions) {
   for (int k = 0; k < 40; ++k) {
     Scene scene = SquareScene(0.02 + 0.03 * u(rng));
     scene.slider.mass_kg = 0.01 + 2 * u(rng);
-    scene.slider.inertia_kgm2 = scene.slider.mass_kg * 2 * kHalfSide * kHalfSide / 3 * (0.5 + u(rng));
+    scene.slider.inertia_kgm2 =
+        scene.slider.mass_kg * 2 * kHalfSide * kHalfSide / 3 * (0.5 + u(rng));
     scene.slider.com_height_m = k % 2 ? 0.0 : 0.006;
     scene.friction.e_o = 0.7 + 0.8 * u(rng);
     scene.dt_s = k % 3 == 0 ? 1e-4 : k % 3 == 1 ? 1e-3 : 1e-2;
@@ -155,9 +159,9 @@ TEST(Pusher, EnergyNeverRisesWithoutTheTipsWorkAndEveryStepMeetsItsConditions) {
     PlanarState q;
     const double end = pusher.path.end_s() + 0.2;
     for (double t = 0; t < end; t += scene.dt_s) {
-      const PusherStepResult r = SolvePusherStep(
-          scene.slider, friction, scene.patch, pusher, q, pusher.path.PositionAt(t),
-          pusher.path.PositionAt(t + scene.dt_s), AppliedWrench{}, scene.dt_s);
+      const PusherStepResult r =
+          SolvePusherStep(scene.slider, friction, scene.patch, pusher, q, pusher.path.PositionAt(t),
+                          pusher.path.PositionAt(t + scene.dt_s), AppliedWrench{}, scene.dt_s);
       ASSERT_TRUE(r.ok()) << "log " << k << " t " << t << ": " << r.message;
       ASSERT_LE(r.residual, 1e-9) << "log " << k << " t " << t;
       const PlanarState& e = r.step.state;
@@ -165,7 +169,8 @@ TEST(Pusher, EnergyNeverRisesWithoutTheTipsWorkAndEveryStepMeetsItsConditions) {
       const Eigen::Vector2d vc(e.vx - e.wz * arm.y(), e.vy + e.wz * arm.x());
       const double work = r.impulse_world.dot(vc);
       const double rise = KineticEnergy(scene.slider, e) - KineticEnergy(scene.slider, q);
-      const double energy_scale = KineticEnergy(scene.slider, e) + KineticEnergy(scene.slider, q) + 1e-15;
+      const double energy_scale =
+          KineticEnergy(scene.slider, e) + KineticEnergy(scene.slider, q) + 1e-15;
       ASSERT_LE(rise, work + 1e-9 * energy_scale) << "log " << k << " t " << t;
       if (r.tip_mode == TipMode::kApart) ASSERT_LE(rise, 1e-12 * energy_scale);
       ASSERT_GE(r.lambda_n, 0.0);
@@ -292,7 +297,8 @@ TEST(Pusher, TheLogCarriesTheTipsPathAndRadius) {
     EXPECT_EQ(*back.samples[u].tip_world, *r.trajectory.samples[u].tip_world);
   }
   bool mu_p = false;
-  for (const auto& [key, value] : back.extra_metadata) mu_p = mu_p || (key == "mu_p" && std::stod(value) == 0.3);
+  for (const auto& [key, value] : back.extra_metadata)
+    mu_p = mu_p || (key == "mu_p" && std::stod(value) == 0.3);
   EXPECT_TRUE(mu_p);
 }
 
@@ -304,9 +310,9 @@ TEST(Pusher, ExtremeSlidersTipsAndStepsConvergeAndMeetTheirConditions) {
     double mass, speed, radius, mu_p, dt;
     ContactPatch patch;
   };
-  const std::vector<Eigen::Vector2d> hexagon = {
-      {0.0605, 0}, {0.03025, 0.0524}, {-0.03025, 0.0524}, {-0.0605, 0}, {-0.03025, -0.0524},
-      {0.03025, -0.0524}};
+  const std::vector<Eigen::Vector2d> hexagon = {{0.0605, 0},         {0.03025, 0.0524},
+                                                {-0.03025, 0.0524},  {-0.0605, 0},
+                                                {-0.03025, -0.0524}, {0.03025, -0.0524}};
   const std::vector<Case> cases = {
       {0.001, 1.0, kTip, 0.25, 1e-3, ContactPatch::Rectangle(0.09, 0.09)},
       {100.0, 0.05, kTip, 0.25, 1e-3, ContactPatch::Rectangle(0.09, 0.09)},

@@ -14,10 +14,10 @@
 #include <vector>
 
 #include "datasets/quasi_static_synth.h"
-#include "io/zhou_tripod_synth.h"
-#include "io/zhou_tripod_import.h"
-#include "tests/estimator_test_support.h"
 #include "forward_model/constants.h"
+#include "io/zhou_tripod_import.h"
+#include "io/zhou_tripod_synth.h"
+#include "tests/estimator_test_support.h"
 
 namespace slideid {
 namespace {
@@ -126,8 +126,7 @@ TEST(QuasiStaticFit, WorldFramePairsRecoverAWorldFixedAnisotropy) {
   // The simulator's b is along the world axes (model.md): pairs written in the world frame
   // see it; the block turns between pushes, so body-frame pairs would not.
   const WrenchTwistData data = SimulatedPairs(kAnisotropic, 12, PairFrame::kWorld);
-  ExpectRecovers(Fit(data), kAnisotropic, "world-frame pairs, b = 1.3",
-                 kQuasiStaticModelRelTol);
+  ExpectRecovers(Fit(data), kAnisotropic, "world-frame pairs, b = 1.3", kQuasiStaticModelRelTol);
 }
 
 TEST(QuasiStaticFit, IsotropicExactPairsGiveTheSameABCInAnyFrame) {

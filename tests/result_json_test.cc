@@ -192,9 +192,9 @@ TEST(ResultJson, BatchLinesWrapTheResultOrTheErrorWithTheFileFirst) {
                 ", \"warnings\": [\"a.csv:3: gap\"]}");
   EXPECT_EQ(FormatBatchLine("a.csv", nullptr, "a.csv:6: bad", {}),
             "{\"file\": \"a.csv\", \"ok\": false, \"error\": \"a.csv:6: bad\"}");
-  EXPECT_EQ(FormatBatchLine("a.csv", &result, "a.csv: no", {"ignored"}),
-            "{\"file\": \"a.csv\", \"ok\": false, \"error\": \"a.csv: no\", \"result\": " +
-                json + "}");
+  EXPECT_EQ(
+      FormatBatchLine("a.csv", &result, "a.csv: no", {"ignored"}),
+      "{\"file\": \"a.csv\", \"ok\": false, \"error\": \"a.csv: no\", \"result\": " + json + "}");
   EXPECT_THROW(FormatBatchLine("a.csv", nullptr, "", {}), std::invalid_argument);
 }
 
@@ -390,8 +390,7 @@ TEST(ResultJson, ParseIdentifyJsonTakesValuesOrHeldValuesAndNamesWhatIsWrong) {
   EXPECT_EQ(hand.a, 0.3);
   EXPECT_EQ(hand.b, 1.2);
   EXPECT_EQ(hand.c, 0.02);
-  EXPECT_EQ(IdentifyError("{\"e_t_mu\": {\"value\": 0.3}}"),
-            "identify JSON: no \"e_o_over_e_t\"");
+  EXPECT_EQ(IdentifyError("{\"e_t_mu\": {\"value\": 0.3}}"), "identify JSON: no \"e_o_over_e_t\"");
   EXPECT_EQ(IdentifyError("{\"e_t_mu\": {\"value\": -0.3}, \"e_o_over_e_t\": {}, "
                           "\"e_r_over_e_t\": {}}"),
             "identify JSON: \"e_t_mu\" has neither a value nor a held_at value");

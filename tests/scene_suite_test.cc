@@ -8,12 +8,13 @@
 // in the best basin, 99% within 3 standard errors) are not reached yet and are stated
 // beside each threshold.
 
+#include "datasets/scene_suite.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <string>
 
-#include "datasets/scene_suite.h"
 #include "datasets/sensor_model.h"
 #include "fixtures/suite_check.h"
 #include "forward_model/simulator.h"
@@ -37,9 +38,8 @@ suite::Tally RunSuite() {
     c.Add(o);
     if (!o.determined) continue;
     if (o.max_abs_z > 3 || !o.in_best_basin) {
-      std::printf("  log %d (%s): max |z| %.2f, best basin from %s%s\n", k,
-                  made.Describe().c_str(), o.max_abs_z, o.best_from.c_str(),
-                  o.in_best_basin ? "" : " (default not in it)");
+      std::printf("  log %d (%s): max |z| %.2f, best basin from %s%s\n", k, made.Describe().c_str(),
+                  o.max_abs_z, o.best_from.c_str(), o.in_best_basin ? "" : " (default not in it)");
     }
   }
   return c;
@@ -51,9 +51,10 @@ TEST(SceneSuite, DefaultFitOnWidelyDrawnLogs) {
   const double basin = double(c.basin) / c.determined;
   const double within3 = double(c.within3) / c.determined;
   const double ok_within3 = double(c.ok_within3) / c.determined;
-  std::printf("%d logs identified: best basin %.1f%%, within 3 SE %.1f%% (ok ones %.1f%%), "
-              "narrow ok %d/%d\n", c.determined, 100 * basin, 100 * within3, 100 * ok_within3,
-              c.narrow_ok, c.narrow);
+  std::printf(
+      "%d logs identified: best basin %.1f%%, within 3 SE %.1f%% (ok ones %.1f%%), "
+      "narrow ok %d/%d\n",
+      c.determined, 100 * basin, 100 * within3, 100 * ok_within3, c.narrow_ok, c.narrow);
   // Goal 99.5%; measured when written: see the message above and docs/scene-suite.md.
   EXPECT_GE(basin, 0.97);  // 100% (75/75) when written (87.0% as judged before 2026-11-25)
   // Goal 99%.
@@ -122,11 +123,14 @@ TEST(SceneSuite, IdentifyCrossChecksUnlessToldNot) {
   const std::string log = testing::TempPath("suite_471.csv");
   WritePushLog(MakeSuiteLog(471).log, log);
   const testing::ToolRun checked = testing::RunTool("identify", "--log " + log);
-  EXPECT_NE(checked.all().find("depends on how the log is cut"), std::string::npos) << checked.all();
+  EXPECT_NE(checked.all().find("depends on how the log is cut"), std::string::npos)
+      << checked.all();
   const testing::ToolRun unchecked = testing::RunTool("identify", "--no-cross-check --log " + log);
   EXPECT_EQ(unchecked.code, 0) << unchecked.all();
-  EXPECT_EQ(unchecked.all().find("depends on how the log is cut"), std::string::npos) << unchecked.all();
-  const testing::ToolRun wrong = testing::RunTool("identify", "--method closed-form --no-cross-check --log " + log);
+  EXPECT_EQ(unchecked.all().find("depends on how the log is cut"), std::string::npos)
+      << unchecked.all();
+  const testing::ToolRun wrong =
+      testing::RunTool("identify", "--method closed-form --no-cross-check --log " + log);
   EXPECT_NE(wrong.code, 0) << wrong.all();
 }
 
@@ -156,7 +160,8 @@ void ExpectHonestIntervals(const std::string& scene_file) {
     EXPECT_TRUE(p.ci95_lo <= t[i] && t[i] <= p.ci95_hi)
         << ParameterName(i) << " " << p.value << " [" << p.ci95_lo << ", " << p.ci95_hi
         << "], truth " << t[i];
-    std::printf("%s %s: %+.2f%%\n", scene_file.c_str(), ParameterName(i), 100 * (p.value / t[i] - 1));
+    std::printf("%s %s: %+.2f%%\n", scene_file.c_str(), ParameterName(i),
+                100 * (p.value / t[i] - 1));
   }
 }
 

@@ -1,15 +1,13 @@
-#include "io/scene_file.h"
-
 #include <gtest/gtest.h>
-
-#include "datasets/push_program.h"
 
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
 #include <string>
 
+#include "datasets/push_program.h"
 #include "forward_model/constants.h"
+#include "io/scene_file.h"
 
 namespace slideid {
 namespace {
@@ -114,10 +112,10 @@ TEST(Scene, DuplicateKeyAndBadSyntaxAreErrors) {
 }
 
 TEST(Scene, PatchKeyIrrelevantToShapeIsAnError) {
-  ExpectError(SceneText("", "[patch]\nshape = disk\nradius = 0.1\nwidth = 0.05\n"),
-              "[patch] width", "not used by shape 'disk'");
-  ExpectError(SceneText("", std::string(kSquare) + "inner_radius = 0.01\n"),
-              "[patch] inner_radius", "not used by shape 'rectangle'");
+  ExpectError(SceneText("", "[patch]\nshape = disk\nradius = 0.1\nwidth = 0.05\n"), "[patch] width",
+              "not used by shape 'disk'");
+  ExpectError(SceneText("", std::string(kSquare) + "inner_radius = 0.01\n"), "[patch] inner_radius",
+              "not used by shape 'rectangle'");
   ExpectError(SceneText("", "[patch]\nshape = hexagon\n"), "[patch] shape = hexagon",
               "unknown shape");
 }
@@ -344,12 +342,10 @@ TEST(Scene, BadLogAndNoiseValuesNameFileKeyAndValue) {
   ExpectError(SceneText("[log]\nstep_info = maybe\n"), "[log] step_info", "true or false");
   ExpectError(SceneText("[noise]\npose = -1e-3\n"), "[noise] pose = -1e-3", "must be >= 0");
   ExpectError(SceneText("[noise]\nangle = 3 mrad\n"), "[noise] angle", "not a number");
-  ExpectError(SceneText("[noise]\noutlier_fraction = 1.5\n"), "[noise] outlier_fraction",
-              "<= 1");
+  ExpectError(SceneText("[noise]\noutlier_fraction = 1.5\n"), "[noise] outlier_fraction", "<= 1");
   ExpectError(SceneText("[noise]\nseed = -3\n"), "[noise] seed = -3", "non-negative integer");
   ExpectError(SceneText("[noise]\nseed = 1.5\n"), "[noise] seed", "non-negative integer");
-  ExpectError(SceneText("[noise]\nseed = 99999999999999999999999\n"), "[noise] seed",
-              "too large");
+  ExpectError(SceneText("[noise]\nseed = 99999999999999999999999\n"), "[noise] seed", "too large");
   ExpectError(SceneText("[noise]\nsigma = 1\n"), "unknown key 'noise.sigma'", "line 19");
   ExpectError(SceneText("[noise]\nforce_delay = 10 ms\n"), "[noise] force_delay", "not a number");
   ExpectError(SceneText("[noise]\nforce_bias_x = inf\n"), "[noise] force_bias_x", "finite");
@@ -394,8 +390,7 @@ TEST(Scene, RandomProgramIsDrawnIntoThePushesAndSetsTheDuration) {
 TEST(Scene, ProgramSettingsAreChecked) {
   ExpectError(ProgramScene("seed = 3\n"), "[program] random", "missing required key");
   ExpectError(ProgramScene("random = 0\n"), "[program] random = 0", "must be >= 1");
-  ExpectError(ProgramScene("random = 3\nforce = 3 1\n"), "[program] force = 3 1",
-              "lo <= hi");
+  ExpectError(ProgramScene("random = 3\nforce = 3 1\n"), "[program] force = 3 1", "lo <= hi");
   ExpectError(ProgramScene("random = 3\nduration = 0 1\n"), "[program] duration", "> 0");
   ExpectError(ProgramScene("random = 3\nrest = 1 2 3\n"), "[program] rest", "\"lo hi\"");
   ExpectError(ProgramScene("random = 3\nspread = 2\n"), "[program] spread", "pi/2");
@@ -403,7 +398,7 @@ TEST(Scene, ProgramSettingsAreChecked) {
               "true or false");
   ExpectError(ProgramScene("random = 3\n") + "[push.1]\npoint = 0 0\nforce = 1\n",
               "[program] cannot be combined with [push]", "line");
-  EXPECT_EQ(ErrorOf(ProgramScene("random = 2\n")), "");  // duration from the program
+  EXPECT_EQ(ErrorOf(ProgramScene("random = 2\n")), "");          // duration from the program
   EXPECT_EQ(ErrorOf(SceneText("[program]\nrandom = 2\n")), "");  // or given
 }
 
@@ -489,10 +484,10 @@ TEST(Scene, BundledExample3LoadsWithThePapersPush) {
 }  // namespace
 // [pusher]: a straight push from a point of the outline, or waypoints, and their errors.
 TEST(Scene, PusherSectionGivesAStraightPushOrWaypoints) {
-  const Scene straight = ParseScene(
-      SceneText("[pusher]\npoint = -0.025 0.01\ndirection = 1 0\ndistance = 0.05\n"
-                "speed = 0.02\nmu = 0.4\ntip_radius = 0.005\nstart_time = 0.1\n"),
-      "scene.ini");
+  const Scene straight =
+      ParseScene(SceneText("[pusher]\npoint = -0.025 0.01\ndirection = 1 0\ndistance = 0.05\n"
+                           "speed = 0.02\nmu = 0.4\ntip_radius = 0.005\nstart_time = 0.1\n"),
+                 "scene.ini");
   ASSERT_TRUE(straight.pusher.has_value());
   const Pusher& p = *straight.pusher;
   EXPECT_EQ(p.mu, 0.4);
@@ -505,10 +500,10 @@ TEST(Scene, PusherSectionGivesAStraightPushOrWaypoints) {
   EXPECT_EQ(straight.duration_s, 0.45);  // [sim] duration wins when given
 
   // Oblique, at 45 degrees: the tip starts just touching, r sqrt(2) back along the direction.
-  const Scene oblique = ParseScene(
-      SceneText("[pusher]\npoint = -0.025 0\ndirection = 1 1\ndistance = 0.01\n"
-                "speed = 0.02\ntip_radius = 0.005\n"),
-      "scene.ini");
+  const Scene oblique =
+      ParseScene(SceneText("[pusher]\npoint = -0.025 0\ndirection = 1 1\ndistance = 0.01\n"
+                           "speed = 0.02\ntip_radius = 0.005\n"),
+                 "scene.ini");
   EXPECT_NEAR((oblique.pusher->path.PositionAt(0) - Eigen::Vector2d(-0.030, -0.005)).norm(), 0.0,
               1e-12);
 
@@ -523,8 +518,8 @@ TEST(Scene, PusherSectionGivesAStraightPushOrWaypoints) {
               "[pusher] direction", "non-zero");
   ExpectError(SceneText("[pusher]\nstart = 0 0\npath = 1 1 2\nspeed = 1\n"), "[pusher] path",
               "pairs");
-  ExpectError(SceneText("[pusher]\nstart = 0 0\npath = 1 1 2 2\nspeed = 1 1 1\n"),
-              "[pusher] speed", "one per path segment");
+  ExpectError(SceneText("[pusher]\nstart = 0 0\npath = 1 1 2 2\nspeed = 1 1 1\n"), "[pusher] speed",
+              "one per path segment");
   ExpectError(SceneText("[pusher]\npoint = 0 0\ndirection = 1 0\ndistance = 1\nspeed = 1\n"
                         "mu = -1\n"),
               "[pusher] mu", ">= 0");
@@ -540,7 +535,8 @@ TEST(Scene, PusherPathFileIsReadBesideTheScene) {
   ASSERT_EQ(std::system(("mkdir -p " + dir).c_str()), 0);
   std::ofstream(dir + "/path.csv") << "# the tip\nt,x,y,note\n0,-0.04,0,a\n0.5,-0.02,0.001,b\n"
                                       "1.5,0.01,0.002,c\n";
-  std::ofstream(dir + "/scene.ini") << SceneText("[pusher]\npath_file = path.csv\nstart_time = 0.25\n");
+  std::ofstream(dir + "/scene.ini")
+      << SceneText("[pusher]\npath_file = path.csv\nstart_time = 0.25\n");
   const Scene scene = LoadScene(dir + "/scene.ini");
   ASSERT_TRUE(scene.pusher.has_value());
   EXPECT_EQ(scene.pusher->path.times_s().front(), 0.25);

@@ -60,8 +60,8 @@ TEST(Simulator, BundledExampleOneEqualsTheGoldenScene) {
 
 struct ExampleExpectation {
   const char* file;
-  bool near_hull;     // comes within a millimetre of the hull
-  bool sticks;        // has sticking steps within its nominal duration
+  bool near_hull;  // comes within a millimetre of the hull
+  bool sticks;     // has sticking steps within its nominal duration
 };
 
 class PaperExample : public ::testing::TestWithParam<ExampleExpectation> {};
@@ -143,8 +143,8 @@ TEST(Simulator, WrittenLogReadsBackToTheSameTrajectory) {
 
 int RunSimulate(const std::string& args) {
   const char* bin = std::getenv("SLIDEID_BIN_DIR");
-  const std::string cmd = std::string(bin ? bin : "build/bin") + "/simulate " + args +
-                          " > /dev/null 2>&1";
+  const std::string cmd =
+      std::string(bin ? bin : "build/bin") + "/simulate " + args + " > /dev/null 2>&1";
   const int status = std::system(cmd.c_str());
   return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
 }
@@ -152,7 +152,8 @@ int RunSimulate(const std::string& args) {
 TEST(SimulateTool, WritesALogThatReadsBackAndExitsZero) {
   const std::string out = ::testing::TempDir() + "/simulate_tool.csv";
   std::remove(out.c_str());
-  ASSERT_EQ(RunSimulate("--scene " + Source("datasets/scenes/example1_square.ini") + " --out " + out), 0);
+  ASSERT_EQ(
+      RunSimulate("--scene " + Source("datasets/scenes/example1_square.ini") + " --out " + out), 0);
   const Trajectory t = ReadPushLog(out);
   EXPECT_EQ(t.samples.size(), 46u);
   EXPECT_TRUE(t.columns.step_info);
@@ -161,7 +162,8 @@ TEST(SimulateTool, WritesALogThatReadsBackAndExitsZero) {
 TEST(SimulateTool, OverridesDurationAndStep) {
   const std::string out = ::testing::TempDir() + "/simulate_tool_dt.csv";
   ASSERT_EQ(RunSimulate("--scene " + Source("datasets/scenes/example1_square.ini") +
-                " --dt 0.005 --duration 0.1 --out " + out), 0);
+                        " --dt 0.005 --duration 0.1 --out " + out),
+            0);
   EXPECT_EQ(ReadPushLog(out).samples.size(), 21u);
 }
 
@@ -171,7 +173,8 @@ TEST(SimulateTool, ExitCodesSayWhatWentWrong) {
   EXPECT_EQ(RunSimulate("--no-such-option"), 2);
   EXPECT_EQ(RunSimulate(""), 2);  // --scene is required
   EXPECT_EQ(RunSimulate("--scene /nonexistent/scene.ini"), 1);
-  EXPECT_EQ(RunSimulate("--scene " + Source("datasets/scenes/example1_square.ini") + " --dt -1"), 2);
+  EXPECT_EQ(RunSimulate("--scene " + Source("datasets/scenes/example1_square.ini") + " --dt -1"),
+            2);
   const std::string tipping = ::testing::TempDir() + "/tipping.ini";
   {
     std::ifstream in(Source("datasets/scenes/example1_square.ini"));

@@ -14,10 +14,10 @@
 #include "estimator/trajectory_fit.h"
 #include "fixtures/scaled_scenes.h"
 #include "fixtures/tolerances.h"
+#include "forward_model/constants.h"
 #include "forward_model/simulator.h"
 #include "forward_model/step_solver.h"
 #include "tests/estimator_test_support.h"
-#include "forward_model/constants.h"
 
 namespace slideid {
 namespace {
@@ -69,12 +69,13 @@ StepResult SolveAndCheck(const Case& c, bool special_cases = true) {
 // (model.md, "Sticking"), in the direction (cos phi, sin phi) sqrt(1 - r^2), r (scaled
 // unknowns): a moving slider without push, or one at rest pushed at ground level (tilting
 // moments when q_z > 0). As the sweep's boundary grid builds them.
-Case BoundaryStart(double factor, double mu, double b, double c, double h, double mass,
-                   double qz, bool pushed, double r, double phi) {
+Case BoundaryStart(double factor, double mu, double b, double c, double h, double mass, double qz,
+                   bool pushed, double r, double phi) {
   Case k{SquarePlate(mass, qz), Friction(mu, b, c), {}, {}, h};
   const double P = mu * h * mass * kGravity_mps2;
   const double t = std::sqrt(1 - r * r);
-  const Eigen::Vector3d p = factor * P * Eigen::Vector3d(t * std::cos(phi), b * t * std::sin(phi), c * r);
+  const Eigen::Vector3d p =
+      factor * P * Eigen::Vector3d(t * std::cos(phi), b * t * std::sin(phi), c * r);
   if (!pushed) {
     k.state.vx = -p(0) / mass;
     k.state.vy = -p(1) / mass;
@@ -117,7 +118,8 @@ TEST(StabilityRegression, FarEcpWithFastSpinConverges) {
   // Failure 1: CM 5 m up (the toppling limit for a = 1e-3, b = 10), pushed at ground level,
   // spin 1e3 rad/s, c = 1e-4 m: the ECP sits 7.5 mm off the CM and the spin about it, not
   // V = 0.1 m/s, sets the slip speed (s = 56 m/s). Newton failed from every guess.
-  const Case c{SquarePlate(1e-3, 5.0), Friction(1e-3, 10, 1e-4),
+  const Case c{SquarePlate(1e-3, 5.0),
+               Friction(1e-3, 10, 1e-4),
                {0.1, -0.2, 0.3, 7.347628968172119e-09, -6.7832402689332716e-09, -1000},
                {-1.4712062683975429e-05, 2.940009911168796e-07, 0, 1.4700049555843979e-06,
                 7.3560313419877149e-05, 2.8344020268450013e-07},
@@ -138,8 +140,9 @@ TEST(StabilityRegression, StartsOneUlpOutsideTheEllipsoidStickOrSlideNeverFail) 
           const double phi = -kPi + 2 * kPi * (k + 0.5) / 40;
           for (double b : {0.1, 1.0, 10.0}) {
             const Case c = BoundaryStart(factor, 0.3, b, 1e-4, 1e-5, 1e-3, 0.0, pushed, r, phi);
-            SCOPED_TRACE(::testing::Message() << "factor 1+" << factor - 1 << " b " << b
-                                              << " pushed " << pushed << " r " << r << " phi " << phi);
+            SCOPED_TRACE(::testing::Message()
+                         << "factor 1+" << factor - 1 << " b " << b << " pushed " << pushed << " r "
+                         << r << " phi " << phi);
             // The free slip speed: the end speed is at most rounding of it.
             const double free_speed =
                 std::hypot(c.state.vx + c.h * c.applied.fx / c.slider.mass_kg,
@@ -173,7 +176,8 @@ TEST(StabilityRegression, TinyTranslationUnderFastSpinIsSolvedComponentwise) {
   // Failure 4: spin 1e3 rad/s with c = 0.5 m makes V = 500 m/s; the translation (1e-8 m/s)
   // was accepted from the first guess with a 17% error in its own equation, which the
   // residual relative to V (1e-13) could not see.
-  const Case c{SquarePlate(1e-3, 50.0), Friction(1e-3, 0.1, 0.5),
+  const Case c{SquarePlate(1e-3, 50.0),
+               Friction(1e-3, 0.1, 0.5),
                {0.1, -0.2, 0.3, -9.7339279261791446e-09, 2.2914290580224769e-09, 1000},
                {},
                1e-5};
@@ -200,16 +204,19 @@ TEST(StabilityRegression, SpinDominatedSlideDecaysToSubnormalTranslationWithoutF
   // Failure 6 (of an intermediate fix): spin-dominated friction decays the translation
   // geometrically to subnormal speeds (1e-313 m/s) while the slider keeps spinning; a
   // residual measured against subnormal terms lost its digits.
-  const Case c{SquarePlate(1e-3, 0.0), Friction(2, 10, 1e-4),
-               {0, 0, 0, -9.9439694096918715e-09, 1.0571056612809814e-09, -1000}, {}, 0.1};
+  const Case c{SquarePlate(1e-3, 0.0),
+               Friction(2, 10, 1e-4),
+               {0, 0, 0, -9.9439694096918715e-09, 1.0571056612809814e-09, -1000},
+               {},
+               0.1};
   ExpectEnergyNeverRises(c, 300);
 }
 
 TEST(StabilityRegression, TinyMassNeitherUnderflowsTheStickTestNorTheJacobian) {
   // Failure 7: at m = 1e-300 kg the squares in the stick test underflowed (0 <= 0: a
   // sliding slider "stuck"), and p_n I underflowed in the Jacobian (0 / 0 = NaN).
-  const Case c{SquarePlate(1e-300, 0.03), Friction(0.3, 1, 0.03), {0, 0, 0, 0.6, 0.8, 10}, {},
-               0.01};
+  const Case c{
+      SquarePlate(1e-300, 0.03), Friction(0.3, 1, 0.03), {0, 0, 0, 0.6, 0.8, 10}, {}, 0.01};
   const StepResult r = SolveAndCheck(c);
   EXPECT_EQ(r.mode, StepMode::kSlide);
   // The same slider with m = 1 kg: the motion is independent of the mass.
@@ -221,8 +228,8 @@ TEST(StabilityRegression, TinyMassNeitherUnderflowsTheStickTestNorTheJacobian) {
 
 TEST(StabilityRegression, HugeSpeedDoesNotOverflowTheVelocityScale) {
   // Failure 8: V = sqrt(sum of squares) overflowed at 1e200 m/s and the step failed.
-  const Case c{SquarePlate(1.0, 0.03), Friction(0.3, 1, 0.03), {0, 0, 0, 1e200, 1e200, 1e200}, {},
-               0.01};
+  const Case c{
+      SquarePlate(1.0, 0.03), Friction(0.3, 1, 0.03), {0, 0, 0, 1e200, 1e200, 1e200}, {}, 0.01};
   const StepResult r = SolveAndCheck(c);
   EXPECT_EQ(r.mode, StepMode::kSlide);
 }
@@ -303,23 +310,28 @@ TEST(StabilityExtremes, GeneralStepsAtTheEndsOfEveryAxis) {
   for (double v : {1e-3, 1e3}) cases.push_back({"mass", v, base.mu, base.b, base.c, base.h, 1, 10});
   for (double v : {1e-3, 2.0}) cases.push_back({"mu", 1, v, base.b, base.c, base.h, 1, 10});
   for (double v : {0.1, 10.0}) cases.push_back({"b", 1, base.mu, v, base.c, base.h, 1, 10});
-  for (double v : {1e-4, 0.5}) cases.push_back({"c, spin 1e3", 1, base.mu, base.b, v, base.h, 1, 1e3});
+  for (double v : {1e-4, 0.5})
+    cases.push_back({"c, spin 1e3", 1, base.mu, base.b, v, base.h, 1, 1e3});
   for (double v : {1e-5, 0.1}) cases.push_back({"h", 1, base.mu, base.b, base.c, v, 1, 10});
-  for (double v : {1e-8, 1e2}) cases.push_back({"speed", 1, base.mu, base.b, base.c, base.h, v, 10});
+  for (double v : {1e-8, 1e2})
+    cases.push_back({"speed", 1, base.mu, base.b, base.c, base.h, v, 10});
   for (const Axis& a : cases) {
     const double qz = TopplingLimit(a.mu, a.b);
-    Case c{SquarePlate(a.mass, qz), Friction(a.mu, a.b, a.c),
-           {0.1, -0.2, 0.3, 0.6 * a.speed, -0.8 * a.speed, a.spin}, {}, a.h};
+    Case c{SquarePlate(a.mass, qz),
+           Friction(a.mu, a.b, a.c),
+           {0.1, -0.2, 0.3, 0.6 * a.speed, -0.8 * a.speed, a.spin},
+           {},
+           a.h};
     const double force = 1.5 * a.mu * a.mass * kGravity_mps2;
     const AppliedWrench push =
         WrenchFromForceAt(0.8 * force, 0.6 * force, 0, -kPlateHalfSide_m, 0.02, -qz);
     for (bool pushed : {false, true}) {
       c.applied = pushed ? push : AppliedWrench{};
       for (bool special : {true, false}) {
-        SCOPED_TRACE(::testing::Message() << a.name << " (mass " << a.mass << ", mu " << a.mu
-                                          << ", b " << a.b << ", c " << a.c << ", h " << a.h
-                                          << ", speed " << a.speed << ", spin " << a.spin
-                                          << ") pushed " << pushed << " special " << special);
+        SCOPED_TRACE(::testing::Message()
+                     << a.name << " (mass " << a.mass << ", mu " << a.mu << ", b " << a.b << ", c "
+                     << a.c << ", h " << a.h << ", speed " << a.speed << ", spin " << a.spin
+                     << ") pushed " << pushed << " special " << special);
         const StepResult r = SolveAndCheck(c, special);
         EXPECT_LE(r.iterations, 40);
       }
@@ -374,8 +386,8 @@ TEST(StabilityExtremes, IdentificationAtTheCornersOfTheParameterBox) {
                                    ? EstimateTrajectory(log, options)
                                    : EstimateEquationError(log, options);
       for (int i = 0; i < 3; ++i) {
-        SCOPED_TRACE(::testing::Message() << ToString(method) << " mu " << k.mu << " "
-                                          << ParameterName(i));
+        SCOPED_TRACE(::testing::Message()
+                     << ToString(method) << " mu " << k.mu << " " << ParameterName(i));
         ASSERT_TRUE(r.parameters[i].identifiable) << r.parameters[i].note;
         EXPECT_NEAR(r.parameters[i].value / t[i], 1.0, kExactRelTol);
       }

@@ -69,10 +69,10 @@ TEST(StepSensitivity, ImplicitDerivativesMatchCentralDifferencesOfTheSolver) {
         *pp[j - 3] *= std::exp(d);
         *pm[j - 3] *= std::exp(-d);
       }
-      const StepResult rp = SolveStep(plus.slider, plus.abc.ToFrictionParameters(), plus.state,
-                                      plus.applied, plus.h);
-      const StepResult rm = SolveStep(minus.slider, minus.abc.ToFrictionParameters(),
-                                      minus.state, minus.applied, minus.h);
+      const StepResult rp =
+          SolveStep(plus.slider, plus.abc.ToFrictionParameters(), plus.state, plus.applied, plus.h);
+      const StepResult rm = SolveStep(minus.slider, minus.abc.ToFrictionParameters(), minus.state,
+                                      minus.applied, minus.h);
       if (rp.mode != StepMode::kSlide || rm.mode != StepMode::kSlide) goto next_trial;
       numeric.col(j) = (EndVelocity(plus) - EndVelocity(minus)) / (2 * d);
     }
@@ -81,7 +81,9 @@ TEST(StepSensitivity, ImplicitDerivativesMatchCentralDifferencesOfTheSolver) {
       analytic << sens.dnu_dnu, sens.dnu_dlogabc;
       const double scale = numeric.cwiseAbs().maxCoeff() + 1e-3;
       EXPECT_LT((analytic - numeric).cwiseAbs().maxCoeff() / scale, kTolerance)
-          << "trial " << trial << "\nanalytic\n" << analytic << "\nnumeric\n" << numeric;
+          << "trial " << trial << "\nanalytic\n"
+          << analytic << "\nnumeric\n"
+          << numeric;
       ++checked;
     }
   next_trial:;
@@ -108,7 +110,9 @@ TEST(StepSensitivity, HandWrittenPartialsEqualAutodiffIncludingTheWrench) {
     b << slow.dnu_dnu, slow.dnu_dlogabc, slow.dnu_dwrench;
     // Both are exact up to rounding of the same 4x4 solve: 1e-10 relative to the largest.
     EXPECT_LT((a - b).cwiseAbs().maxCoeff(), 1e-10 * (b.cwiseAbs().maxCoeff() + 1.0))
-        << "trial " << trial << "\nhand\n" << a << "\nautodiff\n" << b;
+        << "trial " << trial << "\nhand\n"
+        << a << "\nautodiff\n"
+        << b;
     // Without the wrench the same step gives the same first six columns.
     StepSensitivity plain;
     ASSERT_TRUE(SolveStepWithSensitivity(s.slider, s.abc, s.state, s.applied, s.h, &plain));
@@ -121,8 +125,8 @@ TEST(StepSensitivity, HandWrittenPartialsEqualAutodiffIncludingTheWrench) {
 TEST(StepSensitivity, StickingStepHasZeroDerivatives) {
   const SliderProperties slider{1.0, 2e-3, 0.03, 9.81};
   StepSensitivity sens;
-  ASSERT_TRUE(SolveStepWithSensitivity(slider, {0.3, 1, 0.03}, {0, 0, 0, 0.001, 0, 0}, {}, 0.01,
-                                       &sens));
+  ASSERT_TRUE(
+      SolveStepWithSensitivity(slider, {0.3, 1, 0.03}, {0, 0, 0, 0.001, 0, 0}, {}, 0.01, &sens));
   EXPECT_EQ(sens.step.mode, StepMode::kStick);
   EXPECT_EQ(sens.dnu_dnu.norm(), 0.0);
   EXPECT_EQ(sens.dnu_dlogabc.norm(), 0.0);
@@ -141,8 +145,15 @@ TEST(StepEquations, AnalyticJacobianMatchesAutodiff) {
     eq.Evaluate(z, &f, &jac);
     StepTerms<Jet> t;
     const StepTerms<double>& d = eq.terms();
-    t.m = Jet(d.m); t.I = Jet(d.I); t.qz = Jet(d.qz); t.pn = Jet(d.pn);
-    t.a = Jet(d.a); t.b = Jet(d.b); t.c = Jet(d.c); t.ptx = Jet(d.ptx); t.pty = Jet(d.pty);
+    t.m = Jet(d.m);
+    t.I = Jet(d.I);
+    t.qz = Jet(d.qz);
+    t.pn = Jet(d.pn);
+    t.a = Jet(d.a);
+    t.b = Jet(d.b);
+    t.c = Jet(d.c);
+    t.ptx = Jet(d.ptx);
+    t.pty = Jet(d.pty);
     t.k = d.k.cast<Jet>();
     Eigen::Matrix<Jet, 4, 1> zj;
     for (int i = 0; i < 4; ++i) zj(i) = Jet(z(i), i);

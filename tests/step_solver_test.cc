@@ -10,9 +10,9 @@
 #include <random>
 #include <unsupported/Eigen/NonLinearOptimization>
 
-#include "forward_model/quasi_static.h"
 #include "fixtures/random_step_cases.h"
 #include "fixtures/tolerances.h"
+#include "forward_model/quasi_static.h"
 
 namespace slideid {
 namespace {
@@ -54,10 +54,10 @@ TEST(StepSolver, ResidualOfTheFourEquationsIsTinyOverRandomGeneralCases) {
     if (r.mode == StepMode::kStick) continue;
     ++slides;
     EXPECT_GT(r.sigma, 0.0);
-    const Eigen::Vector4d res = SlidingEquationResiduals(c.slider, c.friction, c.state,
-                                                         c.applied, c.dt_s, Unknowns(r));
-    EXPECT_LT(res.cwiseAbs().maxCoeff(), kIndependentTolerance) << "case " << i << " residuals "
-                                                << res.transpose();
+    const Eigen::Vector4d res =
+        SlidingEquationResiduals(c.slider, c.friction, c.state, c.applied, c.dt_s, Unknowns(r));
+    EXPECT_LT(res.cwiseAbs().maxCoeff(), kIndependentTolerance)
+        << "case " << i << " residuals " << res.transpose();
   }
   EXPECT_GT(slides, kRandomCases / 2);  // the sample exercises sliding, not only sticking
 }
@@ -185,7 +185,10 @@ TEST(StepSolver, GeneralSolverMatchesGenericDoglegSolverWithCmHeightAndTilt) {
     if (f.cwiseAbs().maxCoeff() > 1e-12) continue;  // dogleg itself stalled: no verdict
     ++compared;
     StepResult other = general;
-    other.pt = x(0); other.po = x(1); other.pr = x(2); other.sigma = x(3);
+    other.pt = x(0);
+    other.po = x(1);
+    other.pr = x(2);
+    other.sigma = x(3);
     EXPECT_LT(MaxRelativeDifference(general, other), 1e-8) << "case " << i;
   }
   EXPECT_GT(compared, 100);
@@ -261,7 +264,8 @@ TEST(StepSolver, EcpIsUnderCmWhenCmOnPlaneAndAtRestWithoutPush) {
   }
   // At rest without push, with q_z > 0: nothing to resist, the ECP is under the CM.
   const SliderProperties slider{0.5, 2e-4, 0.08, 9.8};
-  const StepResult rest = SolveStep(slider, FrictionParameters{0.3, 1, 1, 0.01}, {0.1, 0.2, 0.3}, {}, 0.01);
+  const StepResult rest =
+      SolveStep(slider, FrictionParameters{0.3, 1, 1, 0.01}, {0.1, 0.2, 0.3}, {}, 0.01);
   ASSERT_TRUE(rest.ok());
   EXPECT_EQ(rest.mode, StepMode::kStick);
   EXPECT_EQ(rest.ecp_world, Eigen::Vector2d(0.1, 0.2));
@@ -307,7 +311,8 @@ TEST(StepSolver, InvalidArgumentsThrowNamingTheValue) {
   const SliderProperties bad_mass{-1.0, 0.01, 0.05, 9.81};
   EXPECT_THROW(SolveStep(bad_mass, FrictionParameters{}, {}, {}, 0.01), std::invalid_argument);
   EXPECT_THROW(SolveStep({}, FrictionParameters{}, {}, {}, 0.0), std::invalid_argument);
-  EXPECT_THROW(SolveStep({}, FrictionParameters{0.3, 1, 1, -0.01}, {}, {}, 0.01), std::invalid_argument);
+  EXPECT_THROW(SolveStep({}, FrictionParameters{0.3, 1, 1, -0.01}, {}, {}, 0.01),
+               std::invalid_argument);
   try {
     SolveStep({}, FrictionParameters{std::nan(""), 1, 1, 0.01}, {}, {}, 0.01);
     FAIL();
@@ -325,8 +330,8 @@ TEST(QuasiStatic, ClosedFormMatchesLinearSystemOfKinematicsAndMomentBalance) {
     const Eigen::Vector2d r(u(rng), u(rng)), vc(10 * u(rng), 10 * u(rng));
     const double c = std::abs(u(rng)) + 1e-3;
     Eigen::Matrix3d A;
-    A << 1, 0, -r.y(),  // v_c = v + w x r
-        0, 1, r.x(),    //
+    A << 1, 0, -r.y(),         // v_c = v + w x r
+        0, 1, r.x(),           //
         r.y(), -r.x(), c * c;  // c^2 w = r_x v_y - r_y v_x (friction moment balances push)
     const Eigen::Vector3d expected = A.lu().solve(Eigen::Vector3d(vc.x(), vc.y(), 0));
     const Eigen::Vector3d got = QuasiStaticTwist(r, vc, c);

@@ -1,6 +1,5 @@
 // The trajectory estimator: generate with the simulator, identify, compare with the truth.
 
-#include "estimator/internal/segment_cost.h"
 #include "estimator/trajectory_fit.h"
 
 #include <gtest/gtest.h>
@@ -12,6 +11,7 @@
 #include "datasets/noise.h"
 #include "datasets/sensor_model.h"
 #include "estimator/closed_form.h"
+#include "estimator/internal/segment_cost.h"
 #include "estimator/internal/trajectory_problem.h"
 #include "fixtures/jacobian_check.h"
 #include "io/scene_file.h"
@@ -174,13 +174,12 @@ TEST(TrajectoryFit, IsMoreAccurateThanTheClosedFormSeedOnNoisyLogs) {
     for (int i = 0; i < 3; ++i) {
       ASSERT_TRUE(fit.parameters[i].identifiable);
       err_fit += std::abs(fit.parameters[i].value / truth[i] - 1);
-      err_seed += seed.parameters[i].identifiable
-                      ? std::abs(seed.parameters[i].value / truth[i] - 1)
-                      : 1.0;
+      err_seed +=
+          seed.parameters[i].identifiable ? std::abs(seed.parameters[i].value / truth[i] - 1) : 1.0;
     }
   }
   EXPECT_LT(err_fit, 0.5 * err_seed) << "mean relative error: fit " << err_fit / (3 * kLogs)
-                                      << ", closed form " << err_seed / (3 * kLogs);
+                                     << ", closed form " << err_seed / (3 * kLogs);
 }
 
 TEST(TrajectoryFit, NinetyFivePercentIntervalsCoverTheTruthInAtLeastNinetyPercentOfLogs) {
@@ -192,7 +191,8 @@ TEST(TrajectoryFit, NinetyFivePercentIntervalsCoverTheTruthInAtLeastNinetyPercen
   for (int k = 0; k < kLogs; ++k) {
     const EstimateResult r = EstimateTrajectory(NoisyPosesOnly(clean, 5000 + k), Options(20));
     for (int i = 0; i < 3; ++i) {
-      ASSERT_TRUE(r.parameters[i].identifiable) << k << " " << i << ": " << r.parameters[i].reason << " | " << r.parameters[i].note;
+      ASSERT_TRUE(r.parameters[i].identifiable)
+          << k << " " << i << ": " << r.parameters[i].reason << " | " << r.parameters[i].note;
       if (r.parameters[i].ci95_lo <= truth[i] && truth[i] <= r.parameters[i].ci95_hi) {
         ++covered[i];
       }
@@ -211,9 +211,9 @@ TEST(TrajectoryFit, SegmentCostJacobianMatchesCentralDifferences) {
   for (bool use_pose : {true, false}) {
     SCOPED_TRACE(use_pose ? "poses" : "velocities");
     std::unique_ptr<ceres::CostFunction> cost(NewSegmentCost(log, 10, 30, 2, use_pose));
-    double state[6] = {log.samples[10].state.x, log.samples[10].state.y,
+    double state[6] = {log.samples[10].state.x,     log.samples[10].state.y,
                        log.samples[10].state.theta, log.samples[10].state.vx * 1.01,
-                       log.samples[10].state.vy, log.samples[10].state.wz + 0.1};
+                       log.samples[10].state.vy,    log.samples[10].state.wz + 0.1};
     double la = std::log(0.31), lb = std::log(1.1), lc = std::log(0.028);
     const testing::JacobianCheck check = testing::CheckJacobian(*cost, {state, &la, &lb, &lc});
     EXPECT_LE(check.worst, testing::kSolvedJacobianTolerance) << check;
@@ -229,8 +229,8 @@ TEST(TrajectoryFit, SegmentCostReusesTheResidualsOfThePointItJustSimulatedAndNoO
   double la = std::log(0.31), lb = std::log(1.1), lc = std::log(0.028);
   double* blocks[] = {state, &la, &lb, &lc};
   const int n = cost->num_residuals();
-  std::vector<double> at_p(n), at_q(n), again(n), reference(n), with_jacobian(n), j0(6 * n),
-      ja(n), jb(n), jc(n);
+  std::vector<double> at_p(n), at_q(n), again(n), reference(n), with_jacobian(n), j0(6 * n), ja(n),
+      jb(n), jc(n);
   double* jac[] = {j0.data(), ja.data(), jb.data(), jc.data()};
   ASSERT_TRUE(cost->Evaluate(blocks, at_p.data(), nullptr));
   lc = std::log(0.029);  // another point: simulated, not the last residuals
@@ -359,8 +359,7 @@ TEST(TrajectoryFit, WithoutTheMismatchCorrectionTheFitIsItsOwnAndSaysSo) {
     ASSERT_TRUE(p.identifiable) << ParameterName(i) << ": " << p.reason;
     EXPECT_NEAR(p.value / e.truth[i], 1.0, 0.05) << ParameterName(i);
     EXPECT_EQ(p.note.find("corrected"), std::string::npos) << p.note;
-    EXPECT_NE(corrected.parameters[i].note.find("corrected for model mismatch"),
-              std::string::npos)
+    EXPECT_NE(corrected.parameters[i].note.find("corrected for model mismatch"), std::string::npos)
         << corrected.parameters[i].note;
   }
 }

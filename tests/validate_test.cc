@@ -4,16 +4,15 @@
 
 #include "prediction/validate.h"
 
-#include "plots/validate_plot.h"
-
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <sstream>
 
 #include "fixtures/pushed_square.h"
-#include "tests/estimator_test_support.h"
 #include "forward_model/constants.h"
+#include "plots/validate_plot.h"
+#include "tests/estimator_test_support.h"
 
 namespace slideid {
 namespace {
@@ -23,7 +22,8 @@ constexpr double kMuP = 0.3;  // testing::PushOfSet's
 
 /// Push k of the fixture's set, logged at 100 Hz with noise, named push<k>.csv.
 Trajectory Push(int k) {
-  Trajectory log = testing::NoisyPushLog(testing::PushedSquareScene(testing::PushOfSet(k)), 100 + k);
+  Trajectory log =
+      testing::NoisyPushLog(testing::PushedSquareScene(testing::PushOfSet(k)), 100 + k);
   log.source = "push" + std::to_string(k) + ".csv";
   return log;
 }
@@ -148,7 +148,8 @@ TEST(ValidateTool, WritesTheSummaryTheTableAndTheJson) {
   const std::string dir = testing::TempPath("validate_logs");
   ASSERT_EQ(std::system(("mkdir -p " + dir).c_str()), 0);
   for (int k = 0; k < 4; ++k) WritePushLog(Push(k), dir + "/push" + std::to_string(k) + ".csv");
-  const std::string csv = testing::TempPath("validate.csv"), json = testing::TempPath("validate.json");
+  const std::string csv = testing::TempPath("validate.csv"),
+                    json = testing::TempPath("validate.json");
   const testing::ToolRun run =
       testing::RunTool("validate", "--logs " + dir + " --folds 2 --csv " + csv + " --json " + json);
   ASSERT_EQ(run.code, 0) << run.all();

@@ -14,13 +14,13 @@
 #include <sstream>
 #include <string>
 
-#include "io/zhou_tripod_synth.h"
-#include "tests/estimator_test_support.h"
 #include "estimator/quasi_static_fit.h"
+#include "forward_model/constants.h"
 #include "io/wrench_twist_csv.h"
 #include "io/zhou_tripod_import.h"
 #include "io/zhou_tripod_log.h"
-#include "forward_model/constants.h"
+#include "io/zhou_tripod_synth.h"
+#include "tests/estimator_test_support.h"
 
 namespace slideid {
 namespace {

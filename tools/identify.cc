@@ -3,7 +3,6 @@
 // what counts as bad input: docs/robustness.md).
 
 #include <glog/logging.h>
-
 #include <unistd.h>
 
 #include <algorithm>
@@ -40,8 +39,8 @@ int RunBatchCommand(const cli::IdentifyRequest& request) {
   const bool terminal = isatty(STDERR_FILENO);
   auto progress = [&](const BatchProgress& p) {
     const double rate = p.done / std::max(p.seconds, 1e-9);
-    std::fprintf(stderr, "\ridentify: %d/%d logs, %d failed, %.1f logs/s, %.0f s left   ",
-                 p.done, p.total, p.failed, rate, (p.total - p.done) / std::max(rate, 1e-9));
+    std::fprintf(stderr, "\ridentify: %d/%d logs, %d failed, %.1f logs/s, %.0f s left   ", p.done,
+                 p.total, p.failed, rate, (p.total - p.done) / std::max(rate, 1e-9));
   };
   BatchSummary summary;
   try {
@@ -77,7 +76,8 @@ int main(int argc, char** argv) {
         "Usage: identify --log FILE.csv [--log FILE2.csv ...] [options]\n"
         "       identify --batch DIR|GLOB --out RESULTS.jsonl [--jobs N] [--shard I/N] [options]"
         "\n\nOptions");
-    opts.add_options()("help,h", "print this help and exit")("version", "print the version and exit");
+    opts.add_options()("help,h", "print this help and exit")("version",
+                                                             "print the version and exit");
     po::options_description advanced("Advanced options");
     cli::AddIdentifyOptions(&opts, &advanced);
     opts.add(advanced);

@@ -39,8 +39,8 @@ int main(int argc, char** argv) {
         "KG_M2\n         --com-height M --patch SPEC] [options] FILE.json...\n"
         "       import-log --format zhou-tripod --out DIR [--mass KG --inertia KG_M2] FILE.txt..."
         "\n\nOptions");
-    opts.add_options()("help,h", "print this help and exit")
-        ("version", "print the version and exit");
+    opts.add_options()("help,h", "print this help and exit")("version",
+                                                             "print the version and exit");
     po::options_description hidden;
     cli::AddImportOptions(&opts, &hidden);
     opts.add_options()("quiet,q", "print only rejections and the summary");
@@ -52,9 +52,10 @@ int main(int argc, char** argv) {
     po::store(po::command_line_parser(argc, argv).options(all).positional(positional).run(), vm);
     po::notify(vm);
     if (vm.count("help")) {
-      std::cout << opts << "\nExit codes: 0 every file imported; 1 a file was rejected or "
-                           "unreadable (the others are still\nwritten); 2 usage; 4 a file "
-                           "could not be written.\n";
+      std::cout << opts
+                << "\nExit codes: 0 every file imported; 1 a file was rejected or "
+                   "unreadable (the others are still\nwritten); 2 usage; 4 a file "
+                   "could not be written.\n";
       return tools::FlushStdout("import-log");
     }
     if (vm.count("version")) {

@@ -4,8 +4,8 @@
 #include <cstdio>
 #include <iostream>
 
-#include "pipeline/log_cli_options.h"
 #include "io/dataset_files.h"
+#include "pipeline/log_cli_options.h"
 #include "tools/tool_support.h"
 
 namespace po = boost::program_options;
@@ -22,17 +22,17 @@ int main(int argc, char** argv) {
         "b = e_o/e_t, c = e_r/e_t), noise, patch, rows and redraws. Deterministic by --seed.\n\n"
         "Usage: make-dataset --count N --seed S --out DIR [ranges...] [log options...]\n\n"
         "Options");
-    opts.add_options()("help,h", "print this help and exit")
-        ("version", "print the version and exit")
-        ("quiet,q", "print nothing but errors");
+    opts.add_options()("help,h", "print this help and exit")(
+        "version", "print the version and exit")("quiet,q", "print nothing but errors");
     cli::AddDatasetOptions(&opts, DatasetSpec{});
     po::variables_map vm;
     po::store(po::parse_command_line(argc, argv, opts), vm);
     po::notify(vm);
     if (vm.count("help")) {
-      std::cout << opts << "\nExit codes: 0 ok, 2 usage (bad or missing option), 3 a log "
-                           "could not be drawn without tipping in --max-redraws, 4 the "
-                           "directory or a file could not be written.\n";
+      std::cout << opts
+                << "\nExit codes: 0 ok, 2 usage (bad or missing option), 3 a log "
+                   "could not be drawn without tipping in --max-redraws, 4 the "
+                   "directory or a file could not be written.\n";
       return tools::kExitOk;
     }
     if (vm.count("version")) {

@@ -25,11 +25,10 @@ int main(int argc, char** argv) {
         "Usage: identify --log A.csv --log B.csv ... --json > fit.json\n"
         "       plot-fit fit.json --out FIG.png [options]\n\nOptions");
     FitPlotOptions defaults;
-    opts.add_options()
-        ("help,h", "print this help and exit")
-        ("version", "print the version and exit")
-        ("result", po::value<std::string>()->value_name("RESULT.json"),
-         "what identify --json printed (or first argument)");
+    opts.add_options()("help,h", "print this help and exit")("version",
+                                                             "print the version and exit")(
+        "result", po::value<std::string>()->value_name("RESULT.json"),
+        "what identify --json printed (or first argument)");
     cli::AddPictureOptions(&opts, defaults, "picture height [px] (0: from the number of logs)",
                            "title above the panels (default: the file name)");
     po::positional_options_description positional;
@@ -38,9 +37,10 @@ int main(int argc, char** argv) {
     po::store(po::command_line_parser(argc, argv).options(opts).positional(positional).run(), vm);
     po::notify(vm);
     if (vm.count("help")) {
-      std::cout << opts << "\nExit codes: 0 ok, 1 bad or unreadable result file (or nothing "
-                           "identified to draw), 2 usage, 4 gnuplot missing or failing, or a "
-                           "file not writable.\n";
+      std::cout << opts
+                << "\nExit codes: 0 ok, 1 bad or unreadable result file (or nothing "
+                   "identified to draw), 2 usage, 4 gnuplot missing or failing, or a "
+                   "file not writable.\n";
       return tools::FlushStdout("plot-fit");
     }
     if (vm.count("version")) {

@@ -7,12 +7,12 @@
 #include <iostream>
 #include <sstream>
 
-#include "pipeline/picture_cli_options.h"
-#include "plots/log_plot.h"
 #include "forward_model/number_format.h"
 #include "forward_model/simulator.h"
 #include "io/push_log.h"
 #include "io/result_json.h"
+#include "pipeline/picture_cli_options.h"
+#include "plots/log_plot.h"
 #include "tools/tool_support.h"
 
 namespace po = boost::program_options;
@@ -29,19 +29,17 @@ int main(int argc, char** argv) {
         "Usage: plot-log LOG.csv --out FIG.png [--fit RESULT.json | --prediction PRED.csv]\n"
         "       [options]\n\nOptions");
     PlotOptions defaults;
-    opts.add_options()
-        ("help,h", "print this help and exit")
-        ("version", "print the version and exit")
-        ("log", po::value<std::string>()->value_name("LOG.csv"), "the push log (or first argument)")
-        ("fit", po::value<std::string>()->value_name("RESULT.json"),
-         "identify --json output: overlay the replay with its parameters (held values where "
-         "not identifiable)")
-        ("prediction", po::value<std::string>()->value_name("PRED.csv"),
-         "what predict --out wrote: overlay the predicted path and patches")
-        ("substeps", po::value<int>()->default_value(1)->value_name("N"),
-         "forward-model steps per log interval for the replay (use identify's)")
-        ("every", po::value<int>()->default_value(0)->value_name("K"),
-         "rows between patch snapshots (0: about 16 over the log)");
+    opts.add_options()("help,h", "print this help and exit")("version",
+                                                             "print the version and exit")(
+        "log", po::value<std::string>()->value_name("LOG.csv"), "the push log (or first argument)")(
+        "fit", po::value<std::string>()->value_name("RESULT.json"),
+        "identify --json output: overlay the replay with its parameters (held values where "
+        "not identifiable)")("prediction", po::value<std::string>()->value_name("PRED.csv"),
+                             "what predict --out wrote: overlay the predicted path and patches")(
+        "substeps", po::value<int>()->default_value(1)->value_name("N"),
+        "forward-model steps per log interval for the replay (use identify's)")(
+        "every", po::value<int>()->default_value(0)->value_name("K"),
+        "rows between patch snapshots (0: about 16 over the log)");
     cli::AddPictureOptions(&opts, defaults, "picture height [px]",
                            "title above the figure (default: the log's file name)");
     po::positional_options_description positional;
@@ -50,9 +48,10 @@ int main(int argc, char** argv) {
     po::store(po::command_line_parser(argc, argv).options(opts).positional(positional).run(), vm);
     po::notify(vm);
     if (vm.count("help")) {
-      std::cout << opts << "\nExit codes: 0 ok, 1 bad log or result file, 2 usage, "
-                           "3 the replay failed, 4 gnuplot missing or failing, or a file not "
-                           "writable.\n";
+      std::cout << opts
+                << "\nExit codes: 0 ok, 1 bad log or result file, 2 usage, "
+                   "3 the replay failed, 4 gnuplot missing or failing, or a file not "
+                   "writable.\n";
       return tools::kExitOk;
     }
     if (vm.count("version")) {

@@ -55,21 +55,21 @@ int main(int argc, char** argv) {
         "log row by row.\n\n"
         "Usage: predict --log PUSH.csv --friction RESULT.json [--drive pusher|force]\n"
         "       predict --log PUSH.csv --mu A --b B --c C --mu-pusher MU_P\n\nOptions");
-    opts.add_options()
-        ("help,h", "print this help and exit")
-        ("version", "print the version and exit")
-        ("log", po::value<std::string>()->value_name("PUSH.csv"), "the push to predict (required)")
-        ("out", po::value<std::string>()->value_name("PRED.csv"),
-         "write the predicted trajectory as a push log")
-        ("json", "print the errors as one JSON object instead of the table");
+    opts.add_options()("help,h", "print this help and exit")("version",
+                                                             "print the version and exit")(
+        "log", po::value<std::string>()->value_name("PUSH.csv"), "the push to predict (required)")(
+        "out", po::value<std::string>()->value_name("PRED.csv"),
+        "write the predicted trajectory as a push log")(
+        "json", "print the errors as one JSON object instead of the table");
     cli::AddPredictOptions(&opts);
     po::variables_map vm;
     po::store(po::parse_command_line(argc, argv, opts), vm);
     po::notify(vm);
     if (vm.count("help")) {
-      std::cout << opts << "\nExit codes: 0 ok, 1 bad input (the log, the result, a drive the "
-                           "log cannot give), 2 usage, 3 the prediction failed to converge "
-                           "part way (errors over the rows predicted), 4 a file not writable.\n";
+      std::cout << opts
+                << "\nExit codes: 0 ok, 1 bad input (the log, the result, a drive the "
+                   "log cannot give), 2 usage, 3 the prediction failed to converge "
+                   "part way (errors over the rows predicted), 4 a file not writable.\n";
       return tools::FlushStdout("predict");
     }
     if (vm.count("version")) {

@@ -5,11 +5,11 @@
 #include <cstdio>
 #include <iostream>
 
-#include "pipeline/log_cli_options.h"
 #include "datasets/sensor_model.h"
 #include "forward_model/simulator.h"
 #include "io/push_log.h"
 #include "io/scene_file.h"
+#include "pipeline/log_cli_options.h"
 #include "tools/tool_support.h"
 
 namespace po = boost::program_options;
@@ -24,25 +24,25 @@ void PrintSummary(const SimulationResult& result, const Scene& scene) {
   std::printf("steps       %d (%d slide, %d stick), dt = %g s\n", s.steps, s.slide_steps,
               s.stick_steps, scene.dt_s);
   if (scene.pusher) {
-    std::printf("pusher      tip sticking to the edge in %d steps, sliding along it in %d, "
-                "apart in %d\n",
-                s.tip_stick_steps, s.tip_slide_steps,
-                s.steps - s.tip_stick_steps - s.tip_slide_steps);
+    std::printf(
+        "pusher      tip sticking to the edge in %d steps, sliding along it in %d, "
+        "apart in %d\n",
+        s.tip_stick_steps, s.tip_slide_steps, s.steps - s.tip_stick_steps - s.tip_slide_steps);
   }
   std::printf("final       t = %.4f s  x = %.6f m  y = %.6f m  theta = %.6f rad\n",
               result.trajectory.samples.back().t_s, last.x, last.y, last.theta);
   std::printf("            vx = %.6f m/s  vy = %.6f m/s  wz = %.6f rad/s\n", last.vx, last.vy,
               last.wz);
   if (s.rest_time_s >= 0) {
-    std::printf("at rest     from t = %.4f s at (%.6f, %.6f) m, theta = %.6f rad\n",
-                s.rest_time_s, last.x, last.y, last.theta);
+    std::printf("at rest     from t = %.4f s at (%.6f, %.6f) m, theta = %.6f rad\n", s.rest_time_s,
+                last.x, last.y, last.theta);
   } else {
     std::printf("at rest     no: still moving at the end (run longer with --duration)\n");
   }
   std::printf("ECP margin  %.3f mm inside the patch hull at its closest\n",
               -1e3 * s.max_hull_signed_distance_m);
-  std::printf("solver      max %d iterations, max relative residual %.2e\n",
-              s.max_step_iterations, s.max_step_residual);
+  std::printf("solver      max %d iterations, max relative residual %.2e\n", s.max_step_iterations,
+              s.max_step_residual);
 }
 
 }  // namespace
@@ -56,24 +56,23 @@ int main(int argc, char** argv) {
         "                [--log-every K] [--write poses|velocities|both] [--noise-pose M] ...\n\n"
         "Log options override the scene's [sim] log_every, [log] and [noise] values.\n\n"
         "Options");
-    opts.add_options()
-        ("help,h", "print this help and exit")
-        ("version", "print the version and exit")
-        ("scene", po::value<std::string>()->value_name("FILE.ini"),
-         "scene file (INI: [slider] [friction] [patch] [initial] [push] [push.N] [program] "
-         "[sim] [log] [noise]; see datasets/README.md)")
-        ("out", po::value<std::string>()->value_name("FILE.csv"),
-         "write the log here; omit to only print the summary")
-        ("dt", po::value<double>()->value_name("S"), "override the scene's time step [s]")
-        ("duration", po::value<double>()->value_name("S"),
-         "override the scene's duration [s]");
+    opts.add_options()("help,h", "print this help and exit")("version",
+                                                             "print the version and exit")(
+        "scene", po::value<std::string>()->value_name("FILE.ini"),
+        "scene file (INI: [slider] [friction] [patch] [initial] [push] [push.N] [program] "
+        "[sim] [log] [noise]; see datasets/README.md)")(
+        "out", po::value<std::string>()->value_name("FILE.csv"),
+        "write the log here; omit to only print the summary")(
+        "dt", po::value<double>()->value_name("S"), "override the scene's time step [s]")(
+        "duration", po::value<double>()->value_name("S"), "override the scene's duration [s]");
     cli::AddLogOptions(&opts, nullptr, /*with_seed=*/true);
     po::variables_map vm;
     po::store(po::parse_command_line(argc, argv, opts), vm);
     po::notify(vm);
     if (vm.count("help")) {
-      std::cout << opts << "\nExit codes: 0 ok, 1 bad input, 2 usage, 3 numerical failure or "
-                           "toppling, 4 file not writable.\n";
+      std::cout << opts
+                << "\nExit codes: 0 ok, 1 bad input, 2 usage, 3 numerical failure or "
+                   "toppling, 4 file not writable.\n";
       return tools::kExitOk;
     }
     if (vm.count("version")) {
@@ -96,8 +95,8 @@ int main(int argc, char** argv) {
     if (!scene.log.IsValidFor(!scene.pushes.empty(), &why)) throw po::error(why);
     const SimulationResult result = Simulate(scene);
     if (!result.summary.ok()) {
-      std::cerr << "simulate: " << ToString(result.summary.status) << ": "
-                << result.summary.message << "\n";
+      std::cerr << "simulate: " << ToString(result.summary.status) << ": " << result.summary.message
+                << "\n";
       return tools::kExitNumerical;
     }
     PrintSummary(result, scene);

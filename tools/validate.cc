@@ -46,7 +46,8 @@ void WriteCsv(const ValidationResult& r, const std::string& path) {
     }
     if (!out) throw std::runtime_error(path + ": cannot write");
   }
-  if (std::rename(tmp.c_str(), path.c_str()) != 0) throw std::runtime_error(path + ": cannot write");
+  if (std::rename(tmp.c_str(), path.c_str()) != 0)
+    throw std::runtime_error(path + ": cannot write");
 }
 
 }  // namespace
@@ -61,15 +62,14 @@ int main(int argc, char** argv) {
         "beside it. The summary gives the median [IQR] worst of each error.\n\n"
         "Usage: validate --logs DIR|GLOB [--folds K | --leave-one-out] [--drive pusher|force]\n\n"
         "Options");
-    opts.add_options()
-        ("help,h", "print this help and exit")
-        ("version", "print the version and exit")
-        ("logs", po::value<std::string>()->value_name("DIR|GLOB"), "the push logs (required)")
-        ("skip-bad", "leave out logs that cannot be read, with a warning")
-        ("json", po::value<std::string>()->value_name("OUT.json"), "write everything as JSON")
-        ("csv", po::value<std::string>()->value_name("OUT.csv"), "write the per-push table")
-        ("plot", po::value<std::string>()->value_name("FIG.png"),
-         "draw each friction's errors, push by push, with medians and quartiles (gnuplot)");
+    opts.add_options()("help,h", "print this help and exit")("version",
+                                                             "print the version and exit")(
+        "logs", po::value<std::string>()->value_name("DIR|GLOB"), "the push logs (required)")(
+        "skip-bad", "leave out logs that cannot be read, with a warning")(
+        "json", po::value<std::string>()->value_name("OUT.json"), "write everything as JSON")(
+        "csv", po::value<std::string>()->value_name("OUT.csv"), "write the per-push table")(
+        "plot", po::value<std::string>()->value_name("FIG.png"),
+        "draw each friction's errors, push by push, with medians and quartiles (gnuplot)");
     cli::AddValidateOptions(&opts);
     po::variables_map vm;
     po::store(po::parse_command_line(argc, argv, opts), vm);
@@ -93,8 +93,8 @@ int main(int argc, char** argv) {
         std::cerr << "validate: warning: skipped " << e.what() << "\n";
       }
     }
-    const bool all_tip = std::all_of(logs.begin(), logs.end(),
-                                     [](const Trajectory& l) { return l.columns.tip; });
+    const bool all_tip =
+        std::all_of(logs.begin(), logs.end(), [](const Trajectory& l) { return l.columns.tip; });
     const ValidationOptions options = cli::ReadValidateOptions(vm, all_tip);
     const ValidationResult r = Validate(logs, options);
 

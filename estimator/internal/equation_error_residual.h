@@ -17,9 +17,13 @@ namespace slideid {
 /// Returns false (never throws) where the model's speed is not positive or not finite.
 struct EquationErrorResidual {
   EquationErrorResidual(const StepObservation& o, double radius_m)
-      : vt(o.ecp_velocity(0)), vo(o.ecp_velocity(1)), vr(o.ecp_velocity(2)),
-        qt(o.friction_impulse(0) / o.pn), qo(o.friction_impulse(1) / o.pn),
-        qr(o.friction_impulse(2) / (o.pn * radius_m)), radius(radius_m) {}
+      : vt(o.ecp_velocity(0)),
+        vo(o.ecp_velocity(1)),
+        vr(o.ecp_velocity(2)),
+        qt(o.friction_impulse(0) / o.pn),
+        qo(o.friction_impulse(1) / o.pn),
+        qr(o.friction_impulse(2) / (o.pn * radius_m)),
+        radius(radius_m) {}
 
   template <typename T>
   bool operator()(const T* log_a, const T* log_b, const T* log_c, T* residual) const {

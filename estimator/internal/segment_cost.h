@@ -87,8 +87,7 @@ class SegmentCost final : public ceres::CostFunction {
   double length_m() const { return length_m_; }
 
   /// Never throws: an infeasible point (a failed step) returns false.
-  bool Evaluate(double const* const* params, double* residuals,
-                double** jacobians) const override;
+  bool Evaluate(double const* const* params, double* residuals, double** jacobians) const override;
 
  private:
   /// Writes the state at every row into `states` when not null.
@@ -119,7 +118,6 @@ class SegmentCost final : public ceres::CostFunction {
 /// The cost of one shooting segment (rows first_row..last_row of `log`, which must outlive
 /// it), parameter blocks as SegmentCost says. Exposed for derivative checks.
 ceres::CostFunction* NewSegmentCost(const Trajectory& log, int first_row, int last_row,
-                                    int substeps, bool use_pose,
-                                    SegmentNuisances nuisances = {});
+                                    int substeps, bool use_pose, SegmentNuisances nuisances = {});
 
 }  // namespace slideid

@@ -74,7 +74,7 @@ struct SegmentInformation {
   /// (E x G), X~^T X~ (E x E) and X~^T r (E); empty without.
   Eigen::MatrixXd extra_cross, extra_fisher;
   Eigen::VectorXd extra_score;
-  double sum_squares = 0;    ///< of its (row-loss) residuals
+  double sum_squares = 0;  ///< of its (row-loss) residuals
   int residuals = 0;
   int state_parameters = 6;  ///< 6, or 3 for a velocity log
 };
@@ -82,13 +82,13 @@ struct SegmentInformation {
 /// What the residuals say about the global parameters, marginalised over the segment
 /// states (Schur complement), and the scores the cluster-robust covariances need.
 struct FitInformation {
-  Eigen::MatrixXd fisher;               ///< G x G
-  Eigen::MatrixXd segment_score_outer;  ///< sum over segments of g g^T, g = J~^T r
-  Eigen::MatrixXd log_score_outer;      ///< sum over logs of the sum of their segments' g
+  Eigen::MatrixXd fisher;                       ///< G x G
+  Eigen::MatrixXd segment_score_outer;          ///< sum over segments of g g^T, g = J~^T r
+  Eigen::MatrixXd log_score_outer;              ///< sum over logs of the sum of their segments' g
   std::vector<SegmentInformation> per_segment;  ///< every segment that contributed
-  int segments = 0;                     ///< segments that contributed
-  int logs = 0;                         ///< logs with at least one such segment
-  double sum_squares = 0;               ///< of the (row-loss) residuals used
+  int segments = 0;                             ///< segments that contributed
+  int logs = 0;                                 ///< logs with at least one such segment
+  double sum_squares = 0;                       ///< of the (row-loss) residuals used
   int residuals = 0;
 };
 
@@ -188,9 +188,9 @@ class TrajectoryProblem {
   IdentifyOptions options_;
   std::vector<TrajectorySegment> segments_;
   std::vector<double> global_;
-  std::vector<int> global_log_;   // log of each global parameter (-1: shared)
-  std::vector<int> offset_index_; // per log, index of o_x in global_ (-1: none)
-  std::vector<int> delay_index_;  // per log, index of its delay in global_ (-1: none)
+  std::vector<int> global_log_;    // log of each global parameter (-1: shared)
+  std::vector<int> offset_index_;  // per log, index of o_x in global_ (-1: none)
+  std::vector<int> delay_index_;   // per log, index of its delay in global_ (-1: none)
 };
 
 }  // namespace slideid

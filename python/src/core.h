@@ -53,10 +53,10 @@ boost::program_options::variables_map ParseKeywords(
     const std::vector<std::string>& leading = {});
 
 void RegisterExceptions(py::module_& m);  ///< NumericalError, OptionError, translations
-void BindLog(py::module_& m);       ///< Log, read_log, make_log, write_log
-void BindIdentify(py::module_& m);  ///< identify
-void BindSimulate(py::module_& m);  ///< simulate, make_dataset
-void BindImport(py::module_& m);    ///< import_log
-void BindPredict(py::module_& m);   ///< predict, validate
+void BindLog(py::module_& m);             ///< Log, read_log, make_log, write_log
+void BindIdentify(py::module_& m);        ///< identify
+void BindSimulate(py::module_& m);        ///< simulate, make_dataset
+void BindImport(py::module_& m);          ///< import_log
+void BindPredict(py::module_& m);         ///< predict, validate
 
 }  // namespace slideid::python

@@ -17,9 +17,8 @@ namespace {
 
 /// identify's options that are not about the fit: the files come as arguments, the output
 /// is the result, --strict is the Python layer's, and a batch is a map of identify_file.
-const std::vector<std::string> kNotKeywords = {"log",     "logs",  "json", "residuals",
-                                               "verbose", "strict", "batch", "jobs",
-                                               "out",     "shard"};
+const std::vector<std::string> kNotKeywords = {"log",    "logs",  "json", "residuals", "verbose",
+                                               "strict", "batch", "jobs", "out",       "shard"};
 
 /// Whether the keywords ask for a log to be read differently from how it was.
 bool ChangesReading(const po::variables_map& vm) {
@@ -111,8 +110,9 @@ py::dict IdentifyInputs(const py::list& inputs, const py::kwargs& keywords) {
     }
   }
   if (!paths.empty() && !handles.empty()) {
-    throw std::invalid_argument("identify: give paths or Log objects, not both (read the "
-                                "paths with read_log)");
+    throw std::invalid_argument(
+        "identify: give paths or Log objects, not both (read the "
+        "paths with read_log)");
   }
   FileIdentifyResult run;
   std::string what;

@@ -53,8 +53,8 @@ po::variables_map ParseKeywords(const std::string& function,
     AppendArguments(function, keyword, *option, value, &args);
   }
   po::command_line_parser parser(args);
-  parser.options(description).style(po::command_line_style::default_style &
-                                    ~po::command_line_style::allow_guessing);
+  parser.options(description)
+      .style(po::command_line_style::default_style & ~po::command_line_style::allow_guessing);
   po::variables_map vm;
   po::store(parser.run(), vm);
   po::notify(vm);

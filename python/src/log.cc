@@ -52,7 +52,8 @@ py::dict Columns(const LogHandle& h) {
   py::dict out;
   for (size_t c = 0; c < columns.names.size(); ++c) {
     const std::vector<double>& v = columns.values[c];
-    out[py::str(columns.names[c])] = py::array_t<double>(static_cast<py::ssize_t>(v.size()), v.data());
+    out[py::str(columns.names[c])] =
+        py::array_t<double>(static_cast<py::ssize_t>(v.size()), v.data());
   }
   if (!columns.mode.empty()) out["mode"] = py::cast(columns.mode);
   return out;
@@ -66,7 +67,8 @@ py::dict Metadata(const LogHandle& h) {
   m["inertia"] = log.slider.inertia_kgm2;
   m["com_height"] = log.slider.com_height_m;
   m["gravity"] = log.slider.gravity_mps2;
-  m["patch"] = log.patch_spec.empty() ? py::object(py::none()) : py::object(py::str(log.patch_spec));
+  m["patch"] =
+      log.patch_spec.empty() ? py::object(py::none()) : py::object(py::str(log.patch_spec));
   if (log.true_friction) {
     const FrictionParameters& f = *log.true_friction;
     py::dict truth;
@@ -105,7 +107,8 @@ LogPtr MakeLog(const py::dict& columns, const std::optional<std::vector<std::str
   PushLogColumns table;
   for (const auto& [name, values] : columns) {
     table.names.push_back(py::str(name).cast<std::string>());
-    const auto array = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(values);
+    const auto array =
+        py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(values);
     if (!array || array.ndim() != 1) {
       throw std::invalid_argument("make_log: column '" + table.names.back() +
                                   "' is not a one-dimensional array of numbers");
@@ -144,7 +147,8 @@ void BindLog(py::module_& m) {
       .def_readonly("notes", &LogHandle::notes)
       .def("columns", &Columns, "the columns write_log writes, as numpy arrays")
       .def("metadata", &Metadata, "slider properties, patch, truth and further metadata")
-      .def("text", [](const LogHandle& h) { return LogText(h.log); }, "the log as CSV text")
+      .def(
+          "text", [](const LogHandle& h) { return LogText(h.log); }, "the log as CSV text")
       .def(py::pickle(
           [](const LogHandle& h) {
             return py::make_tuple(LogText(h.log), h.log.source, h.warnings, h.notes);

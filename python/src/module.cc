@@ -48,8 +48,8 @@ void RegisterExceptions(py::module_& m) {
   auto* numerical = new py::exception<NumericalError>(m, "NumericalError", PyExc_RuntimeError);
   numerical->attr("__doc__") =
       "A fit or a simulation did not converge, or the slider would tip (the tools' exit code 3).";
-  auto* option = new py::exception<boost::program_options::error>(m, "OptionError",
-                                                                    PyExc_ValueError);
+  auto* option =
+      new py::exception<boost::program_options::error>(m, "OptionError", PyExc_ValueError);
   option->attr("__doc__") =
       "A bad option value (the tools' usage error, exit code 2); a ValueError.";
   numerical_error_type = numerical->ptr();

@@ -7,11 +7,11 @@
 #include <optional>
 
 #include "core.h"
-#include "pipeline/log_cli_options.h"
 #include "datasets/sensor_model.h"
 #include "forward_model/simulator.h"
 #include "io/dataset_files.h"
 #include "io/scene_file.h"
+#include "pipeline/log_cli_options.h"
 
 namespace slideid::python {
 namespace po = boost::program_options;
