@@ -25,6 +25,20 @@ Eigen::MatrixXd Sub(const Eigen::MatrixXd& h, const std::vector<int>& set) {
 
 void Remove(std::vector<int>* set, int position) { set->erase(set->begin() + position); }
 
+/// One-sigma errors sqrt(s^2 (H^-1)_kk) of every parameter of the information `h`, inverted
+/// in normalised form (D H D with unit diagonal: better conditioned), the scaling then
+/// undone. Rules (iii) and (iv).
+Eigen::VectorXd MarginalStdErrs(const Eigen::MatrixXd& h, double residual_variance) {
+  const Eigen::VectorXd d = h.diagonal().cwiseSqrt().cwiseInverse();
+  const Eigen::MatrixXd hn = d.asDiagonal() * h * d.asDiagonal();
+  const Eigen::MatrixXd inv_n = hn.ldlt().solve(Eigen::MatrixXd::Identity(hn.rows(), hn.cols()));
+  Eigen::VectorXd se(h.rows());
+  for (int k = 0; k < h.rows(); ++k) {
+    se(k) = std::sqrt(residual_variance * std::max(d(k) * inv_n(k, k) * d(k), 0.0));
+  }
+  return se;
+}
+
 // (iv) A parameter is determined only through a partner that (iii) gave up. Held, the partner
 // sits wherever the fit left it, and a parameter correlated with it takes up the
 // difference while its own standard error, computed with the partner held, does not show
@@ -52,11 +66,7 @@ void HeldPartners(const Eigen::MatrixXd& h, double residual_variance,
       for (size_t j = set->size(); j < with.size(); ++j) {
         s(j, j) += residual_variance / (max_stderr[with[j]] * max_stderr[with[j]]);
       }
-      const Eigen::VectorXd d = s.diagonal().cwiseSqrt().cwiseInverse();
-      const Eigen::MatrixXd hn = d.asDiagonal() * s * d.asDiagonal();
-      const Eigen::VectorXd e = Eigen::VectorXd::Unit(with.size(), k);
-      const double inv_kk = d(k) * d(k) * hn.ldlt().solve(e)(k);
-      const double se = std::sqrt(residual_variance * std::max(inv_kk, 0.0));
+      const double se = MarginalStdErrs(s, residual_variance)(k);
       (*out)[i].stderr_log_partners_free = std::max(se, (*out)[i].stderr_log);
       if (!(se > max_stderr[i])) continue;
       (*out)[i].identifiable = false;
@@ -153,17 +163,7 @@ std::vector<ParameterIdentifiability> AssessIdentifiability(const Eigen::MatrixX
   // (iii) too uncertain to be constrained.
   std::vector<int> unconstrained;
   while (!set.empty()) {
-    const Eigen::MatrixXd s = Sub(h, set);
-    const Eigen::VectorXd d = s.diagonal().cwiseSqrt().cwiseInverse();
-    // Invert in normalised form (better conditioned), then undo the scaling.
-    const Eigen::MatrixXd hn = d.asDiagonal() * s * d.asDiagonal();
-    const Eigen::MatrixXd inv = d.asDiagonal() *
-                                hn.ldlt().solve(Eigen::MatrixXd::Identity(hn.rows(), hn.cols())) *
-                                d.asDiagonal();
-    Eigen::VectorXd se(set.size());
-    for (int k = 0; k < static_cast<int>(set.size()); ++k) {
-      se(k) = std::sqrt(residual_variance * std::max(inv(k, k), 0.0));
-    }
+    const Eigen::VectorXd se = MarginalStdErrs(Sub(h, set), residual_variance);
     // The worst is the one furthest beyond its own threshold.
     Eigen::VectorXd excess(set.size());
     for (int k = 0; k < static_cast<int>(set.size()); ++k) excess(k) = se(k) / max_stderr[set[k]];

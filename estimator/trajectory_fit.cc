@@ -45,9 +45,6 @@ constexpr double kDefaultA = 0.3;
 // above this many times that noise (model mismatch) are refitted at their own scale, so that
 // the loss does not treat most rows as outliers.
 constexpr double kRescaleRatio = 2.0;
-// Median of chi-square with 3 degrees of freedom over its mean: a row's squared residual
-// norm has median 0.789 times its mean under Gaussian noise.
-constexpr double kChi3MedianOverMean = 2.365974 / 3.0;
 // A force offset whose standard error exceeds this fraction of the log's largest push (or
 // of a tenth of its weight, for a log barely pushed) is not determined by the log; a delay
 // whose standard error exceeds this fraction of the delay range neither.
@@ -320,7 +317,7 @@ std::vector<double> ResidualRowScale(const TrajectoryProblem& problem) {
   }
   std::vector<double> scale(problem.num_logs(), kNaN);
   for (int i = 0; i < problem.num_logs(); ++i) {
-    if (!per_log[i].empty()) scale[i] = std::sqrt(Median(per_log[i]) / kChi3MedianOverMean);
+    if (!per_log[i].empty()) scale[i] = RobustRowRms(per_log[i]);
   }
   return scale;
 }
