@@ -10,6 +10,7 @@
 
 #include "estimator/cheap_methods.h"
 #include "estimator/identifiability.h"
+#include "estimator/internal/method_cores.h"
 #include "estimator/plausibility.h"
 #include "estimator/pooling.h"
 #include "estimator/robust_statistics.h"
@@ -277,13 +278,11 @@ std::vector<int> Lags(const std::vector<LogSteps>& log_steps) {
   return lags;
 }
 
-EstimateResult ClosedFormOf(const std::vector<const Trajectory*>& logs,
-                            const IdentifyOptions& options) {
+}  // namespace
+
+EstimateResult ClosedFormCore(const std::vector<const Trajectory*>& logs,
+                              const IdentifyOptions& options) {
   const auto start_time = std::chrono::steady_clock::now();
-  std::string why;
-  if (!options.closed_form.IsValid(&why)) {
-    throw std::invalid_argument("EstimateClosedForm: " + why);
-  }
   EstimateResult result;
   result.method = EstimatorMethod::kClosedForm;
   result.residual_names = {{"a_step_rel", "b_step_rel", "c_step_rel"}};
@@ -339,29 +338,28 @@ EstimateResult ClosedFormOf(const std::vector<const Trajectory*>& logs,
   return result;
 }
 
+namespace {
+
+EstimateResult ClosedFormOneOrMany(const std::vector<const Trajectory*>& logs,
+                                   const IdentifyOptions& options) {
+  std::string why;
+  if (!options.closed_form.IsValid(&why)) {
+    throw std::invalid_argument("EstimateClosedForm: " + why);
+  }
+  IdentifyOptions closed_form = options;
+  closed_form.method = EstimatorMethod::kClosedForm;
+  return EstimateOneOrMany(logs, closed_form);
+}
+
 }  // namespace
 
 EstimateResult EstimateClosedForm(const Trajectory& log, const IdentifyOptions& options) {
-  return ClosedFormOf({&log}, options);
+  return ClosedFormOneOrMany({&log}, options);
 }
 
 EstimateResult EstimateClosedForm(const std::vector<Trajectory>& logs,
                                   const IdentifyOptions& options) {
-  if (logs.empty()) throw std::invalid_argument("EstimateClosedForm: no logs");
-  if (logs.size() == 1) return EstimateClosedForm(logs[0], options);
-  const auto start_time = std::chrono::steady_clock::now();
-  std::vector<const Trajectory*> pointers;
-  std::vector<LogResult> own;
-  for (size_t k = 0; k < logs.size(); ++k) {
-    pointers.push_back(&logs[k]);
-    own.push_back(AsLogResult(EstimateClosedForm(logs[k], options), logs[k], int(k)));
-  }
-  EstimateResult result = ClosedFormOf(pointers, options);
-  result.logs = std::move(own);
-  for (int i = 0; i < 3; ++i) result.heterogeneity[i] = TestHeterogeneity(result.logs, i);
-  result.seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start_time).count();
-  return result;
+  return ClosedFormOneOrMany(Pointers(logs), options);
 }
 
 }  // namespace slideid

@@ -16,6 +16,7 @@
 #include "estimator/closed_form.h"
 #include "estimator/identifiability.h"
 #include "estimator/internal/equation_error_residual.h"
+#include "estimator/internal/method_cores.h"
 #include "estimator/internal/trajectory_problem.h"
 #include "estimator/plausibility.h"
 #include "estimator/pooling.h"
@@ -435,8 +436,16 @@ double NoiseResidualScale(const StepSet& set) {
   return steps > 0 ? std::sqrt(expected2 / steps) : 0.0;
 }
 
-EstimateResult EquationErrorOf(const std::vector<const Trajectory*>& logs,
-                               const IdentifyOptions& identify, const EstimateResult& seed_result) {
+}  // namespace
+
+EstimateResult EquationErrorCore(const std::vector<const Trajectory*>& logs,
+                                 const IdentifyOptions& identify,
+                                 const EstimateResult& seed_result) {
+  if (seed_result.status == TerminationStatus::kTooLittleExcitation) {
+    EstimateResult r = seed_result;
+    r.method = EstimatorMethod::kEquationError;
+    return r;
+  }
   const auto start_time = std::chrono::steady_clock::now();
   EstimateResult result;
   result.method = EstimatorMethod::kEquationError;
@@ -534,53 +543,28 @@ EstimateResult EquationErrorOf(const std::vector<const Trajectory*>& logs,
   return result;
 }
 
-void CheckOptions(const IdentifyOptions& identify) {
+namespace {
+
+EstimateResult EquationErrorOneOrMany(const std::vector<const Trajectory*>& logs,
+                                      const IdentifyOptions& identify) {
   std::string why;
-  if (!identify.equation_error.IsValid(&why)) {
+  if (!identify.closed_form.IsValid(&why) || !identify.equation_error.IsValid(&why)) {
     throw std::invalid_argument("EstimateEquationError: " + why);
   }
+  IdentifyOptions equation_error = identify;
+  equation_error.method = EstimatorMethod::kEquationError;
+  return EstimateOneOrMany(logs, equation_error);
 }
 
 }  // namespace
 
-EstimateResult EstimateEquationError(const Trajectory& log, const IdentifyOptions& identify,
-                                     const EstimateResult* closed_form) {
-  CheckOptions(identify);
-  const EstimateResult seed = closed_form ? *closed_form : EstimateClosedForm(log, identify);
-  if (seed.status == TerminationStatus::kTooLittleExcitation) {
-    EstimateResult r = seed;
-    r.method = EstimatorMethod::kEquationError;
-    return r;
-  }
-  return EquationErrorOf({&log}, identify, seed);
+EstimateResult EstimateEquationError(const Trajectory& log, const IdentifyOptions& identify) {
+  return EquationErrorOneOrMany({&log}, identify);
 }
 
 EstimateResult EstimateEquationError(const std::vector<Trajectory>& logs,
                                      const IdentifyOptions& identify) {
-  CheckOptions(identify);
-  if (logs.empty()) throw std::invalid_argument("EstimateEquationError: no logs");
-  if (logs.size() == 1) return EstimateEquationError(logs[0], identify);
-  const auto start_time = std::chrono::steady_clock::now();
-  std::vector<const Trajectory*> pointers;
-  std::vector<LogResult> own;
-  for (size_t k = 0; k < logs.size(); ++k) {
-    pointers.push_back(&logs[k]);
-    own.push_back(AsLogResult(EstimateEquationError(logs[k], identify), logs[k], int(k)));
-  }
-  const EstimateResult seed = EstimateClosedForm(logs, identify);
-  EstimateResult result;
-  if (seed.status == TerminationStatus::kTooLittleExcitation) {
-    result = seed;
-    result.method = EstimatorMethod::kEquationError;
-    result.logs.clear();
-  } else {
-    result = EquationErrorOf(pointers, identify, seed);
-  }
-  result.logs = std::move(own);
-  for (int i = 0; i < 3; ++i) result.heterogeneity[i] = TestHeterogeneity(result.logs, i);
-  result.seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start_time).count();
-  return result;
+  return EquationErrorOneOrMany(Pointers(logs), identify);
 }
 
 }  // namespace slideid

@@ -46,11 +46,9 @@ constexpr double kMinLossSigma = 1e-9;
 /// wider, with a note. Verdicts: JudgeEstimates (estimator/plausibility.h), with the
 /// residuals' scale against the one the log's velocity noise implies (model mismatch).
 /// Residuals: per step, names "t", "o", "r", NaN for unused steps.
-/// `closed_form`, when given, is EstimateClosedForm's result on the same log (so that an
-/// identification runs it once). Throws std::invalid_argument for invalid options; too
-/// little sliding is the status kTooLittleExcitation.
-EstimateResult EstimateEquationError(const Trajectory& log, const IdentifyOptions& options,
-                                     const EstimateResult* closed_form = nullptr);
+/// Seeded by the closed form of the same log. Throws std::invalid_argument for invalid
+/// options; too little sliding is the status kTooLittleExcitation.
+EstimateResult EstimateEquationError(const Trajectory& log, const IdentifyOptions& options);
 
 /// The same over several logs of one slider on one surface: one fit over the steps of all
 /// of them, each log with its own slider properties; result.logs has each log fitted on its

@@ -130,8 +130,8 @@ bool IdentifyOptions::IsValid(std::string* why) const {
       return closed_form.IsValid(why);
     case EstimatorMethod::kEquationError:
       return closed_form.IsValid(why) && equation_error.IsValid(why);
-    case EstimatorMethod::kTrajectory:
-      return closed_form.IsValid(why) && trajectory.IsValid(why);
+    case EstimatorMethod::kTrajectory:  // seeded by both cheap methods
+      return closed_form.IsValid(why) && equation_error.IsValid(why) && trajectory.IsValid(why);
     case EstimatorMethod::kQuasiStatic:
       return quasi_static.IsValid(why);
   }

@@ -1,8 +1,13 @@
 #include "estimator/pooling.h"
 
+#include <algorithm>
 #include <boost/math/distributions/chi_squared.hpp>
 #include <boost/math/distributions/students_t.hpp>
+#include <chrono>
 #include <cmath>
+#include <stdexcept>
+
+#include "estimator/log_diagnostics.h"
 
 namespace slideid {
 
@@ -19,6 +24,64 @@ LogResult AsLogResult(const EstimateResult& r, const Trajectory& log, int index)
   lr.message = r.message;
   lr.parameters = r.parameters;
   return lr;
+}
+
+EstimateResult FitOneOrMany(int logs, PoolableFit* method) {
+  if (logs < 1) throw std::invalid_argument("no logs to fit");
+  if (logs == 1) return method->FitTogether(nullptr);
+  const auto start = std::chrono::steady_clock::now();
+  std::vector<LogResult> alone;
+  for (int k = 0; k < logs; ++k) alone.push_back(method->FitAlone(k));
+  EstimateResult result = method->FitTogether(&alone);
+  result.logs = std::move(alone);
+  for (int i = 0; i < 3; ++i) result.heterogeneity[i] = TestHeterogeneity(result.logs, i);
+  result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return result;
+}
+
+namespace {
+
+class PushLogsFit : public PoolableFit {
+ public:
+  PushLogsFit(const std::vector<const Trajectory*>& logs, const PushLogsCore& core)
+      : logs_(logs), core_(core) {}
+  LogResult FitAlone(int k) override { return AsLogResult(core_({logs_[k]}), *logs_[k], k); }
+  EstimateResult FitTogether(std::vector<LogResult>*) override { return core_(logs_); }
+
+ private:
+  const std::vector<const Trajectory*>& logs_;
+  const PushLogsCore& core_;
+};
+
+}  // namespace
+
+EstimateResult FitOneOrMany(const std::vector<const Trajectory*>& logs, const PushLogsCore& core) {
+  PushLogsFit method(logs, core);
+  return FitOneOrMany(static_cast<int>(logs.size()), &method);
+}
+
+std::optional<EstimateResult> DeadSensorResult(const std::vector<const Trajectory*>& logs,
+                                               EstimatorMethod method) {
+  for (size_t k = 0; k < logs.size(); ++k) {
+    const std::optional<std::string> dead = DiagnoseLog(*logs[k]).dead_force_channel;
+    if (!dead) continue;
+    EstimateResult r;
+    r.method = method;
+    r.status = TerminationStatus::kTooLittleExcitation;
+    r.converged = false;
+    r.message = (logs.size() > 1 ? LogName(*logs[k], static_cast<int>(k)) + ": " : "") + *dead;
+    for (const Trajectory* log : logs) {
+      r.steps_total += std::max(0, static_cast<int>(log->samples.size()) - 1);
+    }
+    return r;
+  }
+  return std::nullopt;
+}
+
+std::vector<const Trajectory*> Pointers(const std::vector<Trajectory>& logs) {
+  std::vector<const Trajectory*> pointers;
+  for (const Trajectory& log : logs) pointers.push_back(&log);
+  return pointers;
 }
 
 Heterogeneity TestHeterogeneity(const std::vector<LogResult>& logs, int index) {

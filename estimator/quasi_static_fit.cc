@@ -13,6 +13,7 @@
 #include "estimator/identifiability.h"
 #include "estimator/internal/quasi_static_residuals.h"
 #include "estimator/plausibility.h"
+#include "estimator/pooling.h"
 #include "estimator/robust_statistics.h"
 #include "forward_model/number_format.h"
 
@@ -323,6 +324,63 @@ EstimateResult EstimateQuasiStatic(const std::vector<WrenchTwistPair>& pairs,
   result.seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start_time).count();
   return result;
+}
+
+namespace {
+
+class QuasiStaticMethod : public PoolableFit {
+ public:
+  QuasiStaticMethod(const std::vector<WrenchTwistData>& sets, const IdentifyOptions& options)
+      : sets_(sets), options_(options) {}
+
+  LogResult FitAlone(int k) override {
+    const EstimateResult own = Fit(sets_[k]);
+    LogResult r;
+    r.name = sets_[k].source;
+    r.rows = static_cast<int>(sets_[k].rows.size());
+    r.steps_used = own.steps_used;
+    r.status = own.status;
+    r.message = own.message;
+    r.parameters = own.parameters;
+    return r;
+  }
+
+  EstimateResult FitTogether(std::vector<LogResult>* alone) override {
+    if (!alone) return Fit(sets_[0]);
+    WrenchTwistData all = sets_[0];
+    for (size_t k = 1; k < sets_.size(); ++k) {
+      all.rows.insert(all.rows.end(), sets_[k].rows.begin(), sets_[k].rows.end());
+    }
+    return Fit(all);
+  }
+
+ private:
+  EstimateResult Fit(const WrenchTwistData& set) const {
+    try {
+      return EstimateQuasiStatic(set.Pairs(), QuasiStaticOptionsFor(set, options_));
+    } catch (const std::invalid_argument& e) {  // too few pairs, a zero twist, ...
+      throw std::invalid_argument(set.source + ": " + e.what());
+    }
+  }
+
+  const std::vector<WrenchTwistData>& sets_;
+  const IdentifyOptions& options_;
+};
+
+}  // namespace
+
+EstimateResult EstimateQuasiStatic(const std::vector<WrenchTwistData>& sets,
+                                   const IdentifyOptions& options) {
+  for (const WrenchTwistData& set : sets) {
+    if (std::abs(set.WeightN() / sets[0].WeightN() - 1) > kSameWeightRelative) {
+      throw std::invalid_argument(set.source + ": its slider weighs " +
+                                  std::to_string(set.WeightN()) + " N, " + sets[0].source + "'s " +
+                                  std::to_string(sets[0].WeightN()) +
+                                  " N: pooled pairs must come from one slider");
+    }
+  }
+  QuasiStaticMethod method(sets, options);
+  return FitOneOrMany(static_cast<int>(sets.size()), &method);
 }
 
 }  // namespace slideid

@@ -72,4 +72,15 @@ EstimateResult EstimateQuasiStatic(const std::vector<WrenchTwistPair>& pairs,
 QuasiStaticFitOptions QuasiStaticOptionsFor(const WrenchTwistData& data,
                                             const IdentifyOptions& options);
 
+/// Tolerance within which two sets' weights m g are one slider's [relative].
+constexpr double kSameWeightRelative = 1e-9;
+
+/// Pairs from several files (sets) of one slider on one surface: one set is fitted on its
+/// own (EstimateQuasiStatic of its pairs); several are each fitted on their own and all
+/// their pairs together (FitOneOrMany, estimator/pooling.h: per-set entries named by
+/// their source, heterogeneity). Throws std::invalid_argument for no sets, sets of
+/// different weights (naming both), or a set that cannot be fitted (its source first).
+EstimateResult EstimateQuasiStatic(const std::vector<WrenchTwistData>& sets,
+                                   const IdentifyOptions& options);
+
 }  // namespace slideid

@@ -9,10 +9,9 @@
 #include <optional>
 #include <stdexcept>
 
-#include "estimator/closed_form.h"
 #include "estimator/cluster_covariance.h"
-#include "estimator/equation_error.h"
 #include "estimator/identifiability.h"
+#include "estimator/internal/method_cores.h"
 #include "estimator/internal/mismatch_nuisances.h"
 #include "estimator/internal/trajectory_problem.h"
 #include "estimator/log_diagnostics.h"
@@ -69,8 +68,7 @@ struct SeedCandidates {
   std::vector<std::array<double, 3>> exact;  // full candidates tried as they are
 };
 
-SeedCandidates CandidateSeeds(const Trajectory& log, const IdentifyOptions& options,
-                              std::array<double, 3>* closed_form_seed) {
+SeedCandidates CandidateSeeds(const Trajectory& log, const IdentifyOptions& options) {
   const double length_m = std::sqrt(log.slider.inertia_kgm2 / log.slider.mass_kg);
   const std::array<double, 3> defaults{{kDefaultA, 1.0, length_m}};
   SeedCandidates seeds{defaults, {defaults}};
@@ -84,19 +82,9 @@ SeedCandidates CandidateSeeds(const Trajectory& log, const IdentifyOptions& opti
     seeds.exact.push_back(seed);
     if (set_base) seeds.base = {defaults[0], seed[1], seed[2]};
   };
-  EstimateResult closed_form;
-  try {
-    closed_form = EstimateClosedForm(log, options);
-    take(closed_form, true);
-  } catch (const std::exception&) {
-  }
-  if (log.columns.velocity) {
-    try {
-      take(EstimateEquationError(log, options, &closed_form), false);
-    } catch (const std::exception&) {
-    }
-  }
-  *closed_form_seed = seeds.exact.size() > 1 ? seeds.exact[1] : defaults;
+  const EstimateResult closed_form = ClosedFormCore({&log}, options);
+  take(closed_form, true);
+  if (log.columns.velocity) take(EquationErrorCore({&log}, options, closed_form), false);
   return seeds;
 }
 
@@ -829,12 +817,6 @@ FitOutcome Fit(const std::vector<const Trajectory*>& logs, const IdentifyOptions
     result.seconds = Seconds(t0);
     return std::move(out);
   };
-  for (size_t k = 0; k < logs.size(); ++k) {
-    if (diagnostics[k].dead_force_channel) {
-      return too_little((logs.size() > 1 ? LogName(*logs[k], int(k)) + ": " : std::string()) +
-                        *diagnostics[k].dead_force_channel);
-    }
-  }
   try {
     out.problem = std::make_unique<TrajectoryProblem>(logs, options);
   } catch (const std::invalid_argument& e) {
@@ -849,9 +831,7 @@ FitOutcome Fit(const std::vector<const Trajectory*>& logs, const IdentifyOptions
     seed = start->friction;
     ApplyStart(*start, &problem);
   } else {
-    std::array<double, 3> closed_form_seed;
-    iterations +=
-        SeedFromHeads(&problem, CandidateSeeds(*logs[0], options, &closed_form_seed), &seed);
+    iterations += SeedFromHeads(&problem, CandidateSeeds(*logs[0], options), &seed);
   }
 
   // Fit: plain least squares first (and with the delays held, to seed them), then the loss
@@ -1193,86 +1173,117 @@ void CrossCheck(const Trajectory& log, const IdentifyOptions& options, FitOutcom
 
 }  // namespace
 
-EstimateResult EstimateTrajectory(const Trajectory& log, const IdentifyOptions& options) {
-  std::string why;
-  if (!options.trajectory.IsValid(&why)) throw std::invalid_argument(why);
-  FitOutcome outcome = Fit({&log}, options, nullptr);
-  CrossCheck(log, options, &outcome);
-  return std::move(outcome.result);
-}
-
 namespace {
 
-/// The pooled fit of EstimateTrajectory(logs), its problem kept (null when the fit left
-/// none) for fits of subsets to start from.
-FitOutcome EstimatePooled(const std::vector<Trajectory>& logs, const IdentifyOptions& options) {
-  const auto t0 = std::chrono::steady_clock::now();
+// The trajectory fit as FitOneOrMany runs it. Every log on its own: its own estimate, and
+// the seeds of the pooled fit. The pooled fit starts from the median of their estimates,
+// with the segment states of a log whose own estimate disagrees with it seeded afresh: that
+// log's own fit may have ended in a false minimum (a wrong sticking or sliding in a
+// segment), and its states would carry the pooled fit into it (50 short logs: a 1.2% off
+// from every log's own states, 0.05% from fresh ones). A log alone is cross-checked.
+class TrajectoryMethod : public PoolableFit {
+ public:
+  TrajectoryMethod(const std::vector<const Trajectory*>& logs, const IdentifyOptions& options)
+      : logs_(logs), options_(options) {}
 
-  // Every log on its own: its own estimate, and the seeds of the pooled fit. The pooled
-  // fit starts from the median of their estimates, with the segment states of a log whose
-  // own estimate disagrees with it seeded afresh: that log's own fit may have ended in a
-  // false minimum (a wrong sticking or sliding in a segment), and its states would carry
-  // the pooled fit into it (50 short logs: a 1.2% off from every log's own states, 0.05%
-  // from fresh ones).
-  std::vector<FitOutcome> single;
-  std::vector<LogResult> log_results;
-  FitStart start;
-  std::array<std::vector<double>, 3> log_values;
-  for (size_t k = 0; k < logs.size(); ++k) {
-    single.push_back(Fit({&logs[k]}, options, nullptr));
-    log_results.push_back(AsLogResult(single.back().result, logs[k], int(k)));
-    const bool fitted = single.back().problem &&
-                        single.back().result.status != TerminationStatus::kTooLittleExcitation;
-    start.states.emplace_back(nullptr, 0);
-    start.nuisances.emplace_back(fitted ? single.back().problem.get() : nullptr, 0);
+  LogResult FitAlone(int k) override {
+    alone_.push_back(Fit({logs_[k]}, options_, nullptr));
+    return AsLogResult(alone_.back().result, *logs_[k], k);
+  }
+
+  EstimateResult FitTogether(std::vector<LogResult>* alone) override {
+    if (!alone) {
+      FitOutcome outcome = Fit(logs_, options_, nullptr);
+      CrossCheck(*logs_[0], options_, &outcome);
+      pooled_problem_ = std::move(outcome.problem);
+      return std::move(outcome.result);
+    }
+    FitOutcome pooled = Fit(logs_, options_, &PooledStart(*alone));
+    if (pooled.problem && pooled.result.converged) {
+      for (size_t k = 0; k < logs_.size(); ++k) {
+        RefitFromPooled(*logs_[k], int(k), *pooled.problem, pooled.result, options_,
+                        alone_[k].problem.get(), &(*alone)[k]);
+      }
+    }
+    pooled_problem_ = std::move(pooled.problem);
+    return std::move(pooled.result);
+  }
+
+  /// The problem of the last FitTogether (null when the fit left none).
+  std::unique_ptr<TrajectoryProblem> TakeProblem() { return std::move(pooled_problem_); }
+
+ private:
+  const FitStart& PooledStart(const std::vector<LogResult>& alone) {
+    std::array<std::vector<double>, 3> log_values;
+    for (size_t k = 0; k < logs_.size(); ++k) {
+      const FitOutcome& own = alone_[k];
+      const bool fitted =
+          own.problem && own.result.status != TerminationStatus::kTooLittleExcitation;
+      start_.states.emplace_back(nullptr, 0);
+      start_.nuisances.emplace_back(fitted ? own.problem.get() : nullptr, 0);
+      for (int i = 0; i < 3; ++i) {
+        const ParameterEstimate& p = own.result.parameters[i];
+        if (p.identifiable) log_values[i].push_back(std::log(p.value));
+      }
+    }
+    const Trajectory& first = *logs_[0];
+    const std::array<double, 3> defaults{
+        {kDefaultA, 1.0, std::sqrt(first.slider.inertia_kgm2 / first.slider.mass_kg)}};
     for (int i = 0; i < 3; ++i) {
-      const ParameterEstimate& p = single.back().result.parameters[i];
-      if (p.identifiable) log_values[i].push_back(std::log(p.value));
+      start_.friction[i] = log_values[i].empty() ? defaults[i] : std::exp(Median(log_values[i]));
     }
-  }
-  std::array<double, 3> defaults{
-      {kDefaultA, 1.0, std::sqrt(logs[0].slider.inertia_kgm2 / logs[0].slider.mass_kg)}};
-  for (int i = 0; i < 3; ++i) {
-    start.friction[i] = log_values[i].empty() ? defaults[i] : std::exp(Median(log_values[i]));
-  }
-  // The segment states of the logs whose own estimates agree with that start (their
-  // intervals hold it) are a good start too, and save the pooled fit iterations.
-  EstimateResult median;
-  for (int i = 0; i < 3; ++i) {
-    median.parameters[i].identifiable = true;
-    median.parameters[i].value = start.friction[i];
-  }
-  for (size_t k = 0; k < logs.size(); ++k) {
-    if (start.nuisances[k].first && !Disagrees(log_results[k], median)) {
-      start.states[k] = start.nuisances[k];
+    // The segment states of the logs whose own estimates agree with that start (their
+    // intervals hold it) are a good start too, and save the pooled fit iterations.
+    EstimateResult median;
+    for (int i = 0; i < 3; ++i) {
+      median.parameters[i].identifiable = true;
+      median.parameters[i].value = start_.friction[i];
     }
+    for (size_t k = 0; k < logs_.size(); ++k) {
+      if (start_.nuisances[k].first && !Disagrees(alone[k], median)) {
+        start_.states[k] = start_.nuisances[k];
+      }
+    }
+    return start_;
   }
 
-  std::vector<const Trajectory*> pointers;
-  for (const Trajectory& log : logs) pointers.push_back(&log);
-  FitOutcome pooled = Fit(pointers, options, &start);
-  EstimateResult result = std::move(pooled.result);
-  if (pooled.problem && result.converged) {
-    for (size_t k = 0; k < logs.size(); ++k) {
-      RefitFromPooled(logs[k], int(k), *pooled.problem, result, options, single[k].problem.get(),
-                      &log_results[k]);
-    }
-  }
-  result.logs = std::move(log_results);
-  for (int i = 0; i < 3; ++i) result.heterogeneity[i] = TestHeterogeneity(result.logs, i);
-  result.seconds = Seconds(t0);
-  return {std::move(result), std::move(pooled.problem)};
+  const std::vector<const Trajectory*>& logs_;
+  const IdentifyOptions& options_;
+  std::vector<FitOutcome> alone_;
+  FitStart start_;
+  std::unique_ptr<TrajectoryProblem> pooled_problem_;
+};
+
+void CheckTrajectoryOptions(const IdentifyOptions& options) {
+  IdentifyOptions trajectory = options;
+  trajectory.method = EstimatorMethod::kTrajectory;
+  std::string why;
+  if (!trajectory.IsValid(&why)) throw std::invalid_argument(why);
+}
+
+EstimateResult CheckedTrajectory(const std::vector<const Trajectory*>& logs,
+                                 const IdentifyOptions& options) {
+  CheckTrajectoryOptions(options);
+  IdentifyOptions trajectory = options;
+  trajectory.method = EstimatorMethod::kTrajectory;
+  return EstimateOneOrMany(logs, trajectory);
 }
 
 }  // namespace
 
+EstimateResult TrajectoryOneOrMany(const std::vector<const Trajectory*>& logs,
+                                   const IdentifyOptions& options) {
+  TrajectoryMethod method(logs, options);
+  return FitOneOrMany(static_cast<int>(logs.size()), &method);
+}
+
+EstimateResult EstimateTrajectory(const Trajectory& log, const IdentifyOptions& options) {
+  return CheckedTrajectory({&log}, options);
+}
+
 EstimateResult EstimateTrajectory(const std::vector<Trajectory>& logs,
                                   const IdentifyOptions& options) {
-  std::string why;
-  if (!options.trajectory.IsValid(&why)) throw std::invalid_argument(why);
-  if (logs.empty()) throw std::invalid_argument("no logs to fit");
-  if (logs.size() == 1) return EstimateTrajectory(logs[0], options);
-  return EstimatePooled(logs, options).result;
+  return CheckedTrajectory(Pointers(logs), options);
 }
 
 struct PooledTrajectoryFit::Impl {
@@ -1289,7 +1300,15 @@ PooledTrajectoryFit::PooledTrajectoryFit(std::vector<Trajectory> logs,
   if (logs.size() < 2) throw std::invalid_argument("a pooled fit needs at least 2 logs");
   impl_->logs = std::move(logs);
   impl_->options = options;
-  impl_->pooled = EstimatePooled(impl_->logs, options);
+  const std::vector<const Trajectory*> pointers = Pointers(impl_->logs);
+  if (std::optional<EstimateResult> dead =
+          DeadSensorResult(pointers, EstimatorMethod::kTrajectory)) {
+    impl_->pooled.result = std::move(*dead);
+    return;
+  }
+  TrajectoryMethod method(pointers, options);
+  impl_->pooled.result = FitOneOrMany(static_cast<int>(pointers.size()), &method);
+  impl_->pooled.problem = method.TakeProblem();
 }
 
 PooledTrajectoryFit::~PooledTrajectoryFit() = default;
@@ -1309,10 +1328,9 @@ EstimateResult PooledTrajectoryFit::FitSubset(const std::vector<int>& subset) co
   const TrajectoryProblem* full = impl_->pooled.problem.get();
   const EstimateResult& r = impl_->pooled.result;
   if (!full || !r.converged) {  // nothing to start from: a fit of its own
-    std::vector<Trajectory> own;
-    for (const Trajectory* log : logs) own.push_back(*log);
-    return own.size() == 1 ? EstimateTrajectory(own[0], impl_->options)
-                           : EstimateTrajectory(own, impl_->options);
+    IdentifyOptions trajectory = impl_->options;
+    trajectory.method = EstimatorMethod::kTrajectory;
+    return EstimateOneOrMany(logs, trajectory);
   }
   FitStart start;
   for (int i = 0; i < 3; ++i) {

@@ -16,8 +16,6 @@
 namespace slideid {
 namespace {
 
-// Tolerance within which two files' weights m g are the same slider's [relative].
-constexpr double kSameWeight = 1e-9;
 // What make-dataset (truth.csv) and import-log (import_report.csv) write beside their logs,
 // and the name every per-file import report ends with (pipeline/import_files.h).
 const char* const kManifestNames[] = {"truth.csv", "import_report.csv"};
@@ -107,7 +105,7 @@ FileIdentifyResult IdentifyPushLogs(const std::vector<std::string>& paths,
       },
       &skipped);
   out.truth = CommonTruth(logs);
-  out.result = IdentifyLogs(logs, options.identify);
+  out.result = Identify(logs, options.identify);
   AppendSkipped(std::move(skipped), &out.result);
   return out;
 }
@@ -129,39 +127,10 @@ FileIdentifyResult IdentifyPairFiles(const std::vector<std::string>& paths,
       },
       &skipped);
   out.truth = CommonTruth(files);
-  auto fit = [&](const WrenchTwistData& data) {
-    try {
-      return EstimateQuasiStatic(data.Pairs(), QuasiStaticOptionsFor(data, options.identify));
-    } catch (const std::invalid_argument& e) {  // too few pairs, a zero twist, ...
-      throw FileError(data.source + ": " + e.what());
-    }
-  };
-  if (files.size() == 1) {
-    out.result = fit(files[0]);
-  } else {
-    WrenchTwistData all = files[0];
-    std::vector<LogResult> per_file;
-    for (size_t k = 0; k < files.size(); ++k) {
-      if (std::abs(files[k].WeightN() / all.WeightN() - 1) > kSameWeight) {
-        throw FileError(files[k].source + ": its slider weighs " +
-                        std::to_string(files[k].WeightN()) + " N, " + files[0].source + "'s " +
-                        std::to_string(all.WeightN()) +
-                        " N: pooled pairs must come from one slider");
-      }
-      if (k > 0) all.rows.insert(all.rows.end(), files[k].rows.begin(), files[k].rows.end());
-      const EstimateResult own = fit(files[k]);
-      LogResult r;
-      r.name = files[k].source;
-      r.rows = static_cast<int>(files[k].rows.size());
-      r.steps_used = own.steps_used;
-      r.status = own.status;
-      r.message = own.message;
-      r.parameters = own.parameters;
-      per_file.push_back(r);
-    }
-    out.result = fit(all);
-    out.result.logs = std::move(per_file);
-    for (int i = 0; i < 3; ++i) out.result.heterogeneity[i] = TestHeterogeneity(out.result.logs, i);
+  try {
+    out.result = EstimateQuasiStatic(files, options.identify);
+  } catch (const std::invalid_argument& e) {  // names the file: too few pairs, weights, ...
+    throw FileError(e.what());
   }
   AppendSkipped(std::move(skipped), &out.result);
   return out;
@@ -195,11 +164,6 @@ std::string SuspectNames(const EstimateResult& result) {
   return names;
 }
 
-EstimateResult IdentifyLogs(const std::vector<Trajectory>& logs, const IdentifyOptions& options) {
-  if (logs.size() == 1) return Identify(logs[0], options);
-  return Identify(logs, options);
-}
-
 FileIdentifyResult IdentifyReadLogs(std::vector<Trajectory> logs,
                                     const FileIdentifyOptions& options) {
   std::string why;
@@ -228,7 +192,7 @@ FileIdentifyResult IdentifyReadLogs(std::vector<Trajectory> logs,
                                  : "every log was skipped: nothing left to identify");
   }
   out.truth = CommonTruth(kept);
-  out.result = IdentifyLogs(kept, options.identify);
+  out.result = Identify(kept, options.identify);
   AppendSkipped(std::move(skipped), &out.result);
   return out;
 }

@@ -52,9 +52,6 @@ std::string NumericalFailure(const EstimateResult& result);
 /// The names of the suspect estimates ("e_t_mu, force_bias_x_n"), or "".
 std::string SuspectNames(const EstimateResult& result);
 
-/// Identifies logs already in memory (named by their `source`), pooled when several.
-EstimateResult IdentifyLogs(const std::vector<Trajectory>& logs, const IdentifyOptions& options);
-
 /// What IdentifyFiles does once push logs are read, for logs already in memory (the Python
 /// module's): a log that cannot be pooled with the others (a dead force channel) is listed
 /// as skipped (options.skip_bad) or fails the run with a FileError naming its source.

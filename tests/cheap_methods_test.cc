@@ -65,7 +65,7 @@ TEST(CheapMethods, RestPhasesDoNotPullFrictionTowardsZero) {
     const DatasetEntry e = DrawDatasetLog(spec, index, &log);
     const auto truth = Truth(e);
     const EstimateResult cf = EstimateClosedForm(log, {});
-    const EstimateResult ee = EstimateEquationError(log, {}, &cf);
+    const EstimateResult ee = EstimateEquationError(log, {});
     for (const EstimateResult* r : {&cf, &ee}) {
       SCOPED_TRACE(std::string(ToString(r->method)) + " log " + std::to_string(index));
       EXPECT_NEAR(ValueOrHeld(r->parameters[kA]) / truth[kA], 1.0, kRestTolerance);
@@ -91,7 +91,7 @@ TEST(CheapMethods, NoisyMotionCaptureIsNotIdentifiableWithTheReason) {
   DrawDatasetLog(spec, 0, &log);
   ASSERT_FALSE(log.columns.velocity);
   const EstimateResult cf = EstimateClosedForm(log, {});
-  const EstimateResult ee = EstimateEquationError(log, {}, &cf);
+  const EstimateResult ee = EstimateEquationError(log, {});
   for (const EstimateResult* r : {&cf, &ee}) {
     for (int i = 0; i < 3; ++i) {
       const ParameterEstimate& p = r->parameters[i];
@@ -126,7 +126,7 @@ TEST(CheapMethods, IntervalsNeverReachZeroNorSpanOrdersOfMagnitude) {
       DrawDatasetLog(spec, index, &log);
       const EstimateResult cf = EstimateClosedForm(log, {});
       if (cf.status == TerminationStatus::kTooLittleExcitation) continue;
-      const EstimateResult ee = EstimateEquationError(log, {}, &cf);
+      const EstimateResult ee = EstimateEquationError(log, {});
       for (const EstimateResult* r : {&cf, &ee}) {
         for (const ParameterEstimate& p : r->parameters) {
           if (!p.identifiable) {
@@ -365,7 +365,7 @@ TEST(CheapMethodsCoverage, FullMonteCarlo) {
       Trajectory log;
       const auto truth = Truth(DrawDatasetLog(c.spec, index, &log));
       const EstimateResult cf = EstimateClosedForm(log, {});
-      const EstimateResult ee = EstimateEquationError(log, {}, &cf);
+      const EstimateResult ee = EstimateEquationError(log, {});
       const EstimateResult* results[2] = {&cf, &ee};
       for (int m = 0; m < 2; ++m) {
         for (int i = 0; i < 3; ++i) {
