@@ -794,253 +794,278 @@ void FillResiduals(const TrajectoryProblem& problem, EstimateResult* result) {
                                : std::array<std::string, 3>{{"vx_mps", "vy_mps", "wz_times_L_mps"}};
 }
 
-FitOutcome Fit(const std::vector<const Trajectory*>& logs, const IdentifyOptions& options,
-               const FitStart* start) {
-  const auto t0 = std::chrono::steady_clock::now();
-  FitOutcome out;
-  EstimateResult& result = out.result;
-  result.method = EstimatorMethod::kTrajectory;
-  const TrajectoryOptions& topt = options.trajectory;
+// ---- the fit, stage by stage ---------------------------------------------------------------
 
-  std::vector<LogDiagnostics> diagnostics;
-  std::vector<double> row_noise;
-  for (const Trajectory* log : logs) {
-    diagnostics.push_back(DiagnoseLog(*log));
-    row_noise.push_back(RowNoise(diagnostics.back(), log->columns.pose,
-                                 std::sqrt(log->slider.inertia_kgm2 / log->slider.mass_kg)));
-    result.steps_total += std::max(0, static_cast<int>(log->samples.size()) - 1);
-  }
-  auto too_little = [&](const std::string& message) {
-    result.status = TerminationStatus::kTooLittleExcitation;
-    result.converged = false;
-    result.message = message;
-    result.seconds = Seconds(t0);
-    return std::move(out);
-  };
-  try {
-    out.problem = std::make_unique<TrajectoryProblem>(logs, options);
-  } catch (const std::invalid_argument& e) {
-    return too_little(e.what());
-  }
-  TrajectoryProblem& problem = *out.problem;
+// What the stages of Fit hand on to each other.
+struct FitStages {
+  FitStages(const std::vector<const Trajectory*>& logs, const IdentifyOptions& options)
+      : logs(logs), options(options), topt(options.trajectory) {}
+  const std::vector<const Trajectory*>& logs;
+  const IdentifyOptions& options;
+  const TrajectoryOptions& topt;
+  TrajectoryProblem* problem = nullptr;
+  std::vector<LogDiagnostics> diagnostics;  ///< per log
+  std::vector<double> row_noise;            ///< per log: its rows' noise (RowNoise)
+  std::vector<double> residual_scale;       ///< per log: its residuals' scale (ResidualRowScale)
+  std::vector<bool> free;                   ///< per global parameter: fitted, not held
+  std::array<double, 3> seed{};             ///< the friction the fit started from
+  ceres::Solver::Summary summary;           ///< of the last solve
+  int iterations = 0;                       ///< over every solve
+  SecondStart second;
 
-  // Seeds.
-  int iterations = 0;
-  std::array<double, 3> seed;
+  void Solve(const std::vector<bool>& which, bool stage = false) {
+    summary = problem->Solve(which, stage);
+    iterations += static_cast<int>(summary.iterations.size());
+  }
+};
+
+// Reads every log's noise; counts the steps.
+void DiagnoseLogs(FitStages* f, EstimateResult* result) {
+  for (const Trajectory* log : f->logs) {
+    f->diagnostics.push_back(DiagnoseLog(*log));
+    f->row_noise.push_back(RowNoise(f->diagnostics.back(), log->columns.pose,
+                                    std::sqrt(log->slider.inertia_kgm2 / log->slider.mass_kg)));
+    result->steps_total += std::max(0, static_cast<int>(log->samples.size()) - 1);
+  }
+}
+
+// Stage 1, seeds: from `start`, or from the cheap methods and a scan on the segments' heads.
+void SeedStage(const FitStart* start, FitStages* f) {
   if (start) {
-    seed = start->friction;
-    ApplyStart(*start, &problem);
+    f->seed = start->friction;
+    ApplyStart(*start, f->problem);
   } else {
-    iterations += SeedFromHeads(&problem, CandidateSeeds(*logs[0], options), &seed);
+    f->iterations += SeedFromHeads(f->problem, CandidateSeeds(*f->logs[0], f->options), &f->seed);
   }
+}
 
-  // Fit: plain least squares first (and with the delays held, to seed them), then the loss
-  // scaled to each log's own noise, then, where the residuals sit well above it (model
-  // mismatch), to the residuals' own scale. The least-squares stage: a robust loss from a
-  // far seed lets the rows a wrong sticking or sliding leaves far off count for little, and
-  // the fit settled in a false minimum where they stay off (50 short stick-slip logs
-  // simulated at the log rate with motion-capture noise: 6 single fits ended 3 to 12% off
-  // in a with intervals excluding the truth, the pooled fit 1.3% off; least squares first:
-  // 2 and 0.05%).
-  std::vector<bool> free(problem.num_global(), true);
-  const bool seed_delays = !start && topt.fit_delay != DelayFit::kNone;
-  SetRowLosses(&problem, RobustLoss::kNone, topt.loss_scale_sigmas, row_noise);
-  ceres::Solver::Summary summary;
-  if (seed_delays) {
-    std::vector<bool> stage = free;
+// Stage 2, plain least squares (and with the delays held, to seed them), and the second
+// start where asked. From a far seed a robust loss lets the rows a wrong sticking or sliding
+// leaves far off count for little, and the fit settled in a false minimum where they stay
+// off (50 short stick-slip logs simulated at the log rate with motion-capture noise: 6
+// single fits ended 3 to 12% off in a with intervals excluding the truth, the pooled fit
+// 1.3% off; least squares first: 2 and 0.05%).
+void LeastSquaresStage(const FitStart* start, FitStages* f) {
+  TrajectoryProblem& problem = *f->problem;
+  const bool robust = f->topt.loss != RobustLoss::kNone;
+  SetRowLosses(&problem, RobustLoss::kNone, f->topt.loss_scale_sigmas, f->row_noise);
+  if (!start && f->topt.fit_delay != DelayFit::kNone) {
+    std::vector<bool> stage = f->free;
     for (int i = 3; i < problem.num_global(); ++i) {
       stage[i] = problem.GlobalName(i) != "delay_s";
     }
-    iterations += static_cast<int>(problem.Solve(stage, /*stage=*/true).iterations.size());
-    SeedDelays(&problem, topt.max_delay_s);
+    f->iterations += static_cast<int>(problem.Solve(stage, /*stage=*/true).iterations.size());
+    SeedDelays(&problem, f->topt.max_delay_s);
   }
-  if (!(start && start->settled) || topt.loss == RobustLoss::kNone) {
-    summary = problem.Solve(free, /*stage=*/topt.loss != RobustLoss::kNone);
-    iterations += static_cast<int>(summary.iterations.size());
+  if (!(start && start->settled) || !robust) f->Solve(f->free, /*stage=*/robust);
+  if (!start && f->topt.second_start) {
+    f->second = TrySecondStart(&problem, f->free, /*stage=*/robust);
+    f->iterations += f->second.iterations;
+    if (f->second.moved) f->summary = f->second.summary;
   }
-  SecondStart second;
-  if (!start && topt.second_start) {
-    second = TrySecondStart(&problem, free, /*stage=*/topt.loss != RobustLoss::kNone);
-    iterations += second.iterations;
-    if (second.moved) summary = second.summary;
-  }
-  std::vector<double> residual_scale = ResidualRowScale(problem);
-  if (topt.loss != RobustLoss::kNone) {
-    // The loss's scale: each log's own noise or, where the residuals sit well above it
-    // (model mismatch), their own scale, so that the loss does not treat most rows as
-    // outliers.
-    std::vector<double> loss_noise = row_noise;
-    for (size_t k = 0; k < logs.size(); ++k) {
-      if (residual_scale[k] > kRescaleRatio * row_noise[k] || !(row_noise[k] > kNoiseFloor)) {
-        loss_noise[k] = residual_scale[k];
-      }
-    }
-    // Huber equals least squares for rows inside its scale: when no row lies beyond it, the
-    // least-squares solution is the robust one. (On estimator_benchmark's 10,000-row log no
-    // row does once the fit is seeded on the segments' heads; 308 did when the first solve
-    // started from the scan's seed and stopped early.) Either way the last solve settles
-    // tightly.
-    if (topt.loss != RobustLoss::kHuber ||
-        RowsBeyond(problem, topt.loss_scale_sigmas, loss_noise) > 0) {
-      SetRowLosses(&problem, topt.loss, topt.loss_scale_sigmas, loss_noise);
-    }
-    summary = problem.Solve(free);
-    iterations += static_cast<int>(summary.iterations.size());
-    residual_scale = ResidualRowScale(problem);
-  }
+  f->residual_scale = ResidualRowScale(problem);
+}
 
-  // Identifiability over every global parameter; hold what the logs do not determine. The
-  // information carries the mismatch directions for the intervals (its fisher does not
-  // depend on them).
-  // Mismatch directions only when some log is corrected (pooled short logs are not, and 2
-  // columns per log in every segment cost half a pooled fit).
-  const std::vector<bool> correctable = CorrectableLogs(problem, topt);
-  const bool any_correctable =
-      std::find(correctable.begin(), correctable.end(), true) != correctable.end();
-  auto information = [&] {
-    if (!any_correctable) return problem.Information();
-    const std::vector<Eigen::MatrixXd> directions = MismatchDirections(problem);
-    return problem.Information(&directions);
-  };
-  FitInformation info = information();
+// Stage 3, the robust loss, scaled to each log's own noise or, where the residuals sit well
+// above it (model mismatch), to their own scale, so that the loss does not treat most rows
+// as outliers.
+void RobustStage(FitStages* f) {
+  if (f->topt.loss == RobustLoss::kNone) return;
+  TrajectoryProblem& problem = *f->problem;
+  std::vector<double> loss_noise = f->row_noise;
+  for (size_t k = 0; k < f->logs.size(); ++k) {
+    if (f->residual_scale[k] > kRescaleRatio * f->row_noise[k] ||
+        !(f->row_noise[k] > kNoiseFloor)) {
+      loss_noise[k] = f->residual_scale[k];
+    }
+  }
+  // Huber equals least squares for rows inside its scale: when no row lies beyond it, the
+  // least-squares solution is the robust one. (On estimator_benchmark's 10,000-row log no
+  // row does once the fit is seeded on the segments' heads; 308 did when the first solve
+  // started from the scan's seed and stopped early.) Either way the last solve settles
+  // tightly.
+  if (f->topt.loss != RobustLoss::kHuber ||
+      RowsBeyond(problem, f->topt.loss_scale_sigmas, loss_noise) > 0) {
+    SetRowLosses(&problem, f->topt.loss, f->topt.loss_scale_sigmas, loss_noise);
+  }
+  f->Solve(f->free);
+  f->residual_scale = ResidualRowScale(problem);
+}
+
+// What the identifiability stage found.
+struct HeldStage {
+  std::vector<ParameterIdentifiability> verdict;  ///< per global parameter
+  std::vector<bool> correctable;                  ///< per log: its mismatch is corrected
+  FitInformation info;                            ///< at the final solution
+};
+
+// The fit's information, with the mismatch directions only when some log is corrected
+// (pooled short logs are not, and 2 columns per log in every segment cost half a pooled fit);
+// its fisher does not depend on them.
+FitInformation InformationOf(TrajectoryProblem* problem, const std::vector<bool>& correctable) {
+  if (std::find(correctable.begin(), correctable.end(), true) == correctable.end()) {
+    return problem->Information();
+  }
+  const std::vector<Eigen::MatrixXd> directions = MismatchDirections(*problem);
+  return problem->Information(&directions);
+}
+
+// Stage 4, identifiability over every global parameter: what the logs do not determine is
+// held, and the rest refitted. False when no friction parameter is left.
+bool HoldStage(FitStages* f, HeldStage* held) {
+  TrajectoryProblem& problem = *f->problem;
+  held->correctable = CorrectableLogs(problem, f->topt);
+  held->info = InformationOf(&problem, held->correctable);
   const int G = problem.num_global();
   std::vector<double> max_stderr(G);
-  for (int i = 0; i < G; ++i) max_stderr[i] = MaxStdErr(problem, i, diagnostics, topt);
-  const int dof0 = info.residuals - problem.StateParameters() - G;
+  for (int i = 0; i < G; ++i) max_stderr[i] = MaxStdErr(problem, i, f->diagnostics, f->topt);
+  const int dof0 = held->info.residuals - problem.StateParameters() - G;
   // Where a nuisance and a friction parameter are confounded, the nuisance is held: the
   // friction is what the user asked for (priority 1 over 0).
   std::vector<int> priority(G, 0);
   for (int i = 0; i < 3; ++i) priority[i] = 1;
-  const std::vector<ParameterIdentifiability> verdict =
-      AssessIdentifiability(info.fisher, dof0 > 0 ? info.sum_squares / dof0 : 0.0,
+  held->verdict =
+      AssessIdentifiability(held->info.fisher, dof0 > 0 ? held->info.sum_squares / dof0 : 0.0,
                             std::vector<bool>(G, true), max_stderr, priority);
-  for (int i = 0; i < G; ++i) free[i] = verdict[i].identifiable;
+  for (int i = 0; i < G; ++i) f->free[i] = held->verdict[i].identifiable;
   // A nuisance the logs do not determine is held at zero (no offset, no delay), not where
   // the undetermined fit left it: that value is arbitrary, and through its confounded
   // partner (a force offset along the only direction of motion, and a) it would bias the
   // estimates (by 15 standard errors of a on a noisy log pushed along one line).
   for (int i = 3; i < G; ++i) {
-    if (!free[i]) problem.set_global(i, 0.0);
+    if (!f->free[i]) problem.set_global(i, 0.0);
   }
-  if (!free[0] && !free[1] && !free[2]) {
-    return too_little(
-        "too little sliding to identify anything: the log does not determine any friction "
-        "parameter (it barely slides, or its noise is too large for its length: " +
-        std::to_string(problem.Rows()) + " rows in segments)");
+  if (!f->free[0] && !f->free[1] && !f->free[2]) return false;
+  if (std::find(f->free.begin(), f->free.end(), false) != f->free.end()) {
+    f->Solve(f->free);
+    f->residual_scale = ResidualRowScale(problem);
+    held->info = InformationOf(&problem, held->correctable);
   }
-  if (std::find(free.begin(), free.end(), false) != free.end()) {
-    summary = problem.Solve(free);
-    iterations += static_cast<int>(summary.iterations.size());
-    residual_scale = ResidualRowScale(problem);
-    info = information();
-  }
+  return true;
+}
 
-  // Intervals.
-  std::vector<int> free_index;
+// What the interval stage found, per global parameter.
+struct IntervalStage {
+  IntervalChoice choice;
+  std::vector<Interval> interval_of;  ///< of the free ones
+  std::vector<double> value_of;       ///< the estimate, mismatch-corrected
+};
+
+// Stage 5, intervals and the mismatch correction: the estimates of the friction parameters
+// and the nuisances.
+IntervalStage Intervals(const FitStages& f, const HeldStage& held, EstimateResult* result) {
+  const TrajectoryProblem& problem = *f.problem;
+  const int G = problem.num_global();
+  std::vector<int> free_index, free_owner;
   for (int i = 0; i < G; ++i) {
-    if (free[i]) free_index.push_back(i);
+    if (f.free[i]) free_index.push_back(i);
   }
-  std::vector<int> free_owner;
   for (int i : free_index) free_owner.push_back(problem.GlobalLog(i));
-  const IntervalChoice choice =
-      ChooseIntervals(info, free_index, free_owner, problem.StateParameters(), problem.num_logs(),
-                      correctable, AutocorrelationInflation(problem));
-  std::vector<Interval> interval_of(G);
-  std::vector<double> value_of(G);
-  for (int i = 0; i < G; ++i) value_of[i] = problem.global(i);
+  IntervalStage out;
+  out.choice =
+      ChooseIntervals(held.info, free_index, free_owner, problem.StateParameters(),
+                      problem.num_logs(), held.correctable, AutocorrelationInflation(problem));
+  out.interval_of.resize(G);
+  out.value_of.resize(G);
+  for (int i = 0; i < G; ++i) out.value_of[i] = problem.global(i);
   for (size_t a = 0; a < free_index.size(); ++a) {
-    interval_of[free_index[a]] = choice.intervals[a];
-    value_of[free_index[a]] += choice.shift[a];
+    out.interval_of[free_index[a]] = out.choice.intervals[a];
+    out.value_of[free_index[a]] += out.choice.shift[a];
   }
   for (int i = 0; i < 3; ++i) {
-    if (!free[i]) {
-      result.parameters[i] = NotIdentifiable(std::exp(value_of[i]), verdict[i].note);
+    if (!f.free[i]) {
+      result->parameters[i] = NotIdentifiable(std::exp(out.value_of[i]), held.verdict[i].note);
       continue;
     }
-    const Interval& iv = interval_of[i];
+    const Interval& iv = out.interval_of[i];
     // With a friction parameter held (not identifiable), this one's value depends on where
     // the held one sits: the variance that holding it hides is added (identifiability.h,
     // rule (iv)).
-    const double free_se = verdict[i].stderr_log_partners_free, held_se = verdict[i].stderr_log;
+    const double free_se = held.verdict[i].stderr_log_partners_free;
+    const double held_se = held.verdict[i].stderr_log;
     const double hidden = free_se * free_se - held_se * held_se;
     const double stderr_log =
         hidden > 0 ? std::sqrt(iv.stderr_value * iv.stderr_value + hidden) : iv.stderr_value;
-    result.parameters[i] = EstimateFromLog(value_of[i], stderr_log, iv.quantile);
-    result.parameters[i].minimum_value = std::exp(problem.global(i));
-    result.parameters[i].note = iv.note;
+    ParameterEstimate& p = result->parameters[i];
+    p = EstimateFromLog(out.value_of[i], stderr_log, iv.quantile);
+    p.minimum_value = std::exp(problem.global(i));
+    p.note = iv.note;
     if (stderr_log > kNoticeableWidening * iv.stderr_value) {
-      result.parameters[i].note += Printf(
+      p.note += Printf(
           "; widened %.2gx for the friction parameters held "
           "(not identifiable) over their plausible range",
           stderr_log / iv.stderr_value);
     }
-    if (!choice.correction.empty() && !choice.correction_refused) {
-      result.parameters[i].note +=
-          Printf("; %+.2g%% ", 100 * std::expm1(value_of[i] - problem.global(i))) +
-          choice.correction;
+    if (!out.choice.correction.empty() && !out.choice.correction_refused) {
+      p.note += Printf("; %+.2g%% ", 100 * std::expm1(out.value_of[i] - problem.global(i))) +
+                out.choice.correction;
     }
   }
   for (int i = 3; i < G; ++i) {
     NuisanceEstimate n;
     n.name = problem.GlobalName(i);
-    n.log =
-        problem.GlobalLog(i) >= 0 ? LogName(*logs[problem.GlobalLog(i)], problem.GlobalLog(i)) : "";
-    if (!free[i]) {
+    const int owner = problem.GlobalLog(i);
+    n.log = owner >= 0 ? LogName(*f.logs[owner], owner) : "";
+    if (!f.free[i]) {
       n.held_at = problem.global(i);
-      n.reason = verdict[i].note;
+      n.reason = held.verdict[i].note;
     } else {
-      const Interval& iv = interval_of[i];
+      const Interval& iv = out.interval_of[i];
       n.identifiable = true;
       n.verdict = Verdict::kOk;
-      n.value = value_of[i];
+      n.value = out.value_of[i];
       n.stderr_value = iv.stderr_value;
       n.ci95_lo = n.value - iv.quantile * iv.stderr_value;
       n.ci95_hi = n.value + iv.quantile * iv.stderr_value;
     }
-    result.nuisance.push_back(n);
+    result->nuisance.push_back(n);
   }
+  return out;
+}
 
-  // Verdicts.
+// Stage 6, verdicts: plausibility (estimator/plausibility.h) against the residuals the
+// corrected model leaves and the logs' noise; an interval that is only white-noise, or an
+// estimate the mismatch correction could not fix, is doubtful.
+void VerdictStage(const FitStages& f, const IntervalStage& iv, EstimateResult* result) {
+  const TrajectoryProblem& problem = *f.problem;
   PlausibilityContext context;
   double noise2 = 0, scale2 = 0;
   int rows = 0;
-  std::vector<int> rows_of(logs.size(), 0);
+  std::vector<int> rows_of(f.logs.size(), 0);
   for (const TrajectorySegment& seg : problem.segments()) {
     rows_of[seg.log] += seg.last_row - seg.first_row + 1;
   }
-  for (size_t k = 0; k < logs.size(); ++k) {
-    if (rows_of[k] == 0 || !std::isfinite(row_noise[k]) || !std::isfinite(residual_scale[k])) {
+  for (size_t k = 0; k < f.logs.size(); ++k) {
+    if (rows_of[k] == 0 || !std::isfinite(f.row_noise[k]) || !std::isfinite(f.residual_scale[k])) {
       continue;
     }
-    noise2 += rows_of[k] * row_noise[k] * row_noise[k];
-    scale2 += rows_of[k] * residual_scale[k] * residual_scale[k];
+    noise2 += rows_of[k] * f.row_noise[k] * f.row_noise[k];
+    scale2 += rows_of[k] * f.residual_scale[k] * f.residual_scale[k];
     rows += rows_of[k];
     context.logs.push_back(
-        {logs[k]->slider.mass_kg * logs[k]->slider.gravity_mps2, diagnostics[k].max_push_n});
+        {f.logs[k]->slider.mass_kg * f.logs[k]->slider.gravity_mps2, f.diagnostics[k].max_push_n});
   }
-  result.log_noise = rows > 0 ? std::sqrt(noise2 / rows) : kNaN;
+  result->log_noise = rows > 0 ? std::sqrt(noise2 / rows) : kNaN;
   // The residuals the estimate leaves: those of the mismatch-corrected model.
-  result.residual_rms =
-      rows > 0 ? std::sqrt(scale2 / rows * std::min(1.0, choice.residual_ratio)) : kNaN;
-  context.log_noise = result.log_noise;
-  context.residual_rms = result.residual_rms;
+  result->residual_rms =
+      rows > 0 ? std::sqrt(scale2 / rows * std::min(1.0, iv.choice.residual_ratio)) : kNaN;
+  context.log_noise = result->log_noise;
+  context.residual_rms = result->residual_rms;
   // Only where the residuals would fail the check: it costs three forward passes.
-  if (result.residual_rms > kMismatchRatio * result.log_noise) {
+  if (result->residual_rms > kMismatchRatio * result->log_noise) {
     context.model_floor = DiscretisationScale(problem);
   }
-  context.seed = seed;
+  context.seed = f.seed;
   for (int i = 0; i < 3; ++i) {
     context.lower[i] = kFrictionLowerBound[i];
     context.upper[i] = kFrictionUpperBound[i];
   }
-  JudgeEstimates(context, &result.parameters);
-  // An interval that is only white-noise, or an estimate the mismatch correction could not
-  // fix, is doubtful: say so.
+  JudgeEstimates(context, &result->parameters);
   for (int i = 0; i < 3; ++i) {
-    ParameterEstimate& p = result.parameters[i];
+    ParameterEstimate& p = result->parameters[i];
     if (p.verdict != Verdict::kOk) continue;
-    const std::string why = choice.correction_refused ? choice.correction
-                            : !interval_of[i].robust
+    const std::string why = iv.choice.correction_refused ? iv.choice.correction
+                            : !iv.interval_of[i].robust
                                 ? "too few segments with information to gauge correlated "
                                   "residuals: the interval assumes white noise"
                                 : "";
@@ -1049,28 +1074,71 @@ FitOutcome Fit(const std::vector<const Trajectory*>& logs, const IdentifyOptions
       p.reason = why;
     }
   }
+}
 
+// The rows used, the solver's account and the residuals; the status.
+void Conclude(const FitStages& f, EstimateResult* result) {
   int intervals_used = 0;
-  for (const TrajectorySegment& seg : problem.segments()) {
+  for (const TrajectorySegment& seg : f.problem->segments()) {
     intervals_used += seg.last_row - seg.first_row;
   }
-  result.steps_used = intervals_used;
-  if (result.steps_total > intervals_used) {
-    result.Exclude("between shooting segments", result.steps_total - intervals_used);
+  result->steps_used = intervals_used;
+  if (result->steps_total > intervals_used) {
+    result->Exclude("between shooting segments", result->steps_total - intervals_used);
   }
-  result.final_cost = summary.final_cost;
-  result.iterations = iterations;
-  result.message = summary.BriefReport();
-  if (second.moved) {
-    result.message += Printf(
+  result->final_cost = f.summary.final_cost;
+  result->iterations = f.iterations;
+  result->message = f.summary.BriefReport();
+  if (f.second.moved) {
+    result->message += Printf(
         "; a second start over %d-interval segments ended in a lower "
         "minimum (sum of squares %.4g against %.4g): kept",
-        second.steps, second.cost_second, second.cost_first);
+        f.second.steps, f.second.cost_second, f.second.cost_first);
   }
-  FillResiduals(problem, &result);
+  FillResiduals(*f.problem, result);
   // Usable is not converged: a solve cut off by the iteration limit is usable to Ceres.
-  result.Conclude(summary.termination_type == ceres::CONVERGENCE ||
-                  summary.termination_type == ceres::USER_SUCCESS);
+  result->Conclude(f.summary.termination_type == ceres::CONVERGENCE ||
+                   f.summary.termination_type == ceres::USER_SUCCESS);
+}
+
+// The trajectory fit of `logs` together, from its own seeds or from `start`: seeds, least
+// squares, the robust stage, what to hold, intervals, verdicts.
+FitOutcome Fit(const std::vector<const Trajectory*>& logs, const IdentifyOptions& options,
+               const FitStart* start) {
+  const auto t0 = std::chrono::steady_clock::now();
+  FitOutcome out;
+  EstimateResult& result = out.result;
+  result.method = EstimatorMethod::kTrajectory;
+  auto too_little = [&](const std::string& message) {
+    result.status = TerminationStatus::kTooLittleExcitation;
+    result.converged = false;
+    result.message = message;
+    result.seconds = Seconds(t0);
+    return std::move(out);
+  };
+  FitStages f(logs, options);
+  DiagnoseLogs(&f, &result);
+  try {
+    out.problem = std::make_unique<TrajectoryProblem>(logs, options);
+  } catch (const std::invalid_argument& e) {
+    return too_little(e.what());
+  }
+  f.problem = out.problem.get();
+  f.free.assign(f.problem->num_global(), true);
+
+  SeedStage(start, &f);
+  LeastSquaresStage(start, &f);
+  RobustStage(&f);
+  HeldStage held;
+  if (!HoldStage(&f, &held)) {
+    return too_little(
+        "too little sliding to identify anything: the log does not determine any friction "
+        "parameter (it barely slides, or its noise is too large for its length: " +
+        std::to_string(f.problem->Rows()) + " rows in segments)");
+  }
+  const IntervalStage intervals = Intervals(f, held, &result);
+  VerdictStage(f, intervals, &result);
+  Conclude(f, &result);
   result.seconds = Seconds(t0);
   return out;
 }

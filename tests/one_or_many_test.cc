@@ -61,7 +61,8 @@ TEST(FitOneOrMany, OneLogIsFittedOnceWithoutEntries) {
 TEST(FitOneOrMany, ManyLogsAreFittedAloneInOrderThenTogether) {
   RecordingMethod method;
   const EstimateResult r = FitOneOrMany(3, &method);
-  EXPECT_EQ(method.calls, (std::vector<std::string>{"alone 0", "alone 1", "alone 2", "together 3"}));
+  EXPECT_EQ(method.calls,
+            (std::vector<std::string>{"alone 0", "alone 1", "alone 2", "together 3"}));
   ASSERT_EQ(r.logs.size(), 3u);
   EXPECT_EQ(r.logs[2].name, "log 2");
   EXPECT_EQ(r.logs[0].message, "revised");  // the method's revision is kept

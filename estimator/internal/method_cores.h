@@ -18,8 +18,7 @@ EstimateResult ClosedFormCore(const std::vector<const Trajectory*>& logs,
 /// The equation error of `logs` together (EstimateEquationError), seeded by `closed_form`,
 /// the closed form of the same logs; too little sliding for the closed form is the result.
 EstimateResult EquationErrorCore(const std::vector<const Trajectory*>& logs,
-                                 const IdentifyOptions& options,
-                                 const EstimateResult& closed_form);
+                                 const IdentifyOptions& options, const EstimateResult& closed_form);
 
 /// The trajectory fit of one log or many (EstimateTrajectory): a method whose pooled fit
 /// starts from the logs' own fits, so it owns its FitOneOrMany.
