@@ -338,28 +338,13 @@ EstimateResult ClosedFormCore(const std::vector<const Trajectory*>& logs,
   return result;
 }
 
-namespace {
-
-EstimateResult ClosedFormOneOrMany(const std::vector<const Trajectory*>& logs,
-                                   const IdentifyOptions& options) {
-  std::string why;
-  if (!options.closed_form.IsValid(&why)) {
-    throw std::invalid_argument("EstimateClosedForm: " + why);
-  }
-  IdentifyOptions closed_form = options;
-  closed_form.method = EstimatorMethod::kClosedForm;
-  return EstimateOneOrMany(logs, closed_form);
-}
-
-}  // namespace
-
 EstimateResult EstimateClosedForm(const Trajectory& log, const IdentifyOptions& options) {
-  return ClosedFormOneOrMany({&log}, options);
+  return EstimateAs(EstimatorMethod::kClosedForm, {&log}, options);
 }
 
 EstimateResult EstimateClosedForm(const std::vector<Trajectory>& logs,
                                   const IdentifyOptions& options) {
-  return ClosedFormOneOrMany(Pointers(logs), options);
+  return EstimateAs(EstimatorMethod::kClosedForm, Pointers(logs), options);
 }
 
 }  // namespace slideid

@@ -543,28 +543,13 @@ EstimateResult EquationErrorCore(const std::vector<const Trajectory*>& logs,
   return result;
 }
 
-namespace {
-
-EstimateResult EquationErrorOneOrMany(const std::vector<const Trajectory*>& logs,
-                                      const IdentifyOptions& identify) {
-  std::string why;
-  if (!identify.closed_form.IsValid(&why) || !identify.equation_error.IsValid(&why)) {
-    throw std::invalid_argument("EstimateEquationError: " + why);
-  }
-  IdentifyOptions equation_error = identify;
-  equation_error.method = EstimatorMethod::kEquationError;
-  return EstimateOneOrMany(logs, equation_error);
-}
-
-}  // namespace
-
 EstimateResult EstimateEquationError(const Trajectory& log, const IdentifyOptions& identify) {
-  return EquationErrorOneOrMany({&log}, identify);
+  return EstimateAs(EstimatorMethod::kEquationError, {&log}, identify);
 }
 
 EstimateResult EstimateEquationError(const std::vector<Trajectory>& logs,
                                      const IdentifyOptions& identify) {
-  return EquationErrorOneOrMany(Pointers(logs), identify);
+  return EstimateAs(EstimatorMethod::kEquationError, Pointers(logs), identify);
 }
 
 }  // namespace slideid

@@ -47,6 +47,16 @@ EstimateResult EstimateOneOrMany(const std::vector<const Trajectory*>& logs,
                               " does not take push logs");
 }
 
+EstimateResult EstimateAs(EstimatorMethod method, const std::vector<const Trajectory*>& logs,
+                          IdentifyOptions options) {
+  options.method = method;
+  std::string why;
+  if (!options.IsValid(&why)) {
+    throw std::invalid_argument(std::string(ToString(method)) + ": " + why);
+  }
+  return EstimateOneOrMany(logs, options);
+}
+
 EstimateResult Identify(const Trajectory& log, const IdentifyOptions& options) {
   return IdentifyLogs({&log}, options);
 }

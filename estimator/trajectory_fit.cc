@@ -1322,21 +1322,6 @@ class TrajectoryMethod : public PoolableFit {
   std::unique_ptr<TrajectoryProblem> pooled_problem_;
 };
 
-void CheckTrajectoryOptions(const IdentifyOptions& options) {
-  IdentifyOptions trajectory = options;
-  trajectory.method = EstimatorMethod::kTrajectory;
-  std::string why;
-  if (!trajectory.IsValid(&why)) throw std::invalid_argument(why);
-}
-
-EstimateResult CheckedTrajectory(const std::vector<const Trajectory*>& logs,
-                                 const IdentifyOptions& options) {
-  CheckTrajectoryOptions(options);
-  IdentifyOptions trajectory = options;
-  trajectory.method = EstimatorMethod::kTrajectory;
-  return EstimateOneOrMany(logs, trajectory);
-}
-
 }  // namespace
 
 EstimateResult TrajectoryOneOrMany(const std::vector<const Trajectory*>& logs,
@@ -1346,12 +1331,12 @@ EstimateResult TrajectoryOneOrMany(const std::vector<const Trajectory*>& logs,
 }
 
 EstimateResult EstimateTrajectory(const Trajectory& log, const IdentifyOptions& options) {
-  return CheckedTrajectory({&log}, options);
+  return EstimateAs(EstimatorMethod::kTrajectory, {&log}, options);
 }
 
 EstimateResult EstimateTrajectory(const std::vector<Trajectory>& logs,
                                   const IdentifyOptions& options) {
-  return CheckedTrajectory(Pointers(logs), options);
+  return EstimateAs(EstimatorMethod::kTrajectory, Pointers(logs), options);
 }
 
 struct PooledTrajectoryFit::Impl {
@@ -1363,8 +1348,10 @@ struct PooledTrajectoryFit::Impl {
 PooledTrajectoryFit::PooledTrajectoryFit(std::vector<Trajectory> logs,
                                          const IdentifyOptions& options)
     : impl_(new Impl) {
+  IdentifyOptions trajectory = options;
+  trajectory.method = EstimatorMethod::kTrajectory;
   std::string why;
-  if (!options.trajectory.IsValid(&why)) throw std::invalid_argument(why);
+  if (!trajectory.IsValid(&why)) throw std::invalid_argument(why);
   if (logs.size() < 2) throw std::invalid_argument("a pooled fit needs at least 2 logs");
   impl_->logs = std::move(logs);
   impl_->options = options;
@@ -1396,9 +1383,7 @@ EstimateResult PooledTrajectoryFit::FitSubset(const std::vector<int>& subset) co
   const TrajectoryProblem* full = impl_->pooled.problem.get();
   const EstimateResult& r = impl_->pooled.result;
   if (!full || !r.converged) {  // nothing to start from: a fit of its own
-    IdentifyOptions trajectory = impl_->options;
-    trajectory.method = EstimatorMethod::kTrajectory;
-    return EstimateOneOrMany(logs, trajectory);
+    return EstimateAs(EstimatorMethod::kTrajectory, logs, impl_->options);
   }
   FitStart start;
   for (int i = 0; i < 3; ++i) {

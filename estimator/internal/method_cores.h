@@ -31,4 +31,10 @@ EstimateResult TrajectoryOneOrMany(const std::vector<const Trajectory*>& logs,
 EstimateResult EstimateOneOrMany(const std::vector<const Trajectory*>& logs,
                                  const IdentifyOptions& options);
 
+/// EstimateOneOrMany of `method` with its options checked first (throws
+/// std::invalid_argument naming the method): the entry of the per-method functions
+/// (EstimateClosedForm, EstimateEquationError, EstimateTrajectory).
+EstimateResult EstimateAs(EstimatorMethod method, const std::vector<const Trajectory*>& logs,
+                          IdentifyOptions options);
+
 }  // namespace slideid
