@@ -176,7 +176,8 @@ void CheckExcitation(const Trajectory& log, const LogDiagnostics& d, LogCheck* c
   // the heading (a noise-free simulated translation keeps both exact).
   if (log.columns.pose && c->rotation_range_rad == 0 && c->sliding_share > 0 &&
       d.pose_noise_m > 0) {
-    c->dead_channels.push_back("theta constant on every row while the object moves (dead tracker?)");
+    c->dead_channels.push_back(
+        "theta constant on every row while the object moves (dead tracker?)");
   }
   std::vector<double> push_dirs;
   double max_offset = kNaN;
@@ -220,7 +221,8 @@ void CheckInformation(const Trajectory& log, const IdentifyOptions& options, Log
   if (c->condition_number < kSingularCondition) {
     const Eigen::Matrix3d cov = seed.fisher.inverse();
     for (int i = 0; i < 3; ++i) {
-      for (int j = 0; j < 3; ++j) c->correlation[i][j] = cov(i, j) / std::sqrt(cov(i, i) * cov(j, j));
+      for (int j = 0; j < 3; ++j)
+        c->correlation[i][j] = cov(i, j) / std::sqrt(cov(i, i) * cov(j, j));
     }
   }
 }
@@ -299,9 +301,10 @@ void Advise(LogCheck* c) {
   for (int i = 0; i < 3; ++i) {
     const ParameterOutlook& p = c->parameters[i];
     if (p.identifiable && p.relative_stderr > kRoughRelativeError) {
-      advice.push_back(Printf("%s is identifiable but only to about %.0f%% (one sigma); a "
-                              "longer log would help",
-                              ParameterName(i), 100 * p.relative_stderr));
+      advice.push_back(
+          Printf("%s is identifiable but only to about %.0f%% (one sigma); a "
+                 "longer log would help",
+                 ParameterName(i), 100 * p.relative_stderr));
     }
   }
   for (int i = 0; i < 3; ++i) {
@@ -317,9 +320,9 @@ void Advise(LogCheck* c) {
     }
   }
   if (c->gaps > 0) {
-    advice.push_back(Printf(
-        "the log has %d gap%s (longest %.3g s): each one starts a new stretch of the fit",
-        c->gaps, c->gaps == 1 ? "" : "s", c->longest_gap_s));
+    advice.push_back(
+        Printf("the log has %d gap%s (longest %.3g s): each one starts a new stretch of the fit",
+               c->gaps, c->gaps == 1 ? "" : "s", c->longest_gap_s));
   }
   const double rest_force = std::hypot(c->rest_force_x_n, c->rest_force_y_n);
   if (rest_force > kRestForceFraction * c->max_push_n) {
@@ -329,10 +332,10 @@ void Advise(LogCheck* c) {
         c->rest_force_x_n, c->rest_force_y_n));
   }
   if (c->mu_pusher_examined && !c->mu_pusher.identifiable) {
-    advice.push_back(Printf(
-        "mu_pusher is not identifiable: the tip slides along the edge in %d of %d contact "
-        "rows; push at an angle to the edge so that the tip slips",
-        c->tip_sliding_rows, c->tip_contact_rows));
+    advice.push_back(
+        Printf("mu_pusher is not identifiable: the tip slides along the edge in %d of %d contact "
+               "rows; push at an angle to the edge so that the tip slips",
+               c->tip_sliding_rows, c->tip_contact_rows));
   }
 }
 
@@ -347,9 +350,8 @@ LogCheck CheckLog(const Trajectory& log, const IdentifyOptions& options) {
   std::string why;
   if (!options.IsValid(&why)) throw std::invalid_argument(why);
   if (options.method != EstimatorMethod::kTrajectory) {
-    throw std::invalid_argument(
-        std::string("the check forecasts the trajectory fit, not the ") +
-        ToString(options.method) + " method");
+    throw std::invalid_argument(std::string("the check forecasts the trajectory fit, not the ") +
+                                ToString(options.method) + " method");
   }
   LogCheck c;
   c.name = log.source;

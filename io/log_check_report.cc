@@ -27,10 +27,9 @@ std::string Sampling(const LogCheck& c) {
 std::string Sensors(const LogCheck& c) {
   std::string s;
   if (c.has_pose) {
-    s += std::isfinite(c.pose_noise_m)
-             ? Printf("poses (noise %.3g mm, %.3g mrad)", 1000 * c.pose_noise_m,
-                      1000 * c.angle_noise_rad)
-             : "poses";
+    s += std::isfinite(c.pose_noise_m) ? Printf("poses (noise %.3g mm, %.3g mrad)",
+                                                1000 * c.pose_noise_m, 1000 * c.angle_noise_rad)
+                                       : "poses";
   }
   if (c.has_velocity) s += std::string(s.empty() ? "" : ", ") + "velocities";
   if (c.has_force) {
@@ -54,14 +53,15 @@ std::string Rest(const LogCheck& c) {
 }
 
 std::string Excitation(const LogCheck& c) {
-  std::string s = Printf("slides %.0f%% of the time; turns through %.1f deg",
-                         100 * c.sliding_share, c.rotation_range_rad * kDeg);
+  std::string s = Printf("slides %.0f%% of the time; turns through %.1f deg", 100 * c.sliding_share,
+                         c.rotation_range_rad * kDeg);
   s += Printf("; slides along directions of its own spanning %.0f deg",
               c.slide_directions_rad * kDeg);
   if (std::isfinite(c.max_push_offset_m)) {
-    s += Printf("; pushed in directions of its own spanning %.0f deg, passing up to %.3g mm "
-                "from the CM",
-                c.push_directions_rad * kDeg, 1000 * c.max_push_offset_m);
+    s += Printf(
+        "; pushed in directions of its own spanning %.0f deg, passing up to %.3g mm "
+        "from the CM",
+        c.push_directions_rad * kDeg, 1000 * c.max_push_offset_m);
   } else {
     s += "; never pushed";
   }
@@ -78,8 +78,8 @@ std::string Outlook(const char* name, const ParameterOutlook& p) {
 
 std::string Correlations(const LogCheck& c) {
   if (!std::isfinite(c.correlation[0][1])) return "correlations: - (J^T J is singular)";
-  return Printf("correlations of the estimates: a-b %.2f, a-c %.2f, b-c %.2f",
-                c.correlation[0][1], c.correlation[0][2], c.correlation[1][2]);
+  return Printf("correlations of the estimates: a-b %.2f, a-c %.2f, b-c %.2f", c.correlation[0][1],
+                c.correlation[0][2], c.correlation[1][2]);
 }
 
 // ---- JSON ----
