@@ -11,12 +11,13 @@
 // Usage: check_agreement [--logs N] [--first K] [--seed S] [--scene-suite N]
 //                        [--max-rows R] [--verbose]
 
+#include "fixtures/check_agreement.h"
+
 #include <cstdio>
 #include <stdexcept>
 #include <string>
 
 #include "benchmarks/bench_args.h"
-#include "fixtures/check_agreement.h"
 #include "datasets/scene_suite.h"
 #include "fixtures/check_cases.h"
 
@@ -61,10 +62,11 @@ int main(int argc, char** argv) {
                   r.fit[0], r.fit[1], r.fit[2], c.description.c_str());
     }
   }
-  std::printf("%d logs (cases %d-%d, seed %llu): %d of %d verdicts agree (%.1f%%); %d of %d logs "
-              "agree on all three\n",
-              tally.logs, first, first + logs - 1, static_cast<unsigned long long>(seed),
-              tally.agreed, tally.verdicts, 100 * tally.Share(), tally.logs_agreed, tally.logs);
+  std::printf(
+      "%d logs (cases %d-%d, seed %llu): %d of %d verdicts agree (%.1f%%); %d of %d logs "
+      "agree on all three\n",
+      tally.logs, first, first + logs - 1, static_cast<unsigned long long>(seed), tally.agreed,
+      tally.verdicts, 100 * tally.Share(), tally.logs_agreed, tally.logs);
   testing::AgreementTally suite;
   for (int k = 0; k < suite_logs; ++k) {
     const SuiteLog s = MakeSuiteLog(k, kSceneSuiteSeed, {100, max_rows});
@@ -73,18 +75,19 @@ int main(int argc, char** argv) {
     tally.Add(r, "suite log " + std::to_string(k) + " (" + s.Describe() + ")");
   }
   if (suite_logs > 0) {
-    std::printf("scene suite, %d logs of at most %d rows: %d of %d verdicts agree (%.1f%%); all "
-                "three on %d\n",
-                suite.logs, max_rows, suite.agreed, suite.verdicts, 100 * suite.Share(),
-                suite.logs_agreed);
+    std::printf(
+        "scene suite, %d logs of at most %d rows: %d of %d verdicts agree (%.1f%%); all "
+        "three on %d\n",
+        suite.logs, max_rows, suite.agreed, suite.verdicts, 100 * suite.Share(), suite.logs_agreed);
     std::printf("together: %d of %d verdicts agree (%.1f%%)\n", tally.agreed, tally.verdicts,
                 100 * tally.Share());
   }
   for (int i = 0; i < 3; ++i) {
-    std::printf("  %-13s fit identifies in %d logs (check says no in %d), not in %d (check says "
-                "yes in %d)\n",
-                ParameterName(i), tally.fit_yes[i], tally.check_no_fit_yes[i], tally.fit_no[i],
-                tally.check_yes_fit_no[i]);
+    std::printf(
+        "  %-13s fit identifies in %d logs (check says no in %d), not in %d (check says "
+        "yes in %d)\n",
+        ParameterName(i), tally.fit_yes[i], tally.check_no_fit_yes[i], tally.fit_no[i],
+        tally.check_yes_fit_no[i]);
   }
   std::printf("disagreements:\n");
   for (const std::string& d : tally.disagreements) std::printf("  %s\n", d.c_str());

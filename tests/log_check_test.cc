@@ -52,7 +52,8 @@ TEST(LogCheck, AgreesWithTheFitOnLogsThatIdentifyEverythingAndOnLogsThatDoNot) {
   }
   std::string disagreements;
   for (const std::string& d : tally.disagreements) disagreements += "\n  " + d;
-  EXPECT_GE(tally.Share(), kMinAgreement) << tally.agreed << " of " << tally.verdicts << disagreements;
+  EXPECT_GE(tally.Share(), kMinAgreement)
+      << tally.agreed << " of " << tally.verdicts << disagreements;
   int fit_no = 0, check_yes_fit_no = 0;
   for (int i = 0; i < 3; ++i) {
     fit_no += tally.fit_no[i];
@@ -86,7 +87,8 @@ TEST(LogCheck, MotionAlongOneAxisLeavesBUnidentifiedAndSaysSo) {
   EXPECT_TRUE(c.parameters[kA].identifiable);
   EXPECT_FALSE(c.parameters[kB].identifiable);
   EXPECT_LT(c.slide_directions_rad, 1e-6);
-  EXPECT_TRUE(Mentions(c, "b is not identifiable: the object slides along one direction of its own"))
+  EXPECT_TRUE(
+      Mentions(c, "b is not identifiable: the object slides along one direction of its own"))
       << Advice(c);
 }
 
