@@ -72,7 +72,7 @@ std::string ResidualLine(const EstimateResult& r) {
 std::string SolverLines(const EstimateResult& r, bool verbose) {
   std::string out = "fit: " + std::to_string(r.iterations) +
                     " solver iterations over all its stages, final cost " + Number(r.final_cost) +
-                    " (half the sum of squared residuals of the last stage), " +
+                    " (of its last solve: half the sum of its squared, robustified residuals), " +
                     Number(r.seconds, "%.3f") + " s" + (r.converged ? "" : "  (NOT CONVERGED)") +
                     "\n";
   if (r.message.empty()) return out;
