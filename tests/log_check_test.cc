@@ -126,7 +126,7 @@ TEST(LogCheck, ADeadForceChannelIdentifiesNothingAndNamesTheChannel) {
   EXPECT_TRUE(Mentions(c, "check the sensor")) << Advice(c);
 }
 
-TEST(LogCheck, CountsGapsAndTheForceAtRest) {
+TEST(LogCheck, CountsGaps) {
   Trajectory log = SimulateOrFail(testing::PushedSlider());
   // A hole of 15 rows: the rows after it start a new run.
   log.samples.erase(log.samples.begin() + 40, log.samples.begin() + 55);
@@ -135,6 +135,23 @@ TEST(LogCheck, CountsGapsAndTheForceAtRest) {
   EXPECT_EQ(c.gaps, 1);
   EXPECT_NEAR(c.longest_gap_s, 0.16, 1e-9);
   EXPECT_TRUE(Mentions(c, "the log has 1 gap (longest 0.16 s)")) << Advice(c);
+}
+
+// The bundled log rests between its pushes (its force channel reads 0 there); an offset of
+// the channel shows while it rests.
+TEST(LogCheck, ReportsWhatTheForceChannelReadsWhileTheObjectRests) {
+  Trajectory log = ReadPushLog(std::string(SLIDEID_SOURCE_DIR) + "/datasets/logs/default_push.csv");
+  const LogCheck clean = CheckLog(log, IdentifyOptions{});
+  ASSERT_GE(clean.rest_rows, 50);
+  EXPECT_NEAR(clean.rest_force_x_n, 0.0, 1e-12);
+  EXPECT_FALSE(Mentions(clean, "while the object rests")) << Advice(clean);
+  for (TrajectorySample& s : log.samples) s.applied.fx += 0.3;
+  const LogCheck offset = CheckLog(log, IdentifyOptions{});
+  EXPECT_NEAR(offset.rest_force_x_n, 0.3, 1e-12);
+  EXPECT_NEAR(offset.rest_force_y_n, 0.0, 1e-12);
+  EXPECT_TRUE(Mentions(offset, "the force channel reads (0.3, 0) N while the object rests"))
+      << Advice(offset);
+  EXPECT_TRUE(Mentions(offset, "--fit-force-bias")) << Advice(offset);
 }
 
 TEST(LogCheck, RejectsAnotherMethod) {

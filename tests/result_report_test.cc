@@ -32,7 +32,8 @@ TEST(ResultReport, TheTableHidesNoteDetailUnlessVerbose) {
   EXPECT_EQ(plain.find("t quantile"), std::string::npos) << plain;
   EXPECT_EQ(plain.find("Iterations: 5"), std::string::npos) << plain;
   EXPECT_NE(plain.find("solver: a second start kept"), std::string::npos) << plain;
-  EXPECT_NE(plain.find("fit: 10 solver iterations over all its stages"), std::string::npos) << plain;
+  EXPECT_NE(plain.find("fit: 10 solver iterations over all its stages"), std::string::npos)
+      << plain;
   EXPECT_NE(verbose.find("note: in words (detail: t quantile 2.53)"), std::string::npos) << verbose;
   EXPECT_NE(verbose.find("solver: Ceres Solver Report: Iterations: 5"), std::string::npos)
       << verbose;

@@ -99,7 +99,9 @@ int main(int argc, char** argv) {
         "whether it is believable. Several logs are pooled: one estimate for all, each log's\n"
         "own, and whether they agree.\n\n"
         "Usage: identify --log FILE.csv [--log FILE2.csv ...] [options]\n"
-        "       identify --batch DIR|GLOB --out RESULTS.jsonl [--jobs N] [--shard I/N] [options]"
+        "       identify --batch DIR|GLOB --out RESULTS.jsonl [--jobs N] [--shard I/N] [options]\n"
+        "       identify --check --log FILE.csv [--log ...] [--json] (fits nothing: what a fit\n"
+        "                could identify, and what would help)"
         "\n\nOptions");
     opts.add_options()("help,h", "print this help and exit")("version",
                                                              "print the version and exit");

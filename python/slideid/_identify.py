@@ -151,7 +151,7 @@ def identify(logs, method="trajectory", *, strict=False, **options):
     if run["failure"]:
         _raise_with(_core.NumericalError, f"{what}: {run['failure']}", result)
     if run["suspects"]:
-        message = f"{what}: suspect estimates ({run['suspects']}): see their reasons"
+        message = f"{what}: {run['suspect_summary']}"
         if strict:
             _raise_with(_core.NumericalError, message, result)
         warnings.warn(message, SlideidWarning, stacklevel=2)

@@ -158,6 +158,7 @@ py::dict IdentifyInputs(const py::list& inputs, const py::kwargs& keywords) {
   out["too_little_excitation"] = result.status == TerminationStatus::kTooLittleExcitation;
   out["failure"] = NumericalFailure(result);
   out["suspects"] = SuspectNames(result);
+  out["suspect_summary"] = SuspectSummary(result);  // the warning, with counts when pooled
   out["residuals"] = Residuals(result);
   out["truth"] = Truth(run.truth);
   out["warnings"] = warnings;
