@@ -13,6 +13,7 @@
 #include "estimator/identifiability.h"
 #include "estimator/internal/method_cores.h"
 #include "estimator/internal/mismatch_nuisances.h"
+#include "estimator/internal/seed_information.h"
 #include "estimator/internal/trajectory_problem.h"
 #include "estimator/log_diagnostics.h"
 #include "estimator/plausibility.h"
@@ -687,15 +688,20 @@ IntervalChoice ChooseIntervals(const FitInformation& info, const std::vector<int
     if (by_segment.ok) {
       iv.stderr_value = std::sqrt(std::max(0.0, by_segment.covariance(i, i)));
       iv.quantile = StudentT95(by_segment.dof(i));
-      iv.note = Printf("cluster-robust (CR2) over %d segments, t quantile %.2f on %.1f df",
-                       by_segment.clusters, iv.quantile, by_segment.dof(i));
+      iv.note = Printf(
+          "the interval allows for correlated residuals within each of %d pieces of the log "
+          "(detail: cluster-robust (CR2) over %d segments, t quantile %.2f on %.1f df)",
+          by_segment.clusters, by_segment.clusters, iv.quantile, by_segment.dof(i));
     } else {
       iv.robust = false;
       iv.stderr_value = std::sqrt(std::max(0.0, inflation * s2 * Hinv(i, i)));
       iv.quantile = StudentT95(std::max(1, dof));
-      iv.note = "white-noise interval, which may be too narrow: no cluster-robust covariance (" +
-                by_segment.failure + "; " + std::to_string(info.segments) + " segments)" +
-                Printf("; widened %.2fx for the residuals' autocorrelation", std::sqrt(inflation));
+      iv.note =
+          "the interval treats the residuals as independent and may be too narrow: the log has "
+          "too few pieces to gauge how they are correlated (detail: white-noise interval, no "
+          "cluster-robust covariance (" +
+          by_segment.failure + "; " + std::to_string(info.segments) + " segments)" +
+          Printf("; widened %.2fx for the residuals' autocorrelation)", std::sqrt(inflation));
     }
     const auto at = std::find(shared.begin(), shared.end(), i);
     if (by_log.ok && at != shared.end()) {
@@ -704,9 +710,11 @@ IntervalChoice ChooseIntervals(const FitInformation& info, const std::vector<int
       const double q = StudentT95(by_log.dof(k));
       if (!iv.robust || q * se > iv.quantile * iv.stderr_value) {
         iv = {se, q,
-              Printf("cluster-robust (CR2) over %d logs, t quantile %.2f on %.1f df: wider "
-                     "than over the segments (the logs' spread, or few logs)",
-                     by_log.clusters, q, by_log.dof(k)),
+              Printf("the interval allows for the %d logs differing from one another, which "
+                     "makes it wider than their pieces alone would (detail: cluster-robust "
+                     "(CR2) over %d logs, t quantile %.2f on %.1f df: wider than over the "
+                     "segments (the logs' spread, or few logs))",
+                     by_log.clusters, by_log.clusters, q, by_log.dof(k)),
               true};
       }
     }
@@ -997,8 +1005,10 @@ IntervalStage Intervals(const FitStages& f, const HeldStage& held, EstimateResul
           stderr_log / iv.stderr_value);
     }
     if (!out.choice.correction.empty() && !out.choice.correction_refused) {
-      p.note += Printf("; %+.2g%% ", 100 * std::expm1(out.value_of[i] - problem.global(i))) +
-                out.choice.correction;
+      p.note +=
+          Printf("; the estimate moved %+.2g%% to correct for the fit's own coarse steps (detail: ",
+                 100 * std::expm1(out.value_of[i] - problem.global(i))) +
+          out.choice.correction + ")";
     }
   }
   for (int i = 3; i < G; ++i) {
@@ -1398,6 +1408,66 @@ EstimateResult PooledTrajectoryFit::FitSubset(const std::vector<int>& subset) co
   EstimateResult result = Fit(logs, impl_->options, &start).result;
   result.seconds = Seconds(t0);
   return result;
+}
+
+SeedInformation TrajectoryInformationAtSeed(const Trajectory& log, const IdentifyOptions& options) {
+  IdentifyOptions trajectory = options;
+  trajectory.method = EstimatorMethod::kTrajectory;
+  std::string why;
+  if (!trajectory.IsValid(&why)) throw std::invalid_argument(why);
+  SeedInformation out;
+  const LogDiagnostics diagnostics = DiagnoseLog(log);
+  if (diagnostics.dead_force_channel) {
+    out.failure = *diagnostics.dead_force_channel;
+    return out;
+  }
+  std::unique_ptr<TrajectoryProblem> problem;
+  try {
+    problem = std::make_unique<TrajectoryProblem>(std::vector<const Trajectory*>{&log}, options);
+  } catch (const std::invalid_argument& e) {
+    out.failure = e.what();
+    return out;
+  }
+  // The fit's own seeds (Fit, "Seeds"), least squares as its first stage is.
+  SetRowLosses(problem.get(), RobustLoss::kNone, options.trajectory.loss_scale_sigmas,
+               std::vector<double>{0.0});
+  SeedFromHeads(problem.get(), CandidateSeeds(log, options), &out.seed);
+  out.seed = problem->Friction();
+  const FitInformation info = problem->Information();
+  const int G = problem->num_global();
+  out.segments = info.segments;
+  out.rows = problem->Rows();
+  for (int i = 0; i < G; ++i) out.names.push_back(problem->GlobalName(i));
+  // (a, b, c) with the nuisances marginalised out: what they leave of each.
+  const Eigen::MatrixXd& H = info.fisher;
+  Eigen::MatrixXd fisher = H.topLeftCorner(3, 3);
+  if (G > 3) {
+    const Eigen::MatrixXd Hnn = H.bottomRightCorner(G - 3, G - 3);
+    const Eigen::MatrixXd Hfn = H.topRightCorner(3, G - 3);
+    fisher -= Hfn * Hnn.completeOrthogonalDecomposition().pseudoInverse() * Hfn.transpose();
+  }
+  out.fisher = 0.5 * (fisher + fisher.transpose());
+  // The variance the fit's verdicts will see is its residuals' at its minimum, unknown
+  // here: the log's own noise guesses it from below where the model misses the log, the
+  // residuals at the seed from above where the seed is off.
+  const double length_m = std::sqrt(log.slider.inertia_kgm2 / log.slider.mass_kg);
+  const double noise = RowNoise(diagnostics, log.columns.pose, length_m);
+  const int dof = info.residuals - problem->StateParameters() - G;
+  const double at_seed = dof > 0 ? info.sum_squares / dof : kNaN;
+  const double from_noise = noise * noise / 3.0;  // RowNoise is the norm of 3 channels
+  out.residual_variance = std::isfinite(from_noise) && std::isfinite(at_seed)
+                              ? std::min(from_noise, at_seed)
+                          : std::isfinite(at_seed) ? at_seed
+                                                   : from_noise;
+  if (!std::isfinite(out.residual_variance)) out.residual_variance = 0.0;
+  std::vector<double> max_stderr(G);
+  const std::vector<LogDiagnostics> per_log{diagnostics};
+  for (int i = 0; i < G; ++i) max_stderr[i] = MaxStdErr(*problem, i, per_log, options.trajectory);
+  std::vector<int> priority(G, 0);
+  for (int i = 0; i < 3; ++i) priority[i] = 1;
+  out.verdicts = AssessIdentifiability(info.fisher, out.residual_variance,
+                                       std::vector<bool>(G, true), max_stderr, priority);
+  return out;
 }
 
 ceres::CostFunction* NewSegmentCost(const Trajectory& log, int first_row, int last_row,

@@ -6,11 +6,15 @@
 #include <limits>
 #include <nlohmann/json.hpp>
 
+#include "io/internal/json_line.h"
+
 namespace slideid {
 namespace {
 
-// Keys keep the order in which FormatJson inserts them (and in which a reader finds them).
-using Json = nlohmann::ordered_json;
+using json_line::Json;
+using json_line::NumberOrNull;
+using json_line::Print;
+using json_line::Scalar;
 
 const char* const kPrefix = "identify JSON: ";
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
@@ -18,29 +22,6 @@ constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr std::size_t kMaxQuoted = 40;
 
 // ---- writing ----
-
-/// A number, or null when it is not finite (JSON has no NaN or infinity).
-Json NumberOrNull(double v) { return std::isfinite(v) ? Json(v) : Json(nullptr); }
-
-/// A scalar as nlohmann writes it: strings escaped (invalid UTF-8 replaced, never thrown),
-/// doubles in their shortest round-trip form.
-std::string Scalar(const Json& j) { return j.dump(-1, ' ', false, Json::error_handler_t::replace); }
-
-/// Appends `j` in the documented layout: ", " between items and ": " after keys, on one
-/// line (nlohmann's compact dump has no spaces, its indented dump has line breaks).
-void Print(const Json& j, std::string* out) {
-  if (!j.is_object() && !j.is_array()) {
-    *out += Scalar(j);
-    return;
-  }
-  *out += j.is_object() ? '{' : '[';
-  for (auto it = j.begin(); it != j.end(); ++it) {
-    if (it != j.begin()) *out += ", ";
-    if (j.is_object()) *out += Scalar(Json(it.key())) + ": ";
-    Print(it.value(), out);
-  }
-  *out += j.is_object() ? '}' : ']';
-}
 
 Json ParameterJson(const ParameterEstimate& p) {
   const bool id = p.identifiable;

@@ -222,7 +222,8 @@ std::optional<long long> ParseCount(std::string_view s, long long max_value) {
 
 std::string Located(const std::string& file, int line, const std::string& column,
                     const std::string& what) {
-  std::string message = file + ":" + std::to_string(line) + ": ";
+  // No line (0): the file as a whole, as "file: what" (a "file:0:" reads as a line number).
+  std::string message = line > 0 ? file + ":" + std::to_string(line) + ": " : file + ": ";
   if (!column.empty()) message += "column '" + column + "': ";
   return message + what;
 }

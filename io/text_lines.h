@@ -63,7 +63,8 @@ std::optional<double> ParseFiniteNumber(std::string_view s);
 /// Whole-cell parse of a count: decimal digits only, at most `max_value`.
 std::optional<long long> ParseCount(std::string_view s, long long max_value);
 
-/// "file:line: column 'c': what" (the column part only when `column` is not empty).
+/// "file:line: column 'c': what" (the column part only when `column` is not empty; "file:
+/// what" when `line` is 0, a message about the file as a whole).
 std::string Located(const std::string& file, int line, const std::string& column,
                     const std::string& what);
 

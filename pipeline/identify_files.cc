@@ -164,6 +164,24 @@ std::string SuspectNames(const EstimateResult& result) {
   return names;
 }
 
+std::string SuspectSummary(const EstimateResult& result) {
+  const std::string names = SuspectNames(result);
+  if (names.empty()) return "";
+  int fitted = 0, suspect = 0;
+  for (const LogResult& log : result.logs) {
+    if (log.skipped) continue;
+    ++fitted;
+    suspect +=
+        std::any_of(log.parameters.begin(), log.parameters.end(),
+                    [](const ParameterEstimate& p) { return p.verdict == Verdict::kSuspect; });
+  }
+  if (fitted == 0) return "suspect estimates (" + names + "): see their reasons";
+  return "suspect estimates of the pooled fit (" + names + "): see their reasons; of the " +
+         std::to_string(fitted) + " logs, " + std::to_string(suspect) +
+         (suspect == 1 ? " has suspect estimates" : " have suspect estimates") + " of their own, " +
+         std::to_string(fitted - suspect) + (fitted - suspect == 1 ? " does not" : " do not");
+}
+
 FileIdentifyResult IdentifyReadLogs(std::vector<Trajectory> logs,
                                     const FileIdentifyOptions& options) {
   std::string why;

@@ -52,6 +52,11 @@ std::string NumericalFailure(const EstimateResult& result);
 /// The names of the suspect estimates ("e_t_mu, force_bias_x_n"), or "".
 std::string SuspectNames(const EstimateResult& result);
 
+/// The warning about suspect estimates, "" when there is none: "suspect estimates (e_t_mu):
+/// see their reasons", and for a pooled fit how many of its logs have suspect estimates of
+/// their own ("...; of the 11 logs, 3 have suspect estimates of their own, 8 do not").
+std::string SuspectSummary(const EstimateResult& result);
+
 /// What IdentifyFiles does once push logs are read, for logs already in memory (the Python
 /// module's): a log that cannot be pooled with the others (a dead force channel) is listed
 /// as skipped (options.skip_bad) or fails the run with a FileError naming its source.

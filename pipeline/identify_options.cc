@@ -156,7 +156,13 @@ void AddIdentifyOptions(po::options_description* options, po::options_descriptio
       "instead of failing the run")("json", "print one JSON object instead of the table")(
       "residuals", po::value<std::string>()->value_name("OUT.csv"),
       "write per-step residuals (only when the fit succeeds)")(
-      "verbose,v", "also print what the readers noticed about the logs (notes)")(
+      "verbose,v",
+      "also print what the readers noticed about the logs (notes), the solver's own report "
+      "and how each interval was computed in full")(
+      "check",
+      "fit nothing: say per log its rates, gaps, noise and dead channels, how it excites the "
+      "friction, which of a, b, c (and mu_p) the fit could identify and how precisely, and "
+      "what would help (exit 1 when a log cannot be read or could identify nothing)")(
       "batch", po::value<std::string>()->value_name("DIR|GLOB"),
       "fit every log of a directory (or a quoted glob) on its own, writing one JSON line per "
       "log to --out as each finishes (a failed log gives a line with its error)")(
@@ -210,6 +216,17 @@ void ReadBatchOptions(const po::variables_map& vm, IdentifyRequest* r) {
 
 IdentifyRequest ReadIdentifyOptions(const po::variables_map& vm) {
   IdentifyRequest r;
+  if (vm.count("check")) {
+    r.check = true;
+    for (const char* option : {"batch", "residuals", "strict"}) {
+      if (vm.count(option))
+        throw po::error(std::string("--") + option + " does not go with --check");
+    }
+    if (vm["method"].as<std::string>() != "trajectory") {
+      throw po::error("--check forecasts the trajectory fit: it does not go with --method " +
+                      vm["method"].as<std::string>());
+    }
+  }
   if (vm.count("batch")) {
     ReadBatchOptions(vm, &r);
   } else {

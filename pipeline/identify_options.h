@@ -25,6 +25,8 @@ struct IdentifyRequest {
   bool batch = false;
   int jobs = 1;
   std::string batch_out;
+  /// --check: fit nothing; say per log what a fit could identify (estimator/log_check.h).
+  bool check = false;
 };
 
 /// Adds every option of identify (general ones to `options`, the rest to `advanced`).

@@ -85,9 +85,10 @@ void ExpectError(const std::string& name, const std::string& content, int line,
   const std::string what = e.what();
   EXPECT_EQ(e.line(), line) << what;
   EXPECT_EQ(e.column(), column) << what;
-  EXPECT_TRUE(
-      Contains(what, testing::TempDirectory() + "/" + name + ":" + std::to_string(line) + ": "))
-      << what;
+  // "file:line: ", or "file: " for the file as a whole (line 0), never "file:0:".
+  const std::string at = line > 0 ? ":" + std::to_string(line) + ": " : ": ";
+  EXPECT_TRUE(Contains(what, testing::TempDirectory() + "/" + name + at)) << what;
+  EXPECT_FALSE(Contains(what, ":0:")) << what;
   EXPECT_TRUE(Contains(what, fragment)) << "wanted '" << fragment << "' in: " << what;
 }
 
@@ -159,7 +160,8 @@ TEST(BadLog, DirectoryIsAnErrorSayingSo) {
     ReadPushLog(testing::TempDirectory());
     ADD_FAILURE() << "no LogError";
   } catch (const LogError& e) {
-    EXPECT_TRUE(Contains(e.what(), testing::TempDirectory() + ":0: ")) << e.what();
+    EXPECT_TRUE(Contains(e.what(), testing::TempDirectory() + ": ")) << e.what();
+    EXPECT_FALSE(Contains(e.what(), ":0:")) << e.what();  // a file as a whole has no line
     EXPECT_TRUE(Contains(e.what(), "directory")) << e.what();
   }
 }
@@ -354,7 +356,7 @@ TEST(IdentifyBadLog, EveryMalformedLogExitsOneNamingFileLineAndColumn) {
   const std::string m = kSliderMeta;          // lines 1-3
   const std::string h = m + "t,x,y,theta\n";  // header on line 4
   const std::vector<BadLogCase> cases = {
-      {"empty.csv", "", "0: "},
+      {"empty.csv", "", " "},  // the file as a whole: "file: ", no line
       {"header_only.csv", h, "4: "},
       {"missing_header.csv", m + "0,0,0,0\n0.1,0,0,0\n", "4: "},
       {"no_motion_columns.csv", m + "t,fx,fy\n0,0,0\n", "4: "},
@@ -368,7 +370,7 @@ TEST(IdentifyBadLog, EveryMalformedLogExitsOneNamingFileLineAndColumn) {
       {"t_not_increasing.csv", h + "0,0,0,0\n0.1,0,0,0\n0.1,0,0,0\n", "7: column 't'"},
       {"gap.csv", LogWithGap(5.0), "10: column 't'"},
       {"lift.csv", m + "t,x,y,theta,fz\n0,0,0,0,0\n0.1,0,0,0,5\n", "6: column 'fz'"},
-      {"no_mass.csv", "# inertia = 2e-4\n# com_height = 0\nt,x,y,theta\n0,0,0,0\n", "0: "},
+      {"no_mass.csv", "# inertia = 2e-4\n# com_height = 0\nt,x,y,theta\n0,0,0,0\n", " "},
       {"zero_inertia.csv", "# mass = 1\n# inertia = 0\n# com_height = 0\nt,x,y,theta\n0,0,0,0\n",
        "2: "},
       {"negative_com_height.csv",

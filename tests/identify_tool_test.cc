@@ -76,6 +76,39 @@ TEST(IdentifyTool, PrintsEstimatesBesideTheTruthForEveryMethod) {
   }
 }
 
+// Output a person can read (issue 20): the bundled log's table says in words how each
+// interval was made, gives the residuals with units, counts the fit's iterations over all
+// its stages, and keeps the solver's own report (whose iteration count is of its last
+// solve alone) and each note's technical detail for --verbose.
+TEST(IdentifyTool, TheTableSpeaksInWordsAndKeepsTheDetailForVerbose) {
+  const std::string log = std::string(SLIDEID_SOURCE_DIR) + "/datasets/logs/default_push.csv";
+  const Output plain = RunIdentify("--log " + log);
+  ASSERT_EQ(plain.exit_code, 0) << plain.out;
+  EXPECT_NE(plain.out.find("note: the interval allows for correlated residuals within each of 15 "
+                           "pieces of the log;"),
+            std::string::npos)
+      << plain.out;
+  EXPECT_EQ(plain.out.find("t quantile"), std::string::npos) << plain.out;
+  EXPECT_EQ(plain.out.find("(detail:"), std::string::npos) << plain.out;
+  EXPECT_EQ(plain.out.find("Ceres Solver Report"), std::string::npos) << plain.out;
+  EXPECT_NE(plain.out.find(" mm RMS per row of poses"), std::string::npos) << plain.out;
+  EXPECT_NE(plain.out.find("against the log's own noise of 0.446 mm (ratio 0.87"),
+            std::string::npos)
+      << plain.out;
+  EXPECT_NE(plain.out.find(" solver iterations over all its stages, final cost "),
+            std::string::npos)
+      << plain.out;
+
+  const Output verbose = RunIdentify("--log " + log + " --verbose");
+  ASSERT_EQ(verbose.exit_code, 0) << verbose.out;
+  EXPECT_NE(verbose.out.find("pieces of the log (detail: cluster-robust (CR2) over 15 segments, "
+                             "t quantile 2.53 on 5.3 df)"),
+            std::string::npos)
+      << verbose.out;
+  EXPECT_NE(verbose.out.find("solver: Ceres Solver Report: Iterations: "), std::string::npos)
+      << verbose.out;
+}
+
 TEST(IdentifyTool, JsonHasTheDocumentedKeysAndNullForUnidentifiable) {
   const Scene scene = testing::PureTranslation();
   const std::string log = WriteLog(testing::SimulateOrFail(scene), "translation.csv");

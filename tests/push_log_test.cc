@@ -43,7 +43,11 @@ void ExpectLogError(const std::string& name, const std::string& content, int lin
     ADD_FAILURE() << name << ": no LogError";
   } catch (const LogError& e) {
     const std::string what = e.what();
-    EXPECT_NE(what.find(path + ":" + std::to_string(line) + ":"), std::string::npos) << what;
+    // "file:line:", or "file: " for the file as a whole (line 0), never "file:0:".
+    EXPECT_NE(what.find(path + (line > 0 ? ":" + std::to_string(line) + ":" : std::string(": "))),
+              std::string::npos)
+        << what;
+    EXPECT_EQ(what.find(":0:"), std::string::npos) << what;
     EXPECT_EQ(e.line(), line) << what;
     if (!column.empty()) {
       EXPECT_NE(what.find("column '" + column + "'"), std::string::npos) << what;
@@ -441,7 +445,8 @@ TEST(PushLog, UnreadableFileRaisesLogErrorNamingIt) {
     ReadPushLog(path);
     ADD_FAILURE() << "no LogError";
   } catch (const LogError& e) {
-    EXPECT_NE(std::string(e.what()).find(path + ":0:"), std::string::npos) << e.what();
+    EXPECT_EQ(std::string(e.what()).rfind(path + ": cannot", 0), 0u) << e.what();
+    EXPECT_EQ(std::string(e.what()).find(":0:"), std::string::npos) << e.what();  // no line
   }
 }
 

@@ -65,7 +65,11 @@ void ExpectCsvError(const std::string& name, const std::string& content, int lin
     ADD_FAILURE() << name << ": no LogError";
   } catch (const LogError& e) {
     const std::string what = e.what();
-    EXPECT_NE(what.find(path + ":" + std::to_string(line) + ":"), std::string::npos) << what;
+    // "file:line:", or "file: " for the file as a whole (line 0), never "file:0:".
+    EXPECT_NE(what.find(path + (line > 0 ? ":" + std::to_string(line) + ":" : std::string(": "))),
+              std::string::npos)
+        << what;
+    EXPECT_EQ(what.find(":0:"), std::string::npos) << what;
     EXPECT_EQ(e.line(), line) << what;
     EXPECT_EQ(e.column(), column) << what;
     EXPECT_NE(what.find(words), std::string::npos) << what;

@@ -12,8 +12,10 @@
 #include <functional>
 #include <iostream>
 
+#include "io/log_check_report.h"
 #include "io/result_json.h"
 #include "io/result_report.h"
+#include "pipeline/check_files.h"
 #include "pipeline/identify_options.h"
 #include "tools/tool_support.h"
 
@@ -27,7 +29,9 @@ constexpr const char* kExitCodes =
     "physically invalid log, or one that cannot identify anything); 2 usage (unknown,\n"
     "missing, invalid or conflicting options); 3 numerical (the fit did not converge, or\n"
     "with --strict a suspect verdict); 4 a file could not be written. Warnings (absurd\n"
-    "magnitudes, gaps in t) always go to stderr; --verbose adds the readers' notes.\n";
+    "magnitudes, gaps in t) always go to stderr; --verbose adds the readers' notes.\n"
+    "With --check: 0 when every log is expected to identify something; 1 when a log cannot\n"
+    "be read, or is expected to identify nothing; 2 usage.\n";
 
 /// --batch: every file on its own, JSON lines to the output; progress on a terminal.
 int RunBatchCommand(const cli::IdentifyRequest& request) {
@@ -51,12 +55,33 @@ int RunBatchCommand(const cli::IdentifyRequest& request) {
     return tools::kExitIo;
   }
   if (terminal) std::cerr << "\n";
-  if (summary.failed > 0) {
-    std::cerr << "identify: " << summary.failed << " of " << summary.total
-              << " logs failed (their lines in " << request.batch_out << " say why)\n";
-    return tools::kExitBadInput;
+  // One line at the end, on a terminal or not: a job array's log shows how each shard went.
+  std::cerr << "identify: " << summary.total << " logs, " << summary.ok << " identified, "
+            << summary.failed << " failed, " << Printf("%.1f", summary.seconds) << " s; results in "
+            << request.batch_out
+            << (summary.failed > 0 ? " (the failed logs' lines there say why)" : "") << "\n";
+  return summary.failed > 0 ? tools::kExitBadInput : tools::kExitOk;
+}
+
+/// --check: every file checked on its own, nothing fitted.
+int RunCheckCommand(const cli::IdentifyRequest& request) {
+  int unusable = 0;
+  for (const FileCheck& f : CheckFiles(request.files, request.options)) {
+    for (const std::string& w : f.warnings) std::cerr << "identify: warning: " << w << "\n";
+    unusable += !f.Usable();
+    if (!f.check) {
+      std::cerr << "identify: error: " << f.error << "\n";
+      if (request.json) std::cout << FormatCheckErrorJson(f.path, f.error) << "\n";
+      continue;
+    }
+    std::cout << (request.json ? FormatCheckJson(*f.check) + "\n" : FormatCheckText(*f.check));
   }
-  return tools::kExitOk;
+  if (unusable > 0) {
+    std::cerr << "identify: " << unusable << " of " << request.files.size()
+              << " logs cannot be read or are expected to identify nothing\n";
+  }
+  const int flushed = tools::FlushStdout("identify");
+  return unusable > 0 ? tools::kExitBadInput : flushed;
 }
 
 std::string Describe(const std::vector<std::string>& files) {
@@ -74,7 +99,9 @@ int main(int argc, char** argv) {
         "whether it is believable. Several logs are pooled: one estimate for all, each log's\n"
         "own, and whether they agree.\n\n"
         "Usage: identify --log FILE.csv [--log FILE2.csv ...] [options]\n"
-        "       identify --batch DIR|GLOB --out RESULTS.jsonl [--jobs N] [--shard I/N] [options]"
+        "       identify --batch DIR|GLOB --out RESULTS.jsonl [--jobs N] [--shard I/N] [options]\n"
+        "       identify --check --log FILE.csv [--log ...] [--json] (fits nothing: what a fit\n"
+        "                could identify, and what would help)"
         "\n\nOptions");
     opts.add_options()("help,h", "print this help and exit")("version",
                                                              "print the version and exit");
@@ -97,6 +124,7 @@ int main(int argc, char** argv) {
     // fit; the result says how the fit ended, so keep those pages for --verbose.
     if (!request.verbose) FLAGS_minloglevel = google::GLOG_ERROR;
     if (request.batch) return RunBatchCommand(request);
+    if (request.check) return RunCheckCommand(request);
 
     const FileIdentifyResult run = IdentifyFiles(request.files, request.options);
     for (const std::string& w : run.warnings) std::cerr << "identify: warning: " << w << "\n";
@@ -108,15 +136,15 @@ int main(int argc, char** argv) {
     if (result.status == TerminationStatus::kTooLittleExcitation) {
       throw tools::BadInput(what + ": " + result.message);
     }
-    std::cout << (request.json ? FormatJson(result) + "\n" : FormatReport(result, run.truth));
+    std::cout << (request.json ? FormatJson(result) + "\n"
+                               : FormatReport(result, run.truth, request.verbose));
     if (const std::string failure = NumericalFailure(result); !failure.empty()) {
       std::cerr << "identify: error: " << what << ": " << failure << "; no residuals written\n";
       return tools::kExitNumerical;
     }
-    const std::string suspects = SuspectNames(result);
-    if (!suspects.empty()) {
-      std::cerr << "identify: " << (request.strict ? "error" : "warning") << ": " << what
-                << ": suspect estimates (" << suspects << "): see their reasons\n";
+    if (const std::string suspects = SuspectSummary(result); !suspects.empty()) {
+      std::cerr << "identify: " << (request.strict ? "error" : "warning") << ": " << what << ": "
+                << suspects << "\n";
       if (request.strict) return tools::kExitNumerical;
     }
     if (!request.residuals_path.empty()) {

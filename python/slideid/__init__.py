@@ -5,8 +5,10 @@ results are plain Python objects whose ``to_dict()`` is exactly the JSON of
 ``identify --json``. Options are the command-line options of the tools, with ``_`` for ``-``
 (``fit_force_bias=True`` is ``--fit-force-bias``), checked as the tools check them.
 
-Errors: bad input raises ValueError with the tools' message (file, line and column; a bad
-option value raises its subclass slideid.OptionError, naming the option);
+Errors: bad input raises slideid.InputError, a ValueError, with the tools' message (file,
+line and column; a missing file raises its subclass slideid.MissingFileError, also a
+FileNotFoundError; a bad option value raises slideid.OptionError, a ValueError naming the
+keyword);
 a fit or a simulation that does not converge raises slideid.NumericalError; a file that
 cannot be written raises OSError. Warnings (absurd magnitudes, gaps in t, suspect
 estimates) are issued as slideid.SlideidWarning.
@@ -24,17 +26,18 @@ What a friction predicts: predict replays a push with it (by the pusher's path o
 validate cross-validates over logs; both return the tools' JSON.
 """
 
-import sys
+import sys as _sys
 
 try:
-    import numpy  # noqa: F401
-    from ._core import NumericalError, OptionError, __version__
+    import numpy as _numpy  # noqa: F401
+    from ._core import InputError, NumericalError, OptionError, __version__
 except ImportError as error:  # most likely another interpreter than the one it was built for
     raise ImportError(
-        f"slideid did not load in {sys.executable} ({error}). It is built for one interpreter, "
+        f"slideid did not load in {_sys.executable} ({error}). It is built for one interpreter, "
         "Debian's /usr/bin/python3 unless configured otherwise, which needs python3-numpy "
         "(docs/python.md)") from error
-from ._identify import Record, Result, identify, identify_file
+from ._errors import MissingFileError
+from ._identify import Record, Result, check, identify, identify_file
 from ._log import (
     Log,
     SlideidWarning,
@@ -49,7 +52,9 @@ from ._predict import predict, validate
 from ._results import ROW_FIELDS, log_files, read_results, result_row
 
 __all__ = [
+    "InputError",
     "Log",
+    "MissingFileError",
     "NumericalError",
     "OptionError",
     "ROW_FIELDS",
@@ -57,6 +62,7 @@ __all__ = [
     "Result",
     "SlideidWarning",
     "__version__",
+    "check",
     "identify",
     "identify_file",
     "import_log",
@@ -71,3 +77,6 @@ __all__ = [
     "validate",
     "write_log",
 ]
+
+# What the package imported for itself is not part of it (dir(slideid) lists the API).
+del _numpy, _sys

@@ -7,6 +7,7 @@ import os
 import warnings
 
 from . import _core
+from ._errors import missing_files_named
 from ._log import Log, SlideidWarning
 
 #: The identifiable parameters: a = e_t mu, b = e_o / e_t, c = e_r / e_t [m].
@@ -131,12 +132,15 @@ def identify(logs, method="trajectory", *, strict=False, **options):
     max_iterations, skip_bad, max_gap_ratio, and mass, inertia, com_height, gravity, which
     override the logs' metadata.
 
-    Raises ValueError for bad input and for logs that determine no parameter (the message
-    as identify's), slideid.NumericalError when the fit did not converge, or with
+    Raises slideid.InputError (a ValueError) for bad input and for logs that determine no
+    parameter (the message as identify's), slideid.MissingFileError (also a
+    FileNotFoundError) for a file that does not exist, slideid.NumericalError when the fit did not converge, or with
     strict=True when an estimate is suspect (the error's .result holds the result).
     Suspect estimates and the readers' warnings are issued as SlideidWarning.
     """
-    run = _core.identify(_inputs(logs), method=method, **options)
+    inputs = _inputs(logs)
+    with missing_files_named(inputs):
+        run = _core.identify(inputs, method=method, **options)
     data = json.loads(run["json"])
     result = Result(data, run["residuals"], run["truth"], run["warnings"], run["notes"])
     for message in run["fresh_warnings"]:  # read_log has issued those of its logs
@@ -147,7 +151,7 @@ def identify(logs, method="trajectory", *, strict=False, **options):
     if run["failure"]:
         _raise_with(_core.NumericalError, f"{what}: {run['failure']}", result)
     if run["suspects"]:
-        message = f"{what}: suspect estimates ({run['suspects']}): see their reasons"
+        message = f"{what}: {run['suspect_summary']}"
         if strict:
             _raise_with(_core.NumericalError, message, result)
         warnings.warn(message, SlideidWarning, stacklevel=2)
@@ -172,8 +176,10 @@ def identify_file(path, **options):
     except _core.OptionError:
         raise
     except (ValueError, _core.NumericalError, OSError) as error:
-        entry = {"file": name, "ok": False, "error": str(error),
-                 "error_type": type(error).__name__}
+        # The documented kinds: bad input (a missing file too) is "ValueError".
+        kind = ("NumericalError" if isinstance(error, _core.NumericalError) else
+                "ValueError" if isinstance(error, ValueError) else "OSError")
+        entry = {"file": name, "ok": False, "error": str(error), "error_type": kind}
         if getattr(error, "result", None) is not None:
             entry["result"] = error.result.to_dict()
         return entry
@@ -181,3 +187,26 @@ def identify_file(path, **options):
     entry.update(result.to_dict())
     entry["warnings"] = result.warnings
     return entry
+
+
+def check(logs, *, method="trajectory", **options):
+    """The check before fitting, as ``identify --check --json`` gives it: fits nothing, and
+    says per log its rates, gaps, noise, force at rest and dead channels, its excitation
+    (rotation range, push and slide directions, how far pushes pass from the CM, the share
+    of the time sliding), which of e_t_mu, e_o_over_e_t, e_r_over_e_t (and mu_pusher) the
+    trajectory fit could identify and how precisely (the fit's own rules on J^T J at its
+    seed), cond(J^T J), the correlations, and what would help ("advice"). logs: a Log, a
+    path, or a list of either (not mixed); options as identify's. Returns one dict for one
+    log, a list of dicts for a list (docs/identify.md, "Check before fitting").
+
+    Raises slideid.InputError for a log that cannot be read (slideid.MissingFileError, also
+    a FileNotFoundError, for a missing file), slideid.OptionError for a bad option value or
+    another method. The readers' warnings are issued as SlideidWarning.
+    """
+    inputs = _inputs(logs)
+    with missing_files_named(inputs):
+        run = _core.check(inputs, method=method, **options)
+    for message in run["warnings"]:
+        warnings.warn(message, SlideidWarning, stacklevel=2)
+    results = [json.loads(line) for line in run["json"]]
+    return results if isinstance(logs, (list, tuple)) else results[0]

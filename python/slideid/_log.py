@@ -8,6 +8,7 @@ from collections.abc import Mapping
 import numpy as np
 
 from . import _core
+from ._errors import missing_files_named
 
 
 class SlideidWarning(UserWarning):
@@ -125,11 +126,14 @@ def read_log(path, *, mass=None, inertia=None, com_height=None, gravity=None,
              max_gap_ratio=None):
     """Reads a push log (CSV, log-format.md). The keywords override its metadata, as
     identify's options do; max_gap_ratio is identify's --max-gap-ratio (10 by default, 0: no
-    limit). Raises ValueError naming the file, line and column of what is wrong."""
+    limit). Raises slideid.InputError (a ValueError) naming the file, line and column of what
+    is wrong; slideid.MissingFileError (also a FileNotFoundError) for a file that does not
+    exist."""
     options = {"mass": mass, "inertia": inertia, "com_height": com_height,
                "gravity": gravity, "max_gap_ratio": max_gap_ratio}
-    handle = _core.read_log(os.fspath(path), **{k: v for k, v in options.items()
-                                                  if v is not None})
+    with missing_files_named([os.fspath(path)]):
+        handle = _core.read_log(os.fspath(path), **{k: v for k, v in options.items()
+                                                      if v is not None})
     _warn(handle.warnings)
     return Log(handle)
 

@@ -357,7 +357,8 @@ def main(argv=None):
     except (argparse.ArgumentTypeError, TypeError, ValueError) as error:
         parser.print_usage(sys.stderr)
         message = re.sub(r"identify\(\) got an unexpected keyword argument '(\w+)'",
-                         lambda m: f"unknown option '--{m[1].replace('_', '-')}'", str(error))
+                         lambda m: f"unknown option '--{m[1].replace('_', '-')}'",
+                         getattr(error, "cli_message", str(error)))  # a command line's words
         sys.stderr.write(f"slideid.dask: usage: {message}\n")
         return 2
     progress = _print_progress if sys.stderr.isatty() else None

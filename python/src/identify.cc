@@ -7,7 +7,9 @@
 #include <sstream>
 
 #include "core.h"
+#include "io/log_check_report.h"
 #include "io/result_json.h"
+#include "pipeline/check_files.h"
 #include "pipeline/identify_options.h"
 
 namespace slideid::python {
@@ -17,8 +19,9 @@ namespace {
 
 /// identify's options that are not about the fit: the files come as arguments, the output
 /// is the result, --strict is the Python layer's, and a batch is a map of identify_file.
-const std::vector<std::string> kNotKeywords = {"log",    "logs",  "json", "residuals", "verbose",
-                                               "strict", "batch", "jobs", "out",       "shard"};
+const std::vector<std::string> kNotKeywords = {"log",     "logs",   "json",  "residuals",
+                                               "verbose", "strict", "batch", "jobs",
+                                               "out",     "shard",  "check"};
 
 /// Whether the keywords ask for a log to be read differently from how it was.
 bool ChangesReading(const po::variables_map& vm) {
@@ -155,6 +158,7 @@ py::dict IdentifyInputs(const py::list& inputs, const py::kwargs& keywords) {
   out["too_little_excitation"] = result.status == TerminationStatus::kTooLittleExcitation;
   out["failure"] = NumericalFailure(result);
   out["suspects"] = SuspectNames(result);
+  out["suspect_summary"] = SuspectSummary(result);  // the warning, with counts when pooled
   out["residuals"] = Residuals(result);
   out["truth"] = Truth(run.truth);
   out["warnings"] = warnings;
@@ -163,9 +167,48 @@ py::dict IdentifyInputs(const py::list& inputs, const py::kwargs& keywords) {
   return out;
 }
 
+/// The pre-fit check of `inputs` (all paths or all LogHandles): one identify --check --json
+/// line per log, with the readers' warnings. A path that cannot be read raises (bad input).
+py::dict CheckInputs(const py::list& inputs, const py::kwargs& keywords) {
+  const po::variables_map vm = IdentifyKeywords(keywords);
+  if (vm["method"].as<std::string>() != "trajectory") {
+    throw po::error("--check forecasts the trajectory fit: it does not go with --method " +
+                    vm["method"].as<std::string>());
+  }
+  const FileIdentifyOptions options = cli::ReadFileIdentifyOptions(vm);
+  std::vector<std::string> paths;
+  std::vector<Trajectory> logs;
+  for (py::handle item : inputs) {
+    if (py::isinstance<LogHandle>(item)) {
+      logs.push_back(item.cast<LogPtr>()->log);
+    } else {
+      paths.push_back(item.cast<std::string>());
+    }
+  }
+  if (!paths.empty() && !logs.empty()) {
+    throw std::invalid_argument("check: give paths or Log objects, not both");
+  }
+  std::vector<FileCheck> checks;
+  {
+    py::gil_scoped_release release;
+    checks = logs.empty() ? CheckFiles(paths, options) : CheckReadLogs(logs, options);
+  }
+  std::vector<std::string> lines, warnings;
+  for (const FileCheck& f : checks) {
+    if (!f.check) throw FileError(f.error);
+    lines.push_back(FormatCheckJson(*f.check));
+    warnings.insert(warnings.end(), f.warnings.begin(), f.warnings.end());
+  }
+  py::dict out;
+  out["json"] = lines;
+  out["warnings"] = warnings;
+  return out;
+}
+
 }  // namespace
 
 void BindIdentify(py::module_& m) {
+  m.def("check", &CheckInputs, py::arg("inputs"));
   m.def("identify", &IdentifyInputs, py::arg("inputs"));
   m.def("check_identify_options", &CheckIdentifyKeywords);
   m.def("log_files", &LogFiles, py::arg("directory_or_glob"));

@@ -27,7 +27,7 @@ def test_identify_batch_writes_the_dicts_of_identify_file(batch_logs, tmp_path):
                            "--segment", str(SEGMENT), "--jobs", "2"],
                           capture_output=True, text=True, check=False)
     assert done.returncode == 1, done.stderr  # a log failed
-    assert "1 of 6 logs failed" in done.stderr
+    assert "identify: 6 logs, 5 identified, 1 failed, " in done.stderr
     lines = list(slideid.read_results(out))
     assert sorted(entry["file"] for entry in lines) == paths
     for entry in lines:

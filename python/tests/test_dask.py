@@ -111,7 +111,7 @@ def test_a_failed_fit_gives_the_result_beside_the_error(client, batch_logs):
 
 def test_bad_arguments_raise_before_any_task(client, batch_logs):
     _, paths, _, _ = batch_logs
-    with pytest.raises(slideid.OptionError, match="--segment"):
+    with pytest.raises(slideid.OptionError, match="^segment"):
         slideid.dask.identify_many(paths, client, segment=1)
     with pytest.raises(TypeError, match="segmnt"):
         slideid.dask.identify_many(paths, client, segmnt=20)

@@ -189,3 +189,23 @@ def test_fits_in_threads_give_the_results_of_fits_one_after_the_other(tmp_path):
 def test_the_version_is_the_tools_version():
     code, out, _ = run_tool("identify", "--version")
     assert code == 0 and out == f"identify (slideid) {slideid.__version__}\n"
+
+
+
+def test_check_equals_the_cli_and_fits_nothing():
+    code, out, err = run_tool("identify", "--check", "--json", "--log", DEFAULT_LOG)
+    assert code == 0, err
+    assert slideid.check(DEFAULT_LOG) == json.loads(out)
+    log = slideid.read_log(DEFAULT_LOG)
+    both = slideid.check([log, log])
+    assert isinstance(both, list) and len(both) == 2 and both[0] == both[1]
+    checked = both[0]
+    for name in ("e_t_mu", "e_o_over_e_t", "e_r_over_e_t"):
+        assert checked[name]["identifiable"] is True
+        assert 0 < checked[name]["relative_stderr"] < 0.1
+    assert checked["condition_number"] >= 1
+    assert checked["advice"] == []
+    with pytest.raises(slideid.OptionError, match="method"):
+        slideid.check(DEFAULT_LOG, method="closed-form")
+    with pytest.raises(TypeError, match="unexpected keyword argument 'check'"):
+        slideid.identify(DEFAULT_LOG, check=True)
