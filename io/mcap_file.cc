@@ -39,21 +39,11 @@ enum Opcode : std::uint8_t {
 };
 
 std::string OpcodeName(std::uint8_t op) {
-  static const char* const kNames[] = {"",
-                                       "Header",
-                                       "Footer",
-                                       "Schema",
-                                       "Channel",
-                                       "Message",
-                                       "Chunk",
-                                       "Message Index",
-                                       "Chunk Index",
-                                       "Attachment",
-                                       "Attachment Index",
-                                       "Statistics",
-                                       "Metadata",
-                                       "Metadata Index",
-                                       "Summary Offset",
+  static const char* const kNames[] = {"",           "Header",           "Footer",
+                                       "Schema",     "Channel",          "Message",
+                                       "Chunk",      "Message Index",    "Chunk Index",
+                                       "Attachment", "Attachment Index", "Statistics",
+                                       "Metadata",   "Metadata Index",   "Summary Offset",
                                        "Data End"};
   if (op >= 1 && op <= 0x0F) return kNames[op];
   char hex[8];
@@ -208,7 +198,7 @@ class Reader {
 
   McapContents Read() {
     if (file_.size() < kMagicBytes || std::memcmp(file_.data(), kMagic, kMagicBytes) != 0) {
-      const bool other_version = file_.size() >= 5 && std::memcmp(file_.data(), kMagic, 5) == 0;
+      const bool other_version = file_.size() >= 6 && std::memcmp(file_.data(), kMagic, 5) == 0;
       throw McapError(source_ + ": byte 0: " +
                       (other_version ? std::string("MCAP major version '") + file_[5] +
                                            "' is not supported (only '0')"
@@ -241,8 +231,9 @@ class Reader {
         const std::uint32_t crc = f.Int<std::uint32_t>("data_section_crc");
         // The data section's CRC covers every byte before this record, magic included.
         if (crc != 0 && Crc32(file_.substr(0, r.offset)) != crc) {
-          throw McapError(where + ": the data section's CRC does not match (the file is "
-                                  "damaged)");
+          throw McapError(where +
+                          ": the data section's CRC does not match (the file is "
+                          "damaged)");
         }
         data_end_offset = r.offset;
         continue;
@@ -276,13 +267,13 @@ class Reader {
     r.offset = pos;
     std::uint64_t length = 0;
     for (int i = 0; i < 8; ++i)
-      length |= static_cast<std::uint64_t>(static_cast<unsigned char>(bytes[pos + 1 + i])) << (8 * i);
+      length |= static_cast<std::uint64_t>(static_cast<unsigned char>(bytes[pos + 1 + i]))
+                << (8 * i);
     const std::uint64_t left = bytes.size() - pos - kRecordPrefixBytes;
     if (length > left) {
       throw McapError(RecordWhere(source_, place, r.op) + ": its length " + std::to_string(length) +
                       " runs past the end of the " + (chunk ? "chunk's records" : "file") + " (" +
-                      std::to_string(left) + " bytes left" +
-                      (chunk ? ")" : "; truncated file?)"));
+                      std::to_string(left) + " bytes left" + (chunk ? ")" : "; truncated file?)"));
     }
     r.content = bytes.substr(pos + kRecordPrefixBytes, length);
     r.end = pos + kRecordPrefixBytes + length;
@@ -531,7 +522,8 @@ std::string Compress(McapCompression compression, const std::string& in) {
       std::memset(&prefs, 0, sizeof(prefs));
       prefs.frameInfo.contentSize = in.size();
       std::string out(LZ4F_compressFrameBound(in.size(), &prefs), '\0');
-      const std::size_t n = LZ4F_compressFrame(out.data(), out.size(), in.data(), in.size(), &prefs);
+      const std::size_t n =
+          LZ4F_compressFrame(out.data(), out.size(), in.data(), in.size(), &prefs);
       if (LZ4F_isError(n)) throw std::runtime_error(std::string("lz4: ") + LZ4F_getErrorName(n));
       out.resize(n);
       return out;
@@ -646,7 +638,7 @@ void McapWriter::CloseChunk() {
   PutInt(&content, chunk_start_ns_, 8);
   PutInt(&content, chunk_end_ns_, 8);
   PutInt(&content, chunk_.size(), 8);
-  PutInt(&content, Crc32(chunk_), 4);
+  PutInt(&content, options_.crcs ? Crc32(chunk_) : 0, 4);
   PutString(&content, ToString(options_.compression));
   PutInt(&content, stored.size(), 8);
   content += stored;
@@ -685,7 +677,7 @@ void McapWriter::CloseChunk() {
 std::string McapWriter::Finish() {
   CloseChunk();
   std::string data_end;
-  PutInt(&data_end, Crc32(file_), 4);
+  PutInt(&data_end, options_.crcs ? Crc32(file_) : 0, 4);
   PutRecord(&file_, kDataEnd, data_end);
   // The summary, grouped by opcode, each group found through a Summary Offset record.
   const std::uint64_t summary_start = file_.size();
@@ -732,7 +724,7 @@ std::string McapWriter::Finish() {
   file_.push_back(static_cast<char>(kFooter));
   PutInt(&file_, kFooterContentBytes, 8);
   file_ += footer;
-  PutInt(&file_, Crc32(std::string_view(file_).substr(summary_start)), 4);
+  PutInt(&file_, options_.crcs ? Crc32(std::string_view(file_).substr(summary_start)) : 0, 4);
   file_.append(kMagic, kMagicBytes);
   std::string out = std::move(file_);
   *this = McapWriter(options_);

@@ -95,6 +95,9 @@ struct McapWriterOptions {
   McapCompression compression = McapCompression::kZstd;
   /// A chunk is closed once its records reach this many bytes, uncompressed.
   std::size_t chunk_bytes = 64 * 1024;
+  /// Whether the chunk, data-section and summary CRCs are written (0 otherwise: "not
+  /// available"); the fuzz seeds leave them out so that mutations reach the records.
+  bool crcs = true;
   std::string profile = "ros2";
   std::string library = "slideid";
 };

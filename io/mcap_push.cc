@@ -38,45 +38,42 @@ RosPushLog ParseMcapPushLog(std::string_view bytes, const std::string& source,
                             const RosTopics& topics) {
   RosStreamCollector collector(source, topics);
   std::map<std::string, std::string> topic_types;
-  const McapContents contents =
-      ReadMcap(bytes, source,
-               [&](const McapChannel& channel, const McapSchema* schema, const McapMessage& m,
-                   const McapPlace& place) {
-                 if (!collector.Wanted(channel.topic)) return;
-                 const std::string type = ChannelType(channel, schema);
-                 const auto [it, inserted] = topic_types.emplace(channel.topic, type);
-                 if (!inserted && it->second != type) {
-                   throw RosLogError(source + ": " + place.ToString() + ": topic '" +
-                                     channel.topic + "' has messages of two types, " + it->second +
-                                     " and " + type);
-                 }
-                 // Header stamps are ROS time; the log time is the recorder's receive time.
-                 const double receive_s = SecondsOfNs(m.log_time_ns);
-                 try {
-                   switch (ParseRosMessageType(type)) {
-                     case RosMessageType::kPoseStamped:
-                       collector.AddPose(channel.topic, DecodeCdrPoseStamped(m.data), receive_s);
-                       break;
-                     case RosMessageType::kTransformStamped:
-                       collector.AddPose(channel.topic, DecodeCdrTransformStamped(m.data),
-                                         receive_s);
-                       break;
-                     case RosMessageType::kTfMessage:
-                       for (const RosPose& p : DecodeCdrTfMessage(m.data))
-                         collector.AddPose(channel.topic, p, receive_s);
-                       break;
-                     case RosMessageType::kWrenchStamped:
-                       collector.AddWrench(channel.topic, DecodeCdrWrenchStamped(m.data),
-                                           receive_s);
-                       break;
-                     case RosMessageType::kOther:
-                       break;  // Finish names the topic and its type
-                   }
-                 } catch (const CdrError& e) {
-                   throw RosLogError(source + ": " + place.ToString() + ": topic '" +
-                                     channel.topic + "' (" + type + "): " + e.what());
-                 }
-               });
+  const McapContents contents = ReadMcap(
+      bytes, source,
+      [&](const McapChannel& channel, const McapSchema* schema, const McapMessage& m,
+          const McapPlace& place) {
+        if (!collector.Wanted(channel.topic)) return;
+        const std::string type = ChannelType(channel, schema);
+        const auto [it, inserted] = topic_types.emplace(channel.topic, type);
+        if (!inserted && it->second != type) {
+          throw RosLogError(source + ": " + place.ToString() + ": topic '" + channel.topic +
+                            "' has messages of two types, " + it->second + " and " + type);
+        }
+        // Header stamps are ROS time; the log time is the recorder's receive time.
+        const double receive_s = SecondsOfNs(m.log_time_ns);
+        try {
+          switch (ParseRosMessageType(type)) {
+            case RosMessageType::kPoseStamped:
+              collector.AddPose(channel.topic, DecodeCdrPoseStamped(m.data), receive_s);
+              break;
+            case RosMessageType::kTransformStamped:
+              collector.AddPose(channel.topic, DecodeCdrTransformStamped(m.data), receive_s);
+              break;
+            case RosMessageType::kTfMessage:
+              for (const RosPose& p : DecodeCdrTfMessage(m.data))
+                collector.AddPose(channel.topic, p, receive_s);
+              break;
+            case RosMessageType::kWrenchStamped:
+              collector.AddWrench(channel.topic, DecodeCdrWrenchStamped(m.data), receive_s);
+              break;
+            case RosMessageType::kOther:
+              break;  // Finish names the topic and its type
+          }
+        } catch (const CdrError& e) {
+          throw RosLogError(source + ": " + place.ToString() + ": topic '" + channel.topic + "' (" +
+                            type + "): " + e.what());
+        }
+      });
   // Topics that hold no stream are listed too, for the message naming a missing one.
   for (const auto& [id, channel] : contents.channels) {
     const McapSchema* schema = nullptr;
@@ -104,8 +101,8 @@ std::string FormatMcapPushLog(const MitPushRecording& recording, const RosPushWr
       name.insert(name.find('/'), "/msg");
       schemas[type] = writer.AddSchema(name, "ros2msg", Ros2MsgSchema(type));
     }
-    const std::uint16_t id = writer.AddChannel(
-        schemas[type], topic, "cdr", {{"offered_qos_profiles", ""}});
+    const std::uint16_t id =
+        writer.AddChannel(schemas[type], topic, "cdr", {{"offered_qos_profiles", ""}});
     channels.emplace(key, id);
     return id;
   };

@@ -80,8 +80,8 @@ class CdrReader {
   }
   void Need(std::size_t bytes, const std::string& what) const {
     if (bytes > data_.size() - pos_) {
-      Fail(pos_, what + " runs past the end of the " + std::to_string(data_.size()) +
-                     "-byte message");
+      Fail(pos_,
+           what + " runs past the end of the " + std::to_string(data_.size()) + "-byte message");
     }
   }
 
@@ -256,7 +256,8 @@ std::string Join(std::initializer_list<const char*> parts) {
 std::string Ros2MsgSchema(RosMessageType type) {
   const char* transform_stamped =
       "std_msgs/Header header\nstring child_frame_id\nTransform transform\n";
-  const char* transform = "MSG: geometry_msgs/Transform\nVector3 translation\nQuaternion rotation\n";
+  const char* transform =
+      "MSG: geometry_msgs/Transform\nVector3 translation\nQuaternion rotation\n";
   switch (type) {
     case RosMessageType::kPoseStamped:
       return Join({"std_msgs/Header header\nPose pose\n", kHeader, kTime,
@@ -265,9 +266,10 @@ std::string Ros2MsgSchema(RosMessageType type) {
     case RosMessageType::kTransformStamped:
       return Join({transform_stamped, kHeader, kTime, transform, kVector3, kQuaternion});
     case RosMessageType::kTfMessage:
-      return Join({"geometry_msgs/TransformStamped[] transforms\n",
-                   (std::string("MSG: geometry_msgs/TransformStamped\n") + transform_stamped).c_str(),
-                   kHeader, kTime, transform, kVector3, kQuaternion});
+      return Join(
+          {"geometry_msgs/TransformStamped[] transforms\n",
+           (std::string("MSG: geometry_msgs/TransformStamped\n") + transform_stamped).c_str(),
+           kHeader, kTime, transform, kVector3, kQuaternion});
     case RosMessageType::kWrenchStamped:
       return Join({"std_msgs/Header header\nWrench wrench\n", kHeader, kTime,
                    "MSG: geometry_msgs/Wrench\nVector3 force\nVector3 torque\n", kVector3});

@@ -10,8 +10,9 @@
 namespace slideid {
 
 bool RosTopics::IsValid(std::string* why) const {
-  const std::pair<const std::string*, const char*> required[] = {
-      {&object_topic, "--object-topic"}, {&tip_topic, "--tip-topic"}, {&force_topic, "--force-topic"}};
+  const std::pair<const std::string*, const char*> required[] = {{&object_topic, "--object-topic"},
+                                                                 {&tip_topic, "--tip-topic"},
+                                                                 {&force_topic, "--force-topic"}};
   for (const auto& [topic, option] : required) {
     if (topic->empty()) {
       if (why) *why = std::string(option) + " is required (the topic that holds that stream)";
@@ -79,8 +80,8 @@ bool RosStreamCollector::Wanted(const std::string& topic) const {
   return topic == object_.topic || topic == tip_.topic || topic == force_.topic;
 }
 
-void RosStreamCollector::Add(Stream* s, const RosStamp& stamp, double receive_s, double a,
-                             double b, double c) {
+void RosStreamCollector::Add(Stream* s, const RosStamp& stamp, double receive_s, double a, double b,
+                             double c) {
   ++s->messages;
   double t = stamp.Seconds();
   if (stamp.IsZero()) {  // never stamped by its publisher: the recorder's clock
@@ -99,13 +100,15 @@ void RosStreamCollector::AddPose(const std::string& topic, const RosPose& pose, 
   for (Stream* s : {&object_, &tip_}) {
     if (topic != s->topic) continue;
     if (!s->frame.empty() && pose.child_frame_id != s->frame) continue;
-    const double norm2 = pose.qx * pose.qx + pose.qy * pose.qy + pose.qz * pose.qz + pose.qw * pose.qw;
+    const double norm2 =
+        pose.qx * pose.qx + pose.qy * pose.qy + pose.qz * pose.qz + pose.qw * pose.qw;
     if (!(norm2 > 0.0)) {
       throw RosLogError(source_ + ": topic '" + topic + "', message " +
                         std::to_string(s->messages + 1) + " of the " + s->name +
                         " stream: the orientation quaternion is zero or not finite");
     }
-    Add(s, pose.stamp, receive_s, pose.x, pose.y, QuaternionYaw(pose.qx, pose.qy, pose.qz, pose.qw));
+    Add(s, pose.stamp, receive_s, pose.x, pose.y,
+        QuaternionYaw(pose.qx, pose.qy, pose.qz, pose.qw));
   }
 }
 
@@ -131,8 +134,8 @@ RosPushLog RosStreamCollector::Finish(const std::map<std::string, std::string>& 
                                   type == RosMessageType::kTransformStamped ||
                                   type == RosMessageType::kTfMessage);
     if (!fits) {
-      throw RosLogError(source_ + ": topic '" + s->topic + "' (the " + s->name +
-                        " stream) holds " + it->second + ", not " +
+      throw RosLogError(source_ + ": topic '" + s->topic + "' (the " + s->name + " stream) holds " +
+                        it->second + ", not " +
                         (is_force ? "geometry_msgs/WrenchStamped"
                                   : "geometry_msgs/PoseStamped, TransformStamped or "
                                     "tf2_msgs/TFMessage"));
@@ -150,9 +153,10 @@ RosPushLog RosStreamCollector::Finish(const std::map<std::string, std::string>& 
                                           : "no transform with child frame '" + s->frame + "'"));
     }
     if (s->zero_stamps > 0) {
-      log_.notes.push_back(Printf("%s topic %s: %d of %d messages have a zero header stamp; their "
-                                  "receive time is used",
-                                  s->name, s->topic.c_str(), s->zero_stamps, s->messages));
+      log_.notes.push_back(
+          Printf("%s topic %s: %d of %d messages have a zero header stamp; their "
+                 "receive time is used",
+                 s->name, s->topic.c_str(), s->zero_stamps, s->messages));
     }
   }
   return std::move(log_);
@@ -205,7 +209,8 @@ RosStamp StampOf(double t_s, int index, int zero_every) {
 
 /// Receive times of a stream: its stamps plus the delay, kept in row order (1 us apart at
 /// least); a zero-stamped message is received exactly at its row's time.
-std::vector<double> ReceiveTimes(const std::vector<MitStreamRow>& rows, const RosPushWriteSpec& spec) {
+std::vector<double> ReceiveTimes(const std::vector<MitStreamRow>& rows,
+                                 const RosPushWriteSpec& spec) {
   std::vector<double> out;
   double last = -std::numeric_limits<double>::infinity();
   for (std::size_t i = 0; i < rows.size(); ++i) {
@@ -269,10 +274,9 @@ std::vector<RosMessageEvent> RosMessagesOf(const MitPushRecording& rec,
     e.wrench.tz = rec.ft_wrench[i][3];
     events.push_back(std::move(e));
   }
-  std::stable_sort(events.begin(), events.end(),
-                   [](const RosMessageEvent& a, const RosMessageEvent& b) {
-                     return a.receive_s < b.receive_s;
-                   });
+  std::stable_sort(
+      events.begin(), events.end(),
+      [](const RosMessageEvent& a, const RosMessageEvent& b) { return a.receive_s < b.receive_s; });
   return events;
 }
 

@@ -3,11 +3,19 @@
 #include <geometry_msgs/PoseStamped.h>
 #include <geometry_msgs/TransformStamped.h>
 #include <geometry_msgs/WrenchStamped.h>
+#include <poll.h>
 #include <rosbag/bag.h>
 #include <rosbag/view.h>
+#include <signal.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
 #include <tf2_msgs/TFMessage.h>
+#include <unistd.h>
 
+#include <cerrno>
+#include <chrono>
 #include <cstdio>
+#include <cstring>
 #include <map>
 
 namespace slideid {
@@ -66,9 +74,8 @@ template <typename T>
 T Instantiate(const rosbag::MessageInstance& m) {
   const boost::shared_ptr<T> message = m.instantiate<T>();
   if (!message) {
-    throw std::runtime_error("its connection's type " + m.getDataType() + " (md5 " +
-                             m.getMD5Sum() + ") does not decode as " +
-                             ros::message_traits::DataType<T>::value());
+    throw std::runtime_error("its connection's type " + m.getDataType() + " (md5 " + m.getMD5Sum() +
+                             ") does not decode as " + ros::message_traits::DataType<T>::value());
   }
   return *message;
 }
@@ -81,8 +88,7 @@ void Collect(const rosbag::MessageInstance& m, RosStreamCollector* collector) {
       collector->AddPose(topic, PoseOf(Instantiate<geometry_msgs::PoseStamped>(m)), receive_s);
       break;
     case RosMessageType::kTransformStamped:
-      collector->AddPose(topic, PoseOf(Instantiate<geometry_msgs::TransformStamped>(m)),
-                         receive_s);
+      collector->AddPose(topic, PoseOf(Instantiate<geometry_msgs::TransformStamped>(m)), receive_s);
       break;
     case RosMessageType::kTfMessage:
       for (const geometry_msgs::TransformStamped& t :
@@ -99,9 +105,7 @@ void Collect(const rosbag::MessageInstance& m, RosStreamCollector* collector) {
   }
 }
 
-}  // namespace
-
-RosPushLog ReadRosbagPushLog(const std::string& path, const RosTopics& topics) {
+RosPushLog ReadInThisProcess(const std::string& path, const RosTopics& topics) {
   RosStreamCollector collector(path, topics);
   std::map<std::string, std::string> topic_types;
   std::map<std::string, int> counts;
@@ -129,14 +133,173 @@ RosPushLog ReadRosbagPushLog(const std::string& path, const RosTopics& topics) {
   return collector.Finish(topic_types);
 }
 
+// librosbag trusts the offsets of a bag's index: a damaged bag makes it read out of bounds
+// (Bag::readHeaderFromBuffer, SIGSEGV) on about 1 in 100 random one-byte changes. So the
+// bag is read in a child process, which sends the streams (or its error) back through a
+// pipe: a crash or hang inside the library becomes an unreadable file, never a crash of
+// import-log. The child only reads and writes to the pipe, and leaves with _exit.
+
+void PutBytes(std::string* out, const void* data, std::size_t n) {
+  out->append(static_cast<const char*>(data), n);
+}
+void PutSize(std::string* out, std::uint64_t n) { PutBytes(out, &n, sizeof(n)); }
+void PutText(std::string* out, const std::string& s) {
+  PutSize(out, s.size());
+  *out += s;
+}
+
+/// 'E' and the message, or 'L' and the streams and notes.
+std::string Serialize(const RosPushLog& log) {
+  std::string out = "L";
+  for (const auto* rows :
+       {&log.recording.object_pose, &log.recording.tip_pose, &log.recording.ft_wrench}) {
+    PutSize(&out, rows->size());
+    PutBytes(&out, rows->data(), rows->size() * sizeof(MitStreamRow));
+  }
+  PutSize(&out, log.notes.size());
+  for (const std::string& note : log.notes) PutText(&out, note);
+  return out;
+}
+
+class Unpacker {
+ public:
+  explicit Unpacker(const std::string& bytes) : bytes_(bytes) {}
+  std::uint64_t Size() {
+    std::uint64_t n;
+    Take(&n, sizeof(n));
+    return n;
+  }
+  void Take(void* out, std::size_t n) {
+    if (n > bytes_.size() - pos_) throw std::runtime_error("short message from the reader");
+    std::memcpy(out, bytes_.data() + pos_, n);
+    pos_ += n;
+  }
+  std::string Text() {
+    std::string s(Size(), '\0');
+    Take(s.data(), s.size());
+    return s;
+  }
+
+ private:
+  const std::string& bytes_;
+  std::size_t pos_ = 1;
+};
+
+RosPushLog Deserialize(const std::string& bytes) {
+  Unpacker in(bytes);
+  RosPushLog log;
+  for (auto* rows :
+       {&log.recording.object_pose, &log.recording.tip_pose, &log.recording.ft_wrench}) {
+    const std::uint64_t n = in.Size();
+    if (n > bytes.size() / sizeof(MitStreamRow)) throw std::runtime_error("bad row count");
+    rows->resize(n);
+    in.Take(rows->data(), n * sizeof(MitStreamRow));
+  }
+  const std::uint64_t notes = in.Size();
+  for (std::uint64_t i = 0; i < notes && i < bytes.size(); ++i) log.notes.push_back(in.Text());
+  return log;
+}
+
+void WriteAll(int fd, const std::string& bytes) {
+  std::size_t done = 0;
+  while (done < bytes.size()) {
+    const ssize_t n = write(fd, bytes.data() + done, bytes.size() - done);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) return;
+    done += static_cast<std::size_t>(n);
+  }
+}
+
+/// How long the child may take: generous for a bag of `bytes` (librosbag reads about
+/// 100 MB/s here), so that only a hang reaches it.
+std::chrono::milliseconds ReadTimeLimit(std::uint64_t bytes) {
+  return std::chrono::milliseconds(30000 + bytes / 10000);
+}
+
+}  // namespace
+
+RosPushLog ReadRosbagPushLog(const std::string& path, const RosTopics& topics) {
+  struct stat info;
+  if (stat(path.c_str(), &info) != 0) {
+    throw RosLogError(path + ": cannot be opened for reading: " + std::strerror(errno));
+  }
+  int fds[2];
+  if (pipe(fds) != 0) throw std::runtime_error(std::string("pipe: ") + std::strerror(errno));
+  std::fflush(nullptr);
+  const pid_t child = fork();
+  if (child < 0) {
+    close(fds[0]);
+    close(fds[1]);
+    throw std::runtime_error(std::string("fork: ") + std::strerror(errno));
+  }
+  if (child == 0) {
+    close(fds[0]);
+    std::string out;
+    try {
+      out = Serialize(ReadInThisProcess(path, topics));
+    } catch (const std::exception& e) {
+      out = std::string("E") + e.what();
+    }
+    WriteAll(fds[1], out);
+    close(fds[1]);
+    _exit(0);
+  }
+  close(fds[1]);
+  std::string bytes;
+  char buffer[1 << 16];
+  const auto deadline = std::chrono::steady_clock::now() + ReadTimeLimit(info.st_size);
+  bool timed_out = false;
+  while (true) {
+    const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(
+        deadline - std::chrono::steady_clock::now());
+    if (left.count() <= 0) {
+      timed_out = true;
+      break;
+    }
+    pollfd p{fds[0], POLLIN, 0};
+    const int ready = poll(&p, 1, static_cast<int>(left.count()));
+    if (ready < 0 && errno == EINTR) continue;
+    if (ready <= 0) {
+      timed_out = ready == 0;
+      break;
+    }
+    const ssize_t n = read(fds[0], buffer, sizeof(buffer));
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) break;
+    bytes.append(buffer, static_cast<std::size_t>(n));
+  }
+  close(fds[0]);
+  if (timed_out) kill(child, SIGKILL);
+  int status = 0;
+  while (waitpid(child, &status, 0) < 0 && errno == EINTR) {
+  }
+  if (timed_out) {
+    throw RosLogError(path + ": librosbag did not finish reading it in " +
+                      std::to_string(ReadTimeLimit(info.st_size).count() / 1000) +
+                      " s (a damaged bag?)");
+  }
+  if (WIFSIGNALED(status)) {
+    throw RosLogError(path + ": librosbag crashed reading it (signal " +
+                      std::to_string(WTERMSIG(status)) +
+                      "): the bag is damaged (its index points outside its data?)");
+  }
+  if (bytes.empty() || (bytes[0] != 'E' && bytes[0] != 'L')) {
+    throw RosLogError(path + ": the bag reader ended without an answer (exit status " +
+                      std::to_string(WIFEXITED(status) ? WEXITSTATUS(status) : -1) + ")");
+  }
+  if (bytes[0] == 'E') throw RosLogError(bytes.substr(1));
+  return Deserialize(bytes);
+}
+
 void WriteRosbagPushLog(const MitPushRecording& recording, const RosPushWriteSpec& spec,
                         const std::string& path, RosbagCompression compression) {
   const std::string tmp = path + ".tmp";
   try {
     rosbag::Bag bag(tmp, rosbag::bagmode::Write);
-    bag.setCompression(compression == RosbagCompression::kBz2   ? rosbag::compression::BZ2
-                       : compression == RosbagCompression::kLz4 ? rosbag::compression::LZ4
-                                                                : rosbag::compression::Uncompressed);
+    bag.setCompression(compression == RosbagCompression::kBz2 ? rosbag::compression::BZ2
+                       : compression == RosbagCompression::kLz4
+                           ? rosbag::compression::LZ4
+                           : rosbag::compression::Uncompressed);
     for (const RosMessageEvent& e : RosMessagesOf(recording, spec)) {
       const ros::Time receive = RosTimeOf(StampOfSeconds(e.receive_s));
       auto transform = [](const RosPose& p) {

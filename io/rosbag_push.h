@@ -13,7 +13,9 @@ namespace slideid {
 
 /// The streams of the bag at `path`. A row's time is its message's header stamp, or its
 /// receive time when the stamp is zero (noted). Throws RosLogError naming the file and the
-/// place (the topic and message, or what librosbag reports for a damaged file).
+/// place (the topic and message, or what librosbag reports for a damaged file). librosbag
+/// reads out of bounds on some damaged bags, so it runs in a child process (fork): its
+/// crash, or a hang past a limit that grows with the file's size, is such an error too.
 RosPushLog ReadRosbagPushLog(const std::string& path, const RosTopics& topics);
 
 /// Compression of the bag's chunks (rosbag's own: none, bz2 or lz4).
