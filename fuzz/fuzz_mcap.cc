@@ -64,8 +64,8 @@ void Import(const slideid::MitPushRecording& r) {
   Require(accepted == !result.log.samples.empty(), "a log exactly when accepted");
   for (std::size_t u = 0; u < result.log.samples.size(); ++u) {
     const slideid::TrajectorySample& s = result.log.samples[u];
-    for (double v : {s.t_s, s.state.x, s.state.y, s.state.theta, s.applied.fx, s.applied.fy,
-                     s.applied.tz}) {
+    for (double v :
+         {s.t_s, s.state.x, s.state.y, s.state.theta, s.applied.fx, s.applied.fy, s.applied.tz}) {
       Require(std::isfinite(v), "every imported number is finite");
     }
     if (u > 0) Require(s.t_s > result.log.samples[u - 1].t_s, "imported t strictly increases");

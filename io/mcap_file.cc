@@ -546,12 +546,14 @@ McapContents ReadMcap(std::string_view file, const std::string& source,
 }
 
 std::string ReadFileBytes(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
+  std::ifstream in(path, std::ios::binary | std::ios::ate);
   if (!in) throw McapError(path + ": cannot be opened for reading");
-  std::ostringstream bytes;
-  bytes << in.rdbuf();
-  if (in.bad()) throw McapError(path + ": reading failed");
-  return std::move(bytes).str();
+  const std::streamoff size = in.tellg();
+  if (size < 0) throw McapError(path + ": cannot be read");
+  std::string bytes(static_cast<std::size_t>(size), '\0');
+  in.seekg(0);
+  if (!in.read(bytes.data(), size)) throw McapError(path + ": reading failed");
+  return bytes;
 }
 
 const char* ToString(McapCompression compression) {

@@ -38,21 +38,37 @@ RosPushLog ParseMcapPushLog(std::string_view bytes, const std::string& source,
                             const RosTopics& topics) {
   RosStreamCollector collector(source, topics);
   std::map<std::string, std::string> topic_types;
+  struct ChannelInfo {
+    bool wanted = false;
+    RosMessageType type = RosMessageType::kOther;
+  };
+  std::map<std::uint16_t, ChannelInfo> channel_types;
   const McapContents contents = ReadMcap(
       bytes, source,
       [&](const McapChannel& channel, const McapSchema* schema, const McapMessage& m,
           const McapPlace& place) {
-        if (!collector.Wanted(channel.topic)) return;
-        const std::string type = ChannelType(channel, schema);
-        const auto [it, inserted] = topic_types.emplace(channel.topic, type);
-        if (!inserted && it->second != type) {
-          throw RosLogError(source + ": " + place.ToString() + ": topic '" + channel.topic +
-                            "' has messages of two types, " + it->second + " and " + type);
+        // What a channel holds is worked out once per channel, not per message.
+        auto known = channel_types.find(channel.id);
+        if (known == channel_types.end()) {
+          ChannelInfo info;
+          info.wanted = collector.Wanted(channel.topic);
+          const std::string type = ChannelType(channel, schema);
+          info.type = ParseRosMessageType(type);
+          if (info.wanted) {
+            const auto [it, inserted] = topic_types.emplace(channel.topic, type);
+            if (!inserted && it->second != type) {
+              throw RosLogError(source + ": " + place.ToString() + ": topic '" + channel.topic +
+                                "' has messages of two types, " + it->second + " and " + type);
+            }
+          }
+          known = channel_types.emplace(channel.id, info).first;
         }
+        if (!known->second.wanted) return;
+        const std::string& type = topic_types.at(channel.topic);
         // Header stamps are ROS time; the log time is the recorder's receive time.
         const double receive_s = SecondsOfNs(m.log_time_ns);
         try {
-          switch (ParseRosMessageType(type)) {
+          switch (known->second.type) {
             case RosMessageType::kPoseStamped:
               collector.AddPose(channel.topic, DecodeCdrPoseStamped(m.data), receive_s);
               break;
