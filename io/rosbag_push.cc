@@ -234,6 +234,9 @@ RosPushLog ReadRosbagPushLog(const std::string& path, const RosTopics& topics) {
   }
   if (child == 0) {
     close(fds[0]);
+    // The errors come back through the pipe: console_bridge's own prints of librosbag's
+    // complaints ("Received an invalid TCPROS header") would only repeat them on stderr.
+    console_bridge::setLogLevel(console_bridge::CONSOLE_BRIDGE_LOG_NONE);
     std::string out;
     try {
       out = Serialize(ReadInThisProcess(path, topics));

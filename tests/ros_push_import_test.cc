@@ -237,6 +237,23 @@ TEST(McapFile, RoundTripsMessagesUnderEachCompression) {
     EXPECT_EQ(contents.profile, "ros2");
     EXPECT_EQ(contents.channels.at(a).metadata.at("k"), "v");
     EXPECT_EQ(contents.schemas.at(s).data, "int32 a\n");
+    // The index a seeking reader uses: the footer points at the summary and its offsets;
+    // each Summary Offset record at a group of records of its opcode.
+    auto u64 = [&](std::size_t at) {
+      std::uint64_t v = 0;
+      for (int i = 0; i < 8; ++i) v |= std::uint64_t(std::uint8_t(file[at + i])) << (8 * i);
+      return v;
+    };
+    const std::size_t footer = file.size() - 8 - 29;
+    ASSERT_EQ(file[footer], '\x02');
+    const std::uint64_t summary = u64(footer + 9), offsets = u64(footer + 17);
+    EXPECT_EQ(file[summary], '\x03');  // the schemas first
+    int groups = 0;
+    for (std::size_t at = offsets; at < footer; at += 9 + 17, ++groups) {
+      ASSERT_EQ(file[at], '\x0e');
+      EXPECT_EQ(file[u64(at + 10)], file[at + 9]) << "group " << groups;
+    }
+    EXPECT_EQ(groups, 4);  // schemas, channels, chunk indexes, statistics
   }
 }
 
@@ -460,6 +477,11 @@ TEST(RosPushBadInput, ABagCutShortIsUnreadableNamingTheFile) {
   ExpectError([&] { ReadRosbagPushLog(dir + "/a.bag", wrong); },
               {"a.bag: topic '/nothing' (the object stream) is not in the file",
                "/netft/wrench (geometry_msgs/WrenchStamped)"});
+  RosTopics swapped = spec.topics;
+  swapped.force_topic = spec.topics.object_topic;
+  ExpectError([&] { ReadRosbagPushLog(dir + "/a.bag", swapped); },
+              {"a.bag: topic '/vicon/object' (the force stream) holds geometry_msgs/PoseStamped, "
+               "not geometry_msgs/WrenchStamped"});
 }
 
 TEST(RosPushBadInput, ADamagedBagIsUnreadableNeverACrash) {
@@ -499,21 +521,25 @@ TEST(RosPushBadInput, ClocksThatNeverOverlapRejectTheFileNamingTheTopics) {
   RosPushWriteSpec spec;
   spec.topics = Topics();
   WriteMcapPushLog(rec, spec, dir + "/clock.mcap");
+  WriteRosbagPushLog(rec, spec, dir + "/clock.bag");
   MitObjectSource objects;
   objects.mass_kg = 0.835;
   objects.inertia_kgm2 = 0.00112725;
   objects.com_height_m = 0.0065;
   objects.patch_spec = "rectangle 0.09 0.09";
   std::set<std::string> used;
-  const MitImportReport r = ImportRecordingFile(
-      dir + "/clock.mcap", RosLogReader("mcap", spec.topics), objects, {}, dir, &used);
-  EXPECT_EQ(r.verdict, ImportVerdict::kRejected);
-  EXPECT_NE(r.reason.find("the clocks never overlap: the object topic /vicon/object spans "
-                          "1476728847"),
-            std::string::npos)
-      << r.reason;
-  EXPECT_NE(r.reason.find("and the force topic /netft/wrench 847.0"), std::string::npos)
-      << r.reason;
+  for (const char* format : {"mcap", "rosbag"}) {
+    const std::string file = dir + (format[0] == 'm' ? "/clock.mcap" : "/clock.bag");
+    const MitImportReport r =
+        ImportRecordingFile(file, RosLogReader(format, spec.topics), objects, {}, dir, &used);
+    EXPECT_EQ(r.verdict, ImportVerdict::kRejected) << format;
+    EXPECT_NE(r.reason.find("the clocks never overlap: the object topic /vicon/object spans "
+                            "1476728847"),
+              std::string::npos)
+        << r.reason;
+    EXPECT_NE(r.reason.find("and the force topic /netft/wrench 847.0"), std::string::npos)
+        << r.reason;
+  }
 }
 
 TEST(ImportLogTool, ReadsBagsAndMcapFilesAndNamesTheBadOnes) {
