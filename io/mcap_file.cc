@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <memory>
 #include <sstream>
@@ -546,6 +547,13 @@ McapContents ReadMcap(std::string_view file, const std::string& source,
 }
 
 std::string ReadFileBytes(const std::string& path) {
+  std::error_code error;
+  const std::filesystem::file_status status = std::filesystem::status(path, error);
+  if (error || !std::filesystem::exists(status)) {
+    throw McapError(path + ": cannot be opened for reading" +
+                    (error ? ": " + error.message() : std::string()));
+  }
+  if (!std::filesystem::is_regular_file(status)) throw McapError(path + ": not a regular file");
   std::ifstream in(path, std::ios::binary | std::ios::ate);
   if (!in) throw McapError(path + ": cannot be opened for reading");
   const std::streamoff size = in.tellg();

@@ -223,6 +223,7 @@ RosPushLog ReadRosbagPushLog(const std::string& path, const RosTopics& topics) {
   if (stat(path.c_str(), &info) != 0) {
     throw RosLogError(path + ": cannot be opened for reading: " + std::strerror(errno));
   }
+  if (!S_ISREG(info.st_mode)) throw RosLogError(path + ": not a regular file");
   int fds[2];
   if (pipe(fds) != 0) throw std::runtime_error(std::string("pipe: ") + std::strerror(errno));
   std::fflush(nullptr);

@@ -472,6 +472,10 @@ TEST(RosPushBadInput, ABagCutShortIsUnreadableNamingTheFile) {
     std::ofstream(dir + "/cut.bag", std::ios::binary) << bytes.substr(0, n);
     ExpectError([&] { ReadRosbagPushLog(dir + "/cut.bag", spec.topics); }, {dir + "/cut.bag: "});
   }
+  ExpectError([&] { ReadRosbagPushLog(dir, spec.topics); }, {dir + ": not a regular file"});
+  ExpectError([&] { ReadMcapPushLog(dir, spec.topics); }, {dir + ": not a regular file"});
+  ExpectError([&] { ReadMcapPushLog(dir + "/none.mcap", spec.topics); },
+              {dir + "/none.mcap: cannot be opened for reading"});
   RosTopics wrong = spec.topics;
   wrong.object_topic = "/nothing";
   ExpectError([&] { ReadRosbagPushLog(dir + "/a.bag", wrong); },
