@@ -370,6 +370,24 @@ TEST_F(RosPushFormats, ZeroHeaderStampsFallBackToTheReceiveTimeAndAreNoted) {
   }
 }
 
+TEST_F(RosPushFormats, AFileTheJsonImportRejectsIsRejectedForTheSameReason) {
+  MitSynthSpec spec;  // a dead force sensor, one of the MIT tests' rejections
+  spec.defects.dead_force = true;
+  const MitSynthResult truth = MakeMitPushRecording(spec);
+  const MitImportResult json = ImportMitPush(truth.recording, "push", Options(spec));
+  ASSERT_EQ(json.report.verdict, ImportVerdict::kRejected);
+  RosPushWriteSpec write;
+  write.topics = Topics();
+  WriteMcapPushLog(truth.recording, write, *dir_ + "/dead.mcap");
+  WriteRosbagPushLog(truth.recording, write, *dir_ + "/dead.bag");
+  for (const RosPushLog& log : {ReadMcapPushLog(*dir_ + "/dead.mcap", write.topics),
+                                ReadRosbagPushLog(*dir_ + "/dead.bag", write.topics)}) {
+    const MitImportResult r = ImportMitPush(log.recording, "push", Options(spec));
+    EXPECT_EQ(r.report.verdict, ImportVerdict::kRejected);
+    EXPECT_EQ(r.report.reason, json.report.reason);
+  }
+}
+
 /// The clean push's MCAP bytes (uncompressed: its records can be found and changed).
 std::string CleanMcap(McapCompression compression = McapCompression::kNone) {
   RosPushWriteSpec spec;
