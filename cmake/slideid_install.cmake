@@ -47,6 +47,8 @@ function(slideid_install_package)
     VERSION ${PROJECT_VERSION} COMPATIBILITY SameMinorVersion)
   install(FILES ${PROJECT_BINARY_DIR}/slideidConfig.cmake
                 ${PROJECT_BINARY_DIR}/slideidConfigVersion.cmake
+                ${PROJECT_SOURCE_DIR}/cmake/FindRosbagStorage.cmake
+                ${PROJECT_SOURCE_DIR}/cmake/FindLZ4.cmake
           DESTINATION ${SLIDEID_INSTALL_CMAKEDIR})
   install(DIRECTORY ${PROJECT_SOURCE_DIR}/datasets/scenes
           DESTINATION ${CMAKE_INSTALL_DATADIR}/slideid)

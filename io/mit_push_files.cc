@@ -9,8 +9,13 @@ namespace {
 std::string Stem(const std::string& path) {
   const std::size_t slash = path.find_last_of('/');
   std::string name = slash == std::string::npos ? path : path.substr(slash + 1);
-  if (name.size() > 5 && name.compare(name.size() - 5, 5, ".json") == 0)
-    name.resize(name.size() - 5);
+  // Only the known extensions: MIT names hold dots ("_t=0.524") that are not one.
+  for (const std::string ext : {".json", ".h5", ".hdf5", ".bag", ".mcap"}) {
+    if (name.size() > ext.size() && name.compare(name.size() - ext.size(), ext.size(), ext) == 0) {
+      name.resize(name.size() - ext.size());
+      break;
+    }
+  }
   return name.empty() ? "log" : name;
 }
 
@@ -62,15 +67,31 @@ std::string ResolveObject(const std::string& object, const MitObjectSource& sour
 MitImportReport ImportMitPushFile(const std::string& path, const MitObjectSource& objects,
                                   MitImportOptions options, const std::string& out_dir,
                                   std::set<std::string>* used_names) {
+  const RecordingReader read_json = [](const std::string& file) {
+    RecordingRead read;
+    read.recording = ReadMitPushJson(file);
+    return read;
+  };
+  return ImportRecordingFile(path, read_json, objects, std::move(options), out_dir, used_names);
+}
+
+MitImportReport ImportRecordingFile(const std::string& path, const RecordingReader& read,
+                                    const MitObjectSource& objects, MitImportOptions options,
+                                    const std::string& out_dir, std::set<std::string>* used_names) {
   MitImportReport failed;
   failed.source = path;
   failed.object = ParseMitPushFileName(path).shape;
-  MitPushRecording recording;
+  RecordingRead input;
   try {
-    recording = ReadMitPushJson(path);
-  } catch (const MitPushError& e) {
+    input = read(path);
+  } catch (const std::runtime_error& e) {  // each reader's error names the file and place
     failed.verdict = ImportVerdict::kUnreadable;
     failed.reason = e.what();
+    return failed;
+  }
+  if (!input.rejection.empty()) {
+    failed.reason = input.rejection;
+    failed.notes = input.notes;
     return failed;
   }
   const std::string missing = ResolveObject(failed.object, objects, &options);
@@ -81,7 +102,8 @@ MitImportReport ImportMitPushFile(const std::string& path, const MitObjectSource
                     "they are never guessed)";
     return failed;
   }
-  MitImportResult result = ImportMitPush(recording, path, options);
+  MitImportResult result = ImportMitPush(input.recording, path, options);
+  result.report.notes.insert(result.report.notes.begin(), input.notes.begin(), input.notes.end());
   if (result.report.verdict == ImportVerdict::kAccepted) {
     const std::string name = UniqueName(Stem(path), used_names);
     const std::string out = out_dir.empty() ? name : out_dir + "/" + name;

@@ -3,9 +3,11 @@
 // object's properties, import (io/mit_push_import.h) and write DIR/<stem>.csv. What
 // `import-log --format mit-push` does for each of its files.
 
+#include <functional>
 #include <optional>
 #include <set>
 #include <string>
+#include <vector>
 
 #include "io/mit_push_import.h"
 #include "io/object_table.h"
@@ -28,5 +30,24 @@ struct MitObjectSource {
 MitImportReport ImportMitPushFile(const std::string& path, const MitObjectSource& objects,
                                   MitImportOptions options, const std::string& out_dir,
                                   std::set<std::string>* used_names);
+
+/// One recording as a reader of any format found it: the streams, facts for the report's
+/// notes (e.g. stamps replaced by receive times), and a reason found while reading to reject
+/// it (empty: none; e.g. streams whose clocks never overlap, named by topic).
+struct RecordingRead {
+  MitPushRecording recording;
+  std::vector<std::string> notes;
+  std::string rejection;
+};
+
+/// Reads the file at a path. Throws std::runtime_error (its message names the file and the
+/// place in it) when the file cannot be read: the file is then reported kUnreadable.
+using RecordingReader = std::function<RecordingRead(const std::string& path)>;
+
+/// ImportMitPushFile for a file of any format that `read` reads; <stem> is its name without
+/// the extension .json, .h5, .hdf5, .bag or .mcap.
+MitImportReport ImportRecordingFile(const std::string& path, const RecordingReader& read,
+                                    const MitObjectSource& objects, MitImportOptions options,
+                                    const std::string& out_dir, std::set<std::string>* used_names);
 
 }  // namespace slideid

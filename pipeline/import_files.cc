@@ -3,7 +3,10 @@
 #include <filesystem>
 #include <set>
 
+#include "io/mcap_push.h"
+#include "io/mit_push_json.h"
 #include "io/mit_push_report.h"
+#include "io/rosbag_push.h"
 #include "io/wrench_twist_csv.h"
 
 namespace slideid {
@@ -19,12 +22,38 @@ void CreateDirectory(const std::string& dir) {
 
 ImportSummary ImportMitFiles(const std::vector<std::string>& files, const MitObjectSource& objects,
                              const MitImportOptions& options, const std::string& out_dir) {
+  const RecordingReader read_json = [](const std::string& path) {
+    RecordingRead read;
+    read.recording = ReadMitPushJson(path);
+    return read;
+  };
+  return ImportRecordingFiles(files, read_json, objects, options, out_dir);
+}
+
+RecordingReader RosLogReader(const std::string& format, const RosTopics& topics) {
+  if (format != "rosbag" && format != "mcap") {
+    throw std::invalid_argument("'" + format + "' is not a ROS log format (rosbag or mcap)");
+  }
+  return [format, topics](const std::string& path) {
+    RosPushLog log =
+        format == "rosbag" ? ReadRosbagPushLog(path, topics) : ReadMcapPushLog(path, topics);
+    RecordingRead read;
+    read.recording = std::move(log.recording);
+    read.notes = std::move(log.notes);
+    read.rejection = StreamOverlapProblem(read.recording, topics);
+    return read;
+  };
+}
+
+ImportSummary ImportRecordingFiles(const std::vector<std::string>& files,
+                                   const RecordingReader& read, const MitObjectSource& objects,
+                                   const MitImportOptions& options, const std::string& out_dir) {
   CreateDirectory(out_dir);
   ImportSummary summary;
   std::vector<MitImportReport> reports;
   std::set<std::string> used_names{"import_report.csv"};
   for (const std::string& file : files) {
-    reports.push_back(ImportMitPushFile(file, objects, options, out_dir, &used_names));
+    reports.push_back(ImportRecordingFile(file, read, objects, options, out_dir, &used_names));
     const MitImportReport& r = reports.back();
     ++summary.files;
     if (r.verdict == ImportVerdict::kAccepted) {
@@ -101,11 +130,17 @@ ImportSummary ImportFiles(const ImportRequest& request) {
     objects.table = request.table.get();
     return ImportMitFiles(request.files, objects, request.mit, request.out_dir);
   }
+  if (request.format == "rosbag" || request.format == "mcap") {
+    MitObjectSource objects = request.objects;
+    objects.table = request.table.get();
+    return ImportRecordingFiles(request.files, RosLogReader(request.format, request.ros), objects,
+                                request.mit, request.out_dir);
+  }
   if (request.format == "zhou-tripod") {
     return ImportTripodFiles(request.files, request.tripod, request.out_dir);
   }
   throw std::invalid_argument("unknown import format '" + request.format +
-                              "' (mit-push or zhou-tripod)");
+                              "' (mit-push, rosbag, mcap or zhou-tripod)");
 }
 
 }  // namespace slideid

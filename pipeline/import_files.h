@@ -9,6 +9,7 @@
 
 #include "io/mit_push_files.h"
 #include "io/object_table.h"
+#include "io/ros_push_log.h"
 #include "io/zhou_tripod_import.h"
 
 namespace slideid {
@@ -29,6 +30,16 @@ struct ImportSummary {
 ImportSummary ImportMitFiles(const std::vector<std::string>& files, const MitObjectSource& objects,
                              const MitImportOptions& options, const std::string& out_dir);
 
+/// Push recordings of any format, each read by `read`, imported as ImportMitFiles does.
+ImportSummary ImportRecordingFiles(const std::vector<std::string>& files,
+                                   const RecordingReader& read, const MitObjectSource& objects,
+                                   const MitImportOptions& options, const std::string& out_dir);
+
+/// The reader of ROS logs, `format` "rosbag" (ROS 1 bags) or "mcap" (ROS 2 MCAP files): the
+/// streams on `topics`, the report's notes, and a rejection when their clocks never
+/// overlap. Throws std::invalid_argument for another format.
+RecordingReader RosLogReader(const std::string& format, const RosTopics& topics);
+
 /// Zhou tripod logs into DIR/<stem>.csv wrench-twist pairs (one row per accepted push) and
 /// DIR/<stem>_import_report.csv (one row per push). A file is rejected when it cannot be read or
 /// has no acceptable push. Throws std::runtime_error naming a path that cannot be written.
@@ -38,17 +49,20 @@ ImportSummary ImportTripodFiles(const std::vector<std::string>& files,
 /// One import: the format, the files, where to and how (import-log's options, or the
 /// Python module's import_log).
 struct ImportRequest {
-  std::string format;  ///< "mit-push" or "zhou-tripod"
+  std::string format;  ///< "mit-push", "rosbag", "mcap" or "zhou-tripod"
   std::vector<std::string> files;
   std::string out_dir;
   std::shared_ptr<const ObjectTable> table;  ///< mit-push: the --objects table, if any
-  MitObjectSource objects;                   ///< mit-push; its table pointer is set from `table`
-  MitImportOptions mit;
+  /// mit-push, rosbag and mcap; its table pointer is set from `table`
+  MitObjectSource objects;
+  MitImportOptions mit;  ///< mit-push, rosbag and mcap
+  RosTopics ros;         ///< rosbag and mcap: the streams' topics and frames
   TripodImportOptions tripod;
 };
 
-/// Runs ImportMitFiles or ImportTripodFiles. Throws std::invalid_argument for an unknown
-/// format, std::runtime_error naming a path that cannot be written.
+/// Runs ImportMitFiles, ImportRecordingFiles (rosbag, mcap) or ImportTripodFiles. Throws
+/// std::invalid_argument for an unknown format, std::runtime_error naming a path that cannot be
+/// written.
 ImportSummary ImportFiles(const ImportRequest& request);
 
 }  // namespace slideid

@@ -60,6 +60,21 @@ MitObjectSource Objects(const po::variables_map& vm, std::shared_ptr<const Objec
   return objects;
 }
 
+RosTopics RosOptions(const po::variables_map& vm) {
+  RosTopics t;
+  auto text = [&](const char* option, std::string* out) {
+    if (vm.count(option)) *out = vm[option].as<std::string>();
+  };
+  text("object-topic", &t.object_topic);
+  text("tip-topic", &t.tip_topic);
+  text("force-topic", &t.force_topic);
+  text("object-frame", &t.object_frame);
+  text("tip-frame", &t.tip_frame);
+  std::string why;
+  if (!t.IsValid(&why)) throw po::error(why);
+  return t;
+}
+
 TripodImportOptions TripodOptions(const po::variables_map& vm) {
   TripodImportOptions o;
   o.mass_kg = Physical(vm, "mass", false);
@@ -74,8 +89,9 @@ TripodImportOptions TripodOptions(const po::variables_map& vm) {
 
 void AddImportOptions(po::options_description* options, po::options_description* hidden) {
   options->add_options()("format", po::value<std::string>()->value_name("NAME"),
-                         "mit-push (MIT push dataset JSON: push logs) or zhou-tripod (ICRA 2016 "
-                         "tripod logs: wrench-twist pairs)")(
+                         "mit-push (MIT push dataset JSON), rosbag (ROS 1 bags), mcap (ROS 2 "
+                         "MCAP files): push logs; or zhou-tripod (ICRA 2016 tripod logs: "
+                         "wrench-twist pairs)")(
       "out", po::value<std::string>()->value_name("DIR"),
       "output directory: one DIR/<stem>.csv per accepted file and DIR/import_report.csv")(
       "objects", po::value<std::string>()->value_name("FILE"),
@@ -103,7 +119,17 @@ void AddImportOptions(po::options_description* options, po::options_description*
                                          po::value<double>()->default_value(0.2)->value_name("S"),
                                          "reject a shorter push")(
       "force-sign", po::value<std::string>()->default_value("auto"),
-      "auto (per file, from the contact normal), applied or reaction (stored = -force)");
+      "auto (per file, from the contact normal), applied or reaction (stored = -force)")(
+      "object-topic", po::value<std::string>()->value_name("TOPIC"),
+      "rosbag, mcap: the object's pose (geometry_msgs PoseStamped, TransformStamped or "
+      "tf2_msgs TFMessage)")("tip-topic", po::value<std::string>()->value_name("TOPIC"),
+                             "rosbag, mcap: the pusher tip's pose (same types)")(
+      "force-topic", po::value<std::string>()->value_name("TOPIC"),
+      "rosbag, mcap: the force (geometry_msgs WrenchStamped)")(
+      "object-frame", po::value<std::string>()->value_name("FRAME"),
+      "rosbag, mcap: the child frame id of the object's transform (required for a TFMessage "
+      "topic)")("tip-frame", po::value<std::string>()->value_name("FRAME"),
+                "rosbag, mcap: the child frame id of the tip's transform");
   hidden->add_options()("files", po::value<std::vector<std::string>>());
 }
 
@@ -115,11 +141,19 @@ ImportRequest ReadImportOptions(const po::variables_map& vm) {
   r.format = vm["format"].as<std::string>();
   r.files = vm["files"].as<std::vector<std::string>>();
   r.out_dir = vm["out"].as<std::string>();
-  if (r.format != "mit-push" && r.format != "zhou-tripod") {
-    throw po::error("--format must be mit-push or zhou-tripod");
+  const bool ros = r.format == "rosbag" || r.format == "mcap";
+  if (r.format != "mit-push" && !ros && r.format != "zhou-tripod") {
+    throw po::error("--format must be mit-push, rosbag, mcap or zhou-tripod");
+  }
+  for (const char* option :
+       {"object-topic", "tip-topic", "force-topic", "object-frame", "tip-frame"}) {
+    if (!ros && vm.count(option)) {
+      throw po::error(std::string("--") + option + " applies to --format rosbag and mcap only");
+    }
   }
   // The table is read before any import: a bad table is bad input, not I/O.
-  if (r.format == "mit-push") {
+  if (r.format == "mit-push" || ros) {
+    if (ros) r.ros = RosOptions(vm);
     r.objects = Objects(vm, &r.table);
     r.mit = MitOptions(vm);
   } else {

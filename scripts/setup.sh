@@ -18,6 +18,8 @@ packages=(
   pybind11-dev python3-dev python3-numpy  # the Python module, for Debian's /usr/bin/python3
   python3-pytest         # the Python module's tests
   python3-distributed    # slideid.dask: many logs on a Dask cluster (docs/scale-out.md)
+  librosbag-dev libgeometry-msgs-dev libtf2-msgs-dev  # import-log --format rosbag: ROS 1 bags (io/rosbag_push.h)
+  libzstd-dev liblz4-dev zlib1g-dev  # import-log --format mcap: chunk compression and CRC-32 (io/mcap_file.h)
   clang-format           # the code's format (.clang-format), checked by scripts/check_format.sh
   clang libclang-rt-14-dev  # fuzz targets: libFuzzer and clang's sanitizer runtimes (scripts/fuzz.sh)
 )

@@ -37,6 +37,8 @@ int main(int argc, char** argv) {
         "import-log: convert real push recordings into push logs (docs/real-data.md).\n\n"
         "Usage: import-log --format mit-push --out DIR [--objects FILE | --mass KG --inertia "
         "KG_M2\n         --com-height M --patch SPEC] [options] FILE.json...\n"
+        "       import-log --format rosbag|mcap --object-topic T --tip-topic T --force-topic T\n"
+        "         [--object-frame F --tip-frame F] --out DIR [object options] FILE.bag|.mcap...\n"
         "       import-log --format zhou-tripod --out DIR [--mass KG --inertia KG_M2] FILE.txt..."
         "\n\nOptions");
     opts.add_options()("help,h", "print this help and exit")("version",

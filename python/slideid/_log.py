@@ -288,8 +288,10 @@ def make_dataset(count=10, seed=1, out=None, **options):
 
 def import_log(format, files, out_dir, **options):
     """Imports real recordings, as import-log does: format "mit-push" (MIT push dataset JSON
-    files into push logs; give objects="table.csv" or mass, inertia, com_height and patch)
-    or "zhou-tripod" (tripod logs into wrench-twist pairs). Each file is imported into
+    files into push logs; give objects="table.csv" or mass, inertia, com_height and patch),
+    "rosbag" or "mcap" (ROS 1 bags, ROS 2 MCAP files: the same, with object_topic, tip_topic,
+    force_topic and, for TF topics, object_frame and tip_frame) or "zhou-tripod" (tripod logs
+    into wrench-twist pairs). Each file is imported into
     out_dir or rejected with its reason, on its own. Returns the summary: files, accepted,
     accepted_lines, rejections (one line per rejected file) and report_path."""
     if isinstance(files, (str, os.PathLike)):

@@ -286,7 +286,7 @@ def test_dataset_errors():
 
 def test_import_errors(tmp_path):
     good = CORPUS / "mit_push" / "valid_push.json"
-    with pytest.raises(slideid.OptionError, match="^format must be "):  # the keyword
+    with pytest.raises(slideid.OptionError, match="^format must be mit-push, rosbag, mcap or zhou-tripod"):  # the keyword
         slideid.import_log("csv", [good], tmp_path)
     with pytest.raises(slideid.OptionError, match="the object is not known"):
         slideid.import_log("mit-push", [good], tmp_path, mass=1)

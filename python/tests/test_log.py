@@ -142,6 +142,23 @@ def test_import_log_writes_what_import_log_writes(tmp_path):
     slideid.read_log(tmp_path / "py" / "valid_push.csv")
 
 
+def test_import_log_reads_mcap_files_with_the_topic_keywords(tmp_path):
+    # The fuzz seeds are short pushes (12 rows per stream): read, then rejected by the import.
+    files = [CORPUS / "mcap" / "push_zstd_crc.mcap", CORPUS / "mcap" / "push_lz4.mcap"]
+    topics = dict(object_topic="/object", tip_topic="/tf", tip_frame="tip", force_topic="/ft")
+    summary = slideid.import_log("mcap", files, tmp_path, mass=0.835, inertia=1.13e-3,
+                                 com_height=0.0065, patch="rectangle 0.09 0.09", **topics)
+    assert summary["files"] == 2 and summary["accepted"] == 0
+    assert all(line.startswith("rejected: ") for line in summary["rejections"])
+    report = (tmp_path / "import_report.csv").read_text()
+    assert "tip topic /tf: 2 of 12 messages have a zero header stamp" in report
+    topics["tip_frame"] = "nothing"
+    summary = slideid.import_log("mcap", files[:1], tmp_path / "b", mass=0.835, inertia=1.13e-3,
+                                 com_height=0.0065, patch="rectangle 0.09 0.09", **topics)
+    assert "topic '/tf' (the tip stream) has no transform with child frame 'nothing'" in \
+        summary["rejections"][0]
+
+
 def test_import_tripod_logs_into_pairs_as_import_log_does(tmp_path):
     files = [CORPUS / "tripod" / "valid_two_pushes.txt"]
     code, _, err = run_tool("import-log", "--format", "zhou-tripod", "--out", tmp_path / "cli",
