@@ -25,6 +25,7 @@ struct IdentifyRequest {
   bool batch = false;
   int jobs = 1;
   std::string batch_out;
+  bool resume = false;  ///< --resume: keep batch_out's lines, fit only the logs they lack
 };
 
 /// Adds every option of identify (general ones to `options`, the rest to `advanced`).
