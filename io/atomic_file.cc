@@ -96,8 +96,7 @@ void SyncAndRename(int fd, const std::string& temp, const std::string& path,
 }
 
 double NowSeconds() {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch())
-      .count();
+  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
 }
 
 }  // namespace
@@ -185,8 +184,8 @@ void JsonLinesFile::Append(std::string_view line) {
     // Part of the line may be on disk: cut it off, so that the file ends with a whole line.
     if (ftruncate(fd_, before.st_size) != 0) {
       throw FileWriteError(path_, "the results",
-                           Reason(error) + "; a partial last line is left (" +
-                               Reason(errno) + " cutting it off): --resume drops it");
+                           Reason(error) + "; a partial last line is left (" + Reason(errno) +
+                               " cutting it off): --resume drops it");
     }
     throw FileWriteError(path_, "the results", Reason(error));
   }
