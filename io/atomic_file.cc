@@ -194,6 +194,7 @@ void JsonLinesFile::Append(std::string_view line) {
 }
 
 void JsonLinesFile::Sync() {
+  if (!unsynced_) return;  // nothing written since the last sync
   if (fsync(fd_) != 0) throw FileWriteError(path_, "the results", Reason(errno));
   unsynced_ = false;
   last_sync_s_ = NowSeconds();

@@ -79,7 +79,7 @@ class JsonLinesFile {
   /// Appends `line` (no line break in it) and a line break. On a failed write the file is
   /// cut back to its size before, and FileWriteError is thrown. Not thread-safe: one writer.
   void Append(std::string_view line);
-  /// fsync now; throws FileWriteError.
+  /// fsync now, if a line was appended since the last; throws FileWriteError.
   void Sync();
   const std::string& path() const { return path_; }
 

@@ -28,6 +28,7 @@ class JsonLines:
         flags = os.O_WRONLY | os.O_CREAT | os.O_APPEND | (os.O_TRUNC if truncate else 0)
         self.fd = os.open(self.path, flags, 0o666)
         self.synced = time.monotonic()
+        self.unsynced = False
 
     def append(self, entry):
         data = (json.dumps(entry, ensure_ascii=False) + "\n").encode("utf-8")
@@ -40,11 +41,14 @@ class JsonLines:
             with contextlib.suppress(OSError):
                 os.ftruncate(self.fd, size)
             raise OSError(error.errno, error.strerror, self.path) from error
+        self.unsynced = True
         if time.monotonic() - self.synced >= self.interval:
             self.sync()
 
     def sync(self):
-        os.fsync(self.fd)
+        if self.unsynced:  # a line was appended since the last sync
+            os.fsync(self.fd)
+            self.unsynced = False
         self.synced = time.monotonic()
 
     def close(self):
