@@ -67,8 +67,8 @@ const std::string kHeader = kMeta + "t,x,y,theta\n";
 /// bad_input_test.cc knows (20 in all, 10% of the batch).
 std::vector<std::pair<std::string, std::string>> BadLogs() {
   std::vector<std::pair<std::string, std::string>> bad;
-  for (const auto& entry : fs::directory_iterator(std::string(SLIDEID_SOURCE_DIR) +
-                                                  "/fuzz/corpus/log")) {
+  for (const auto& entry :
+       fs::directory_iterator(std::string(SLIDEID_SOURCE_DIR) + "/fuzz/corpus/log")) {
     const std::string name = entry.path().filename().string();
     if (name.rfind("bad_", 0) == 0) bad.emplace_back(name, testing::ReadText(entry.path()));
   }
@@ -279,9 +279,9 @@ TEST(FaultInjection, TwentyKillsAndResumesLoseAndDuplicateNothing) {
   EXPECT_EQ(testing::ReadText(out), finished);
   // The figures of docs/robustness.md (time is reported, never asserted).
   std::cout << "fault injection: " << files.size() << " logs (" << files.size() - kGoodLogs
-            << " bad), " << kills << " SIGKILLs survived, " << lost << " lines lost, "
-            << duplicates << " duplicates, " << missing << " logs missing; uninterrupted "
-            << uninterrupted_s << " s, killed and resumed " << interrupted_s << " s in all ("
+            << " bad), " << kills << " SIGKILLs survived, " << lost << " lines lost, " << duplicates
+            << " duplicates, " << missing << " logs missing; uninterrupted " << uninterrupted_s
+            << " s, killed and resumed " << interrupted_s << " s in all ("
             << interrupted_s / uninterrupted_s << "x, " << (interrupted_s - uninterrupted_s) / kills
             << " s a kill); a resume with nothing left " << noop_s << " s\n";
   RecordProperty("kills_survived", kills);
@@ -314,8 +314,8 @@ TEST(FaultInjection, SigintAndSigtermFinishTheLineAndExitWithTheirCodes) {
 
 /// identify --batch over `logs` into `out`, resumed; its exit code and messages.
 testing::ToolRun ResumeBatch(const std::string& logs, const std::string& out) {
-  return testing::RunTool("identify", "--batch " + logs + " --out " + out +
-                                          " --method equation-error --resume");
+  return testing::RunTool(
+      "identify", "--batch " + logs + " --out " + out + " --method equation-error --resume");
 }
 
 /// A small directory of good logs.
@@ -400,12 +400,12 @@ TEST(FaultInjection, FullDiskAndReadOnlyDirectoryExitFourNamingTheFileAndKeepEar
       " 2> /dev/null\n" + id + " --log " + logs + "/log_0000.csv --method equation-error" +
       " --residuals " + mount + "/res.csv > /dev/null\n" + "cp " + mount + "/r.jsonl " + dir +
       "/before.jsonl\ncp " + mount + "/res.csv " + dir + "/res_before.csv\n" +
-      "dd if=/dev/zero of=" + mount + "/filler bs=1k count=" +
-      "$(( $(df -k --output=avail " + mount + " | tail -1) - 4 )) 2> /dev/null\n" +
-      "set +e\n" + id + " --batch " + logs + batch + " 2> " + dir + "/full.err; echo $? > " + dir +
-      "/full.code\n" + id + " --log " + logs + "/log_0001.csv --method equation-error" +
-      " --residuals " + mount + "/res.csv > /dev/null 2> " + dir + "/full_res.err; echo $? > " +
-      dir + "/full_res.code\nset -e\ncp " + mount + "/r.jsonl " + dir + "/full.jsonl\ncp " + mount +
+      "dd if=/dev/zero of=" + mount + "/filler bs=1k count=" + "$(( $(df -k --output=avail " +
+      mount + " | tail -1) - 4 )) 2> /dev/null\n" + "set +e\n" + id + " --batch " + logs + batch +
+      " 2> " + dir + "/full.err; echo $? > " + dir + "/full.code\n" + id + " --log " + logs +
+      "/log_0001.csv --method equation-error" + " --residuals " + mount +
+      "/res.csv > /dev/null 2> " + dir + "/full_res.err; echo $? > " + dir +
+      "/full_res.code\nset -e\ncp " + mount + "/r.jsonl " + dir + "/full.jsonl\ncp " + mount +
       "/res.csv " + dir + "/res_full.csv\nls -a " + mount + " > " + dir + "/full.ls\nrm " + mount +
       "/filler\nmount -o remount,ro " + mount + "\nset +e\n" + id + " --batch " + logs + batch +
       " 2> " + dir + "/ro.err; echo $? > " + dir + "/ro.code\n" + id + " --log " + logs +
