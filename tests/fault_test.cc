@@ -153,8 +153,9 @@ int Wait(const Child& child) {
   return status;
 }
 
-std::vector<std::string> BatchArgs(const std::string& out, bool resume) {
-  std::vector<std::string> args = {"--batch", Corpus(), "--out", out};
+std::vector<std::string> BatchArgs(const std::string& out, bool resume,
+                                   const std::string& logs = Corpus()) {
+  std::vector<std::string> args = {"--batch", logs, "--out", out};
   args.insert(args.end(), kBatchOptions.begin(), kBatchOptions.end());
   if (resume) args.push_back("--resume");
   return args;
@@ -289,35 +290,6 @@ TEST(FaultInjection, TwentyKillsAndResumesLoseAndDuplicateNothing) {
   RecordProperty("duplicates", duplicates);
 }
 
-TEST(FaultInjection, SigintAndSigtermFinishTheLineAndExitWithTheirCodes) {
-  const std::string dir = FreshDir("fault_signal");
-  for (const int signal : {SIGINT, SIGTERM}) {
-    const std::string out = dir + "/" + std::to_string(signal) + ".jsonl";
-    const Child child = Start(BatchArgs(out, false), dir + "/signal.log");
-    while (WholeLines(out).size() < 10) std::this_thread::sleep_for(std::chrono::milliseconds(1));
-    kill(child.pid, signal);
-    const int status = Wait(child);
-    ASSERT_TRUE(WIFEXITED(status)) << "signal " << signal;
-    EXPECT_EQ(WEXITSTATUS(status), 128 + signal);
-    bool torn = true;
-    const size_t lines = WholeLines(out, &torn).size();
-    EXPECT_FALSE(torn);
-    EXPECT_LT(lines, 200u) << "stopped early";
-    const Child resumed = Start(BatchArgs(out, true), dir + "/resume.log");
-    EXPECT_EQ(WEXITSTATUS(Wait(resumed)), 1);
-    EXPECT_EQ(WholeLines(out).size(), 200u);
-  }
-  const std::string log = testing::ReadText(dir + "/signal.log");
-  EXPECT_NE(log.find("identify: stopped by SIGINT"), std::string::npos) << log;
-  EXPECT_NE(log.find("run again with --resume"), std::string::npos) << log;
-}
-
-/// identify --batch over `logs` into `out`, resumed; its exit code and messages.
-testing::ToolRun ResumeBatch(const std::string& logs, const std::string& out) {
-  return testing::RunTool(
-      "identify", "--batch " + logs + " --out " + out + " --method equation-error --resume");
-}
-
 /// A small directory of good logs.
 std::string FewLogs(const std::string& name, int count) {
   const std::string dir = FreshDir(name);
@@ -327,6 +299,36 @@ std::string FewLogs(const std::string& name, int count) {
   spec.program.count = 2;
   MakeDataset(spec, dir);
   return dir;
+}
+
+/// identify --batch over `logs` into `out`, resumed; its exit code and messages.
+testing::ToolRun ResumeBatch(const std::string& logs, const std::string& out) {
+  return testing::RunTool(
+      "identify", "--batch " + logs + " --out " + out + " --method equation-error --resume");
+}
+
+TEST(FaultInjection, SigintAndSigtermFinishTheLineAndExitWithTheirCodes) {
+  const std::string dir = FreshDir("fault_signal");
+  const std::string logs = FewLogs("fault_signal_logs", 40);
+  for (const int signal : {SIGINT, SIGTERM}) {
+    const std::string out = dir + "/" + std::to_string(signal) + ".jsonl";
+    const Child child = Start(BatchArgs(out, false, logs), dir + "/signal.log");
+    while (WholeLines(out).size() < 10) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    kill(child.pid, signal);
+    const int status = Wait(child);
+    ASSERT_TRUE(WIFEXITED(status)) << "signal " << signal;
+    EXPECT_EQ(WEXITSTATUS(status), 128 + signal);
+    bool torn = true;
+    const size_t lines = WholeLines(out, &torn).size();
+    EXPECT_FALSE(torn);
+    EXPECT_LT(lines, 40u) << "stopped early";
+    const Child resumed = Start(BatchArgs(out, true, logs), dir + "/resume.log");
+    EXPECT_EQ(WEXITSTATUS(Wait(resumed)), 0);
+    EXPECT_EQ(WholeLines(out).size(), 40u);
+  }
+  const std::string log = testing::ReadText(dir + "/signal.log");
+  EXPECT_NE(log.find("identify: stopped by SIGINT"), std::string::npos) << log;
+  EXPECT_NE(log.find("run again with --resume"), std::string::npos) << log;
 }
 
 TEST(FaultInjection, TornLastLineIsDroppedWithAWarningAndTheLogFittedAgain) {
