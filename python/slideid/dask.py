@@ -29,6 +29,7 @@ import re
 import signal
 import sys
 import time
+import warnings
 
 import distributed
 
@@ -363,6 +364,11 @@ def _identify_keywords(tokens):
     return keywords
 
 
+def _print_warning(message, *_):
+    """A warning (of a resume: a line dropped) as one line of the command's stderr."""
+    sys.stderr.write(f"slideid.dask: warning: {message}\n")
+
+
 def _print_progress(done, failed, total, seconds):
     rate = done / max(seconds, 1e-9)
     left = (total - done) / max(rate, 1e-9)
@@ -429,8 +435,11 @@ def main(argv=None):
         try:
             previous = signal.signal(signal.SIGTERM, _on_sigterm)
             try:
-                summary = write_results(paths, args.out, client, batch_size=args.batch_size,
-                                        progress=progress, resume=args.resume, **options)
+                with warnings.catch_warnings():
+                    warnings.showwarning = _print_warning
+                    summary = write_results(paths, args.out, client,
+                                            batch_size=args.batch_size, progress=progress,
+                                            resume=args.resume, **options)
             finally:
                 signal.signal(signal.SIGTERM, previous)
         except (KeyboardInterrupt, _Stopped) as stop:
