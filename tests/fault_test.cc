@@ -185,6 +185,30 @@ double SecondsSince(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
+TEST(AtomicFile, AWriterThatFailsLeavesTheOldFileAndNoTemporary) {
+  const std::string dir = FreshDir("atomic");
+  const std::string path = dir + "/table.csv";
+  WriteFileAtomically(path, "the table", "old\n");
+  EXPECT_THROW(WriteFileAtomically(path, "the table",
+                                   [](std::ostream& out) {
+                                     out << "half a tab";
+                                     throw std::invalid_argument("a non-finite cell");
+                                   }),
+               std::invalid_argument);
+  EXPECT_EQ(testing::ReadText(path), "old\n");
+  EXPECT_EQ(std::distance(fs::directory_iterator(dir), fs::directory_iterator()), 1);
+  try {
+    WriteFileAtomically(dir + "/missing/table.csv", "the table", "new\n");
+    ADD_FAILURE() << "wrote into a directory that does not exist";
+  } catch (const FileWriteError& e) {
+    EXPECT_EQ(e.path(), dir + "/missing/table.csv");
+    EXPECT_NE(std::string(e.what()).find("cannot write the table '" + dir +
+                                         "/missing/table.csv': No such file or directory"),
+              std::string::npos)
+        << e.what();
+  }
+}
+
 TEST(FaultInjection, TwentyKillsAndResumesLoseAndDuplicateNothing) {
   const std::string dir = FreshDir("fault_kill");
   const std::vector<std::string> files = ExpandFiles(Corpus());
