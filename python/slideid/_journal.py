@@ -66,24 +66,38 @@ class JsonLines:
         self.close()
 
 
+@contextlib.contextmanager
+def _naming(path):
+    """OSErrors of the file operations as OSErrors whose filename is `path`."""
+    try:
+        yield
+    except OSError as error:
+        if error.filename == path:
+            raise
+        raise OSError(error.errno, error.strerror or str(error), path) from error
+
+
 def write_atomically(path, write, newline=""):
     """Writes text `path` through write(stream) to a temporary in its directory, fsync'ed,
-    then renamed over it: complete or absent. Raises OSError naming the file."""
+    then renamed over it: complete or absent. Raises OSError naming the file when a file
+    operation fails; what write() raises (writing to the stream included) propagates as it
+    is, the temporary removed."""
     path = os.fspath(path)
     folder, name = os.path.split(os.path.abspath(path))
-    fd, temp = tempfile.mkstemp(prefix=f".{name}.tmp-", dir=folder)
+    with _naming(path):
+        fd, temp = tempfile.mkstemp(prefix=f".{name}.tmp-", dir=folder)
     try:
         with os.fdopen(fd, "w", encoding="utf-8", newline=newline) as stream:
             write(stream)
-            stream.flush()
-            os.fsync(stream.fileno())
-        os.chmod(temp, 0o666 & ~_umask())
-        os.replace(temp, path)
-    except BaseException as error:
+            with _naming(path):
+                stream.flush()
+                os.fsync(stream.fileno())
+        with _naming(path):
+            os.chmod(temp, 0o666 & ~_umask())
+            os.replace(temp, path)
+    except BaseException:
         with contextlib.suppress(OSError):
             os.remove(temp)
-        if isinstance(error, OSError) and error.filename != path:
-            raise OSError(error.errno, error.strerror, path) from error
         raise
 
 

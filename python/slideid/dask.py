@@ -286,10 +286,10 @@ def write_results(paths, out, client=None, *, batch_size=None, max_pending=None,
             table = csv.DictWriter(stream, fieldnames=ROW_FIELDS, lineterminator="\n")
             table.writeheader()
             for _, entries in _run(todo, client, batch_size, max_pending, options):
-                table.writerows(result_row(entry) for entry in entries)
+                with _naming(out):
+                    table.writerows(result_row(entry) for entry in entries)
                 counter.add(entries)
-        with _naming(out):
-            write_atomically(out, write_table)
+        write_atomically(out, write_table)
     else:
         with _naming(out):
             journal = JsonLines(out, truncate=not resume)
