@@ -7,6 +7,7 @@
 #include <system_error>
 
 #include "forward_model/number_format.h"
+#include "io/atomic_file.h"
 #include "io/push_log.h"
 
 namespace slideid {
@@ -49,20 +50,7 @@ DatasetSummary MakeDataset(const DatasetSpec& spec, const std::string& directory
     summary.redraws += static_cast<int>(entry.redraw_reasons.size());
     summary.entries.push_back(std::move(entry));
   }
-  const std::string path = directory + "/truth.csv";
-  const std::string tmp = path + ".tmp";
-  {
-    std::ofstream out(tmp, std::ios::binary);
-    out << truth;
-    if (!out.flush()) {
-      std::remove(tmp.c_str());
-      throw std::runtime_error(path + ": cannot write the truth manifest");
-    }
-  }
-  if (std::rename(tmp.c_str(), path.c_str()) != 0) {
-    std::remove(tmp.c_str());
-    throw std::runtime_error(path + ": cannot write the truth manifest");
-  }
+  WriteFileAtomically(directory + "/truth.csv", "the truth manifest", truth);
   return summary;
 }
 

@@ -14,6 +14,7 @@
 #include <sstream>
 
 #include "forward_model/number_format.h"
+#include "io/atomic_file.h"
 
 namespace slideid {
 namespace {
@@ -215,21 +216,7 @@ std::string FormatMitPushJson(const MitPushRecording& recording) {
 }
 
 void WriteMitPushJson(const MitPushRecording& recording, const std::string& path) {
-  const std::string tmp = path + ".tmp";
-  {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    if (out) out << FormatMitPushJson(recording);
-    out.close();
-    if (!out) {
-      std::remove(tmp.c_str());
-      throw std::runtime_error("cannot write MIT push file '" + path + "'");
-    }
-  }
-  if (std::rename(tmp.c_str(), path.c_str()) != 0) {
-    const std::string why = std::strerror(errno);
-    std::remove(tmp.c_str());
-    throw std::runtime_error("cannot rename '" + tmp + "' to '" + path + "': " + why);
-  }
+  WriteFileAtomically(path, "MIT push file", FormatMitPushJson(recording));
 }
 
 MitPushFileName ParseMitPushFileName(const std::string& path) {

@@ -10,6 +10,7 @@
 
 #include "forward_model/constants.h"
 #include "forward_model/number_format.h"
+#include "io/atomic_file.h"
 
 namespace slideid {
 namespace {
@@ -150,24 +151,10 @@ std::string MitImportReportRow(const MitImportReport& report) {
 }
 
 void WriteMitImportReport(const std::vector<MitImportReport>& reports, const std::string& path) {
-  const std::string tmp = path + ".tmp";
-  {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    if (out) {
-      out << MitImportReportHeader() << '\n';
-      for (const MitImportReport& r : reports) out << MitImportReportRow(r) << '\n';
-    }
-    out.close();
-    if (!out) {
-      std::remove(tmp.c_str());
-      throw std::runtime_error("cannot write the import report '" + path + "'");
-    }
-  }
-  if (std::rename(tmp.c_str(), path.c_str()) != 0) {
-    const std::string why = std::strerror(errno);
-    std::remove(tmp.c_str());
-    throw std::runtime_error("cannot rename '" + tmp + "' to '" + path + "': " + why);
-  }
+  WriteFileAtomically(path, "the import report", [&](std::ostream& out) {
+    out << MitImportReportHeader() << '\n';
+    for (const MitImportReport& r : reports) out << MitImportReportRow(r) << '\n';
+  });
 }
 
 }  // namespace slideid

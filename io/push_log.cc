@@ -19,6 +19,7 @@
 #include "forward_model/constants.h"
 #include "forward_model/contact_patch.h"
 #include "forward_model/number_format.h"
+#include "io/atomic_file.h"
 #include "io/text_lines.h"
 
 namespace slideid {
@@ -1052,24 +1053,8 @@ void WritePushLog(const Trajectory& trajectory, std::ostream& out) {
 }
 
 void WritePushLog(const Trajectory& trajectory, const std::string& path) {
-  const std::string tmp = path + ".tmp";
-  try {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    if (!out) throw std::runtime_error("cannot open '" + tmp + "' for writing");
-    WriteUnchecked(trajectory, out);
-    out.close();
-    if (!out) throw std::runtime_error("writing '" + tmp + "' failed");
-    if (std::rename(tmp.c_str(), path.c_str()) != 0) {
-      throw std::runtime_error("cannot rename '" + tmp + "' to '" + path +
-                               "': " + std::strerror(errno));
-    }
-  } catch (const std::invalid_argument&) {
-    std::remove(tmp.c_str());
-    throw;
-  } catch (const std::exception& e) {
-    std::remove(tmp.c_str());
-    throw std::runtime_error("cannot write push log '" + path + "': " + e.what());
-  }
+  WriteFileAtomically(path, "push log",
+                      [&](std::ostream& out) { WriteUnchecked(trajectory, out); });
 }
 
 PushLogColumns ColumnsOf(const Trajectory& trajectory) {

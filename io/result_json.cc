@@ -306,12 +306,14 @@ std::string FormatJson(const EstimateResult& r) {
 }
 
 std::string FormatBatchLine(const std::string& file, const EstimateResult* result,
-                            const std::string& error, const std::vector<std::string>& warnings) {
+                            const std::string& error, const std::vector<std::string>& warnings,
+                            const std::string& sha256) {
   if (error.empty() && result == nullptr) {
     throw std::invalid_argument("FormatBatchLine: " + file + ": neither a result nor an error");
   }
   Json doc = Json::object();
   doc["file"] = file;
+  if (!sha256.empty()) doc["sha256"] = sha256;
   doc["ok"] = error.empty();
   if (error.empty()) {
     const Json body = ResultDoc(*result);
@@ -324,6 +326,23 @@ std::string FormatBatchLine(const std::string& file, const EstimateResult* resul
   std::string out;
   Print(doc, &out);
   return out;
+}
+
+std::optional<BatchLineKey> ParseBatchLineKey(std::string_view line) {
+  const Json doc = Json::parse(line, nullptr, /*allow_exceptions=*/false);
+  if (!doc.is_object()) return std::nullopt;
+  const auto file = doc.find("file");
+  const auto ok = doc.find("ok");
+  if (file == doc.end() || !file->is_string() || ok == doc.end() || !ok->is_boolean()) {
+    return std::nullopt;
+  }
+  BatchLineKey key;
+  key.file = file->get<std::string>();
+  key.ok = ok->get<bool>();
+  if (const auto hash = doc.find("sha256"); hash != doc.end() && hash->is_string()) {
+    key.sha256 = hash->get<std::string>();
+  }
+  return key;
 }
 
 EstimateResult ParseResultJson(const std::string& json) {

@@ -23,8 +23,10 @@
 // read back as NaN. A parameter that is not identifiable has null value, stderr and ci95,
 // and its held_at; an identifiable one has a null held_at.
 
+#include <optional>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "estimator/estimate.h"
@@ -52,8 +54,22 @@ std::string FormatJson(const EstimateResult& result);
 /// where "result" is there when a fit ran but must not be used (`result` not null). The
 /// order of keys as written here. Throws std::invalid_argument if there is neither a result
 /// nor an error.
+/// With `sha256` (io/file_hash.h) not empty, "sha256" follows "file": what the batch read
+/// (identify --batch --resume knows a log by its path and this hash).
 std::string FormatBatchLine(const std::string& file, const EstimateResult* result,
-                            const std::string& error, const std::vector<std::string>& warnings);
+                            const std::string& error, const std::vector<std::string>& warnings,
+                            const std::string& sha256 = "");
+
+/// What a resumed batch needs of one of its lines: the file, its hash ("" when the line has
+/// none: the file could not be read) and whether it was identified.
+struct BatchLineKey {
+  std::string file, sha256;
+  bool ok = false;
+};
+
+/// The key of a batch line, or nullopt when `line` is not a JSON object with a string
+/// "file" and a boolean "ok" (a torn or foreign line). Never throws.
+std::optional<BatchLineKey> ParseBatchLineKey(std::string_view line);
 
 /// Reads what FormatJson wrote: every key it writes is required (others are ignored).
 /// FormatJson(ParseResultJson(FormatJson(r))) == FormatJson(r), and every field it carries

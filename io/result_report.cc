@@ -7,6 +7,7 @@
 #include <stdexcept>
 
 #include "forward_model/number_format.h"
+#include "io/atomic_file.h"
 
 namespace slideid {
 namespace {
@@ -184,10 +185,7 @@ std::string FormatReport(const EstimateResult& r, const std::optional<ReducedFri
 }
 
 void WriteResidualsCsv(const EstimateResult& r, const std::string& path) {
-  const std::string tmp = path + ".tmp";
-  {
-    std::ofstream out(tmp);
-    if (!out) throw std::runtime_error(path + ": cannot write residuals");
+  WriteFileAtomically(path, "residuals", [&](std::ostream& out) {
     out << "# per-step residuals of the " << ToString(r.method) << " fit\n";
     out << "row,t," << r.residual_names[0] << "," << r.residual_names[1] << ","
         << r.residual_names[2] << ",used\n";
@@ -196,12 +194,7 @@ void WriteResidualsCsv(const EstimateResult& r, const std::string& path) {
           << ExactCell(s.value[1]) << "," << ExactCell(s.value[2]) << "," << (s.used ? 1 : 0)
           << "\n";
     }
-    if (!out.flush()) throw std::runtime_error(path + ": cannot write residuals");
-  }
-  if (std::rename(tmp.c_str(), path.c_str()) != 0) {
-    std::remove(tmp.c_str());
-    throw std::runtime_error(path + ": cannot write residuals");
-  }
+  });
 }
 
 }  // namespace slideid

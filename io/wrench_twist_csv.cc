@@ -11,6 +11,7 @@
 #include <stdexcept>
 
 #include "forward_model/number_format.h"
+#include "io/atomic_file.h"
 
 namespace slideid {
 namespace {
@@ -437,25 +438,8 @@ void WriteWrenchTwistCsv(const WrenchTwistData& data, std::ostream& out) {
 
 void WriteWrenchTwistCsv(const WrenchTwistData& data, const std::string& path) {
   CheckWritable(data);
-  const std::string tmp = path + ".tmp";
-  {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    if (!out) {
-      throw std::runtime_error("cannot write wrench-twist pairs '" + path + "': cannot open '" +
-                               tmp + "'");
-    }
-    WriteUnchecked(data, out);
-    out.close();
-    if (!out) {
-      std::remove(tmp.c_str());
-      throw std::runtime_error("cannot write wrench-twist pairs '" + path + "': writing failed");
-    }
-  }
-  if (std::rename(tmp.c_str(), path.c_str()) != 0) {
-    std::remove(tmp.c_str());
-    throw std::runtime_error("cannot write wrench-twist pairs '" + path + "': cannot rename '" +
-                             tmp + "'");
-  }
+  WriteFileAtomically(path, "wrench-twist pairs",
+                      [&](std::ostream& out) { WriteUnchecked(data, out); });
 }
 
 }  // namespace slideid

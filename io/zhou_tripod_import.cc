@@ -11,6 +11,7 @@
 
 #include "forward_model/constants.h"
 #include "forward_model/number_format.h"
+#include "io/atomic_file.h"
 #include "io/text_lines.h"
 
 namespace slideid {
@@ -606,14 +607,7 @@ void WriteTripodImportReport(const TripodImportReport& report, const std::string
     }
     out << ",\"" << reason << "\"\n";
   }
-  const std::string tmp = path + ".tmp";
-  std::ofstream file(tmp, std::ios::binary | std::ios::trunc);
-  file << out.str();
-  file.close();
-  if (!file || std::rename(tmp.c_str(), path.c_str()) != 0) {
-    std::remove(tmp.c_str());
-    throw std::runtime_error("cannot write the tripod import report '" + path + "'");
-  }
+  WriteFileAtomically(path, "the tripod import report", out.str());
 }
 
 }  // namespace slideid

@@ -8,6 +8,7 @@
 #include <stdexcept>
 
 #include "forward_model/number_format.h"
+#include "io/atomic_file.h"
 #include "io/text_lines.h"
 
 namespace slideid {
@@ -246,22 +247,7 @@ void WriteZhouTripodLog(const TripodLog& log, std::ostream& out) {
 }
 
 void WriteZhouTripodLog(const TripodLog& log, const std::string& path) {
-  const std::string tmp = path + ".tmp";
-  {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    if (!out)
-      throw std::runtime_error("cannot write tripod log '" + path + "': cannot open '" + tmp + "'");
-    WriteUnchecked(log, out);
-    out.close();
-    if (!out) {
-      std::remove(tmp.c_str());
-      throw std::runtime_error("cannot write tripod log '" + path + "': writing failed");
-    }
-  }
-  if (std::rename(tmp.c_str(), path.c_str()) != 0) {
-    std::remove(tmp.c_str());
-    throw std::runtime_error("cannot write tripod log '" + path + "': cannot rename '" + tmp + "'");
-  }
+  WriteFileAtomically(path, "tripod log", [&](std::ostream& out) { WriteUnchecked(log, out); });
 }
 
 }  // namespace slideid

@@ -2,11 +2,18 @@
 
 #include <atomic>
 #include <chrono>
+#include <exception>
+#include <fstream>
+#include <iterator>
+#include <map>
 #include <mutex>
 #include <ostream>
+#include <set>
 #include <stdexcept>
 #include <thread>
 
+#include "io/atomic_file.h"
+#include "io/file_hash.h"
 #include "io/result_json.h"
 
 namespace slideid {
@@ -59,30 +66,57 @@ std::vector<std::string> Shard::Select(const std::vector<std::string>& sorted_fi
 BatchSummary RunBatch(const std::vector<std::string>& files, const BatchOptions& options,
                       std::ostream& out,
                       const std::function<void(const BatchProgress&)>& progress) {
+  return RunBatch(
+      files, options,
+      [&](const std::string& line) {
+        out << line << '\n';
+        out.flush();
+        if (!out) throw std::runtime_error("cannot write the results");
+      },
+      progress);
+}
+
+BatchSummary RunBatch(const std::vector<std::string>& files, const BatchOptions& options,
+                      const std::function<void(const std::string& line)>& write_line,
+                      const std::function<void(const BatchProgress&)>& progress) {
   const auto t0 = std::chrono::steady_clock::now();
   BatchSummary summary;
   summary.total = static_cast<int>(files.size());
   std::atomic<size_t> next{0};
-  std::mutex write;  // guards out, summary and progress
-  std::atomic<bool> out_failed{false};
+  std::mutex write;  // guards write_line, summary, progress and write_error
+  std::exception_ptr write_error;
+  std::atomic<bool> halt{false};  // a write failed: start no further log
+  auto stopped = [&] { return halt || (options.stop != nullptr && *options.stop); };
   auto work = [&] {
-    for (size_t k = next++; k < files.size() && !out_failed; k = next++) {
+    for (size_t k = 0; !stopped() && (k = next++) < files.size();) {
       std::string line;
       long long rows = 0;
       bool ok = false;
+      // The hash of what is about to be read: a change after this is fitted again on resume.
+      std::string sha256;
+      try {
+        sha256 = Sha256OfFile(files[k]);
+      } catch (const std::exception&) {
+        // Unreadable: the fit says why, and without a hash its line is redone on resume.
+      }
       try {
         const FileIdentifyResult r = IdentifyFiles({files[k]}, options.identify);
         const std::string error = FileFailure(files[k], r.result);
-        line = FormatBatchLine(files[k], &r.result, error, r.warnings);
+        line = FormatBatchLine(files[k], &r.result, error, r.warnings, sha256);
         ok = error.empty();
         if (ok) rows = RowsFitted(r.result);
       } catch (const std::exception& e) {
-        line = FormatBatchLine(files[k], nullptr, e.what(), {});
+        line = FormatBatchLine(files[k], nullptr, e.what(), {}, sha256);
       }
       std::lock_guard<std::mutex> lock(write);
-      out << line << '\n';
-      out.flush();
-      if (!out) out_failed = true;
+      if (halt) return;
+      try {
+        write_line(line);
+      } catch (...) {
+        write_error = std::current_exception();
+        halt = true;
+        return;
+      }
       (ok ? summary.ok : summary.failed)++;
       summary.rows += rows;
       if (progress) {
@@ -96,8 +130,104 @@ BatchSummary RunBatch(const std::vector<std::string>& files, const BatchOptions&
   for (int w = 1; w < workers; ++w) pool.emplace_back(work);
   work();
   for (std::thread& t : pool) t.join();
-  if (out_failed) throw std::runtime_error("cannot write the results");
+  if (write_error) std::rethrow_exception(write_error);
+  summary.interrupted = summary.ok + summary.failed < summary.total;
   summary.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return summary;
+}
+
+BatchResults ReadBatchResults(const std::string& path, const std::vector<std::string>& files) {
+  BatchResults results;
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return results;  // no results yet
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  if (in.bad()) throw std::runtime_error(path + ": cannot read the results to resume");
+  const std::set<std::string> batch(files.begin(), files.end());
+  std::map<std::string, std::string> hashes;  // of the batch's files with a line, as now
+  std::set<std::string> seen;
+  auto drop = [&](size_t line_number, const std::string& why) {
+    results.warnings.push_back(path + ":" + std::to_string(line_number) + ": " + why);
+    results.dropped = true;
+  };
+  size_t start = 0;
+  for (size_t number = 1; start < text.size(); ++number) {
+    const size_t end = text.find('\n', start);
+    if (end == std::string::npos) {
+      drop(number, "a torn last line (" + std::to_string(text.size() - start) +
+                       " bytes without a line break, from an interrupted run) dropped");
+      break;
+    }
+    const std::string line = text.substr(start, end - start);
+    start = end + 1;
+    const std::optional<BatchLineKey> key = ParseBatchLineKey(line);
+    if (!key) {
+      drop(number, "not a batch result (no JSON object with \"file\" and \"ok\"); dropped");
+      continue;
+    }
+    if (!seen.insert(key->file).second) {
+      drop(number, "a second line for " + key->file + "; dropped");
+      continue;
+    }
+    if (batch.count(key->file)) {
+      if (!hashes.count(key->file)) {
+        try {
+          hashes[key->file] = Sha256OfFile(key->file);
+        } catch (const std::exception&) {
+          hashes[key->file] = "";  // unreadable now: fitted again (its error line says why)
+        }
+      }
+      if (key->sha256.empty() || key->sha256 != hashes[key->file]) {
+        seen.erase(key->file);
+        drop(number, key->file +
+                         (key->sha256.empty() ? " could not be read then"
+                                              : " has changed since (SHA-256)") +
+                         ": its line dropped, the log is fitted again");
+        continue;
+      }
+    }
+    results.lines.push_back(line);
+    results.keys.push_back(*key);
+  }
+  return results;
+}
+
+BatchSummary RunBatchToFile(const std::vector<std::string>& files, const BatchOptions& options,
+                            const std::string& path, const BatchFileOptions& file_options,
+                            std::vector<std::string>* warnings,
+                            const std::function<void(const BatchProgress&)>& progress) {
+  std::vector<std::string> todo = files;
+  int skipped_ok = 0, skipped_failed = 0;
+  if (file_options.resume) {
+    const BatchResults before = ReadBatchResults(path, files);
+    if (warnings) warnings->insert(warnings->end(), before.warnings.begin(), before.warnings.end());
+    if (before.dropped) {
+      WriteFileAtomically(path, "the results", [&](std::ostream& out) {
+        for (const std::string& line : before.lines) out << line << '\n';
+      });
+    }
+    std::map<std::string, bool> done;
+    for (const BatchLineKey& key : before.keys) done[key.file] = key.ok;
+    todo.clear();
+    for (const std::string& file : files) {
+      const auto it = done.find(file);
+      if (it == done.end()) {
+        todo.push_back(file);
+      } else {
+        (it->second ? skipped_ok : skipped_failed)++;
+      }
+    }
+  }
+  JsonLinesOptions journal_options;
+  journal_options.truncate = !file_options.resume;
+  journal_options.fsync_interval_s = file_options.fsync_interval_s;
+  JsonLinesFile journal(path, journal_options);
+  BatchSummary summary = RunBatch(
+      todo, options, [&](const std::string& line) { journal.Append(line); }, progress);
+  journal.Sync();
+  summary.skipped = skipped_ok + skipped_failed;
+  summary.ok += skipped_ok;
+  summary.failed += skipped_failed;
+  summary.total += summary.skipped;
   return summary;
 }
 

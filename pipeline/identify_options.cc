@@ -170,6 +170,10 @@ void AddIdentifyOptions(po::options_description* options, po::options_descriptio
       "with --batch: logs fitted at once (threads)")(
       "out", po::value<std::string>()->value_name("RESULTS.jsonl"),
       "with --batch: where the JSON lines go")(
+      "resume",
+      "with --batch: keep the lines already in --out and fit only the logs they lack (a log "
+      "is known by its path and SHA-256: a changed one is fitted again; a torn last line is "
+      "dropped with a warning)")(
       "shard", po::value<std::string>()->value_name("I/N"),
       "with --batch: take only the logs whose index in the sorted list is I modulo N "
       "(0 <= I < N), for job arrays");
@@ -195,6 +199,7 @@ void ReadBatchOptions(const po::variables_map& vm, IdentifyRequest* r) {
   }
   if (!vm.count("out")) throw po::error("--batch needs --out RESULTS.jsonl");
   r->batch_out = vm["out"].as<std::string>();
+  r->resume = vm.count("resume") > 0;
   r->jobs = vm["jobs"].as<int>();
   if (r->jobs < 1 || r->jobs > kMaxThreads) {
     throw po::error("--jobs must be from 1 to " + std::to_string(kMaxThreads));
@@ -230,7 +235,7 @@ IdentifyRequest ReadIdentifyOptions(const po::variables_map& vm) {
   if (vm.count("batch")) {
     ReadBatchOptions(vm, &r);
   } else {
-    for (const char* option : {"out", "shard"}) {
+    for (const char* option : {"out", "shard", "resume"}) {
       if (vm.count(option)) throw po::error(std::string("--") + option + " needs --batch");
     }
     if (!vm["jobs"].defaulted()) throw po::error("--jobs needs --batch");

@@ -27,6 +27,7 @@ struct IdentifyRequest {
   std::string batch_out;
   /// --check: fit nothing; say per log what a fit could identify (estimator/log_check.h).
   bool check = false;
+  bool resume = false;  ///< --resume: keep batch_out's lines, fit only the logs they lack
 };
 
 /// Adds every option of identify (general ones to `options`, the rest to `advanced`).

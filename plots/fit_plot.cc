@@ -277,9 +277,11 @@ void PlotFit(const EstimateResult& result, const FitPlotOptions& options) {
     throw std::invalid_argument("plot: quote characters in '" + options.out_png +
                                 "' are not supported");
   }
-  RunGnuplot(options, [&](const std::string& dir) {
+  RunGnuplot(options, [&](const std::string& dir, const std::string& staged_png) {
+    FitPlotOptions staged = options;
+    staged.out_png = staged_png;
     WriteFitPlotData(result, dir);
-    return FitPlotScript(result, options, dir);
+    return FitPlotScript(result, staged, dir);
   });
 }
 

@@ -11,6 +11,8 @@
 #include <iterator>
 #include <stdexcept>
 
+#include "io/atomic_file.h"
+
 namespace slideid {
 
 bool PictureOptions::IsValid(std::string* why, bool automatic_height) const {
@@ -57,16 +59,18 @@ std::string GnuplotDoubleQuoted(const std::string& text) {
 }
 
 void WritePlotFile(const std::string& path, const std::string& text) {
-  std::ofstream out(path, std::ios::binary);
-  out << text;
-  if (!out.flush()) throw std::runtime_error(path + ": cannot write plot data");
+  WriteFileAtomically(path, "plot data", text);
 }
 
 void RunGnuplot(const PictureOptions& options,
-                const std::function<std::string(const std::string& dir)>& write_data) {
+                const std::function<std::string(const std::string& dir,
+                                                const std::string& staged_png)>& write_data) {
   const std::string& gnuplot = options.gnuplot;
   const std::string& work_dir = options.work_dir;
   const std::string& out_png = options.out_png;
+  // gnuplot writes the picture to a temporary beside it, renamed into place once gnuplot
+  // succeeded: a failed or interrupted plot leaves the old picture, or none.
+  StagedFile png(out_png, "picture");
   std::string dir = work_dir;
   if (dir.empty()) {
     std::string pattern = std::filesystem::temp_directory_path().string() + "/plot-XXXXXX";
@@ -85,7 +89,7 @@ void RunGnuplot(const PictureOptions& options,
     }
   } cleanup{work_dir.empty() ? dir : ""};
 
-  WritePlotFile(dir + "/plot.gp", write_data(dir));
+  WritePlotFile(dir + "/plot.gp", write_data(dir, png.temp_path()));
   // GnuplotSingleQuoted() is also the shell's quoting for text without single quotes; refuse the
   // rest rather than pass it to the shell.
   for (const std::string* s : std::initializer_list<const std::string*>{&gnuplot, &dir}) {
@@ -109,9 +113,10 @@ void RunGnuplot(const PictureOptions& options,
     throw std::runtime_error("plot: gnuplot failed (exit " + std::to_string(WEXITSTATUS(status)) +
                              "): " + message);
   }
-  if (!std::filesystem::exists(out_png)) {
+  if (std::filesystem::file_size(png.temp_path()) == 0) {
     throw std::runtime_error("plot: gnuplot wrote no " + out_png + ": " + message);
   }
+  png.Commit();
 }
 
 }  // namespace slideid

@@ -31,13 +31,16 @@ struct PictureOptions {
   bool IsValid(std::string* why, bool automatic_height = false) const;
 };
 
-/// Runs options.gnuplot on the script `write_data(dir)` returns, after it has written its data
-/// files into `dir`: options.work_dir (created if missing, and kept), or a temporary
-/// directory removed afterwards. Throws std::runtime_error when gnuplot cannot be run
-/// (naming the program and how to install it), fails (with its message) or writes no
-/// options.out_png; std::invalid_argument for a program or directory name with a quote.
+/// Runs options.gnuplot on the script `write_data(dir, staged_png)` returns, after it has
+/// written its data files into `dir`: options.work_dir (created if missing, and kept), or a
+/// temporary directory removed afterwards. The script writes the picture to `staged_png`, a
+/// temporary beside options.out_png renamed to it once gnuplot succeeded (io/atomic_file.h). Throws
+/// std::runtime_error when gnuplot cannot be run (naming the program and how to install it), fails
+/// (with its message) or writes no options.out_png; std::invalid_argument for a program or
+/// directory name with a quote.
 void RunGnuplot(const PictureOptions& options,
-                const std::function<std::string(const std::string& dir)>& write_data);
+                const std::function<std::string(const std::string& dir,
+                                                const std::string& staged_png)>& write_data);
 
 /// A number in a gnuplot data file or script: 9 significant digits, far below what a
 /// picture resolves and far shorter than a round-trip 17.

@@ -256,9 +256,11 @@ void PlotLog(const Trajectory& log, const Trajectory* fit, const PlotOptions& op
   std::string why;
   if (!options.IsValid(&why)) throw std::invalid_argument(why);
   if (log.samples.size() < 2) throw std::invalid_argument("plot: the log has fewer than 2 rows");
-  RunGnuplot(options, [&](const std::string& dir) {
-    WritePlotData(log, fit, options, dir);
-    return PlotScript(log, fit, options, dir, fit_label);
+  RunGnuplot(options, [&](const std::string& dir, const std::string& staged_png) {
+    PlotOptions staged = options;
+    staged.out_png = staged_png;
+    WritePlotData(log, fit, staged, dir);
+    return PlotScript(log, fit, staged, dir, fit_label);
   });
 }
 

@@ -67,8 +67,11 @@ void PlotValidation(const ValidationResult& result, const ValidationPlotOptions&
         "plot: quote characters in the file name or title are not "
         "supported");
   }
-  RunGnuplot(options,
-             [&](const std::string& dir) { return ValidationPlotScript(result, dir, options); });
+  RunGnuplot(options, [&](const std::string& dir, const std::string& staged_png) {
+    ValidationPlotOptions staged = options;
+    staged.out_png = staged_png;
+    return ValidationPlotScript(result, dir, staged);
+  });
 }
 
 }  // namespace slideid

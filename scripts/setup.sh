@@ -10,6 +10,7 @@ packages=(
   libceres-dev           # robust least squares and covariance
   libboost-program-options-dev  # command lines and INI scene files
   libfccp-dev            # fast-cpp-csv-parser: push logs
+  libssl-dev             # OpenSSL's SHA-256: a resumed batch knows a log by its content hash
   nlohmann-json3-dev     # JSON: the identify result, imported MIT push files (io/)
   libgtest-dev           # unit and recovery tests
   libbenchmark-dev       # step and estimator benchmarks

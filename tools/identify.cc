@@ -6,9 +6,10 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
+#include <csignal>
 #include <cstdio>
-#include <fstream>
 #include <functional>
 #include <iostream>
 
@@ -28,33 +29,68 @@ constexpr const char* kExitCodes =
     "\nExit codes: 0 ok (a suspect verdict is a warning); 1 bad input (a malformed or\n"
     "physically invalid log, or one that cannot identify anything); 2 usage (unknown,\n"
     "missing, invalid or conflicting options); 3 numerical (the fit did not converge, or\n"
-    "with --strict a suspect verdict); 4 a file could not be written. Warnings (absurd\n"
-    "magnitudes, gaps in t) always go to stderr; --verbose adds the readers' notes.\n"
+    "with --strict a suspect verdict); 4 a file could not be written; 130 / 143 --batch\n"
+    "stopped by SIGINT / SIGTERM after its last whole line (--resume finishes it). Warnings\n"
+    "(absurd magnitudes, gaps in t) always go to stderr; --verbose adds the readers' notes.\n"
     "With --check: 0 when every log is expected to identify something; 1 when a log cannot\n"
     "be read, or is expected to identify nothing; 2 usage.\n";
 
-/// --batch: every file on its own, JSON lines to the output; progress on a terminal.
+// Set by SIGINT and SIGTERM during a batch: no further log starts (lock-free, so safe to
+// set in a handler).
+std::atomic<bool> g_stop{false};
+volatile std::sig_atomic_t g_signal = 0;
+
+extern "C" void OnStopSignal(int signal) {
+  g_signal = signal;
+  g_stop = true;
+}
+
+/// SIGINT and SIGTERM stop the batch cleanly; a second one ends the process at once (the
+/// default action: SA_RESETHAND), which still leaves whole lines only.
+void CatchStopSignals() {
+  struct sigaction action {};
+  action.sa_handler = OnStopSignal;
+  sigemptyset(&action.sa_mask);
+  action.sa_flags = SA_RESTART | SA_RESETHAND;
+  sigaction(SIGINT, &action, nullptr);
+  sigaction(SIGTERM, &action, nullptr);
+}
+
+/// --batch: every file on its own, JSON lines to the output (whole lines, resumable);
+/// progress on a terminal.
 int RunBatchCommand(const cli::IdentifyRequest& request) {
-  std::ofstream out(request.batch_out);
-  if (!out) {
-    std::cerr << "identify: error: " << request.batch_out << ": cannot write the results\n";
-    return tools::kExitIo;
-  }
   const bool terminal = isatty(STDERR_FILENO);
   auto progress = [&](const BatchProgress& p) {
     const double rate = p.done / std::max(p.seconds, 1e-9);
     std::fprintf(stderr, "\ridentify: %d/%d logs, %d failed, %.1f logs/s, %.0f s left   ", p.done,
                  p.total, p.failed, rate, (p.total - p.done) / std::max(rate, 1e-9));
   };
+  CatchStopSignals();
   BatchSummary summary;
+  std::vector<std::string> warnings;
+  BatchFileOptions file_options;
+  file_options.resume = request.resume;
   try {
-    summary = RunBatch(request.files, {request.options, request.jobs}, out,
-                       terminal ? std::function<void(const BatchProgress&)>(progress) : nullptr);
+    summary = RunBatchToFile(
+        request.files, {request.options, request.jobs, &g_stop}, request.batch_out, file_options,
+        &warnings, terminal ? std::function<void(const BatchProgress&)>(progress) : nullptr);
   } catch (const std::runtime_error& e) {
-    std::cerr << "identify: error: " << request.batch_out << ": " << e.what() << "\n";
+    for (const std::string& w : warnings) std::cerr << "identify: warning: " << w << "\n";
+    std::cerr << (terminal ? "\n" : "") << "identify: error: " << e.what() << "\n";
     return tools::kExitIo;
   }
   if (terminal) std::cerr << "\n";
+  for (const std::string& w : warnings) std::cerr << "identify: warning: " << w << "\n";
+  if (summary.skipped > 0) {
+    std::cerr << "identify: resumed: " << summary.skipped << " of " << summary.total
+              << " logs were already in " << request.batch_out << "\n";
+  }
+  if (summary.interrupted) {
+    std::cerr << "identify: stopped by " << (g_signal == SIGINT ? "SIGINT" : "SIGTERM") << ": "
+              << summary.ok + summary.failed << " of " << summary.total << " logs in "
+              << request.batch_out << ", every line whole; run again with --resume to finish\n";
+    return tools::kExitInterruptedBase + g_signal;
+  }
   // One line at the end, on a terminal or not: a job array's log shows how each shard went.
   std::cerr << "identify: " << summary.total << " logs, " << summary.ok << " identified, "
             << summary.failed << " failed, " << Printf("%.1f", summary.seconds) << " s; results in "
@@ -99,7 +135,8 @@ int main(int argc, char** argv) {
         "whether it is believable. Several logs are pooled: one estimate for all, each log's\n"
         "own, and whether they agree.\n\n"
         "Usage: identify --log FILE.csv [--log FILE2.csv ...] [options]\n"
-        "       identify --batch DIR|GLOB --out RESULTS.jsonl [--jobs N] [--shard I/N] [options]\n"
+        "       identify --batch DIR|GLOB --out RESULTS.jsonl [--jobs N] [--shard I/N]\n"
+        "                [--resume] [options]\n"
         "       identify --check --log FILE.csv [--log ...] [--json] (fits nothing: what a fit\n"
         "                could identify, and what would help)"
         "\n\nOptions");

@@ -21,6 +21,10 @@ enum ExitCode : int {
   kExitUsage = 2,      ///< unknown, missing, invalid or conflicting command-line options
   kExitNumerical = 3,  ///< a step or a fit did not converge, or the slider would tip
   kExitIo = 4,         ///< a file could not be written
+  /// identify --batch stopped by a signal after writing its last whole line: 128 + the
+  /// signal's number (130 SIGINT, 143 SIGTERM), as a shell reports a process the signal
+  /// ended; --resume finishes the batch.
+  kExitInterruptedBase = 128,
 };
 
 /// Bad input found by a tool itself (for example a log the estimators cannot use); the

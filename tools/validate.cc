@@ -7,6 +7,7 @@
 #include <fstream>
 #include <iostream>
 
+#include "io/atomic_file.h"
 #include "io/push_log.h"
 #include "pipeline/identify_files.h"
 #include "pipeline/predict_options.h"
@@ -27,9 +28,7 @@ std::string Summary(const ErrorSummary& s, double scale, int digits) {
 }
 
 void WriteCsv(const ValidationResult& r, const std::string& path) {
-  const std::string tmp = path + ".tmp";
-  {
-    std::ofstream out(tmp);
+  WriteFileAtomically(path, "the validation table", [&](std::ostream& out) {
     out << "method,log,fold,ok,final_position_mm,final_rotation_deg,final_position_per_100mm_mm,"
            "final_position_percent,mean_position_mm,mean_rotation_deg,parting_time_s,error\n";
     for (const MethodValidation& m : r.methods) {
@@ -44,10 +43,7 @@ void WriteCsv(const ValidationResult& r, const std::string& path) {
             << (e.parting_time_s ? Fixed(*e.parting_time_s, 3) : "") << ",\"" << error << "\"\n";
       }
     }
-    if (!out) throw std::runtime_error(path + ": cannot write");
-  }
-  if (std::rename(tmp.c_str(), path.c_str()) != 0)
-    throw std::runtime_error(path + ": cannot write");
+  });
 }
 
 }  // namespace
@@ -120,13 +116,8 @@ int main(int argc, char** argv) {
     try {
       if (vm.count("csv")) WriteCsv(r, vm["csv"].as<std::string>());
       if (vm.count("json")) {
-        const std::string path = vm["json"].as<std::string>();
-        std::ofstream out(path + ".tmp");
-        out << cli::ValidationJson(r) << "\n";
-        out.close();
-        if (!out || std::rename((path + ".tmp").c_str(), path.c_str()) != 0) {
-          throw std::runtime_error(path + ": cannot write");
-        }
+        WriteFileAtomically(vm["json"].as<std::string>(), "the validation JSON",
+                            cli::ValidationJson(r) + "\n");
       }
       if (vm.count("plot")) {
         ValidationPlotOptions picture;

@@ -2,6 +2,7 @@
 in, one plain dict out: what a batch or a Dask map over many logs wants)."""
 
 import copy
+import hashlib
 import json
 import os
 import warnings
@@ -158,9 +159,23 @@ def identify(logs, method="trajectory", *, strict=False, **options):
     return result
 
 
+def file_sha256(path):
+    """The SHA-256 of a file's bytes, as 64 hex digits (what identify --batch records as
+    "sha256": a resumed batch knows a log by its path and this); None when it cannot be
+    read."""
+    digest = hashlib.sha256()
+    try:
+        with open(path, "rb") as data:
+            for block in iter(lambda: data.read(1 << 16), b""):
+                digest.update(block)
+    except OSError:
+        return None
+    return digest.hexdigest()
+
+
 def identify_file(path, **options):
     """One log file to one plain dict, for maps over many logs (a loop, a process pool, a
-    Dask cluster: slideid.dask): ``{"file": path, "ok": True,
+    Dask cluster: slideid.dask): ``{"file": path, "sha256": ..., "ok": True,
     **identify(path, **options).to_dict(), "warnings": [...]}``, or, when the file cannot be
     identified, ``{"file": path, "ok": False, "error": message, "error_type": "ValueError" |
     "NumericalError" | "OSError"}`` (with "result", the result's dict, when the fit ran but
@@ -169,6 +184,10 @@ def identify_file(path, **options):
     one, slideid.OptionError for a bad value), which would fail every file.
     """
     name = os.fspath(path)
+    head = {"file": name}
+    digest = file_sha256(name)  # of what is about to be read
+    if digest is not None:
+        head["sha256"] = digest
     try:
         with warnings.catch_warnings(record=True):
             warnings.simplefilter("always")
@@ -179,11 +198,11 @@ def identify_file(path, **options):
         # The documented kinds: bad input (a missing file too) is "ValueError".
         kind = ("NumericalError" if isinstance(error, _core.NumericalError) else
                 "ValueError" if isinstance(error, ValueError) else "OSError")
-        entry = {"file": name, "ok": False, "error": str(error), "error_type": kind}
+        entry = {**head, "ok": False, "error": str(error), "error_type": kind}
         if getattr(error, "result", None) is not None:
             entry["result"] = error.result.to_dict()
         return entry
-    entry = {"file": name, "ok": True}
+    entry = {**head, "ok": True}
     entry.update(result.to_dict())
     entry["warnings"] = result.warnings
     return entry

@@ -26,13 +26,16 @@ import itertools
 import json
 import os
 import re
+import signal
 import sys
 import time
+import warnings
 
 import distributed
 
 from . import _core
 from ._identify import identify_file
+from ._journal import JsonLines, read_done, write_atomically
 from ._results import ROW_FIELDS, log_files, result_row, rows_fitted
 
 #: The most logs in one task by default: tasks of well under a minute even for long logs,
@@ -207,22 +210,55 @@ class _Counter:
                 "seconds": self.seconds()}
 
 
+def _resumed(paths, out, resume):
+    """(the logs still to fit, {file: entry} of those `out` already holds) for a batch
+    written to `out` (JSON lines) and resumed or not."""
+    if resume and out is None:
+        raise ValueError("resume=True needs out, the JSON-lines file of the earlier run")
+    if resume and output_kind(out) != "jsonl":
+        raise ValueError(f"{os.fspath(out)}: a resumable results file is JSON lines, not CSV")
+    if not resume:
+        return paths, {}
+    with _naming(out):
+        done = read_done(out, paths)
+    return [path for path in paths if path not in done], done
+
+
 def identify_many(paths, client=None, *, batch_size=None, max_pending=None, progress=None,
-                  **options):
+                  out=None, resume=False, **options):
     """The table of many logs identified on a Dask cluster: one row per log, in the order
     of `paths`, each a dict of ROW_FIELDS (slideid.result_row: file, ok, status, method,
     rows, seconds, each parameter's estimate, stderr, 95% interval and verdict, warnings,
     error, error_type); ``pandas.DataFrame(rows)`` makes it a data frame. Arguments as
     map_identify's; progress, when given, is called as progress(done, failed, total,
-    seconds) after each task. Holds every row: for more logs than that, write_results."""
+    seconds) after each task. Holds every row: for more logs than that, write_results.
+
+    out: a JSON-lines file each log's dict is also appended to as its task completes (as
+    identify --batch writes it: whole lines, fsync'ed at least once a second), so that an
+    interrupted run can be resumed. resume: keep what `out` holds (a log known by its path
+    and SHA-256: a changed log is fitted again; a torn last line is dropped with a
+    SlideidWarning), fit only the other logs, and return the whole table. A worker that
+    dies has its tasks retried on the others by the scheduler."""
     paths = _check(paths, batch_size, max_pending, options)
-    rows = [None] * len(paths)
-    counter = _Counter(len(paths), progress)
-    for start, entries in _run(paths, client, batch_size, max_pending, options):
-        for offset, entry in enumerate(entries):
-            rows[start + offset] = result_row(entry)
-        counter.add(entries)
-    return rows
+    if out is not None and output_kind(out) != "jsonl":
+        raise ValueError(f"{os.fspath(out)}: out is a JSON-lines file, not CSV")
+    todo, done = _resumed(paths, out, resume)
+    rows = {path: result_row(entry) for path, entry in done.items()}
+    counter = _Counter(len(todo), progress)
+    with contextlib.ExitStack() as stack:
+        journal = None
+        if out is not None:
+            with _naming(out):
+                journal = stack.enter_context(JsonLines(out, truncate=not resume))
+        for start, entries in _run(todo, client, batch_size, max_pending, options):
+            for offset, entry in enumerate(entries):
+                rows[todo[start + offset]] = result_row(entry)
+            if journal is not None:
+                with _naming(out):
+                    for entry in entries:
+                        journal.append(entry)
+            counter.add(entries)
+    return [rows[path] for path in paths]
 
 
 def output_kind(out):
@@ -231,30 +267,44 @@ def output_kind(out):
 
 
 def write_results(paths, out, client=None, *, batch_size=None, max_pending=None,
-                  progress=None, **options):
+                  progress=None, resume=False, **options):
     """Identifies many logs on a Dask cluster (as map_identify) and writes each log's result
     to `out` as its task completes, holding none: JSON lines (each line the dict
-    identify_file returns, as identify --batch writes them, in the order of completion) or,
-    for a path ending in .csv, one result_row per line under a header of ROW_FIELDS.
-    Flushed after each task. Returns the summary {"total", "ok", "failed", "rows" (of the
-    logs identified), "seconds"}. progress as identify_many's. Raises OSError if `out`
-    cannot be written (before any task goes out, if it cannot be opened)."""
+    identify_file returns, as identify --batch writes them, in the order of completion:
+    one whole line per write, fsync'ed at least once a second) or, for a path ending in
+    .csv, one result_row per line under a header of ROW_FIELDS (written to a temporary
+    beside `out`, renamed into place at the end: complete or absent). Returns the summary
+    {"total", "ok", "failed", "rows" (of the logs identified), "seconds", "skipped"}.
+    progress as identify_many's. resume (JSON lines only): keep the logs `out` already
+    holds, as identify_many's resume. Raises OSError if `out` cannot be written (before any
+    task goes out, if it cannot be opened)."""
     paths = _check(paths, batch_size, max_pending, options)
-    counter = _Counter(len(paths), progress)
-    with _output(out) as stream:
-        if output_kind(out) == "csv":
+    todo, done = _resumed(paths, out, resume)
+    counter = _Counter(len(todo), progress)
+    if output_kind(out) == "csv":
+        def write_table(stream):
             table = csv.DictWriter(stream, fieldnames=ROW_FIELDS, lineterminator="\n")
             table.writeheader()
-            write = lambda entry: table.writerow(result_row(entry))  # noqa: E731
-        else:
-            write = lambda entry: stream.write(json.dumps(entry, ensure_ascii=False) + "\n")  # noqa: E731
-        for _, entries in _run(paths, client, batch_size, max_pending, options):
-            with _naming(out):
-                for entry in entries:
-                    write(entry)
-                stream.flush()
-            counter.add(entries)
-    return counter.summary()
+            for _, entries in _run(todo, client, batch_size, max_pending, options):
+                with _naming(out):
+                    table.writerows(result_row(entry) for entry in entries)
+                counter.add(entries)
+        write_atomically(out, write_table)
+    else:
+        with _naming(out):
+            journal = JsonLines(out, truncate=not resume)
+        with journal:
+            for _, entries in _run(todo, client, batch_size, max_pending, options):
+                with _naming(out):
+                    for entry in entries:
+                        journal.append(entry)
+                counter.add(entries)
+    summary = counter.summary()
+    summary["skipped"] = len(paths) - len(todo)
+    for entry in (done[path] for path in paths if path in done):
+        summary["ok" if entry["ok"] else "failed"] += 1
+    summary["total"] = len(paths)
+    return summary
 
 
 @contextlib.contextmanager
@@ -266,16 +316,6 @@ def _naming(out):
         if getattr(error, "filename", None) is not None:
             raise
         raise OSError(error.errno, error.strerror or str(error), os.fspath(out)) from error
-
-
-@contextlib.contextmanager
-def _output(out):
-    with _naming(out):
-        stream = open(os.fspath(out), "w", encoding="utf-8", newline="")
-    with stream:
-        yield stream
-        with _naming(out):
-            stream.flush()
 
 
 # ---- the command line: python3 -m slideid.dask ----
@@ -290,8 +330,18 @@ cluster, and writes one result per log to --out as it completes: JSON lines as i
 --batch writes them, or a CSV table for a path ending in .csv. A log that fails gives a line
 with its error and does not stop the others. Options not listed below are identify's
 (identify --help), given to every fit. Progress goes to a terminal only.
-Exit codes: 0 ok; 1 a log failed (its line says why), or the cluster could not be reached
-or was lost; 2 usage; 4 the output cannot be written."""
+--resume keeps the logs a JSON-lines --out already holds (known by path and SHA-256) and
+fits the others. Exit codes: 0 ok; 1 a log failed (its line says why), or the cluster could
+not be reached or was lost; 2 usage; 4 the output cannot be written; 130 / 143 stopped by
+SIGINT / SIGTERM (every line written is whole: --resume finishes the batch)."""
+
+
+class _Stopped(Exception):
+    """SIGTERM, raised between two lines as KeyboardInterrupt is for SIGINT."""
+
+
+def _on_sigterm(number, _frame):
+    raise _Stopped(number)
 
 
 def _identify_keywords(tokens):
@@ -312,6 +362,11 @@ def _identify_keywords(tokens):
         keywords[key] = [*keywords[key], value] if key in keywords else value
         k += 1
     return keywords
+
+
+def _print_warning(message, *_):
+    """A warning (of a resume: a line dropped) as one line of the command's stderr."""
+    sys.stderr.write(f"slideid.dask: warning: {message}\n")
 
 
 def _print_progress(done, failed, total, seconds):
@@ -344,6 +399,9 @@ def main(argv=None):
     parser.add_argument("--batch-size", type=int, metavar="N",
                         help=f"logs per task (default: about {TASKS_PER_THREAD} tasks per "
                              f"worker thread, at most {MAX_BATCH_SIZE} logs each)")
+    parser.add_argument("--resume", action="store_true",
+                        help="keep the logs a JSON-lines --out already holds (same path and "
+                             "SHA-256) and fit only the others")
     parser.add_argument("--version", action="version", version=f"slideid {_core.__version__}")
     args, rest = parser.parse_known_args(argv)
     try:
@@ -376,8 +434,20 @@ def main(argv=None):
             sys.stderr.write(f"slideid.dask: error: cannot reach {where}: {error}\n")
             return 1
         try:
-            summary = write_results(paths, args.out, client, batch_size=args.batch_size,
-                                    progress=progress, **options)
+            previous = signal.signal(signal.SIGTERM, _on_sigterm)
+            try:
+                with warnings.catch_warnings():
+                    warnings.showwarning = _print_warning
+                    summary = write_results(paths, args.out, client,
+                                            batch_size=args.batch_size, progress=progress,
+                                            resume=args.resume, **options)
+            finally:
+                signal.signal(signal.SIGTERM, previous)
+        except (KeyboardInterrupt, _Stopped) as stop:
+            name = "SIGTERM" if isinstance(stop, _Stopped) else "SIGINT"
+            sys.stderr.write(f"\nslideid.dask: stopped by {name}: every line in {args.out} is "
+                             "whole; run again with --resume to finish\n")
+            return 128 + (signal.SIGTERM if isinstance(stop, _Stopped) else signal.SIGINT)
         except OSError as error:
             if progress:
                 sys.stderr.write("\n")

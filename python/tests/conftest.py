@@ -82,3 +82,14 @@ def batch_logs(tmp_path_factory):
     bad = folder / "log_0002_bad.csv"
     bad.write_text("\n".join(lines) + "\n")
     return folder, slideid.log_files(folder), str(bad), row + 1
+
+
+@pytest.fixture(scope="session")
+def fifty_logs(tmp_path_factory):
+    """Fifty short simulated logs (make_dataset, 2 pushes, motion-capture noise), sorted:
+    for the concurrency and fault tests."""
+    import slideid
+    folder = tmp_path_factory.mktemp("fifty_logs")
+    slideid.make_dataset(count=50, seed=22, out=folder, pushes=2, noise_pose=3e-4,
+                         noise_angle=3e-3)
+    return slideid.log_files(folder)

@@ -187,3 +187,62 @@ def test_without_a_client_it_starts_a_local_cluster_for_the_call(batch_logs, tmp
     assert done.returncode == 0, done.stderr
     rows = json.loads(done.stdout)
     assert [row_without_time(row) for row in rows] == [expected_row(path) for path in paths]
+
+
+def test_a_worker_killed_mid_run_has_its_tasks_retried_and_the_table_is_whole(fifty_logs):
+    """SIGKILL to a worker process with tasks running: the scheduler gives them to the
+    other worker (the nanny restarts the dead one), and the table equals an undisturbed
+    run's, nothing missing, nothing twice."""
+    import os
+    import signal
+    with distributed.LocalCluster(n_workers=2, processes=True, threads_per_worker=1,
+                                  host="127.0.0.1", dashboard_address=None) as cluster, \
+            distributed.Client(cluster) as dask_client:
+        undisturbed = slideid.dask.identify_many(fifty_logs, dask_client, batch_size=2,
+                                                 method="equation-error")
+        killed = []
+
+        def kill_a_busy_worker(*_):
+            if killed:
+                return
+            busy = [worker for worker, keys in dask_client.processing().items() if keys]
+            pids = dask_client.run(os.getpid, workers=busy[:1])
+            for worker, pid in pids.items():
+                os.kill(pid, signal.SIGKILL)
+                killed.append(worker)
+
+        disturbed = slideid.dask.identify_many(fifty_logs, dask_client, batch_size=2,
+                                               method="equation-error",
+                                               progress=kill_a_busy_worker)
+    assert killed, "no worker was killed"
+    assert [row["file"] for row in disturbed] == fifty_logs
+    assert [row_without_time(row) for row in disturbed] == \
+        [row_without_time(row) for row in undisturbed]
+    assert not any("the task that fitted it failed" in (row["error"] or "") for row in disturbed)
+
+
+def test_identify_many_resumes_from_its_results_file(client, fifty_logs, tmp_path):
+    """resume=True keeps the lines already in `out` (a torn last one dropped with a
+    warning), fits the rest, and returns the whole table; the file ends with one line per
+    log, as the uninterrupted run's."""
+    paths = fifty_logs[:12]
+    out = tmp_path / "results.jsonl"
+    whole = slideid.dask.identify_many(paths, client, out=out, segment=SEGMENT)
+    lines = out.read_bytes().splitlines(keepends=True)
+    assert len(lines) == len(paths)
+    out.write_bytes(b"".join(lines[:5]) + lines[5][:40])  # killed while writing line 6
+    with pytest.warns(slideid.SlideidWarning, match=r"results.jsonl:6: a torn last line"):
+        resumed = slideid.dask.identify_many(paths, client, out=out, resume=True,
+                                             segment=SEGMENT)
+    assert [row_without_time(r) for r in resumed] == [row_without_time(r) for r in whole]
+    entries = list(slideid.read_results(out))
+    assert sorted(entry["file"] for entry in entries) == sorted(paths)
+    kept = [json.loads(line) for line in lines[:5]]
+    assert entries[:5] == kept  # the earlier lines untouched
+    # Nothing left to do: nothing fitted again.
+    seen = []
+    slideid.dask.identify_many(paths, client, out=out, resume=True, segment=SEGMENT,
+                               progress=lambda *p: seen.append(p))
+    assert seen == [] and len(list(slideid.read_results(out))) == len(paths)
+    with pytest.raises(ValueError, match="resume=True needs out"):
+        slideid.dask.identify_many(paths, client, resume=True)

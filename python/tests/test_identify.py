@@ -2,6 +2,7 @@
 identify tool's JSON on the same logs and options."""
 
 import concurrent.futures
+import hashlib
 import json
 import pickle
 
@@ -159,8 +160,9 @@ def test_identify_file_gives_one_plain_dict_per_file(tmp_path):
     entry = slideid.identify_file(DEFAULT_LOG, segment=30)
     assert entry["file"] == str(DEFAULT_LOG) and entry["ok"] is True
     assert without_seconds({k: v for k, v in entry.items()
-                            if k not in ("file", "ok", "warnings")}) \
+                            if k not in ("file", "sha256", "ok", "warnings")}) \
         == cli_json("--log", DEFAULT_LOG, "--segment", "30")
+    assert entry["sha256"] == hashlib.sha256(DEFAULT_LOG.read_bytes()).hexdigest()
     json.dumps(entry)  # plain data: a line of a JSON-lines file
     missing = slideid.identify_file(tmp_path / "missing.csv")
     assert missing["error_type"] == "ValueError" and missing["ok"] is False
