@@ -4,6 +4,7 @@
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
+#include <deque>
 #include <stdexcept>
 #include <utility>
 
@@ -53,6 +54,14 @@ constexpr double kMismatchPriorSigma = 3.0;
 /// The change test starts once log a is known within this (1 sigma): before, the
 /// filter's own convergence would read as a change.
 constexpr double kChangeStartLogSigma = 0.05;
+/// A window's direction of the parameters counts in the test only where it knows a jump
+/// within 0.5 in log (1 sigma, a factor 1.65): the rest would test noise in directions the
+/// window hardly excites (and gave jumps of factors 1e8).
+constexpr double kMinJumpInformation = 1.0 / (0.5 * 0.5);
+/// The variance factor (Kappa) is read once this many degrees of freedom are in (four
+/// windows that determine all three parameters), and not below kMinKappa.
+constexpr int kMinKappaRanks = 12;
+constexpr double kMinKappa = 0.25;
 /// A change window is tested once it holds this many rows (fewer say too little).
 constexpr int kMinChangeRows = 10;
 /// Eigenvalues of the change information below this fraction of its largest are
@@ -124,18 +133,27 @@ struct ChangeWindow {
   Matrix93 gamma = Matrix93::Zero();  // d(state error) / d(jump), after the last update
   Eigen::Matrix3d info = Eigen::Matrix3d::Zero();
   Eigen::Vector3d score = Eigen::Vector3d::Zero();
+  // The filter after its first row's update: where a change found in it is filtered
+  // again from.
+  Vector9 x0 = Vector9::Zero();
+  Matrix9 P0 = Matrix9::Zero();
+  TrajectorySample last0, last_logged0;
 };
 
 /// b^T A^+ b over the directions A determines, and the jump A^+ b.
-double LikelihoodRatio(const ChangeWindow& w, Eigen::Vector3d* jump) {
+double LikelihoodRatio(const ChangeWindow& w, Eigen::Vector3d* jump, int* rank) {
   Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(w.info);
   const Eigen::Vector3d lambda = eig.eigenvalues();
   const double largest = lambda.maxCoeff();
   jump->setZero();
+  *rank = 0;
   if (!(largest > 0)) return 0;
   double stat = 0;
   for (int i = 0; i < 3; ++i) {
-    if (!(lambda(i) > kChangeRankFraction * largest)) continue;
+    if (!(lambda(i) > kChangeRankFraction * largest) || !(lambda(i) >= kMinJumpInformation)) {
+      continue;
+    }
+    ++*rank;
     const double along = eig.eigenvectors().col(i).dot(w.score);
     stat += along * along / lambda(i);
     *jump += eig.eigenvectors().col(i) * (along / lambda(i));
@@ -187,8 +205,13 @@ struct OnlineIdentifier::Impl {
   Matrix9 P = Matrix9::Zero();
   std::vector<Eigen::Vector4d> warm_base, warm_fine, warm_hold;  // per substep
   std::vector<ChangeWindow> windows;
+  ChangeWindow found;  // the window of the last change found
+  Eigen::Vector3d found_jump = Eigen::Vector3d::Zero();
+  std::deque<std::pair<int, TrajectorySample>> recent;  // the last rows filtered
   int rows_filtered = 0;
-  int row_index = 0;  // of the row being filtered
+  double window_statistics = 0;  // sum of completed windows' likelihood ratios
+  int window_ranks = 0;          // and of their degrees of freedom
+  int row_index = 0;             // of the row being filtered
 
   void ReadNoise() {
     sigma_p = options.pose_noise_m > 0
@@ -382,7 +405,47 @@ struct OnlineIdentifier::Impl {
     for (int i = 0; i < 3; ++i)
       x(kPar + i) = std::clamp(x(kPar + i), std::log(kFrictionLowerBound[i]),
                                std::log(kFrictionUpperBound[i]));
-    if (result.change_detected) ResetAfterChange();
+    if (!windows.empty() && windows.back().rows == 1 && windows.back().start_row == index) {
+      ChangeWindow& w = windows.back();
+      w.x0 = x;
+      w.P0 = P;
+      w.last0 = last;
+      w.last_logged0 = last_logged;
+    }
+    recent.emplace_back(index, row);
+    while (static_cast<int>(recent.size()) > options.change_window_rows + 1) recent.pop_front();
+    if (result.change_detected) RefilterAfterChange();
+  }
+
+  // After a change found in window `found`: the filter goes back to the window's start,
+  // takes the jump into the parameters, forgets what it knew of them (and of the mismatch
+  // nuisances, which absorbed part of the change meanwhile), and filters the rows since
+  // again: the rows between the change and the alarm no longer pull the new estimate
+  // towards the old surface. Rare, and at most change_window_rows rows: O(1) amortised.
+  void RefilterAfterChange() {
+    const ChangeWindow w = found;
+    x = w.x0;
+    P = w.P0;
+    last = w.last0;
+    last_logged = w.last_logged0;
+    // The filter starts again from the lower of the old a and the jump's: a model whose a
+    // is too high sticks where the log slides and learns nothing there (kPriorA); the
+    // jump's own estimate, from a window's linearisation, overshot by up to half of it.
+    // b and c start from where they were, within the prior the reset gives them.
+    x(kPar) += std::min(0.0, found_jump(0));
+    for (int i = 0; i < 3; ++i)
+      x(kPar + i) = std::clamp(x(kPar + i), std::log(kFrictionLowerBound[i]),
+                               std::log(kFrictionUpperBound[i]));
+    for (auto* warm : {&warm_base, &warm_fine, &warm_hold})
+      std::fill(warm->begin(), warm->end(), Eigen::Vector4d::Zero());
+    ResetAfterChange();
+    std::deque<std::pair<int, TrajectorySample>> again;
+    for (const auto& r : recent)
+      if (r.first > w.start_row) again.push_back(r);
+    recent.clear();
+    lost_rows = 0;
+    for (const auto& [index, row] : again) Filter(row, index);
+    result.change_detected = true;
   }
 
   // The generalised likelihood ratio of a parameter jump at each window's start, from the
@@ -390,7 +453,6 @@ struct OnlineIdentifier::Impl {
   void UpdateChangeWindows(const Matrix9& phi, const Matrix93& K, const Eigen::Matrix3d& S_inv,
                            const Eigen::Vector3d& nu, const TrajectorySample& row) {
     result.change_detected = false;
-    if (!options.detect_changes) return;
     const int half = options.change_window_rows / 2;
     // Before the filter knows a, a change is indistinguishable from its convergence.
     const bool settled = P(kPar, kPar) < kChangeStartLogSigma * kChangeStartLogSigma;
@@ -415,14 +477,26 @@ struct OnlineIdentifier::Impl {
       ++w.rows;
       if (w.rows < kMinChangeRows) continue;
       Eigen::Vector3d jump;
-      const double stat = LikelihoodRatio(w, &jump);
+      int rank = 0;
+      const double raw = LikelihoodRatio(w, &jump, &rank);
+      if (w.rows == options.change_window_rows) {
+        window_statistics += raw;
+        window_ranks += rank;
+      }
+      // A filter whose innovations are noisier than it says in every window is not
+      // changing: the test is on the statistic over its own typical level.
+      const double stat = raw / std::max(1.0, Kappa());
       if (stat > best) {
         best = stat;
         best_index = static_cast<int>(i);
         best_jump = jump;
       }
     }
-    if (best_index >= 0 && best > options.change_threshold) {
+    // Alarms wait for the variance factor: until four windows are in, the filter's own
+    // settling (its linearisation still moving) reads as changes.
+    const bool armed = window_ranks >= kMinKappaRanks;
+    result.change_test_armed = options.detect_changes && armed;
+    if (options.detect_changes && armed && best_index >= 0 && best > options.change_threshold) {
       const ChangeWindow& w = windows[best_index];
       FrictionChange change;
       change.row = w.start_row;
@@ -430,8 +504,8 @@ struct OnlineIdentifier::Impl {
       change.detected_row = row_index;
       change.statistic = best;
       for (int i = 0; i < 3; ++i) change.ratio[i] = std::exp(best_jump(i));
-      // The state the jump implies now (before this row's update).
-      x += w.gamma * best_jump;
+      found = w;
+      found_jump = best_jump;
       result.changes.push_back(change);
       result.change_detected = true;
     }
@@ -440,6 +514,14 @@ struct OnlineIdentifier::Impl {
         std::remove_if(windows.begin(), windows.end(),
                        [&](const ChangeWindow& w) { return w.rows >= options.change_window_rows; }),
         windows.end());
+  }
+
+  // How much larger the parameter-direction innovations are than the filter says: the mean
+  // over completed change windows of their likelihood ratio per degree of freedom (1 for
+  // a consistent filter). 1 until kMinKappaRanks degrees of freedom are in.
+  double Kappa() const {
+    if (window_ranks < kMinKappaRanks) return 1.0;
+    return std::max(kMinKappa, window_statistics / window_ranks);
   }
 
   // The filter lost the motion (its model stuck while the slider slid, say): the motion
@@ -458,20 +540,30 @@ struct OnlineIdentifier::Impl {
   // After a change: the old surface's information is forgotten.
   void ResetAfterChange() {
     const double s2 = options.change_reset_log_sigma * options.change_reset_log_sigma;
-    P.middleRows<3>(kPar).setZero();
-    P.middleCols<3>(kPar).setZero();
+    // The parameters, and the mismatch nuisances, which absorbed part of the change
+    // before the alarm, start again from their current values.
+    P.bottomRows<kN - kPar>().setZero();
+    P.rightCols<kN - kPar>().setZero();
     P.block<3, 3>(kPar, kPar) = Eigen::Matrix3d::Identity() * s2;
+    if (options.fit_mismatch) {
+      P(kLam, kLam) = P(kLam + 1, kLam + 1) = kMismatchPriorSigma * kMismatchPriorSigma;
+    }
     windows.clear();
+    // The new surface's filter earns its own variance factor, and its alarms wait for it.
+    window_statistics = 0;
+    window_ranks = 0;
   }
 
   void Report() {
     result.state = {x(0), x(1), x(2), x(3), x(4), x(5)};
     result.pose_noise_m = sigma_p;
     result.angle_noise_rad = sigma_theta;
+    const double kappa = Kappa();
+    result.variance_factor = kappa;
     for (int i = 0; i < 3; ++i) {
       ParameterEstimate& p = result.parameters[i];
       p = ParameterEstimate{};
-      const double sd = std::sqrt(std::max(0.0, P(kPar + i, kPar + i)));
+      const double sd = std::sqrt(std::max(0.0, P(kPar + i, kPar + i)) * kappa);
       const double lo = std::exp(x(kPar + i) - kZ95 * sd), hi = std::exp(x(kPar + i) + kZ95 * sd);
       if (!(hi / lo <= kMaxIntervalFactor)) {
         p.held_at = std::exp(x(kPar + i));

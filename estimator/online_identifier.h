@@ -92,8 +92,15 @@ struct OnlineResult {
   /// The last row's normalised innovation squared (chi-square(3) when the model fits).
   double nis = std::numeric_limits<double>::quiet_NaN();
   double pose_noise_m = 0, angle_noise_rad = 0;  ///< the noise the filter uses
-  bool change_detected = false;                  ///< at this row
-  std::vector<FrictionChange> changes;           ///< every change so far
+  /// How much larger than the filter's own covariance of the log-parameters their
+  /// innovations say it is (the mean likelihood ratio per degree of freedom of the completed
+  /// change windows; 1 until four are in): the intervals are widened (or narrowed) by its
+  /// square root, as a quasi-likelihood scales its covariance. docs/online.md.
+  double variance_factor = 1;
+  /// The change test runs (the filter has settled and its variance factor is known).
+  bool change_test_armed = false;
+  bool change_detected = false;         ///< at this row
+  std::vector<FrictionChange> changes;  ///< every change so far
   /// Rows at which the filter had lost the motion (20 sigma off on 3 rows in a row) and
   /// restarted it from the poses, widening what it knew of the parameters.
   int relocations = 0;
