@@ -205,6 +205,7 @@ struct OnlineIdentifier::Impl {
   Matrix9 P = Matrix9::Zero();
   std::vector<Eigen::Vector4d> warm_base, warm_fine, warm_hold;  // per substep
   std::vector<ChangeWindow> windows;
+  bool mismatch_released = false;
   ChangeWindow found;  // the window of the last change found
   Eigen::Vector3d found_jump = Eigen::Vector3d::Zero();
   std::deque<std::pair<int, TrajectorySample>> recent;  // the last rows filtered
@@ -248,9 +249,7 @@ struct OnlineIdentifier::Impl {
     P.setZero();
     P.block<3, 3>(kPar, kPar) =
         Eigen::Matrix3d::Identity() * options.prior_log_sigma * options.prior_log_sigma;
-    if (options.fit_mismatch) {
-      P(kLam, kLam) = P(kLam + 1, kLam + 1) = kMismatchPriorSigma * kMismatchPriorSigma;
-    }
+    mismatch_released = false;  // ReleaseMismatch
     StartRun(warmup.front());
     // The first row's velocity from the poses of the rows after it (the log may start in
     // the middle of a push).
@@ -405,6 +404,7 @@ struct OnlineIdentifier::Impl {
     for (int i = 0; i < 3; ++i)
       x(kPar + i) = std::clamp(x(kPar + i), std::log(kFrictionLowerBound[i]),
                                std::log(kFrictionUpperBound[i]));
+    ReleaseMismatch();
     if (!windows.empty() && windows.back().rows == 1 && windows.back().start_row == index) {
       ChangeWindow& w = windows.back();
       w.x0 = x;
@@ -537,6 +537,17 @@ struct OnlineIdentifier::Impl {
     lost_rows = 0;
   }
 
+  // The mismatch nuisances are held at their values until the filter knows a (as the
+  // trajectory fit fits them only at its end, from its minimum): while the parameters are
+  // far off, they would explain what the parameters should (on the bundled log, a pair of
+  // nuisances driven off in the first push's rows kept a 5% off to the end).
+  void ReleaseMismatch() {
+    if (!options.fit_mismatch || mismatch_released) return;
+    if (!(P(kPar, kPar) < kChangeStartLogSigma * kChangeStartLogSigma)) return;
+    P(kLam, kLam) = P(kLam + 1, kLam + 1) = kMismatchPriorSigma * kMismatchPriorSigma;
+    mismatch_released = true;
+  }
+
   // After a change: the old surface's information is forgotten.
   void ResetAfterChange() {
     const double s2 = options.change_reset_log_sigma * options.change_reset_log_sigma;
@@ -545,9 +556,7 @@ struct OnlineIdentifier::Impl {
     P.bottomRows<kN - kPar>().setZero();
     P.rightCols<kN - kPar>().setZero();
     P.block<3, 3>(kPar, kPar) = Eigen::Matrix3d::Identity() * s2;
-    if (options.fit_mismatch) {
-      P(kLam, kLam) = P(kLam + 1, kLam + 1) = kMismatchPriorSigma * kMismatchPriorSigma;
-    }
+    mismatch_released = false;
     windows.clear();
     // The new surface's filter earns its own variance factor, and its alarms wait for it.
     window_statistics = 0;
@@ -563,6 +572,11 @@ struct OnlineIdentifier::Impl {
     for (int i = 0; i < 3; ++i) {
       ParameterEstimate& p = result.parameters[i];
       p = ParameterEstimate{};
+      if (!result.started) {
+        p.reason = "the filter starts after " + std::to_string(options.warmup_rows) +
+                   " rows (from which it reads the noise)";
+        continue;
+      }
       const double sd = std::sqrt(std::max(0.0, P(kPar + i, kPar + i)) * kappa);
       const double lo = std::exp(x(kPar + i) - kZ95 * sd), hi = std::exp(x(kPar + i) + kZ95 * sd);
       if (!(hi / lo <= kMaxIntervalFactor)) {

@@ -25,6 +25,10 @@ struct IdentifyRequest {
   bool batch = false;
   int jobs = 1;
   std::string batch_out;
+  /// --follow: one log from standard input, a JSON line per `follow_every` rows
+  /// (pipeline/follow.h); only the slider overrides apply.
+  bool follow = false;
+  int follow_every = 1;
 };
 
 /// Adds every option of identify (general ones to `options`, the rest to `advanced`).

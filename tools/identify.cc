@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <csignal>
 #include <cstdio>
 #include <fstream>
 #include <functional>
@@ -14,6 +15,7 @@
 
 #include "io/result_json.h"
 #include "io/result_report.h"
+#include "pipeline/follow.h"
 #include "pipeline/identify_options.h"
 #include "tools/tool_support.h"
 
@@ -59,6 +61,25 @@ int RunBatchCommand(const cli::IdentifyRequest& request) {
   return tools::kExitOk;
 }
 
+/// --follow: rows from standard input; a JSON line per update, flushed at once. A reader
+/// that goes away (a closed pipe) ends the run quietly, as `head` expects of `yes`.
+int RunFollowCommand(const cli::IdentifyRequest& request) {
+  std::signal(SIGPIPE, SIG_IGN);  // a closed pipe is a failed write, not a death
+  FollowOptions options;
+  options.every = request.follow_every;
+  options.overrides = request.options.read.overrides;
+  const FollowSummary summary =
+      FollowLog(std::cin, "<stdin>", options, [](const std::string& line) {
+        std::cout << line << '\n' << std::flush;
+        return static_cast<bool>(std::cout);
+      });
+  if (request.verbose) {
+    std::cerr << "identify: note: " << summary.rows << " rows, " << summary.lines << " lines"
+              << (summary.reader_gone ? ", the reader went away" : "") << "\n";
+  }
+  return tools::kExitOk;
+}
+
 std::string Describe(const std::vector<std::string>& files) {
   return files.size() == 1 ? files[0] : std::to_string(files.size()) + " logs";
 }
@@ -74,7 +95,8 @@ int main(int argc, char** argv) {
         "whether it is believable. Several logs are pooled: one estimate for all, each log's\n"
         "own, and whether they agree.\n\n"
         "Usage: identify --log FILE.csv [--log FILE2.csv ...] [options]\n"
-        "       identify --batch DIR|GLOB --out RESULTS.jsonl [--jobs N] [--shard I/N] [options]"
+        "       identify --batch DIR|GLOB --out RESULTS.jsonl [--jobs N] [--shard I/N] [options]\n"
+        "       logger | identify --follow [--every N] [--mass M ...]"
         "\n\nOptions");
     opts.add_options()("help,h", "print this help and exit")("version",
                                                              "print the version and exit");
@@ -97,6 +119,7 @@ int main(int argc, char** argv) {
     // fit; the result says how the fit ended, so keep those pages for --verbose.
     if (!request.verbose) FLAGS_minloglevel = google::GLOG_ERROR;
     if (request.batch) return RunBatchCommand(request);
+    if (request.follow) return RunFollowCommand(request);
 
     const FileIdentifyResult run = IdentifyFiles(request.files, request.options);
     for (const std::string& w : run.warnings) std::cerr << "identify: warning: " << w << "\n";
