@@ -45,12 +45,14 @@ from ._log import (
     simulate,
     write_log,
 )
+from ._online import OnlineIdentifier
 from ._predict import predict, validate
 from ._results import ROW_FIELDS, log_files, read_results, result_row
 
 __all__ = [
     "Log",
     "NumericalError",
+    "OnlineIdentifier",
     "OptionError",
     "ROW_FIELDS",
     "Record",

@@ -72,4 +72,5 @@ PYBIND11_MODULE(_core, m) {
   sp::BindSimulate(m);
   sp::BindImport(m);
   sp::BindPredict(m);
+  sp::BindOnline(m);
 }
