@@ -62,6 +62,12 @@ constexpr double kMinJumpInformation = 1.0 / (0.5 * 0.5);
 /// windows that determine all three parameters), and not below kMinKappa.
 constexpr int kMinKappaRanks = 12;
 constexpr double kMinKappa = 0.25;
+/// The change test is disarmed while the variance factor exceeds this: a filter whose
+/// innovations are that much larger than it says does not describe its log, and the
+/// windows' statistics measure its misfit. On a coverage-suite log whose fast-spinning
+/// pushes the filter had not followed (a 4% off at the end, the variance factor 17-28),
+/// the misfit raised an alarm at a gate of 10.
+constexpr double kMaxArmedKappa = 5.0;
 /// A change window is tested once it holds this many rows (fewer say too little).
 constexpr int kMinChangeRows = 10;
 /// Eigenvalues of the change information below this fraction of its largest are
@@ -494,7 +500,9 @@ struct OnlineIdentifier::Impl {
     }
     // Alarms wait for the variance factor: until four windows are in, the filter's own
     // settling (its linearisation still moving) reads as changes.
-    const bool armed = window_ranks >= kMinKappaRanks;
+    // Nor does a filter that does not describe its log (a variance factor beyond
+    // kMaxArmedKappa: the windows' statistics then measure its misfit, not a change).
+    const bool armed = window_ranks >= kMinKappaRanks && Kappa() <= kMaxArmedKappa;
     result.change_test_armed = options.detect_changes && armed;
     if (options.detect_changes && armed && best_index >= 0 && best > options.change_threshold) {
       const ChangeWindow& w = windows[best_index];

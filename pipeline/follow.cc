@@ -17,6 +17,18 @@ double Unwrapped(double theta, double previous) {
   return theta + kTwoPi * std::round((previous - theta) / kTwoPi);
 }
 
+// A reader's message without its "source:line: column 'c': " (the row's line in the
+// one-row text it parsed is not the stream's).
+std::string Unlocated(const LogError& e) {
+  const std::string message = e.what();
+  std::string prefix = LogError(e.file(), e.line(), e.column(), "").what();
+  while (!prefix.empty() && (prefix.back() == ' ' || prefix.back() == ':')) prefix.pop_back();
+  if (message.compare(0, prefix.size(), prefix) != 0) return message;
+  size_t start = prefix.size();
+  while (start < message.size() && (message[start] == ':' || message[start] == ' ')) ++start;
+  return message.substr(start);
+}
+
 }  // namespace
 
 bool FollowOptions::IsValid(std::string* why) const {
@@ -36,6 +48,7 @@ FollowSummary FollowLog(std::istream& in, const std::string& source, const Follo
   read.max_gap_ratio = 0;  // one row at a time: no median interval to hold a gap against
   std::string header;      // the metadata and the header line, as the reader wants them
   bool have_header = false;
+  int header_lines = 0;
   std::string line;
   FollowSummary summary;
   std::unique_ptr<OnlineIdentifier> identifier;
@@ -47,6 +60,7 @@ FollowSummary FollowLog(std::istream& in, const std::string& source, const Follo
     if (!have_header) {
       // Still in the metadata: comments, blank lines, then the header line.
       header += line + "\n";
+      ++header_lines;
       have_header = !line.empty() && line[0] != '#';
       continue;
     }
@@ -56,7 +70,8 @@ FollowSummary FollowLog(std::istream& in, const std::string& source, const Follo
     try {
       one = ParsePushLog(text, source, read);
     } catch (const LogError& e) {
-      throw LogError(source, line_number, e.column(), e.what());
+      if (e.line() <= header_lines) throw;  // about the header: its lines are the stream's
+      throw LogError(source, line_number, e.column(), Unlocated(e));
     }
     if (one.samples.size() != 1) {
       throw LogError(source, line_number, "", "expected one row on the line");

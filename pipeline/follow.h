@@ -22,8 +22,8 @@ struct FollowOptions {
 
 /// How a follow ended.
 struct FollowSummary {
-  int rows = 0;   ///< rows read
-  int lines = 0;  ///< lines handed on
+  int rows = 0;              ///< rows read
+  int lines = 0;             ///< lines handed on
   bool reader_gone = false;  ///< `emit` said the reader went away; the rest was not read
 };
 

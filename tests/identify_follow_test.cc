@@ -37,7 +37,8 @@ ShellRun Shell(const std::string& shell) {
   const char* bin = std::getenv("SLIDEID_BIN_DIR");
   const std::string stem = ::testing::TempDir() + "/follow_" + std::to_string(getpid());
   const std::string script = stem + ".sh";
-  std::ofstream(script) << "IDENTIFY=" << (bin ? bin : "build/bin") << "/identify\n" << shell << "\n";
+  std::ofstream(script) << "IDENTIFY=" << (bin ? bin : "build/bin") << "/identify\n"
+                        << shell << "\n";
   const std::string cmd = "bash " + script + " > " + stem + ".out 2> " + stem + ".err";
   const int status = std::system(cmd.c_str());
   return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, Slurp(stem + ".out"), Slurp(stem + ".err")};
@@ -84,7 +85,7 @@ TEST(IdentifyFollow, EndsCleanlyWhenTheReaderGoesAway) {
   // head takes one line and closes the pipe; identify's next writes fail (EPIPE): it
   // stops reading and exits 0, as a logger's consumer expects.
   const ShellRun run = Shell("set -o pipefail; cat " + LogFile() +
-                        " | $IDENTIFY --follow | head -n 1; echo \"status ${PIPESTATUS[1]}\"");
+                             " | $IDENTIFY --follow | head -n 1; echo \"status ${PIPESTATUS[1]}\"");
   EXPECT_NE(run.out.find("status 0"), std::string::npos) << run.out << run.err;
   EXPECT_EQ(run.out.find("status 141"), std::string::npos) << "killed by SIGPIPE";
   EXPECT_EQ(Lines(run.out.substr(0, run.out.find('\n') + 1)).size(), 1u);
@@ -93,7 +94,7 @@ TEST(IdentifyFollow, EndsCleanlyWhenTheReaderGoesAway) {
 TEST(IdentifyFollow, ABadRowNamesItsLineOfTheStream) {
   // The log's metadata and header, two rows, then a row with a word for x.
   const ShellRun run = Shell("{ grep -v '^[0-9-]' " + LogFile() + "; grep '^[0-9-]' " + LogFile() +
-                        " | head -n 2; echo '0.5,oops,0,0,0,0,0,0,0'; } | $IDENTIFY --follow");
+                             " | head -n 2; echo '0.5,oops,0,0,0,0,0,0,0'; } | $IDENTIFY --follow");
   EXPECT_EQ(run.exit_code, 1) << run.err;
   const std::string header = Slurp(LogFile());
   int metadata_lines = 0;

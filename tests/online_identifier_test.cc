@@ -18,8 +18,8 @@
 #include "datasets/dataset.h"
 #include "datasets/noise.h"
 #include "datasets/sensor_model.h"
-#include "forward_model/simulator.h"
 #include "estimator/identify.h"
+#include "forward_model/simulator.h"
 
 namespace slideid {
 namespace {
@@ -128,8 +128,7 @@ Trajectory Spliced(const Trajectory& first, LoggedScene second, std::uint64_t se
   EXPECT_TRUE(sim.summary.ok()) << sim.summary.message;
   const Trajectory logged = MakeLog(sim.trajectory, second.log);
   Trajectory out = first;
-  const double shift =
-      first.samples.back().t_s + (first.samples[1].t_s - first.samples[0].t_s);
+  const double shift = first.samples.back().t_s + (first.samples[1].t_s - first.samples[0].t_s);
   for (size_t u = 1; u < logged.samples.size(); ++u) {  // row 0 is where the first ended
     TrajectorySample row = logged.samples[u];
     row.t_s += shift - logged.samples[1].t_s + logged.samples[0].t_s;
@@ -161,10 +160,10 @@ TEST(OnlineIdentifier, FindsASwitchOfSurfaceAndReconvergesOnTheNewFriction) {
   // fit's interval of the second half, and no alarm may come before the switch.
   constexpr int kSwitchLogs = 5;
   constexpr int kMaxDelayRows = 60;
-  // The second half's batch interval is narrow (0.15% on these exact-force logs); the
-  // re-converged estimate, from a filter restarted at the change, lands in it in 4 of the 5
-  // logs, and 0.05% below it in the fifth (log 3), when written.
-  constexpr int kMinInside = 4;
+  // The second half's batch interval is narrow (0.15-0.5% wide on these exact-force logs);
+  // the re-converged estimate, from a filter restarted at the change, lands in it in all 5
+  // logs when written (log 0 by 1e-5).
+  constexpr int kMinInside = kSwitchLogs;
   int inside = 0;
   for (int k = 0; k < kSwitchLogs; ++k) {
     Trajectory first, unused;
@@ -172,7 +171,8 @@ TEST(OnlineIdentifier, FindsASwitchOfSurfaceAndReconvergesOnTheNewFriction) {
     const DatasetEntry second = DrawDatasetLog(ExactSpec(0.4), k, &unused);
     const int switch_row = static_cast<int>(first.samples.size());
     const Trajectory log = Spliced(first, second.scene, 77 + k);
-    const std::vector<OnlineResult> online = RunOnline(log, OnlineOptions{}, {static_cast<int>(log.samples.size()) - 1});
+    const std::vector<OnlineResult> online =
+        RunOnline(log, OnlineOptions{}, {static_cast<int>(log.samples.size()) - 1});
     const OnlineResult& end = online.back();
     ASSERT_GE(end.changes.size(), 1u) << "log " << k;
     const FrictionChange& change = end.changes.front();
@@ -196,10 +196,11 @@ TEST(OnlineIdentifier, FindsASwitchOfSurfaceAndReconvergesOnTheNewFriction) {
     ASSERT_TRUE(b.identifiable);
     EXPECT_NEAR(end.parameters[0].value, 0.4, 0.01) << "log " << k;
     inside += b.ci95_lo <= end.parameters[0].value && end.parameters[0].value <= b.ci95_hi;
-    std::printf("switch log %d: rows %zu, switch at row %d, first push %d, change at row %d, "
-                "alarm at row %d, a x %.3f; a %.5f, second half's batch %.5f [%.5f, %.5f]\n",
-                k, log.samples.size(), switch_row, first_push, change.row, change.detected_row,
-                change.ratio[0], end.parameters[0].value, b.value, b.ci95_lo, b.ci95_hi);
+    std::printf(
+        "switch log %d: rows %zu, switch at row %d, first push %d, change at row %d, "
+        "alarm at row %d, a x %.3f; a %.5f, second half's batch %.5f [%.5f, %.5f]\n",
+        k, log.samples.size(), switch_row, first_push, change.row, change.detected_row,
+        change.ratio[0], end.parameters[0].value, b.value, b.ci95_lo, b.ci95_hi);
   }
   EXPECT_GE(inside, kMinInside);
 }
@@ -207,9 +208,10 @@ TEST(OnlineIdentifier, FindsASwitchOfSurfaceAndReconvergesOnTheNewFriction) {
 TEST(OnlineIdentifier, RaisesNoAlarmOnUnchangedLogs) {
   // 200 logs of the coverage suite's base cut to 600 rows. The test arms once the filter
   // has settled and four windows have given its variance factor (about 200 rows in), so
-  // these logs test it over some 80,000 rows. The stated rate: at most 2 false alarms per
-  // million tested rows of a consistent filter (OnlineOptions::change_threshold); at that
-  // rate none come with probability 0.85. The seeds are fixed: measured when written, none.
+  // these logs test it over some 80,000 rows. The stated rate: at most 0.15 false alarms
+  // per million tested rows of a consistent filter (OnlineOptions::change_threshold); at
+  // that rate none come with probability 0.99. The seeds are fixed: measured when written,
+  // none (with the 1e-6 tail as the threshold, one, at row 321 of log 10).
   constexpr int kUnchangedLogs = 200;
   constexpr int kMinArmedRows = 50000;
   CoverageCondition condition = FindCoverageCondition("base");
@@ -218,7 +220,8 @@ TEST(OnlineIdentifier, RaisesNoAlarmOnUnchangedLogs) {
   for (int k = 0; k < kUnchangedLogs; ++k) {
     const CoverageLog made = MakeCoverageLog(condition, k);
     OnlineIdentifier id(made.log);
-    for (const TrajectorySample& row : made.log.samples) armed_rows += id.Update(row).change_test_armed;
+    for (const TrajectorySample& row : made.log.samples)
+      armed_rows += id.Update(row).change_test_armed;
     alarms += static_cast<int>(id.result().changes.size());
     EXPECT_EQ(id.result().changes.size(), 0u) << "log " << k;
   }
