@@ -85,8 +85,8 @@ struct OnlineResult {
   /// a, b, c with intervals exp(log +- z95 sigma) and verdicts: ok, or not identifiable
   /// while the interval spans more than kMaxIntervalFactor (the prior's width).
   std::array<ParameterEstimate, 3> parameters;
-  /// mu_p from the rows where the tip slides along the edge (logs with the tip's path and
-  /// the outline); examined says whether the log has them.
+  /// mu_p: not estimated online yet (examined stays false; the batch fit's
+  /// estimator/pusher_friction.h gives it from a whole log).
   bool mu_pusher_examined = false;
   ParameterEstimate mu_pusher;
   PlanarState state;  ///< the filter's state at the last row
