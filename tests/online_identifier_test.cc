@@ -66,10 +66,11 @@ const char* const kConditions[] = {"short-300", "exact-rate"};
 TEST(OnlineIdentifier, EndsInsideTheBatchFitsIntervalAndItsIntervalsHoldTheTruth) {
   // 2 x 20 logs x 3 parameters x 4 points along the log. The band for a calibrated 95%
   // interval over 40 logs is 95% +- 7% (two binomial standard errors); measured when
-  // written: 95-100% at every point (docs/online.md has the full suite). The agreement
-  // with the batch fit: the two use the same rows with the same model, but not in the same
-  // way (a filter with process noise against shooting segments), so the online estimate can
-  // stray from the batch's interval; measured: a in 90%, b in 92%, c in 98% of the logs.
+  // written: 92.5-100% at every point (a 39, 39, 37, 38 of 40; b 39, 40, 39, 39; c 37, 39,
+  // 39, 40; docs/online.md has the full suite). The agreement with the batch fit: the two
+  // use the same rows with the same model, but not in the same way (a filter with process
+  // noise against shooting segments), and the batch fit is the more accurate, so the online
+  // estimate strays from its narrow interval: measured, a in 33, b in 37, c in 40 of 40.
   constexpr double kCoverageLow = 0.88, kCoverageHigh = 1.0;
   constexpr double kWithinBatch = 0.8;
   constexpr double kFractions[4] = {0.25, 0.5, 0.75, 1.0};
@@ -102,6 +103,11 @@ TEST(OnlineIdentifier, EndsInsideTheBatchFitsIntervalAndItsIntervalsHoldTheTruth
         within[i] += b.ci95_lo <= p.value && p.value <= b.ci95_hi;
       }
     }
+  }
+  for (int i = 0; i < 3; ++i) {
+    std::printf("%s: coverage %d/%d %d/%d %d/%d %d/%d, inside the batch interval %d/%d\n",
+                ParameterName(i), covered[0][i], counted[0][i], covered[1][i], counted[1][i],
+                covered[2][i], counted[2][i], covered[3][i], counted[3][i], within[i], compared[i]);
   }
   for (int i = 0; i < 3; ++i) {
     // From a quarter of the rows on, every parameter is identified in nearly every log: the
