@@ -6,6 +6,10 @@
 //   online_coverage [--logs N] [--conditions base,force-1%,...] [--threads N] [--no-batch]
 //
 // A plain program (each run is one log); logs are made and run on --threads threads.
+// Experiment hooks (environment): SLIDEID_ONLINE_VERBOSE=1 prints each log's end on stderr,
+// SLIDEID_ONLINE_TRACE=K every 5th row of log K; SLIDEID_ONLINE_NO_CHANGES=1 turns change
+// detection off; SLIDEID_ONLINE_FORCE and SLIDEID_ONLINE_ACC set the process noise
+// (OnlineOptions::force_noise_fraction, model_acceleration_mps2).
 
 #include <atomic>
 #include <cmath>

@@ -616,6 +616,12 @@ OnlineIdentifier::OnlineIdentifier(const Trajectory& metadata, const OnlineOptio
         "its com_height finite and >= 0 (mass = " +
         ShortNumber(s.mass_kg) + ", inertia = " + ShortNumber(s.inertia_kgm2) + ")");
   }
+  if (!metadata.columns.pose) {
+    // Its update is with the logged pose; a log of velocities alone would read as a slider
+    // resting at the origin.
+    throw std::invalid_argument(
+        "online identifier: the log has no poses (x, y, theta); it identifies from poses");
+  }
   Impl& m = *impl_;
   m.options = options;
   m.slider = s;

@@ -111,8 +111,9 @@ struct OnlineResult {
 class OnlineIdentifier {
  public:
   /// `metadata`: the log's slider properties (mass, inertia, com_height, gravity), and
-  /// its patch and tip radius when it has them; its samples are ignored. Throws
-  /// std::invalid_argument for invalid options or slider properties.
+  /// its patch and tip radius when it has them, and its columns (it must have poses; other
+  /// motion columns are not used); its samples are ignored. Throws std::invalid_argument
+  /// for invalid options or slider properties, or a log without poses.
   explicit OnlineIdentifier(const Trajectory& metadata, const OnlineOptions& options = {});
   ~OnlineIdentifier();
   OnlineIdentifier(OnlineIdentifier&&) noexcept;

@@ -40,6 +40,14 @@ TEST(OnlineOptions, RejectsInvalidValuesNamingThem) {
   EXPECT_FALSE(o.IsValid(&why));
   EXPECT_NE(why.find("change_window_rows"), std::string::npos);
   EXPECT_THROW(OnlineIdentifier(Trajectory{}, o), std::invalid_argument);
+  Trajectory velocities_only;
+  velocities_only.columns.pose = false;
+  try {
+    OnlineIdentifier id(velocities_only);
+    FAIL() << "a log without poses was taken";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("no poses"), std::string::npos) << e.what();
+  }
 }
 
 TEST(OnlineIdentifier, RejectsRowsThatGoBackInTimeOrAreNotFinite) {
