@@ -163,6 +163,11 @@ void AddIdentifyOptions(po::options_description* options, po::options_descriptio
       "fit nothing: say per log its rates, gaps, noise and dead channels, how it excites the "
       "friction, which of a, b, c (and mu_p) the fit could identify and how precisely, and "
       "what would help (exit 1 when a log cannot be read or could identify nothing)")(
+      "follow",
+      "read one log from standard input as a logger writes it (metadata and header, then a "
+      "row per line) and print the online estimate as a JSON line after each row "
+      "(docs/online.md)")("every", po::value<int>()->default_value(1)->value_name("N"),
+                          "with --follow: a line after every N rows (and at a change)")(
       "batch", po::value<std::string>()->value_name("DIR|GLOB"),
       "fit every log of a directory (or a quoted glob) on its own, writing one JSON line per "
       "log to --out as each finishes (a failed log gives a line with its error)")(
@@ -219,11 +224,25 @@ void ReadBatchOptions(const po::variables_map& vm, IdentifyRequest* r) {
   }
 }
 
+// --follow and --every: rows from standard input, to the online identifier.
+void ReadFollowOptions(const po::variables_map& vm, IdentifyRequest* r) {
+  r->follow = true;
+  for (const char* option : {"log", "logs", "batch", "residuals", "skip-bad", "strict", "json"}) {
+    if (vm.count(option))
+      throw po::error(std::string("--") + option + " does not go with --follow");
+  }
+  if (!vm["method"].defaulted()) throw po::error("--method does not go with --follow");
+  r->follow_every = vm["every"].as<int>();
+  if (r->follow_every < 1) throw po::error("--every must be >= 1");
+  r->options.read = ReadLogOptions(vm);
+  r->verbose = vm.count("verbose") > 0;
+}
+
 IdentifyRequest ReadIdentifyOptions(const po::variables_map& vm) {
   IdentifyRequest r;
   if (vm.count("check")) {
     r.check = true;
-    for (const char* option : {"batch", "residuals", "strict"}) {
+    for (const char* option : {"batch", "residuals", "strict", "follow"}) {
       if (vm.count(option))
         throw po::error(std::string("--") + option + " does not go with --check");
     }
@@ -232,6 +251,11 @@ IdentifyRequest ReadIdentifyOptions(const po::variables_map& vm) {
                       vm["method"].as<std::string>());
     }
   }
+  if (vm.count("follow")) {
+    ReadFollowOptions(vm, &r);
+    return r;
+  }
+  if (!vm["every"].defaulted()) throw po::error("--every needs --follow");
   if (vm.count("batch")) {
     ReadBatchOptions(vm, &r);
   } else {

@@ -28,6 +28,10 @@ struct IdentifyRequest {
   /// --check: fit nothing; say per log what a fit could identify (estimator/log_check.h).
   bool check = false;
   bool resume = false;  ///< --resume: keep batch_out's lines, fit only the logs they lack
+  /// --follow: one log from standard input, a JSON line per `follow_every` rows
+  /// (pipeline/follow.h); only the slider overrides apply.
+  bool follow = false;
+  int follow_every = 1;
 };
 
 /// Adds every option of identify (general ones to `options`, the rest to `advanced`).

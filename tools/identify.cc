@@ -17,6 +17,7 @@
 #include "io/result_json.h"
 #include "io/result_report.h"
 #include "pipeline/check_files.h"
+#include "pipeline/follow.h"
 #include "pipeline/identify_options.h"
 #include "tools/tool_support.h"
 
@@ -120,6 +121,25 @@ int RunCheckCommand(const cli::IdentifyRequest& request) {
   return unusable > 0 ? tools::kExitBadInput : flushed;
 }
 
+/// --follow: rows from standard input; a JSON line per update, flushed at once. A reader
+/// that goes away (a closed pipe) ends the run quietly, as `head` expects of `yes`.
+int RunFollowCommand(const cli::IdentifyRequest& request) {
+  std::signal(SIGPIPE, SIG_IGN);  // a closed pipe is a failed write, not a death
+  FollowOptions options;
+  options.every = request.follow_every;
+  options.overrides = request.options.read.overrides;
+  const FollowSummary summary =
+      FollowLog(std::cin, "<stdin>", options, [](const std::string& line) {
+        std::cout << line << '\n' << std::flush;
+        return static_cast<bool>(std::cout);
+      });
+  if (request.verbose) {
+    std::cerr << "identify: note: " << summary.rows << " rows, " << summary.lines << " lines"
+              << (summary.reader_gone ? ", the reader went away" : "") << "\n";
+  }
+  return tools::kExitOk;
+}
+
 std::string Describe(const std::vector<std::string>& files) {
   return files.size() == 1 ? files[0] : std::to_string(files.size()) + " logs";
 }
@@ -138,7 +158,8 @@ int main(int argc, char** argv) {
         "       identify --batch DIR|GLOB --out RESULTS.jsonl [--jobs N] [--shard I/N]\n"
         "                [--resume] [options]\n"
         "       identify --check --log FILE.csv [--log ...] [--json] (fits nothing: what a fit\n"
-        "                could identify, and what would help)"
+        "                could identify, and what would help)\n"
+        "       logger | identify --follow [--every N] [--mass M ...]"
         "\n\nOptions");
     opts.add_options()("help,h", "print this help and exit")("version",
                                                              "print the version and exit");
@@ -162,6 +183,7 @@ int main(int argc, char** argv) {
     if (!request.verbose) FLAGS_minloglevel = google::GLOG_ERROR;
     if (request.batch) return RunBatchCommand(request);
     if (request.check) return RunCheckCommand(request);
+    if (request.follow) return RunFollowCommand(request);
 
     const FileIdentifyResult run = IdentifyFiles(request.files, request.options);
     for (const std::string& w : run.warnings) std::cerr << "identify: warning: " << w << "\n";

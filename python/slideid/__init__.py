@@ -48,6 +48,7 @@ from ._log import (
     simulate,
     write_log,
 )
+from ._online import OnlineIdentifier
 from ._predict import predict, validate
 from ._results import ROW_FIELDS, log_files, read_results, result_row
 
@@ -56,6 +57,7 @@ __all__ = [
     "Log",
     "MissingFileError",
     "NumericalError",
+    "OnlineIdentifier",
     "OptionError",
     "ROW_FIELDS",
     "Record",

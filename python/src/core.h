@@ -58,5 +58,6 @@ void BindIdentify(py::module_& m);        ///< identify
 void BindSimulate(py::module_& m);        ///< simulate, make_dataset
 void BindImport(py::module_& m);          ///< import_log
 void BindPredict(py::module_& m);         ///< predict, validate
+void BindOnline(py::module_& m);          ///< OnlineCore (slideid.OnlineIdentifier)
 
 }  // namespace slideid::python

@@ -101,4 +101,5 @@ PYBIND11_MODULE(_core, m) {
   sp::BindSimulate(m);
   sp::BindImport(m);
   sp::BindPredict(m);
+  sp::BindOnline(m);
 }

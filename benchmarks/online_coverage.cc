@@ -1,0 +1,203 @@
+// The online identifier (issue 21) against the truth and the batch fit, over the coverage
+// suite's conditions (datasets/coverage_conditions.h): per condition, how often its 95%
+// intervals hold the truth at 25%, 50%, 75% and 100% of the rows, and how often its final
+// estimate lies within the batch trajectory fit's 95% interval of the whole log.
+//
+//   online_coverage [--logs N] [--conditions base,force-1%,...] [--threads N] [--no-batch]
+//
+// A plain program (each run is one log); logs are made and run on --threads threads.
+// Experiment hooks (environment): SLIDEID_ONLINE_VERBOSE=1 prints each log's end on stderr,
+// SLIDEID_ONLINE_TRACE=K every 5th row of log K; SLIDEID_ONLINE_NO_CHANGES=1 turns change
+// detection off; SLIDEID_ONLINE_FORCE and SLIDEID_ONLINE_ACC set the process noise
+// (OnlineOptions::force_noise_fraction, model_acceleration_mps2).
+
+#include <atomic>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <mutex>
+#include <sstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "benchmarks/bench_args.h"
+#include "datasets/coverage_conditions.h"
+#include "estimator/identify.h"
+#include "estimator/online_identifier.h"
+
+namespace slideid {
+namespace {
+
+constexpr double kFractions[4] = {0.25, 0.5, 0.75, 1.0};
+
+struct Tally {
+  int logs = 0, failed = 0;
+  int intervals[4][3] = {}, covered[4][3] = {};
+  int batch_intervals[3] = {}, within_batch[3] = {};
+  double rel_error_sum[3] = {}, batch_rel_error_sum[3] = {};
+};
+
+void RunLog(const CoverageCondition& condition, int index, bool batch, Tally* tally,
+            std::mutex* mutex) {
+  const CoverageLog made = MakeCoverageLog(condition, index);
+  const int rows = static_cast<int>(made.log.samples.size());
+  std::vector<int> keep;
+  for (double f : kFractions) keep.push_back(std::max(0, static_cast<int>(f * rows) - 1));
+  std::vector<OnlineResult> results;
+  bool failed = false;
+  try {
+    OnlineOptions options;
+    options.detect_changes = !std::getenv("SLIDEID_ONLINE_NO_CHANGES");
+    if (const char* v = std::getenv("SLIDEID_ONLINE_FORCE"))
+      options.force_noise_fraction = std::atof(v);
+    if (const char* v = std::getenv("SLIDEID_ONLINE_ACC"))
+      options.model_acceleration_mps2 = std::atof(v);
+    results = RunOnline(made.log, options, keep);
+    if (const char* trace = std::getenv("SLIDEID_ONLINE_TRACE");
+        trace && std::atoi(trace) == index) {
+      const std::vector<OnlineResult> all = RunOnline(made.log, options);
+      for (size_t u = 0; u < all.size(); u += 5) {
+        const OnlineResult& r = all[u];
+        const TrajectorySample& row = made.log.samples[u];
+        std::fprintf(stderr,
+                     "%zu t %.2f f %.3f %.3f | %.4g %.4g %.4g held %.4g %.4g %.4g nis %.3g v %.4f "
+                     "%.4f %.4f\n",
+                     u, r.t_s, row.applied.fx, row.applied.fy, r.parameters[0].value,
+                     r.parameters[1].value, r.parameters[2].value, r.parameters[0].held_at,
+                     r.parameters[1].held_at, r.parameters[2].held_at, r.nis, r.state.vx,
+                     r.state.vy, r.state.wz);
+      }
+    }
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "%s log %d: %s\n", condition.name.c_str(), index, e.what());
+    failed = true;
+  }
+  EstimateResult fit;
+  if (batch && !failed) fit = Identify(made.log, IdentifyOptions{});
+  std::lock_guard<std::mutex> lock(*mutex);
+  ++tally->logs;
+  if (failed) {
+    ++tally->failed;
+    return;
+  }
+  for (int f = 0; f < 4; ++f) {
+    for (int i = 0; i < 3; ++i) {
+      const ParameterEstimate& p = results[f].parameters[i];
+      if (!p.identifiable) continue;
+      ++tally->intervals[f][i];
+      tally->covered[f][i] += p.ci95_lo <= made.truth[i] && made.truth[i] <= p.ci95_hi;
+      if (f == 3) tally->rel_error_sum[i] += std::abs(p.value / made.truth[i] - 1);
+    }
+  }
+  if (std::getenv("SLIDEID_ONLINE_VERBOSE")) {
+    const OnlineResult& r = results[3];
+    std::fprintf(stderr, "%s %d rows %d: ", condition.name.c_str(), index, rows);
+    for (int i = 0; i < 3; ++i) {
+      const ParameterEstimate& p = r.parameters[i];
+      std::fprintf(stderr, " %.5g [%.5g %.5g] (truth %.5g; batch %.5g)", p.value, p.ci95_lo,
+                   p.ci95_hi, made.truth[i], batch ? fit.parameters[i].value : 0.0);
+    }
+    std::fprintf(stderr, " failed %d changes %zu noise %.3g %.3g kappa %.3g", r.failed_steps,
+                 r.changes.size(), r.pose_noise_m, r.angle_noise_rad, r.variance_factor);
+    for (const FrictionChange& c : r.changes)
+      std::fprintf(stderr, " [row %d at %d stat %.1f ratio %.3f %.3f %.3f]", c.row, c.detected_row,
+                   c.statistic, c.ratio[0], c.ratio[1], c.ratio[2]);
+    std::fprintf(stderr, "\n");
+  }
+  if (!batch) return;
+  for (int i = 0; i < 3; ++i) {
+    const ParameterEstimate& b = fit.parameters[i];
+    const ParameterEstimate& p = results[3].parameters[i];
+    if (!b.identifiable || !p.identifiable) continue;
+    ++tally->batch_intervals[i];
+    tally->within_batch[i] += b.ci95_lo <= p.value && p.value <= b.ci95_hi;
+    tally->batch_rel_error_sum[i] += std::abs(b.value / made.truth[i] - 1);
+  }
+}
+
+std::string Percent(int k, int n) {
+  if (n == 0) return "-";
+  char text[32];
+  std::snprintf(text, sizeof text, "%.1f%%", 100.0 * k / n);
+  return text;
+}
+
+}  // namespace
+}  // namespace slideid
+
+int main(int argc, char** argv) {
+  using namespace slideid;
+  int logs = 100, threads = 1;
+  bool batch = true;
+  std::vector<std::string> names;
+  try {
+    bench::Args args(argc, argv);
+    while (args.Next()) {
+      if (args.Is("--logs")) {
+        logs = args.Integer(1);
+      } else if (args.Is("--threads")) {
+        threads = args.Integer(1);
+      } else if (args.Is("--no-batch")) {
+        batch = false;
+      } else if (args.Is("--conditions")) {
+        std::stringstream list(args.Value());
+        std::string name;
+        while (std::getline(list, name, ',')) names.push_back(name);
+      } else {
+        std::fprintf(stderr,
+                     "usage: online_coverage [--logs N] [--conditions A,B] "
+                     "[--threads N] [--no-batch]\n");
+        return 2;
+      }
+    }
+    std::vector<CoverageCondition> conditions;
+    if (names.empty()) {
+      conditions = CoverageConditions();
+    } else {
+      for (const std::string& n : names) conditions.push_back(FindCoverageCondition(n));
+    }
+    std::printf(
+        "| condition | logs | a: 25/50/75/100%% rows | b: 25/50/75/100%% | c: 25/50/75/100%% "
+        "| in batch CI a/b/c | mean rel. error online a/b/c | batch a/b/c |\n");
+    std::printf("|---|---|---|---|---|---|---|---|\n");
+    for (const CoverageCondition& c : conditions) {
+      Tally tally;
+      std::mutex mutex;
+      std::atomic<int> next{0};
+      std::vector<std::thread> pool;
+      for (int t = 0; t < threads; ++t) {
+        pool.emplace_back([&] {
+          for (int k; (k = next++) < logs;) RunLog(c, k, batch, &tally, &mutex);
+        });
+      }
+      for (std::thread& t : pool) t.join();
+      std::printf("| %s | %d%s |", c.name.c_str(), tally.logs,
+                  tally.failed ? (" (" + std::to_string(tally.failed) + " failed)").c_str() : "");
+      for (int i = 0; i < 3; ++i) {
+        for (int f = 0; f < 4; ++f) {
+          std::printf("%s%s", f ? " / " : " ",
+                      Percent(tally.covered[f][i], tally.intervals[f][i]).c_str());
+        }
+        std::printf(" |");
+      }
+      for (int i = 0; i < 3; ++i)
+        std::printf("%s%s", i ? " / " : " ",
+                    Percent(tally.within_batch[i], tally.batch_intervals[i]).c_str());
+      std::printf(" |");
+      for (int i = 0; i < 3; ++i)
+        std::printf("%s%.3f%%", i ? " / " : " ",
+                    100 * tally.rel_error_sum[i] / std::max(1, tally.intervals[3][i]));
+      std::printf(" |");
+      for (int i = 0; i < 3; ++i)
+        std::printf("%s%.3f%%", i ? " / " : " ",
+                    100 * tally.batch_rel_error_sum[i] / std::max(1, tally.batch_intervals[i]));
+      std::printf(" |\n");
+      std::fflush(stdout);
+    }
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "online_coverage: %s\n", e.what());
+    return 1;
+  }
+  return 0;
+}

@@ -1,0 +1,694 @@
+#include "estimator/online_identifier.h"
+
+#include <Eigen/Cholesky>
+#include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <cmath>
+#include <deque>
+#include <stdexcept>
+#include <utility>
+
+#include "estimator/internal/mismatch_nuisances.h"
+#include "estimator/internal/trajectory_problem.h"
+#include "estimator/log_diagnostics.h"
+#include "estimator/plausibility.h"
+#include "estimator/robust_statistics.h"
+#include "estimator/step_sensitivity.h"
+#include "forward_model/number_format.h"
+
+namespace slideid {
+namespace {
+
+// The filter's state: x, y, theta, v_x, v_y, w_z, log a, log b, log c, and the two
+// mismatch nuisances (discretisation, force hold).
+constexpr int kN = 11;
+using Vector9 = Eigen::Matrix<double, kN, 1>;
+using Matrix9 = Eigen::Matrix<double, kN, kN>;
+using Matrix93 = Eigen::Matrix<double, kN, 3>;
+using Vector6 = Eigen::Matrix<double, 6, 1>;
+using Matrix69 = Eigen::Matrix<double, 6, 9>;
+constexpr int kVel = 3, kPar = 6, kLam = 9;
+
+/// Third differences of white noise have variance 20 sigma^2 (log_diagnostics.h).
+constexpr double kThirdDifferenceVariance = 20.0;
+/// The noise is read off the last this many third differences (per channel)...
+constexpr int kNoiseRing = 512;
+/// ... again every this many rows (a median of the ring: O(1) per row amortised).
+constexpr int kNoiseRefreshRows = 64;
+/// Noise floors: a log without noise (exact simulation) still needs an invertible
+/// innovation covariance; 1 um and 1 urad are far below any motion capture.
+constexpr double kMinPoseNoise_m = 1e-6;
+constexpr double kMinAngleNoise_rad = 1e-6;
+/// The start velocity is unknown: within 0.3 m/s (1 sigma), a fast push.
+constexpr double kStartSpeedSigma_mps = 0.3;
+/// A row whose innovation exceeds this NIS (the 1e-4 tail of chi-square(3)) is weighted
+/// down as Huber weights a residual (an outlier of motion capture: a marker swap).
+constexpr double kOutlierNis = 21.1;
+/// A filter whose innovations exceed this NIS (20 sigma) on kLostRows rows in a row has
+/// lost the motion (Relocate).
+constexpr double kLostNis = 400;
+constexpr int kLostRows = 3;
+/// The mismatch nuisances' prior: 0 (the model as it is) within 3 (1 sigma); a continuous
+/// motion gives l_d about 2 and l_h about 1 (mismatch_nuisances.h).
+constexpr double kMismatchPriorSigma = 3.0;
+/// The change test starts once log a is known within this (1 sigma): before, the
+/// filter's own convergence would read as a change.
+constexpr double kChangeStartLogSigma = 0.05;
+/// A window's direction of the parameters counts in the test only where it knows a jump
+/// within 0.5 in log (1 sigma, a factor 1.65): the rest would test noise in directions the
+/// window hardly excites (and gave jumps of factors 1e8).
+constexpr double kMinJumpInformation = 1.0 / (0.5 * 0.5);
+/// The variance factor (Kappa) is read once this many degrees of freedom are in (four
+/// windows that determine all three parameters), and not below kMinKappa.
+constexpr int kMinKappaRanks = 12;
+constexpr double kMinKappa = 0.25;
+/// The change test is disarmed while the variance factor exceeds this: a filter whose
+/// innovations are that much larger than it says does not describe its log, and the
+/// windows' statistics measure its misfit. On a coverage-suite log whose fast-spinning
+/// pushes the filter had not followed (a 4% off at the end, the variance factor 17-28),
+/// the misfit raised an alarm at a gate of 10.
+constexpr double kMaxArmedKappa = 5.0;
+/// A change window is tested once it holds this many rows (fewer say too little).
+constexpr int kMinChangeRows = 10;
+/// Eigenvalues of the change information below this fraction of its largest are
+/// directions the window did not excite: left out of the test.
+constexpr double kChangeRankFraction = 1e-8;
+
+/// The prior's a. Low: a model whose a is too high sticks where the log slides, and a
+/// sticking step says nothing about the friction (its derivatives are zero), while one
+/// whose a is too low slides and is pulled up by the poses.
+constexpr double kPriorA = 0.15;
+
+bool Fail(std::string* why, const std::string& text) {
+  if (why) *why = text;
+  return false;
+}
+
+double HorizontalForce(const AppliedWrench& w) { return std::hypot(w.fx, w.fy); }
+
+AppliedWrench Lerp(const AppliedWrench& a, const AppliedWrench& b, double s) {
+  auto l = [s](double x, double y) { return x + s * (y - x); };
+  return {l(a.fx, b.fx), l(a.fy, b.fy), l(a.fz, b.fz), l(a.tx, b.tx), l(a.ty, b.ty), l(a.tz, b.tz)};
+}
+
+bool Finite(const TrajectorySample& r) {
+  const PlanarState& s = r.state;
+  const AppliedWrench& w = r.applied;
+  for (double v : {r.t_s, s.x, s.y, s.theta, s.vx, s.vy, s.wz, w.fx, w.fy, w.fz, w.tx, w.ty, w.tz})
+    if (!std::isfinite(v)) return false;
+  return true;
+}
+
+/// The running noise of one channel from its third differences.
+class NoiseReader {
+ public:
+  void Add(double value) {
+    last_[0] = last_[1];
+    last_[1] = last_[2];
+    last_[2] = last_[3];
+    last_[3] = value;
+    if (++seen_ < 4) return;
+    const double d3 = last_[3] - 3 * last_[2] + 3 * last_[1] - last_[0];
+    if (static_cast<int>(ring_.size()) < kNoiseRing) {
+      ring_.push_back(std::abs(d3));
+    } else {
+      ring_[next_] = std::abs(d3);
+      next_ = (next_ + 1) % kNoiseRing;
+    }
+  }
+  /// sigma = 1.4826 median |d3| / sqrt(20); 0 before any difference.
+  double Sigma() const {
+    if (ring_.empty()) return 0;
+    return kMadToSigma * Median(ring_) / std::sqrt(kThirdDifferenceVariance);
+  }
+
+ private:
+  double last_[4] = {0, 0, 0, 0};
+  int seen_ = 0;
+  std::vector<double> ring_;
+  int next_ = 0;
+};
+
+/// One window of the change test: the signature of a jump of the log-parameters at its
+/// start in the filter's later innovations (Willsky and Jones 1976), and the information
+/// it has gathered about such a jump.
+struct ChangeWindow {
+  int start_row = 0;
+  double start_t_s = 0;
+  int rows = 0;
+  Matrix93 gamma = Matrix93::Zero();  // d(state error) / d(jump), after the last update
+  Eigen::Matrix3d info = Eigen::Matrix3d::Zero();
+  Eigen::Vector3d score = Eigen::Vector3d::Zero();
+  // The filter after its first row's update: where a change found in it is filtered
+  // again from.
+  Vector9 x0 = Vector9::Zero();
+  Matrix9 P0 = Matrix9::Zero();
+  TrajectorySample last0, last_logged0;
+};
+
+/// b^T A^+ b over the directions A determines, and the jump A^+ b.
+double LikelihoodRatio(const ChangeWindow& w, Eigen::Vector3d* jump, int* rank) {
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(w.info);
+  const Eigen::Vector3d lambda = eig.eigenvalues();
+  const double largest = lambda.maxCoeff();
+  jump->setZero();
+  *rank = 0;
+  if (!(largest > 0)) return 0;
+  double stat = 0;
+  for (int i = 0; i < 3; ++i) {
+    if (!(lambda(i) > kChangeRankFraction * largest) || !(lambda(i) >= kMinJumpInformation)) {
+      continue;
+    }
+    ++*rank;
+    const double along = eig.eigenvectors().col(i).dot(w.score);
+    stat += along * along / lambda(i);
+    *jump += eig.eigenvectors().col(i) * (along / lambda(i));
+  }
+  return stat;
+}
+
+}  // namespace
+
+bool OnlineOptions::IsValid(std::string* why) const {
+  if (substeps < 1) return Fail(why, "substeps must be >= 1");
+  if (!(pose_noise_m >= 0) || !std::isfinite(pose_noise_m))
+    return Fail(why, "pose_noise_m must be a finite number >= 0");
+  if (!(angle_noise_rad >= 0) || !std::isfinite(angle_noise_rad))
+    return Fail(why, "angle_noise_rad must be a finite number >= 0");
+  if (warmup_rows < kMinDiagnosticRows)
+    return Fail(why, "warmup_rows must be >= " + std::to_string(kMinDiagnosticRows));
+  if (!(force_noise_fraction >= 0) || !std::isfinite(force_noise_fraction))
+    return Fail(why, "force_noise_fraction must be a finite number >= 0");
+  if (!(model_acceleration_mps2 >= 0) || !std::isfinite(model_acceleration_mps2))
+    return Fail(why, "model_acceleration_mps2 must be a finite number >= 0");
+  if (!(prior_log_sigma > 0) || !std::isfinite(prior_log_sigma))
+    return Fail(why, "prior_log_sigma must be a finite number > 0");
+  if (!(change_threshold > 0) || !std::isfinite(change_threshold))
+    return Fail(why, "change_threshold must be a finite number > 0");
+  if (change_window_rows < 2 * kMinChangeRows)
+    return Fail(why, "change_window_rows must be >= " + std::to_string(2 * kMinChangeRows));
+  if (!(change_reset_log_sigma > 0) || !std::isfinite(change_reset_log_sigma))
+    return Fail(why, "change_reset_log_sigma must be a finite number > 0");
+  return true;
+}
+
+struct OnlineIdentifier::Impl {
+  OnlineOptions options;
+  SliderProperties slider;
+  double radius_m = 0;  // radius of gyration L
+  Vector9 prior_mean = Vector9::Zero();
+  OnlineResult result;
+
+  NoiseReader noise_x, noise_y, noise_theta;
+  double sigma_p = 0, sigma_theta = 0;
+  int rows_since_noise = 0;
+
+  std::vector<TrajectorySample> warmup;
+  TrajectorySample last, last_logged;  // the last row filtered, and the one before
+  int lost_rows = 0;                   // consecutive rows beyond kLostNis
+  double largest_push_n = 0;
+  Vector9 x = Vector9::Zero();
+  Matrix9 P = Matrix9::Zero();
+  std::vector<Eigen::Vector4d> warm_base, warm_fine, warm_hold;  // per substep
+  std::vector<ChangeWindow> windows;
+  bool mismatch_released = false;
+  ChangeWindow found;  // the window of the last change found
+  Eigen::Vector3d found_jump = Eigen::Vector3d::Zero();
+  std::deque<std::pair<int, TrajectorySample>> recent;  // the last rows filtered
+  int rows_filtered = 0;
+  double window_statistics = 0;  // sum of completed windows' likelihood ratios
+  int window_ranks = 0;          // and of their degrees of freedom
+  int row_index = 0;             // of the row being filtered
+
+  void ReadNoise() {
+    sigma_p = options.pose_noise_m > 0
+                  ? options.pose_noise_m
+                  : std::max(kMinPoseNoise_m, std::sqrt(0.5 * (std::pow(noise_x.Sigma(), 2) +
+                                                               std::pow(noise_y.Sigma(), 2))));
+    sigma_theta = options.angle_noise_rad > 0 ? options.angle_noise_rad
+                                              : std::max(kMinAngleNoise_rad, noise_theta.Sigma());
+    rows_since_noise = 0;
+  }
+
+  // The state at a run's first row: its pose, an unknown velocity; the parameters keep
+  // what they know.
+  void StartRun(const TrajectorySample& row) {
+    x(0) = row.state.x;
+    x(1) = row.state.y;
+    x(2) = row.state.theta;
+    x.segment<3>(kVel).setZero();
+    P.topRows<kPar>().setZero();
+    P.leftCols<kPar>().setZero();
+    P(0, 0) = P(1, 1) = sigma_p * sigma_p;
+    P(2, 2) = sigma_theta * sigma_theta;
+    P(3, 3) = P(4, 4) = kStartSpeedSigma_mps * kStartSpeedSigma_mps;
+    P(5, 5) = std::pow(kStartSpeedSigma_mps / radius_m, 2);
+    for (auto* warm : {&warm_base, &warm_fine, &warm_hold})
+      std::fill(warm->begin(), warm->end(), Eigen::Vector4d::Zero());
+    windows.clear();
+    last = row;
+  }
+
+  void Start() {
+    ReadNoise();
+    x = prior_mean;
+    P.setZero();
+    P.block<3, 3>(kPar, kPar) =
+        Eigen::Matrix3d::Identity() * options.prior_log_sigma * options.prior_log_sigma;
+    mismatch_released = false;  // ReleaseMismatch
+    StartRun(warmup.front());
+    // The first row's velocity from the poses of the rows after it (the log may start in
+    // the middle of a push).
+    const TrajectorySample& second = warmup[2];
+    const double span = second.t_s - warmup.front().t_s;
+    if (second.mode != SampleMode::kStart && warmup[1].mode != SampleMode::kStart) {
+      x(3) = (second.state.x - warmup.front().state.x) / span;
+      x(4) = (second.state.y - warmup.front().state.y) / span;
+      x(5) = (second.state.theta - warmup.front().state.theta) / span;
+    }
+    result.started = true;
+    const int first = result.rows - static_cast<int>(warmup.size());
+    for (size_t i = 1; i < warmup.size(); ++i) Filter(warmup[i], first + static_cast<int>(i));
+    warmup.clear();
+    warmup.shrink_to_fit();
+  }
+
+  // One model of the row: `substeps` backward-Euler steps from the filter's state, the
+  // wrench held or interpolated. Writes the state at the row's end and its derivatives
+  // with respect to (pose, velocity, log abc); false when a step fails.
+  bool RunModel(const TrajectorySample& next, int substeps, bool interpolate,
+                std::vector<Eigen::Vector4d>* warm, Vector6* end, Matrix69* jacobian) const {
+    const double h = (next.t_s - last.t_s) / substeps;
+    const ReducedFriction abc{std::exp(x(kPar)), std::exp(x(kPar + 1)), std::exp(x(kPar + 2))};
+    PlanarState s{x(0), x(1), x(2), x(3), x(4), x(5)};
+    jacobian->setZero();
+    jacobian->leftCols<6>().setIdentity();
+    for (int k = 0; k < substeps; ++k) {
+      const AppliedWrench w =
+          interpolate ? Lerp(last.applied, next.applied, (k + 0.5) / substeps) : last.applied;
+      StepOptions step_options;
+      if ((*warm)[k](3) > 0) step_options.initial_guess = (*warm)[k];
+      StepSensitivity sens;
+      if (!SolveStepWithSensitivity(slider, abc, s, w, h, &sens, step_options)) return false;
+      (*warm)[k] =
+          sens.step.mode == StepMode::kSlide ? sens.step.scaled_solution : Eigen::Vector4d::Zero();
+      s = sens.step.state;
+      // nu' = f(nu, log abc); q' = q + h nu' (segment_cost.cc, the same chain rule).
+      Eigen::Matrix<double, 3, 9> dnu = sens.dnu_dnu * jacobian->bottomRows<3>();
+      dnu.rightCols<3>() += sens.dnu_dlogabc;
+      jacobian->bottomRows<3>() = dnu;
+      jacobian->topRows<3>() += h * dnu;
+    }
+    *end << s.x, s.y, s.theta, s.vx, s.vy, s.wz;
+    return true;
+  }
+
+  // The transition of one row, Phi = d(filter state after) / d(filter state before), and
+  // the state after. The model is the trajectory fit's, with its two mismatch nuisances
+  // (estimator/internal/mismatch_nuisances.h) as states: end = e + l_d (e_fine - e) +
+  // l_h (e_interp - e), e with `substeps` steps and the wrench held, e_fine with twice the
+  // steps, e_interp with the wrench interpolated between this row and the next while both
+  // push.
+  bool Propagate(const TrajectorySample& next, Matrix9* phi) {
+    const int n = options.substeps;
+    Vector6 e;
+    Matrix69 J;
+    if (!RunModel(next, n, false, &warm_base, &e, &J)) return false;
+    phi->setIdentity();
+    Vector6 end = e;
+    Matrix69 J_end = J;
+    if (options.fit_mismatch) {
+      const double contact = kContactForceFraction * largest_push_n;
+      const bool interpolate = contact > 0 && HorizontalForce(last.applied) > contact &&
+                               HorizontalForce(next.applied) > contact;
+      Vector6 e_fine, e_hold = e;
+      Matrix69 J_fine, J_hold = J;
+      if (!RunModel(next, 2 * n, false, &warm_fine, &e_fine, &J_fine)) return false;
+      if (interpolate && !RunModel(next, n, true, &warm_hold, &e_hold, &J_hold)) return false;
+      const double ld = x(kLam), lh = x(kLam + 1);
+      end += ld * (e_fine - e) + lh * (e_hold - e);
+      J_end += ld * (J_fine - J) + lh * (J_hold - J);
+      phi->block<6, 1>(0, kLam) = e_fine - e;
+      phi->block<6, 1>(0, kLam + 1) = e_hold - e;
+    }
+    phi->topLeftCorner<6, 9>() = J_end;
+    x.head<6>() = end;
+    return true;
+  }
+
+  // What the model may miss over a row of length h: the logged force's noise and an
+  // acceleration, as a velocity random walk (and the pose it moves).
+  Matrix9 ProcessNoise(double h) const {
+    const AppliedWrench& w = last.applied;
+    const double f = options.force_noise_fraction;
+    const double acc = options.model_acceleration_mps2;
+    const double qv = std::pow(h / slider.mass_kg, 2) * std::pow(f * HorizontalForce(w), 2) +
+                      std::pow(h * acc, 2);
+    const double qw = std::pow(h / slider.inertia_kgm2, 2) * std::pow(f * w.tz, 2) +
+                      std::pow(h * acc / radius_m, 2);
+    Matrix9 Q = Matrix9::Zero();
+    const double qs[3] = {qv, qv, qw};
+    for (int i = 0; i < 3; ++i) {
+      Q(kVel + i, kVel + i) = qs[i];
+      Q(i, i) = qs[i] * h * h / 3;
+      Q(i, kVel + i) = Q(kVel + i, i) = qs[i] * h / 2;
+    }
+    return Q;
+  }
+
+  void Filter(const TrajectorySample& row, int index) {
+    row_index = index;
+    largest_push_n = std::max(largest_push_n, HorizontalForce(row.applied));
+    if (row.mode == SampleMode::kStart) {
+      StartRun(row);
+      return;
+    }
+    const double h = row.t_s - last.t_s;
+    Matrix9 phi;
+    if (!Propagate(row, &phi)) {
+      // The step did not converge from this state: start the motion afresh at this row
+      // (what the parameters know is kept).
+      ++result.failed_steps;
+      StartRun(row);
+      return;
+    }
+    P = phi * P * phi.transpose() + ProcessNoise(h);
+    last_logged = last;
+    last = row;
+    ++rows_filtered;
+
+    // The update with the logged pose.
+    Eigen::Vector3d z(row.state.x, row.state.y, row.state.theta);
+    Eigen::Vector3d nu = z - x.head<3>();
+    Eigen::Matrix3d R =
+        Eigen::Vector3d(sigma_p * sigma_p, sigma_p * sigma_p, sigma_theta * sigma_theta)
+            .asDiagonal();
+    Eigen::Matrix3d S = P.topLeftCorner<3, 3>() + R;
+    Eigen::LLT<Eigen::Matrix3d> llt(S);
+    double nis = nu.dot(llt.solve(nu));
+    lost_rows = nis > kLostNis ? lost_rows + 1 : 0;
+    if (lost_rows >= kLostRows) {
+      Relocate(row, h);
+      return;
+    }
+    if (nis > kOutlierNis) {
+      // Huber: weight the row down to the threshold's influence.
+      R *= nis / kOutlierNis;
+      S = P.topLeftCorner<3, 3>() + R;
+      llt.compute(S);
+    }
+    result.nis = nis;
+    const Eigen::Matrix3d S_inv = llt.solve(Eigen::Matrix3d::Identity());
+    const Matrix93 K = P.leftCols<3>() * S_inv;
+
+    UpdateChangeWindows(phi, K, S_inv, nu, row);
+
+    x += K * nu;
+    Matrix9 IKH = Matrix9::Identity();
+    IKH.leftCols<3>() -= K;
+    P = IKH * P * IKH.transpose() + K * R * K.transpose();  // Joseph: stays symmetric
+    for (int i = 0; i < 3; ++i)
+      x(kPar + i) = std::clamp(x(kPar + i), std::log(kFrictionLowerBound[i]),
+                               std::log(kFrictionUpperBound[i]));
+    ReleaseMismatch();
+    if (!windows.empty() && windows.back().rows == 1 && windows.back().start_row == index) {
+      ChangeWindow& w = windows.back();
+      w.x0 = x;
+      w.P0 = P;
+      w.last0 = last;
+      w.last_logged0 = last_logged;
+    }
+    recent.emplace_back(index, row);
+    while (static_cast<int>(recent.size()) > options.change_window_rows + 1) recent.pop_front();
+    if (result.change_detected) RefilterAfterChange();
+  }
+
+  // After a change found in window `found`: the filter goes back to the window's start,
+  // takes the jump into the parameters, forgets what it knew of them (and of the mismatch
+  // nuisances, which absorbed part of the change meanwhile), and filters the rows since
+  // again: the rows between the change and the alarm no longer pull the new estimate
+  // towards the old surface. Rare, and at most change_window_rows rows: O(1) amortised.
+  void RefilterAfterChange() {
+    const ChangeWindow w = found;
+    x = w.x0;
+    P = w.P0;
+    last = w.last0;
+    last_logged = w.last_logged0;
+    // The filter starts again from the lower of the old a and the jump's: a model whose a
+    // is too high sticks where the log slides and learns nothing there (kPriorA); the
+    // jump's own estimate, from a window's linearisation, overshot by up to half of it.
+    // b and c start from where they were, within the prior the reset gives them.
+    x(kPar) += std::min(0.0, found_jump(0));
+    for (int i = 0; i < 3; ++i)
+      x(kPar + i) = std::clamp(x(kPar + i), std::log(kFrictionLowerBound[i]),
+                               std::log(kFrictionUpperBound[i]));
+    for (auto* warm : {&warm_base, &warm_fine, &warm_hold})
+      std::fill(warm->begin(), warm->end(), Eigen::Vector4d::Zero());
+    ResetAfterChange();
+    std::deque<std::pair<int, TrajectorySample>> again;
+    for (const auto& r : recent)
+      if (r.first > w.start_row) again.push_back(r);
+    recent.clear();
+    lost_rows = 0;
+    for (const auto& [index, row] : again) Filter(row, index);
+    result.change_detected = true;
+  }
+
+  // The generalised likelihood ratio of a parameter jump at each window's start, from the
+  // innovation nu of this row (before the update with gain K).
+  void UpdateChangeWindows(const Matrix9& phi, const Matrix93& K, const Eigen::Matrix3d& S_inv,
+                           const Eigen::Vector3d& nu, const TrajectorySample& row) {
+    result.change_detected = false;
+    const int half = options.change_window_rows / 2;
+    // Before the filter knows a, a change is indistinguishable from its convergence.
+    const bool settled = P(kPar, kPar) < kChangeStartLogSigma * kChangeStartLogSigma;
+    if (settled && rows_filtered % half == 0) {
+      ChangeWindow w;
+      w.start_row = row_index;
+      w.start_t_s = row.t_s;
+      w.gamma.middleRows<3>(kPar).setIdentity();
+      // The jump acts from this row's propagation on: its signature starts before it.
+      windows.push_back(w);
+    }
+    double best = 0;
+    int best_index = -1;
+    Eigen::Vector3d best_jump = Eigen::Vector3d::Zero();
+    for (size_t i = 0; i < windows.size(); ++i) {
+      ChangeWindow& w = windows[i];
+      const Matrix93 prior = w.rows == 0 ? w.gamma : Matrix93(phi * w.gamma);
+      const Eigen::Matrix3d G = prior.topRows<3>();
+      w.info += G.transpose() * S_inv * G;
+      w.score += G.transpose() * S_inv * nu;
+      w.gamma = prior - K * G;
+      ++w.rows;
+      if (w.rows < kMinChangeRows) continue;
+      Eigen::Vector3d jump;
+      int rank = 0;
+      const double raw = LikelihoodRatio(w, &jump, &rank);
+      if (w.rows == options.change_window_rows) {
+        window_statistics += raw;
+        window_ranks += rank;
+      }
+      // A filter whose innovations are noisier than it says in every window is not
+      // changing: the test is on the statistic over its own typical level.
+      const double stat = raw / std::max(1.0, Kappa());
+      if (stat > best) {
+        best = stat;
+        best_index = static_cast<int>(i);
+        best_jump = jump;
+      }
+    }
+    // Alarms wait for the variance factor: until four windows are in, the filter's own
+    // settling (its linearisation still moving) reads as changes.
+    // Nor does a filter that does not describe its log (a variance factor beyond
+    // kMaxArmedKappa: the windows' statistics then measure its misfit, not a change).
+    const bool armed = window_ranks >= kMinKappaRanks && Kappa() <= kMaxArmedKappa;
+    result.change_test_armed = options.detect_changes && armed;
+    if (options.detect_changes && armed && best_index >= 0 && best > options.change_threshold) {
+      const ChangeWindow& w = windows[best_index];
+      FrictionChange change;
+      change.row = w.start_row;
+      change.t_s = w.start_t_s;
+      change.detected_row = row_index;
+      change.statistic = best;
+      for (int i = 0; i < 3; ++i) change.ratio[i] = std::exp(best_jump(i));
+      found = w;
+      found_jump = best_jump;
+      result.changes.push_back(change);
+      result.change_detected = true;
+    }
+    // Windows older than a window's span have said what they can.
+    windows.erase(
+        std::remove_if(windows.begin(), windows.end(),
+                       [&](const ChangeWindow& w) { return w.rows >= options.change_window_rows; }),
+        windows.end());
+  }
+
+  // How much larger the parameter-direction innovations are than the filter says: the mean
+  // over completed change windows of their likelihood ratio per degree of freedom (1 for
+  // a consistent filter). 1 until kMinKappaRanks degrees of freedom are in.
+  double Kappa() const {
+    if (window_ranks < kMinKappaRanks) return 1.0;
+    return std::max(kMinKappa, window_statistics / window_ranks);
+  }
+
+  // The filter lost the motion (its model stuck while the slider slid, say): the motion
+  // restarts from the last two rows, and what the parameters know is widened.
+  void Relocate(const TrajectorySample& row, double h) {
+    const Eigen::Vector3d previous(last_logged.state.x, last_logged.state.y,
+                                   last_logged.state.theta);
+    StartRun(row);
+    x.segment<3>(kVel) = (x.head<3>() - previous) / h;
+    const double s2 = options.change_reset_log_sigma * options.change_reset_log_sigma;
+    for (int i = 0; i < 3; ++i) P(kPar + i, kPar + i) = std::max(P(kPar + i, kPar + i), s2);
+    ++result.relocations;
+    lost_rows = 0;
+  }
+
+  // The mismatch nuisances are held at their values until the filter knows a (as the
+  // trajectory fit fits them only at its end, from its minimum): while the parameters are
+  // far off, they would explain what the parameters should (on the bundled log, a pair of
+  // nuisances driven off in the first push's rows kept a 5% off to the end).
+  void ReleaseMismatch() {
+    if (!options.fit_mismatch || mismatch_released) return;
+    if (!(P(kPar, kPar) < kChangeStartLogSigma * kChangeStartLogSigma)) return;
+    P(kLam, kLam) = P(kLam + 1, kLam + 1) = kMismatchPriorSigma * kMismatchPriorSigma;
+    mismatch_released = true;
+  }
+
+  // After a change: the old surface's information is forgotten.
+  void ResetAfterChange() {
+    const double s2 = options.change_reset_log_sigma * options.change_reset_log_sigma;
+    // The parameters, and the mismatch nuisances, which absorbed part of the change
+    // before the alarm, start again from their current values.
+    P.bottomRows<kN - kPar>().setZero();
+    P.rightCols<kN - kPar>().setZero();
+    P.block<3, 3>(kPar, kPar) = Eigen::Matrix3d::Identity() * s2;
+    mismatch_released = false;
+    windows.clear();
+    // The new surface's filter earns its own variance factor, and its alarms wait for it.
+    window_statistics = 0;
+    window_ranks = 0;
+  }
+
+  void Report() {
+    result.state = {x(0), x(1), x(2), x(3), x(4), x(5)};
+    result.pose_noise_m = sigma_p;
+    result.angle_noise_rad = sigma_theta;
+    const double kappa = Kappa();
+    result.variance_factor = kappa;
+    for (int i = 0; i < 3; ++i) {
+      ParameterEstimate& p = result.parameters[i];
+      p = ParameterEstimate{};
+      if (!result.started) {
+        p.reason = "the filter starts after " + std::to_string(options.warmup_rows) +
+                   " rows (from which it reads the noise)";
+        continue;
+      }
+      const double sd = std::sqrt(std::max(0.0, P(kPar + i, kPar + i)) * kappa);
+      const double lo = std::exp(x(kPar + i) - kZ95 * sd), hi = std::exp(x(kPar + i) + kZ95 * sd);
+      if (!(hi / lo <= kMaxIntervalFactor)) {
+        p.held_at = std::exp(x(kPar + i));
+        p.reason = "the rows so far do not determine it (95% interval spans a factor " +
+                   ShortNumber(hi / lo) + ")";
+        continue;
+      }
+      p.identifiable = true;
+      p.verdict = Verdict::kOk;
+      p.value = std::exp(x(kPar + i));
+      p.stderr_value = p.value * sd;  // delta method, for the table
+      p.ci95_lo = lo;
+      p.ci95_hi = hi;
+    }
+  }
+};
+
+OnlineIdentifier::OnlineIdentifier(const Trajectory& metadata, const OnlineOptions& options)
+    : impl_(std::make_unique<Impl>()) {
+  std::string why;
+  if (!options.IsValid(&why)) throw std::invalid_argument("online identifier: " + why);
+  const SliderProperties& s = metadata.slider;
+  if (!(s.mass_kg > 0) || !(s.inertia_kgm2 > 0) || !(s.gravity_mps2 > 0) ||
+      !(s.com_height_m >= 0) ||
+      !std::isfinite(s.mass_kg * s.inertia_kgm2 * s.gravity_mps2 * s.com_height_m)) {
+    throw std::invalid_argument(
+        "online identifier: the slider's mass, inertia and gravity must be finite and > 0 and "
+        "its com_height finite and >= 0 (mass = " +
+        ShortNumber(s.mass_kg) + ", inertia = " + ShortNumber(s.inertia_kgm2) + ")");
+  }
+  if (!metadata.columns.pose) {
+    // Its update is with the logged pose; a log of velocities alone would read as a slider
+    // resting at the origin.
+    throw std::invalid_argument(
+        "online identifier: the log has no poses (x, y, theta); it identifies from poses");
+  }
+  Impl& m = *impl_;
+  m.options = options;
+  m.slider = s;
+  m.radius_m = std::sqrt(s.inertia_kgm2 / s.mass_kg);
+  m.prior_mean(kPar) = std::log(kPriorA);
+  m.prior_mean(kPar + 1) = 0;
+  m.prior_mean(kPar + 2) = std::log(m.radius_m);
+  m.warm_base.assign(options.substeps, Eigen::Vector4d::Zero());
+  m.warm_fine.assign(2 * options.substeps, Eigen::Vector4d::Zero());
+  m.warm_hold.assign(options.substeps, Eigen::Vector4d::Zero());
+  m.Report();
+}
+
+OnlineIdentifier::~OnlineIdentifier() = default;
+OnlineIdentifier::OnlineIdentifier(OnlineIdentifier&&) noexcept = default;
+OnlineIdentifier& OnlineIdentifier::operator=(OnlineIdentifier&&) noexcept = default;
+
+const OnlineResult& OnlineIdentifier::Update(const TrajectorySample& row) {
+  Impl& m = *impl_;
+  const int index = m.result.rows;
+  if (!Finite(row)) {
+    throw std::invalid_argument("online identifier: row " + std::to_string(index) +
+                                " has a non-finite value");
+  }
+  const double previous_t = m.result.rows > 0 ? m.result.t_s : -HUGE_VAL;
+  if (!(row.t_s > previous_t)) {
+    throw std::invalid_argument(
+        "online identifier: row " + std::to_string(index) + " at t = " + ShortNumber(row.t_s) +
+        " s does not come after the previous row (t = " + ShortNumber(previous_t) + " s)");
+  }
+  ++m.result.rows;
+  m.result.t_s = row.t_s;
+  m.noise_x.Add(row.state.x);
+  m.noise_y.Add(row.state.y);
+  m.noise_theta.Add(row.state.theta);
+  if (!m.result.started) {
+    m.warmup.push_back(row);
+    if (static_cast<int>(m.warmup.size()) >= m.options.warmup_rows) m.Start();
+  } else {
+    if (++m.rows_since_noise >= kNoiseRefreshRows) m.ReadNoise();
+    m.Filter(row, index);
+  }
+  m.Report();
+  return m.result;
+}
+
+const OnlineResult& OnlineIdentifier::result() const { return impl_->result; }
+
+Eigen::Matrix3d OnlineIdentifier::LogParameterCovariance() const {
+  return impl_->P.block<3, 3>(kPar, kPar);
+}
+
+std::vector<OnlineResult> RunOnline(const Trajectory& log, const OnlineOptions& options,
+                                    const std::vector<int>& keep_rows) {
+  OnlineIdentifier id(log, options);
+  std::vector<OnlineResult> out;
+  size_t next = 0;
+  for (size_t u = 0; u < log.samples.size(); ++u) {
+    const OnlineResult& r = id.Update(log.samples[u]);
+    if (keep_rows.empty()) {
+      out.push_back(r);
+    } else if (next < keep_rows.size() && static_cast<int>(u) == keep_rows[next]) {
+      out.push_back(r);
+      ++next;
+    }
+  }
+  return out;
+}
+
+}  // namespace slideid

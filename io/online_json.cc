@@ -1,0 +1,44 @@
+#include "io/online_json.h"
+
+#include <cmath>
+#include <nlohmann/json.hpp>
+
+namespace slideid {
+namespace {
+
+using nlohmann::json;
+
+json Number(double value) { return std::isfinite(value) ? json(value) : json(nullptr); }
+
+json Parameter(const ParameterEstimate& p) {
+  json out = {{"value", Number(p.value)},
+              {"stderr", Number(p.stderr_value)},
+              {"ci95", json::array({Number(p.ci95_lo), Number(p.ci95_hi)})},
+              {"verdict", ToString(p.verdict)}};
+  if (!p.identifiable) out["held_at"] = Number(p.held_at);
+  if (!p.reason.empty()) out["reason"] = p.reason;
+  return out;
+}
+
+json Change(const FrictionChange& c) {
+  return {{"row", c.row},
+          {"t", Number(c.t_s)},
+          {"detected_row", c.detected_row},
+          {"statistic", Number(c.statistic)},
+          {"ratio", json::array({Number(c.ratio[0]), Number(c.ratio[1]), Number(c.ratio[2])})}};
+}
+
+}  // namespace
+
+std::string FormatOnlineJson(const OnlineResult& r) {
+  json out = {{"row", r.rows - 1}, {"t", Number(r.t_s)}, {"started", r.started}};
+  for (int i = 0; i < 3; ++i) out[ParameterName(i)] = Parameter(r.parameters[i]);
+  if (r.mu_pusher_examined) out["mu_pusher"] = Parameter(r.mu_pusher);
+  out["variance_factor"] = Number(r.variance_factor);
+  out["nis"] = Number(r.nis);
+  out["changes"] = r.changes.size();
+  out["change"] = r.change_detected ? Change(r.changes.back()) : json(nullptr);
+  return out.dump();
+}
+
+}  // namespace slideid

@@ -1,0 +1,96 @@
+"""slideid.OnlineIdentifier: the friction row by row, equal to identify --follow on the same
+log, the truth inside its intervals at the end, the GIL released in update_many."""
+
+import threading
+import time
+
+import numpy as np
+import pytest
+
+import slideid
+from conftest import DEFAULT_LOG, run_tool
+
+COLUMNS = ("t", "x", "y", "theta", "fx", "fy", "px", "py", "pz")
+
+
+def rows_of(log):
+    return np.column_stack([getattr(log, name) for name in COLUMNS])
+
+
+def follow_lines(path):
+    """identify --follow on the file piped in: its JSON lines, as dicts."""
+    import json
+    import subprocess
+
+    from conftest import BIN_DIR
+    with open(path, "rb") as stdin:
+        done = subprocess.run([str(BIN_DIR / "identify"), "--follow"], stdin=stdin,
+                              capture_output=True, check=True)
+    return [json.loads(line) for line in done.stdout.decode().splitlines()]
+
+
+def test_update_many_recovers_the_bundled_logs_truth_within_its_intervals():
+    log = slideid.read_log(DEFAULT_LOG)
+    online = slideid.OnlineIdentifier(log, columns=COLUMNS)
+    results = online.update_many(rows_of(log))
+    assert len(results) == len(log.t)
+    assert not results[0]["started"] and results[0]["e_t_mu"]["value"] is None
+    last = results[-1]
+    assert last["row"] == len(log.t) - 1 and last["changes"] == 0
+    truth = {"e_t_mu": 0.4, "e_o_over_e_t": 1.3, "e_r_over_e_t": 0.03}
+    for name, value in truth.items():
+        lo, hi = last[name]["ci95"]
+        assert last[name]["verdict"] == "ok"
+        assert lo <= value <= hi, (name, last[name])
+
+
+def test_results_equal_identify_follow_on_the_same_log():
+    log = slideid.read_log(DEFAULT_LOG)
+    rows = rows_of(log)
+    online = slideid.OnlineIdentifier(log, columns=COLUMNS)
+    # Rows one at a time, as dicts, then the rest in one array: the same as the tool.
+    first = [online.update(dict(zip(COLUMNS, row))) for row in rows[:40]]
+    rest = online.update_many(rows[40:])
+    assert first + rest == follow_lines(DEFAULT_LOG)
+
+
+def test_metadata_as_a_dict_and_bad_rows_are_named():
+    online = slideid.OnlineIdentifier({"mass": 0.8, "inertia": 1.3866666666666667e-3,
+                                       "com_height": 0.04})
+    assert online.columns == ("t", "x", "y", "theta", "fx", "fy")
+    online.update([0.0, 0, 0, 0, 0, 0])
+    with pytest.raises(ValueError, match="row 1"):
+        online.update([0.0, 0, 0, 0, 0, 0])  # not after the previous row
+    with pytest.raises(ValueError, match="shape"):
+        online.update_many(np.zeros((3, 4)))
+    with pytest.raises(ValueError, match="lacks"):
+        online.update({"t": 1.0})
+    with pytest.raises(ValueError, match="com_height"):
+        slideid.OnlineIdentifier({"mass": 1.0, "inertia": 1e-3})
+
+
+def test_update_many_releases_the_gil():
+    log = slideid.read_log(DEFAULT_LOG)
+    rows = np.tile(rows_of(log), (8, 1))
+    rows[:, 0] = np.arange(len(rows)) * 0.01  # times strictly increasing
+    online = slideid.OnlineIdentifier(log, columns=COLUMNS)
+    ticks = []
+    stop = threading.Event()
+
+    def count():
+        while not stop.is_set():
+            ticks.append(time.perf_counter())
+            time.sleep(0.001)
+
+    counter = threading.Thread(target=count)
+    counter.start()
+    start = time.perf_counter()
+    online.update_many(rows)
+    end = time.perf_counter()
+    stop.set()
+    counter.join()
+    # While update_many ran, the other thread kept running: the GIL was free. (With the GIL
+    # held, it gets the interpreter only at update_many's end.)
+    during = [t for t in ticks if start < t < end]
+    assert end - start > 0.02, "too short to tell"
+    assert len(during) >= 5, (len(during), end - start)

@@ -1,0 +1,127 @@
+// identify --follow end to end: a log piped in as a logger writes it gives one JSON line per
+// --every rows, the same estimates as the online identifier on the file, bad rows name their
+// line, and a reader that goes away (a closed pipe) ends the run cleanly.
+
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cstdlib>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "datasets/coverage_conditions.h"
+#include "estimator/online_identifier.h"
+#include "io/push_log.h"
+
+namespace slideid {
+namespace {
+
+struct ShellRun {
+  int exit_code = -1;
+  std::string out, err;
+};
+
+std::string Slurp(const std::string& path) {
+  std::ifstream in(path);
+  std::stringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+// `shell` run by bash with $IDENTIFY set; its stdout and stderr.
+ShellRun Shell(const std::string& shell) {
+  const char* bin = std::getenv("SLIDEID_BIN_DIR");
+  const std::string stem = ::testing::TempDir() + "/follow_" + std::to_string(getpid());
+  const std::string script = stem + ".sh";
+  std::ofstream(script) << "IDENTIFY=" << (bin ? bin : "build/bin") << "/identify\n"
+                        << shell << "\n";
+  const std::string cmd = "bash " + script + " > " + stem + ".out 2> " + stem + ".err";
+  const int status = std::system(cmd.c_str());
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, Slurp(stem + ".out"), Slurp(stem + ".err")};
+}
+
+std::vector<nlohmann::json> Lines(const std::string& text) {
+  std::vector<nlohmann::json> out;
+  std::istringstream in(text);
+  for (std::string line; std::getline(in, line);) out.push_back(nlohmann::json::parse(line));
+  return out;
+}
+
+std::string LogFile() {
+  static const std::string path = [] {
+    const std::string p = ::testing::TempDir() + "/follow_log_" + std::to_string(getpid()) + ".csv";
+    WritePushLog(MakeCoverageLog(FindCoverageCondition("short-300"), 3).log, p);
+    return p;
+  }();
+  return path;
+}
+
+TEST(IdentifyFollow, PrintsALinePerEveryNRowsWithTheOnlineIdentifiersEstimates) {
+  const ShellRun run = Shell("cat " + LogFile() + " | $IDENTIFY --follow --every 50");
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const std::vector<nlohmann::json> lines = Lines(run.out);
+  ASSERT_EQ(lines.size(), 6u) << run.out;  // 300 rows
+  for (size_t k = 0; k < lines.size(); ++k) EXPECT_EQ(lines[k]["row"], 50 * k + 49);
+  // The same estimates as the identifier fed the rows of the file as the reader reads them.
+  const Trajectory log = ReadPushLog(LogFile());
+  OnlineIdentifier id(log);
+  for (const TrajectorySample& row : log.samples) id.Update(row);
+  const nlohmann::json& last = lines.back();
+  EXPECT_TRUE(last["started"].get<bool>());
+  for (int i = 0; i < 3; ++i) {
+    const ParameterEstimate& p = id.result().parameters[i];
+    ASSERT_TRUE(p.identifiable);
+    EXPECT_EQ(last[ParameterName(i)]["value"].get<double>(), p.value) << ParameterName(i);
+    EXPECT_EQ(last[ParameterName(i)]["ci95"][0].get<double>(), p.ci95_lo) << ParameterName(i);
+    EXPECT_EQ(last[ParameterName(i)]["verdict"], "ok");
+  }
+}
+
+TEST(IdentifyFollow, EndsCleanlyWhenTheReaderGoesAway) {
+  // head takes one line and closes the pipe; identify's next writes fail (EPIPE): it
+  // stops reading and exits 0, as a logger's consumer expects.
+  const ShellRun run = Shell("set -o pipefail; cat " + LogFile() +
+                             " | $IDENTIFY --follow | head -n 1; echo \"status ${PIPESTATUS[1]}\"");
+  EXPECT_NE(run.out.find("status 0"), std::string::npos) << run.out << run.err;
+  EXPECT_EQ(run.out.find("status 141"), std::string::npos) << "killed by SIGPIPE";
+  EXPECT_EQ(Lines(run.out.substr(0, run.out.find('\n') + 1)).size(), 1u);
+}
+
+TEST(IdentifyFollow, ABadRowNamesItsLineOfTheStream) {
+  // The log's metadata and header, two rows, then a row with a word for x.
+  const ShellRun run = Shell("{ grep -v '^[0-9-]' " + LogFile() + "; grep '^[0-9-]' " + LogFile() +
+                             " | head -n 2; echo '0.5,oops,0,0,0,0,0,0,0'; } | $IDENTIFY --follow");
+  EXPECT_EQ(run.exit_code, 1) << run.err;
+  const std::string header = Slurp(LogFile());
+  int metadata_lines = 0;
+  for (std::istringstream in(header); !in.eof();) {
+    std::string line;
+    std::getline(in, line);
+    if (!line.empty() && (line[0] == '#' || !std::isdigit(static_cast<unsigned char>(line[0])))) {
+      ++metadata_lines;
+    } else {
+      break;
+    }
+  }
+  const std::string where = "<stdin>:" + std::to_string(metadata_lines + 3);
+  EXPECT_NE(run.err.find(where), std::string::npos) << run.err << " (expected " << where << ")";
+}
+
+TEST(IdentifyFollow, RejectsOptionsThatDoNotGoWithIt) {
+  const ShellRun run = Shell("$IDENTIFY --follow --log x.csv < /dev/null");
+  EXPECT_EQ(run.exit_code, 2);
+  EXPECT_NE(run.err.find("--log does not go with --follow"), std::string::npos) << run.err;
+  const ShellRun every = Shell("$IDENTIFY --follow --every 0 < /dev/null");
+  EXPECT_EQ(every.exit_code, 2);
+  EXPECT_NE(every.err.find("--every"), std::string::npos) << every.err;
+  const ShellRun empty = Shell("$IDENTIFY --follow < /dev/null");
+  EXPECT_EQ(empty.exit_code, 1);
+  EXPECT_NE(empty.err.find("no header line"), std::string::npos) << empty.err;
+}
+
+}  // namespace
+}  // namespace slideid

@@ -1,0 +1,248 @@
+// The online identifier (estimator/online_identifier.h, issue 21): on synthetic logs of the
+// coverage suite (datasets/coverage_conditions.h) its estimate at the end of a log lies in
+// the batch trajectory fit's 95% interval, its intervals hold the truth along the log, and
+// a change of the surface halfway through a log is found, located and re-converged on.
+// The full measurement is benchmarks/online_coverage.cc (docs/online.md).
+
+#include "estimator/online_identifier.h"
+
+#include <gtest/gtest.h>
+
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include "datasets/coverage_conditions.h"
+#include "datasets/dataset.h"
+#include "datasets/noise.h"
+#include "datasets/sensor_model.h"
+#include "estimator/identify.h"
+#include "forward_model/simulator.h"
+
+namespace slideid {
+namespace {
+
+TEST(OnlineOptions, RejectsInvalidValuesNamingThem) {
+  std::string why;
+  EXPECT_TRUE(OnlineOptions{}.IsValid(&why)) << why;
+  OnlineOptions o;
+  o.substeps = 0;
+  EXPECT_FALSE(o.IsValid(&why));
+  EXPECT_NE(why.find("substeps"), std::string::npos);
+  o = OnlineOptions{};
+  o.pose_noise_m = -1;
+  EXPECT_FALSE(o.IsValid(&why));
+  EXPECT_NE(why.find("pose_noise_m"), std::string::npos);
+  o = OnlineOptions{};
+  o.change_window_rows = 4;
+  EXPECT_FALSE(o.IsValid(&why));
+  EXPECT_NE(why.find("change_window_rows"), std::string::npos);
+  EXPECT_THROW(OnlineIdentifier(Trajectory{}, o), std::invalid_argument);
+  Trajectory velocities_only;
+  velocities_only.columns.pose = false;
+  try {
+    OnlineIdentifier id(velocities_only);
+    FAIL() << "a log without poses was taken";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("no poses"), std::string::npos) << e.what();
+  }
+}
+
+TEST(OnlineIdentifier, RejectsRowsThatGoBackInTimeOrAreNotFinite) {
+  const CoverageLog made = MakeCoverageLog(FindCoverageCondition("short-300"), 0);
+  OnlineIdentifier id(made.log);
+  id.Update(made.log.samples[0]);
+  id.Update(made.log.samples[1]);
+  try {
+    id.Update(made.log.samples[0]);
+    FAIL() << "a row back in time was taken";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("row 2"), std::string::npos) << e.what();
+  }
+  TrajectorySample bad = made.log.samples[2];
+  bad.state.x = std::nan("");
+  EXPECT_THROW(id.Update(bad), std::invalid_argument);
+}
+
+// Logs of the CI sample: two conditions of the coverage suite (the 1 ms simulation against
+// the filter's 10 ms model, and the control where it is exact), kLogs each.
+constexpr int kLogs = 20;
+const char* const kConditions[] = {"short-300", "exact-rate"};
+
+TEST(OnlineIdentifier, EndsInsideTheBatchFitsIntervalAndItsIntervalsHoldTheTruth) {
+  // 2 x 20 logs x 3 parameters x 4 points along the log. The band for a calibrated 95%
+  // interval over 40 logs is 95% +- 7% (two binomial standard errors); measured when
+  // written: 92.5-100% at every point (a 39, 39, 37, 38 of 40; b 39, 40, 39, 39; c 37, 39,
+  // 39, 40; docs/online.md has the full suite). The agreement with the batch fit: the two
+  // use the same rows with the same model, but not in the same way (a filter with process
+  // noise against shooting segments), and the batch fit is the more accurate, so the online
+  // estimate strays from its narrow interval: measured, a in 33, b in 37, c in 40 of 40.
+  constexpr double kCoverageLow = 0.88, kCoverageHigh = 1.0;
+  constexpr double kWithinBatch = 0.8;
+  constexpr double kFractions[4] = {0.25, 0.5, 0.75, 1.0};
+  std::array<std::array<int, 3>, 4> covered{}, counted{};
+  std::array<int, 3> within{}, compared{};
+  for (const char* name : kConditions) {
+    const CoverageCondition condition = FindCoverageCondition(name);
+    for (int k = 0; k < kLogs; ++k) {
+      const CoverageLog made = MakeCoverageLog(condition, k);
+      const int rows = static_cast<int>(made.log.samples.size());
+      std::vector<int> keep;
+      for (double f : kFractions) keep.push_back(static_cast<int>(f * rows) - 1);
+      const std::vector<OnlineResult> online = RunOnline(made.log, OnlineOptions{}, keep);
+      ASSERT_EQ(online.size(), 4u);
+      for (int f = 0; f < 4; ++f) {
+        for (int i = 0; i < 3; ++i) {
+          const ParameterEstimate& p = online[f].parameters[i];
+          if (!p.identifiable) continue;
+          ++counted[f][i];
+          covered[f][i] += p.ci95_lo <= made.truth[i] && made.truth[i] <= p.ci95_hi;
+        }
+      }
+      const EstimateResult batch = Identify(made.log, IdentifyOptions{});
+      for (int i = 0; i < 3; ++i) {
+        const ParameterEstimate& b = batch.parameters[i];
+        const ParameterEstimate& p = online[3].parameters[i];
+        ASSERT_TRUE(p.identifiable) << name << " log " << k << " " << ParameterName(i);
+        if (!b.identifiable) continue;
+        ++compared[i];
+        within[i] += b.ci95_lo <= p.value && p.value <= b.ci95_hi;
+      }
+    }
+  }
+  for (int i = 0; i < 3; ++i) {
+    std::printf("%s: coverage %d/%d %d/%d %d/%d %d/%d, inside the batch interval %d/%d\n",
+                ParameterName(i), covered[0][i], counted[0][i], covered[1][i], counted[1][i],
+                covered[2][i], counted[2][i], covered[3][i], counted[3][i], within[i], compared[i]);
+  }
+  for (int i = 0; i < 3; ++i) {
+    // From a quarter of the rows on, every parameter is identified in nearly every log: the
+    // coverage is not bought by abstaining.
+    for (int f = 0; f < 4; ++f) {
+      ASSERT_GE(counted[f][i], 2 * kLogs - 2) << ParameterName(i) << " at " << kFractions[f];
+      const double share = double(covered[f][i]) / counted[f][i];
+      EXPECT_GE(share, kCoverageLow) << ParameterName(i) << " at " << kFractions[f];
+      EXPECT_LE(share, kCoverageHigh) << ParameterName(i) << " at " << kFractions[f];
+    }
+    EXPECT_GE(double(within[i]) / compared[i], kWithinBatch) << ParameterName(i);
+  }
+}
+
+// A log of one slider whose surface changes halfway: `first` (logged exactly, ending at
+// rest), then the scene `second` simulated from where the first ended (its pushes are fixed
+// to the body, so they act as drawn) and appended; poses then noisy as motion capture's.
+// The friction ellipsoid has world axes (model.md), so the second half is simulated from
+// there rather than moved there.
+Trajectory Spliced(const Trajectory& first, LoggedScene second, std::uint64_t seed) {
+  second.initial = first.samples.back().state;
+  second.initial.vx = second.initial.vy = second.initial.wz = 0;
+  const SimulationResult sim = Simulate(second);
+  EXPECT_TRUE(sim.summary.ok()) << sim.summary.message;
+  const Trajectory logged = MakeLog(sim.trajectory, second.log);
+  Trajectory out = first;
+  const double shift = first.samples.back().t_s + (first.samples[1].t_s - first.samples[0].t_s);
+  for (size_t u = 1; u < logged.samples.size(); ++u) {  // row 0 is where the first ended
+    TrajectorySample row = logged.samples[u];
+    row.t_s += shift - logged.samples[1].t_s + logged.samples[0].t_s;
+    if (row.mode == SampleMode::kStart) row.mode = SampleMode::kSlide;
+    out.samples.push_back(row);
+  }
+  NoiseSpec noise;
+  noise.pose_m = 3e-4;
+  noise.angle_rad = 3e-3;
+  noise.seed = seed;
+  return AddNoise(out, noise);  // as a sensor logs it: no step columns (mode) either
+}
+
+DatasetSpec ExactSpec(double a) {
+  DatasetSpec spec;
+  spec.seed = 2111;
+  spec.mu = {a, a};
+  spec.e_t = {1, 1};
+  spec.program.count = 8;
+  spec.dt_s = 1e-3;
+  spec.log.noise = NoiseSpec{};
+  return spec;
+}
+
+TEST(OnlineIdentifier, FindsASwitchOfSurfaceAndReconvergesOnTheNewFriction) {
+  // a goes from 0.3 to 0.4 (b and c unchanged) at the splice. Detection within
+  // kMaxDelayRows rows of the first push on the new surface: measured when written, 3-25
+  // rows over these logs (docs/online.md). The re-converged estimate must lie in the batch
+  // fit's interval of the second half, and no alarm may come before the switch.
+  constexpr int kSwitchLogs = 5;
+  constexpr int kMaxDelayRows = 60;
+  // The second half's batch interval is narrow (0.15-0.5% wide on these exact-force logs);
+  // the re-converged estimate, from a filter restarted at the change, lands in it in all 5
+  // logs when written (log 0 by 1e-5).
+  constexpr int kMinInside = kSwitchLogs;
+  int inside = 0;
+  for (int k = 0; k < kSwitchLogs; ++k) {
+    Trajectory first, unused;
+    DrawDatasetLog(ExactSpec(0.3), k, &first);
+    const DatasetEntry second = DrawDatasetLog(ExactSpec(0.4), k, &unused);
+    const int switch_row = static_cast<int>(first.samples.size());
+    const Trajectory log = Spliced(first, second.scene, 77 + k);
+    const std::vector<OnlineResult> online =
+        RunOnline(log, OnlineOptions{}, {static_cast<int>(log.samples.size()) - 1});
+    const OnlineResult& end = online.back();
+    ASSERT_GE(end.changes.size(), 1u) << "log " << k;
+    const FrictionChange& change = end.changes.front();
+    EXPECT_GE(change.detected_row, switch_row) << "log " << k << ": an alarm before the switch";
+    // The first push on the new surface.
+    int first_push = switch_row;
+    while (first_push < static_cast<int>(log.samples.size()) &&
+           std::hypot(log.samples[first_push].applied.fx, log.samples[first_push].applied.fy) == 0)
+      ++first_push;
+    EXPECT_LE(change.detected_row - first_push, kMaxDelayRows) << "log " << k;
+    EXPECT_NEAR(change.row, switch_row, kMaxDelayRows) << "log " << k;
+    EXPECT_GT(change.ratio[0], 1.1) << "log " << k;  // a grew (by a third)
+    EXPECT_LT(change.ratio[0], 1.6) << "log " << k;
+    // The second half alone, fitted in batch.
+    Trajectory second_half = log;
+    second_half.samples.erase(second_half.samples.begin(),
+                              second_half.samples.begin() + switch_row);
+    second_half.samples.front().mode = SampleMode::kStart;
+    const EstimateResult batch = Identify(second_half, IdentifyOptions{});
+    const ParameterEstimate& b = batch.parameters[0];
+    ASSERT_TRUE(b.identifiable);
+    EXPECT_NEAR(end.parameters[0].value, 0.4, 0.01) << "log " << k;
+    inside += b.ci95_lo <= end.parameters[0].value && end.parameters[0].value <= b.ci95_hi;
+    std::printf(
+        "switch log %d: rows %zu, switch at row %d, first push %d, change at row %d, "
+        "alarm at row %d, a x %.3f; a %.5f, second half's batch %.5f [%.5f, %.5f]\n",
+        k, log.samples.size(), switch_row, first_push, change.row, change.detected_row,
+        change.ratio[0], end.parameters[0].value, b.value, b.ci95_lo, b.ci95_hi);
+  }
+  EXPECT_GE(inside, kMinInside);
+}
+
+TEST(OnlineIdentifier, RaisesNoAlarmOnUnchangedLogs) {
+  // 200 logs of the coverage suite's base cut to 600 rows. The test arms once the filter
+  // has settled and four windows have given its variance factor (about 200 rows in), so
+  // these logs test it over some 80,000 rows. The stated rate: at most 0.15 false alarms
+  // per million tested rows of a consistent filter (OnlineOptions::change_threshold); at
+  // that rate none come with probability 0.99. The seeds are fixed: measured when written,
+  // none (with the 1e-6 tail as the threshold, one, at row 321 of log 10).
+  constexpr int kUnchangedLogs = 200;
+  constexpr int kMinArmedRows = 50000;
+  CoverageCondition condition = FindCoverageCondition("base");
+  condition.rows = 600;
+  int alarms = 0, armed_rows = 0;
+  for (int k = 0; k < kUnchangedLogs; ++k) {
+    const CoverageLog made = MakeCoverageLog(condition, k);
+    OnlineIdentifier id(made.log);
+    for (const TrajectorySample& row : made.log.samples)
+      armed_rows += id.Update(row).change_test_armed;
+    alarms += static_cast<int>(id.result().changes.size());
+    EXPECT_EQ(id.result().changes.size(), 0u) << "log " << k;
+  }
+  std::printf("unchanged logs: %d alarms over %d tested rows\n", alarms, armed_rows);
+  EXPECT_GE(armed_rows, kMinArmedRows);
+  EXPECT_EQ(alarms, 0);
+}
+
+}  // namespace
+}  // namespace slideid
