@@ -33,20 +33,7 @@ namespace {
 constexpr int kSteps = 10000;
 
 const Trajectory& NoisyLog() {
-  static const Trajectory log = [] {
-    const SimulationResult sim = Simulate(testing::LongPushScene(kSteps));
-    if (!sim.summary.ok()) {
-      std::fprintf(stderr, "benchmark scene failed: %s\n", sim.summary.message.c_str());
-      std::abort();
-    }
-    NoiseSpec noise;
-    noise.pose_m = 3e-4;
-    noise.angle_rad = 3e-3;
-    noise.seed = 7;
-    Trajectory noisy = AddNoise(sim.trajectory, noise);
-    noisy.columns.velocity = false;  // motion capture: poses only
-    return noisy;
-  }();
+  static const Trajectory log = testing::NoisyLongPushLog(kSteps);
   return log;
 }
 

@@ -29,20 +29,7 @@ constexpr int kSteps = 10000;
 
 // The log of estimator_benchmark: the same scene, noise and seed.
 const Trajectory& NoisyLog() {
-  static const Trajectory log = [] {
-    const SimulationResult sim = Simulate(testing::LongPushScene(kSteps));
-    if (!sim.summary.ok()) {
-      std::fprintf(stderr, "benchmark scene failed: %s\n", sim.summary.message.c_str());
-      std::abort();
-    }
-    NoiseSpec noise;
-    noise.pose_m = 3e-4;
-    noise.angle_rad = 3e-3;
-    noise.seed = 7;
-    Trajectory noisy = AddNoise(sim.trajectory, noise);
-    noisy.columns.velocity = false;  // motion capture: poses only
-    return noisy;
-  }();
+  static const Trajectory log = testing::NoisyLongPushLog(kSteps);
   return log;
 }
 
