@@ -178,9 +178,12 @@ double AdviceScore(const Eigen::Matrix3d& information_log, AdviceCriterion crite
 }
 
 Eigen::Matrix3d FitInformation(const Trajectory& log, const ReducedFriction& friction,
-                               double pose_noise_m) {
-  IdentifyOptions options;  // the trajectory fit's defaults: its segments, no nuisances
+                               double pose_noise_m, const TrajectoryOptions& trajectory) {
+  IdentifyOptions options;
   options.method = EstimatorMethod::kTrajectory;
+  options.trajectory = trajectory;
+  options.trajectory.fit_force_bias = false;  // the friction's information alone
+  options.trajectory.fit_delay = DelayFit::kNone;
   std::unique_ptr<TrajectoryProblem> problem;
   try {
     problem = std::make_unique<TrajectoryProblem>(std::vector<const Trajectory*>{&log}, options);

@@ -28,6 +28,7 @@
 #include "estimator/push_candidates.h"
 #include "forward_model/contact_patch.h"
 #include "forward_model/slider.h"
+#include "forward_model/trajectory.h"
 
 namespace slideid {
 
@@ -129,9 +130,10 @@ double AdviceScore(const Eigen::Matrix3d& information_log, AdviceCriterion crite
 
 /// The information J^T J / sigma^2 of (log a, log b, log c) that the trajectory fit would
 /// draw from `log` at `friction` (slider properties set): its shooting segments' states
-/// marginalised out. Zero when the log is too short for one segment.
+/// marginalised out (`trajectory` says how it cuts them; its nuisances are not fitted).
+/// Zero when the log is too short for one segment.
 Eigen::Matrix3d FitInformation(const Trajectory& log, const ReducedFriction& friction,
-                               double pose_noise_m);
+                               double pose_noise_m, const TrajectoryOptions& trajectory = {});
 
 /// Simulates `push` at `friction` as a log at `options.log_rate_hz` and takes its
 /// information (FitInformation). Never throws for a failed simulation: it is a status.
