@@ -5,7 +5,7 @@
 //
 //   advise_push_benchmark [--sliders 50] [--seed 1] [--measure expected|fitted]
 //                         [--criterion least-known|d-optimal] [--max-pushes 60]
-//                         [--threads 2] [--csv FILE]
+//                         [--threads 2] [--csv FILE] [--verbose]
 //
 // expected: the trajectory fit's Fisher information at the truth, for both arms;
 // fitted: every push simulated with noise and all the pushes so far fitted together.
@@ -46,6 +46,7 @@ int Main(int argc, char** argv) {
   RaceMeasure measure = RaceMeasure::kExpected;
   RaceOptions options;
   std::string csv;
+  bool verbose = false;  // every push's relative standard errors, per slider and arm
   try {
     bench::Args args(argc, argv);
     while (args.Next()) {
@@ -68,6 +69,8 @@ int Main(int argc, char** argv) {
         if (!ParseAdviceCriterion(c, &options.advice.criterion)) {
           throw std::invalid_argument("--criterion must be least-known or d-optimal");
         }
+      } else if (args.Is("--verbose")) {
+        verbose = true;
       } else if (args.Is("--csv")) {
         csv = args.Value();
       } else {
@@ -118,6 +121,15 @@ int Main(int argc, char** argv) {
                 r.slider.kind.c_str(), r.slider.truth.a, r.slider.truth.b,
                 r.slider.truth.c * 1e3, count(r.advice).c_str(), count(r.random).c_str(), ratio,
                 r.random.failed_pushes);
+    if (verbose) {
+      for (const RaceOutcome* o : {&r.advice, &r.random}) {
+        std::printf("       %s:", o == &r.advice ? "advice" : "random");
+        for (const auto& se : o->relative_stderr) {
+          std::printf(" %.2g/%.2g/%.2g", 100 * se[0], 100 * se[1], 100 * se[2]);
+        }
+        std::printf(" (%%)\n");
+      }
+    }
     if (out) {
       out << i << "," << r.slider.kind << "," << r.slider.truth.a << "," << r.slider.truth.b << ","
           << r.slider.truth.c << "," << r.slider.mu_pusher << "," << r.advice.pushes << ","

@@ -177,7 +177,7 @@ double AdviceScore(const Eigen::Matrix3d& information_log, AdviceCriterion crite
   return det > 0 && std::isfinite(det) ? 1.0 / det : kInf;
 }
 
-Eigen::Matrix3d FitInformation(const Trajectory& log, const ReducedFriction& friction,
+Eigen::Matrix3d LogInformation(const Trajectory& log, const ReducedFriction& friction,
                                double pose_noise_m, const TrajectoryOptions& trajectory) {
   IdentifyOptions options;
   options.method = EstimatorMethod::kTrajectory;
@@ -191,7 +191,7 @@ Eigen::Matrix3d FitInformation(const Trajectory& log, const ReducedFriction& fri
     return Eigen::Matrix3d::Zero();  // too short for one segment: nothing to learn
   }
   problem->SetFriction({friction.a, friction.b, friction.c});
-  const slideid::FitInformation info = problem->Information();
+  const FitInformation info = problem->Information();
   Eigen::Matrix3d h = info.fisher.topLeftCorner(3, 3);
   h = 0.5 * (h + h.transpose()) / (pose_noise_m * pose_noise_m);
   if (!h.allFinite()) return Eigen::Matrix3d::Zero();
@@ -218,7 +218,7 @@ CandidateAdvice EvaluatePush(const SliderProperties& slider, const ContactPatch&
     return out;
   }
   out.simulated = true;
-  out.information_log = FitInformation(sim.trajectory, friction, options.pose_noise_m);
+  out.information_log = LogInformation(sim.trajectory, friction, options.pose_noise_m);
   return out;
 }
 

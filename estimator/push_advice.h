@@ -132,11 +132,11 @@ double AdviceScore(const Eigen::Matrix3d& information_log, AdviceCriterion crite
 /// draw from `log` at `friction` (slider properties set): its shooting segments' states
 /// marginalised out (`trajectory` says how it cuts them; its nuisances are not fitted).
 /// Zero when the log is too short for one segment.
-Eigen::Matrix3d FitInformation(const Trajectory& log, const ReducedFriction& friction,
+Eigen::Matrix3d LogInformation(const Trajectory& log, const ReducedFriction& friction,
                                double pose_noise_m, const TrajectoryOptions& trajectory = {});
 
 /// Simulates `push` at `friction` as a log at `options.log_rate_hz` and takes its
-/// information (FitInformation). Never throws for a failed simulation: it is a status.
+/// information (LogInformation). Never throws for a failed simulation: it is a status.
 CandidateAdvice EvaluatePush(const SliderProperties& slider, const ContactPatch& patch,
                              const ReducedFriction& friction, const PushCandidate& push,
                              const PushAdviceOptions& options);

@@ -81,7 +81,7 @@ TEST(PushAdvice, InformationOfAPushAgreesWithCentralDifferences) {
   part.samples[0].mode = SampleMode::kStart;
   TrajectoryOptions one_segment;
   one_segment.segment_steps = static_cast<int>(part.samples.size());
-  const Eigen::Matrix3d h = FitInformation(part, Truth(), 1.0, one_segment);
+  const Eigen::Matrix3d h = LogInformation(part, Truth(), 1.0, one_segment);
 
   // The same by central differences of the replay, the start state projected out.
   const PlanarState s0 = part.samples[0].state;

@@ -1,7 +1,8 @@
 """Prediction in Python: predict (one push replayed with a friction), validate
 (cross-validation over logs) and advise_push (which push next). Each returns the JSON
 object its tool prints with --json, as a plain dict:
-``slideid.predict(log, mu=0.3, b=1.2, c=0.035, mu_pusher=0.25)`` equals ``json.loads`` of ``predict --log ... --mu 0.3 --b 1.2 --c 0.035 --mu-pusher 0.25 --json``."""
+``slideid.predict(log, mu=0.3, b=1.2, c=0.035, mu_pusher=0.25)`` equals ``json.loads`` of
+``predict --log ... --mu 0.3 --b 1.2 --c 0.035 --mu-pusher 0.25 --json``."""
 
 import json
 import os
