@@ -6,6 +6,7 @@
 //   advise_push_benchmark [--sliders 50] [--seed 1] [--measure expected|fitted]
 //                         [--criterion least-known|d-optimal] [--max-pushes 60]
 //                         [--threads 2] [--csv FILE] [--verbose]
+//                         [--no-correlations]
 //
 // expected: the trajectory fit's Fisher information at the truth, for both arms;
 // fitted: every push simulated with noise and all the pushes so far fitted together.
@@ -69,6 +70,8 @@ int Main(int argc, char** argv) {
         if (!ParseAdviceCriterion(c, &options.advice.criterion)) {
           throw std::invalid_argument("--criterion must be least-known or d-optimal");
         }
+      } else if (args.Is("--no-correlations")) {
+        options.correlations = false;
       } else if (args.Is("--verbose")) {
         verbose = true;
       } else if (args.Is("--csv")) {

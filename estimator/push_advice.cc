@@ -129,6 +129,34 @@ FrictionKnowledge KnowledgeFromResult(const EstimateResult& result,
   return k;
 }
 
+FrictionKnowledge WithCorrelations(const FrictionKnowledge& known,
+                                   const Eigen::Matrix3d& log_information) {
+  CheckInformation(known.information_log, "what is known");
+  CheckInformation(log_information, "the logs' information");
+  const std::array<double, 3> sd = RelativeStdErrors(known.information_log);
+  for (double v : sd) {
+    if (!std::isfinite(v)) return known;  // nothing known along some direction: as it is
+  }
+  const Eigen::Matrix3d joint = log_information + known.information_log;
+  const Eigen::LDLT<Eigen::Matrix3d> ldlt(joint);
+  if (ldlt.info() != Eigen::Success || !(joint.determinant() > 0)) return known;
+  const Eigen::Matrix3d c = ldlt.solve(Eigen::Matrix3d::Identity());
+  Eigen::Matrix3d covariance;
+  for (int i = 0; i < 3; ++i) {
+    for (int j = 0; j < 3; ++j) {
+      covariance(i, j) = c(i, j) / std::sqrt(c(i, i) * c(j, j)) * sd[i] * sd[j];
+    }
+  }
+  FrictionKnowledge out = known;
+  const Eigen::LDLT<Eigen::Matrix3d> inverse(covariance);
+  if (inverse.info() != Eigen::Success) return known;
+  Eigen::Matrix3d information = inverse.solve(Eigen::Matrix3d::Identity());
+  information = 0.5 * (information + information.transpose());
+  if (!information.allFinite()) return known;
+  out.information_log = information;
+  return out;
+}
+
 bool PushAdviceOptions::IsValid(std::string* why) const {
   if (!candidates.IsValid(why)) return false;
   const auto fail = [&](const std::string& text) {

@@ -76,6 +76,17 @@ FrictionKnowledge KnowledgeFromPrior(const FrictionPrior& prior, const ContactPa
 /// without a positive finite value and standard error.
 FrictionKnowledge KnowledgeFromResult(const EstimateResult& result, const FrictionKnowledge& prior);
 
+/// `known`'s standard errors, with the correlations that `log_information` implies: the
+/// information of the logs the result came from at its estimate (LogInformation, summed
+/// over them). A result file holds standard errors, not correlations; without them a push
+/// that pins down only a combination of a and b (sliding one way) looks as if it had
+/// pinned down both, and the advice repeats it. The correlations are those of
+/// (log_information + known.information_log)^-1 (what is known keeps a direction the logs
+/// leave open finite); the standard errors stay known's. Throws std::invalid_argument for a
+/// non-finite or non-symmetric matrix.
+FrictionKnowledge WithCorrelations(const FrictionKnowledge& known,
+                                   const Eigen::Matrix3d& log_information);
+
 struct PushAdviceOptions {
   PushCandidateOptions candidates;
   AdviceCriterion criterion = AdviceCriterion::kLeastKnown;

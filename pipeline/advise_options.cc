@@ -4,10 +4,12 @@
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
+#include <vector>
 
 #include "datasets/dataset.h"
 #include "forward_model/number_format.h"
 #include "io/push_advice_report.h"
+#include "io/push_log.h"
 #include "io/result_json.h"
 
 namespace slideid::cli {
@@ -61,6 +63,10 @@ void AddAdviseOptions(po::options_description* options) {
       "friction", po::value<std::string>()->value_name("RESULT.json"),
       "what is known: identify --json's result (a, b, c with their standard errors; "
       "without it, the prior below)")(
+      "log", po::value<std::vector<std::string>>()->value_name("PUSH.csv"),
+      "a log the result was fitted to (repeat for each): their information at the estimate "
+      "gives the correlations of a, b, c, which a result file does not hold (needs "
+      "--friction)")(
       "patch", po::value<std::string>()->value_name("SPEC"),
       "the slider's contact patch, \"rectangle W L\", \"disk R\", \"ring R R_IN\" or "
       "\"polygon x1 y1 ...\" [m] (required)")(
@@ -157,14 +163,25 @@ AdviseRequest ReadAdviseOptions(const po::variables_map& vm) {
       r.mu_pusher_from = "the result";
     }
   }
+  if (vm.count("pose-noise")) {
+    r.options.pose_noise_m = Positive(vm, "pose-noise");
+    r.noise_from = "--pose-noise";
+  }
+  if (vm.count("log")) {
+    if (!vm.count("friction")) throw po::error("--log needs --friction (the result fitted to it)");
+    Eigen::Matrix3d information = Eigen::Matrix3d::Zero();
+    for (const std::string& path : vm["log"].as<std::vector<std::string>>()) {
+      const Trajectory log = ReadPushLog(path);
+      information += LogInformation(log, r.knowledge.estimate, r.options.pose_noise_m);
+    }
+    r.knowledge = WithCorrelations(r.knowledge, information);
+    r.correlations_from = std::to_string(vm["log"].as<std::vector<std::string>>().size()) +
+                          " log(s)";
+  }
   if (vm.count("mu-pusher")) {
     r.options.candidates.mu_pusher = vm["mu-pusher"].as<double>();
     r.mu_pusher_from = "--mu-pusher";
     if (!(r.options.candidates.mu_pusher >= 0)) throw po::error("--mu-pusher must be >= 0");
-  }
-  if (vm.count("pose-noise")) {
-    r.options.pose_noise_m = Positive(vm, "pose-noise");
-    r.noise_from = "--pose-noise";
   }
   r.options.log_rate_hz = Positive(vm, "rate");
   r.options.candidates.contact_points = vm["contact-points"].as<int>();

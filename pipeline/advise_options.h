@@ -23,6 +23,9 @@ struct AdviseRequest {
   /// Where the pose noise and mu_p came from, for the report ("--pose-noise", "the
   /// result's residuals", "default").
   std::string noise_from, mu_pusher_from;
+  /// Where the correlations of a, b, c came from: "none" (a result's standard errors
+  /// alone, or the prior) or "N log(s)" (--log).
+  std::string correlations_from = "none";
 };
 
 /// Every option of advise-push but --help, --version and --json.

@@ -44,10 +44,11 @@ int main(int argc, char** argv) {
     if (vm.count("json")) {
       std::cout << cli::AdviceJson(request, advice) << "\n";
     } else {
-      std::cout << "advise-push: patch " << request.patch.Spec() << ", mass "
+      std::cout << "advise-push: patch " << vm["patch"].as<std::string>() << ", mass "
                 << request.slider.mass_kg << " kg, inertia " << request.slider.inertia_kgm2
                 << " kg m^2; pose noise from " << request.noise_from << ", mu_p from "
-                << request.mu_pusher_from << "\n";
+                << request.mu_pusher_from << "; correlations from " << request.correlations_from
+                << "\n";
       std::cout << FormatAdviceText(advice, request.options, request.top);
     }
     const int flushed = tools::FlushStdout("advise-push");
