@@ -218,6 +218,32 @@ TEST(PushAdvice, DegenerateInformationGivesInfinityNotNaN) {
   }
 }
 
+TEST(PushAdvice, CorrelationsFromTheLogsKeepTheResultsStandardErrors) {
+  FrictionKnowledge known;
+  known.information_log = Eigen::Vector3d(1 / 0.01, 1 / 0.04, 1 / 1e-4).asDiagonal();
+  // Logs that pin down log a + log b far better than either: a and b strongly anti-correlated.
+  Eigen::Matrix3d logs = Eigen::Matrix3d::Zero();
+  logs.topLeftCorner<2, 2>() << 1e4, 1e4, 1e4, 1e4;
+  logs(2, 2) = 1e3;
+  const FrictionKnowledge k = WithCorrelations(known, logs);
+  const std::array<double, 3> se = RelativeStdErrors(k.information_log);
+  EXPECT_NEAR(se[0], 0.1, 1e-12);
+  EXPECT_NEAR(se[1], 0.2, 1e-12);
+  EXPECT_NEAR(se[2], 0.01, 1e-12);
+  const Eigen::Matrix3d c = k.information_log.inverse();
+  EXPECT_LT(c(0, 1) / std::sqrt(c(0, 0) * c(1, 1)), -0.9);
+  // A push along a + b then teaches little; one along a - b much (c, known best, is not
+  // the least-known): the ranking sees it, which the standard errors alone could not.
+  std::vector<CandidateAdvice> pushes(2);
+  for (CandidateAdvice& p : pushes) p.simulated = true;
+  const Eigen::Vector3d plus(1, 1, 0), minus(1, -1, 0);
+  pushes[0].information_log = 1e3 * plus * plus.transpose();
+  pushes[1].information_log = 1e3 * minus * minus.transpose();
+  pushes[1].push.length_m = 1;  // to know it again
+  RankCandidates(k.information_log, AdviceCriterion::kLeastKnown, &pushes);
+  EXPECT_EQ(pushes[0].push.length_m, 1);
+}
+
 TEST(PushAdvice, BadInputNamesTheOptionOrThePath) {
   const auto message = [](const std::string& json) {
     try {
