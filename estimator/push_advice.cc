@@ -150,8 +150,8 @@ FrictionKnowledge WithCorrelations(const FrictionKnowledge& known,
   FrictionKnowledge out = known;
   const Eigen::LDLT<Eigen::Matrix3d> inverse(covariance);
   if (inverse.info() != Eigen::Success) return known;
-  Eigen::Matrix3d information = inverse.solve(Eigen::Matrix3d::Identity());
-  information = 0.5 * (information + information.transpose());
+  const Eigen::Matrix3d solved = inverse.solve(Eigen::Matrix3d::Identity());
+  const Eigen::Matrix3d information = 0.5 * (solved + solved.transpose());
   if (!information.allFinite()) return known;
   out.information_log = information;
   return out;
@@ -220,8 +220,9 @@ Eigen::Matrix3d LogInformation(const Trajectory& log, const ReducedFriction& fri
   }
   problem->SetFriction({friction.a, friction.b, friction.c});
   const FitInformation info = problem->Information();
-  Eigen::Matrix3d h = info.fisher.topLeftCorner(3, 3);
-  h = 0.5 * (h + h.transpose()) / (pose_noise_m * pose_noise_m);
+  // Into a new matrix: h = f(h, h^T) in place would read entries it has already written.
+  const Eigen::Matrix3d raw = info.fisher.topLeftCorner(3, 3);
+  const Eigen::Matrix3d h = 0.5 * (raw + raw.transpose()) / (pose_noise_m * pose_noise_m);
   if (!h.allFinite()) return Eigen::Matrix3d::Zero();
   return h;
 }

@@ -114,6 +114,12 @@ TEST(PushAdvice, InformationOfAPushAgreesWithCentralDifferences) {
       << "sensitivities:\n"
       << h << "\ncentral differences:\n"
       << h_fd;
+  // Over a pose noise sigma: the same over sigma^2, and symmetric (an in-place symmetrisation
+  // once mixed scaled and unscaled entries).
+  const double sigma = 3e-4;
+  const Eigen::Matrix3d scaled = LogInformation(part, Truth(), sigma, one_segment);
+  EXPECT_EQ((scaled - scaled.transpose()).norm(), 0.0) << scaled;
+  EXPECT_LT((scaled * sigma * sigma - h).norm(), 1e-12 * h.norm());
   // And through the candidate's own evaluation: its log's information over the pose noise.
   PushAdviceOptions options;
   options.candidates = candidates;
