@@ -94,11 +94,11 @@ int Main(int argc, char** argv) {
     rows[i].advice = RunRace(rows[i].slider, RaceArm::kAdvice, measure, options);
     rows[i].random = RunRace(rows[i].slider, RaceArm::kRandom, measure, options);
   });
-  std::printf("advise_push_benchmark: %d sliders (seed %llu), measure %s, criterion %s, target "
-              "%.3g%% relative standard error on each of a, b, c, at most %d pushes\n",
-              sliders, static_cast<unsigned long long>(seed), ToString(measure),
-              ToString(options.advice.criterion), 100 * options.target_relative_stderr,
-              options.max_pushes);
+  std::printf(
+      "advise_push_benchmark: %d sliders (seed %llu), measure %s, criterion %s, target "
+      "%.3g%% relative standard error on each of a, b, c, at most %d pushes\n",
+      sliders, static_cast<unsigned long long>(seed), ToString(measure),
+      ToString(options.advice.criterion), 100 * options.target_relative_stderr, options.max_pushes);
   std::printf("%5s  %-16s  %6s  %6s  %7s  %6s  %7s  %7s  %7s\n", "slider", "kind", "a", "b",
               "c [mm]", "advice", "random", "ratio", "redraws");
   std::vector<double> advice, random, ratios;
@@ -120,10 +120,9 @@ int Main(int argc, char** argv) {
     const auto count = [&](const RaceOutcome& o) {
       return o.reached ? std::to_string(o.pushes) : ">" + std::to_string(options.max_pushes);
     };
-    std::printf("%5d  %-16s  %6.3f  %6.3f  %7.2f  %6s  %7s  %7.3f  %7d\n", i,
-                r.slider.kind.c_str(), r.slider.truth.a, r.slider.truth.b,
-                r.slider.truth.c * 1e3, count(r.advice).c_str(), count(r.random).c_str(), ratio,
-                r.random.failed_pushes);
+    std::printf("%5d  %-16s  %6.3f  %6.3f  %7.2f  %6s  %7s  %7.3f  %7d\n", i, r.slider.kind.c_str(),
+                r.slider.truth.a, r.slider.truth.b, r.slider.truth.c * 1e3, count(r.advice).c_str(),
+                count(r.random).c_str(), ratio, r.random.failed_pushes);
     if (verbose) {
       for (const RaceOutcome* o : {&r.advice, &r.random}) {
         std::printf("       %s:", o == &r.advice ? "advice" : "random");
@@ -143,17 +142,19 @@ int Main(int argc, char** argv) {
   const double ma = Median(advice), mr = Median(random);
   std::printf("pushes needed, median: advice %.1f, random %.1f; ratio of the medians %.3f\n", ma,
               mr, ma / mr);
-  std::printf("per-slider ratio advice / random: median %.3f, quartiles %.3f %.3f, range %.3f "
-              "to %.3f; advice needed at most half on %d of %d sliders\n",
-              Median(ratios), Quantile(ratios, 0.25), Quantile(ratios, 0.75),
-              *std::min_element(ratios.begin(), ratios.end()),
-              *std::max_element(ratios.begin(), ratios.end()),
-              static_cast<int>(std::count_if(ratios.begin(), ratios.end(),
-                                             [](double x) { return x <= 0.5; })),
-              sliders);
-  std::printf("reached the target within %d pushes: advice %d, random %d of %d (a slider that "
-              "did not counts as %d)\n",
-              options.max_pushes, advice_reached, random_reached, sliders, options.max_pushes + 1);
+  std::printf(
+      "per-slider ratio advice / random: median %.3f, quartiles %.3f %.3f, range %.3f "
+      "to %.3f; advice needed at most half on %d of %d sliders\n",
+      Median(ratios), Quantile(ratios, 0.25), Quantile(ratios, 0.75),
+      *std::min_element(ratios.begin(), ratios.end()),
+      *std::max_element(ratios.begin(), ratios.end()),
+      static_cast<int>(
+          std::count_if(ratios.begin(), ratios.end(), [](double x) { return x <= 0.5; })),
+      sliders);
+  std::printf(
+      "reached the target within %d pushes: advice %d, random %d of %d (a slider that "
+      "did not counts as %d)\n",
+      options.max_pushes, advice_reached, random_reached, sliders, options.max_pushes + 1);
   return 0;
 }
 

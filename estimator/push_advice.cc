@@ -45,7 +45,8 @@ void CheckInformation(const Eigen::Matrix3d& h, const std::string& what) {
   }
   const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(h);
   if (eig.eigenvalues()(0) < -kSymmetryTolerance * scale) {
-    throw std::invalid_argument(what + ": the information is not positive semidefinite (eigenvalue " +
+    throw std::invalid_argument(what +
+                                ": the information is not positive semidefinite (eigenvalue " +
                                 ShortNumber(eig.eigenvalues()(0)) + ")");
   }
 }
@@ -232,8 +233,8 @@ CandidateAdvice EvaluatePush(const SliderProperties& slider, const ContactPatch&
                              const PushAdviceOptions& options) {
   CandidateAdvice out;
   out.push = push;
-  const Scene scene = PushScene(slider, friction, patch, push, options.candidates,
-                                1.0 / options.log_rate_hz);
+  const Scene scene =
+      PushScene(slider, friction, patch, push, options.candidates, 1.0 / options.log_rate_hz);
   const SimulationResult sim = Simulate(scene);
   out.rows = static_cast<int>(sim.trajectory.samples.size());
   out.tip_touched = sim.summary.tip_stick_steps + sim.summary.tip_slide_steps > 0;
@@ -280,9 +281,9 @@ PushAdvice AdvisePush(const SliderProperties& slider, const ContactPatch& patch,
   const ReducedFriction& f = knowledge.estimate;
   if (!(f.a > 0 && f.b > 0 && f.c > 0 && std::isfinite(f.a) && std::isfinite(f.b) &&
         std::isfinite(f.c))) {
-    throw std::invalid_argument("advise-push: the estimate must be positive and finite: a = " +
-                                ShortNumber(f.a) + ", b = " + ShortNumber(f.b) +
-                                ", c = " + ShortNumber(f.c));
+    throw std::invalid_argument(
+        "advise-push: the estimate must be positive and finite: a = " + ShortNumber(f.a) +
+        ", b = " + ShortNumber(f.b) + ", c = " + ShortNumber(f.c));
   }
   PushAdvice advice;
   advice.knowledge = knowledge;

@@ -113,16 +113,16 @@ struct CandidateAdvice {
   Eigen::Matrix3d information_log = Eigen::Matrix3d::Zero();
   /// The relative standard errors (of log a, log b, log c) after the push.
   std::array<double, 3> relative_stderr_after{};
-  double score = 0;        ///< the criterion's value (smaller is better)
-  int rows = 0;            ///< rows of its log
-  double moved_m = 0;      ///< how far the slider's CM ends from where it started [m]
-  double turned_rad = 0;   ///< how far it turns [rad]
+  double score = 0;       ///< the criterion's value (smaller is better)
+  int rows = 0;           ///< rows of its log
+  double moved_m = 0;     ///< how far the slider's CM ends from where it started [m]
+  double turned_rad = 0;  ///< how far it turns [rad]
   bool tip_touched = false;
 };
 
 /// The ranking.
 struct PushAdvice {
-  FrictionKnowledge knowledge;              ///< what it started from
+  FrictionKnowledge knowledge;  ///< what it started from
   std::array<double, 3> relative_stderr_now{};
   AdviceCriterion criterion = AdviceCriterion::kLeastKnown;
   double pose_noise_m = 0;

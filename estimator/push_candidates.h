@@ -43,8 +43,8 @@ struct PushCandidateOptions {
   /// Tip-edge friction mu_p that bounds the cone (>= 0): the result's estimate when it has
   /// one; else 0.25, the MIT steel tip on its objects (Yu et al. 2016; Pusher's default).
   double mu_pusher = 0.25;
-  double tip_speed_mps = 0.05;     ///< > 0; the middle of make-dataset's 0.02-0.1 m/s
-  double tip_radius_m = 0.00475;   ///< >= 0; the MIT pusher's
+  double tip_speed_mps = 0.05;    ///< > 0; the middle of make-dataset's 0.02-0.1 m/s
+  double tip_radius_m = 0.00475;  ///< >= 0; the MIT pusher's
   /// The tip starts this far (along its path) before it would touch [m] (> 0), as
   /// make-dataset's pusher starts 5 mm clear of the slider.
   double clearance_m = 0.005;

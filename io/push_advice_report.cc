@@ -47,7 +47,8 @@ AdviceResultInput ParseAdviceResult(const std::string& text) {
   } catch (const nlohmann::json::parse_error& e) {
     Fail("", std::string("not JSON: ") + e.what());
   }
-  if (!j.is_object()) Fail("", "expected an object (identify --json), got " + j.dump().substr(0, 40));
+  if (!j.is_object())
+    Fail("", "expected an object (identify --json), got " + j.dump().substr(0, 40));
   AdviceResultInput in;
   for (int i = 0; i < 3; ++i) {
     const std::string path = std::string("/") + ParameterName(i);
@@ -65,9 +66,10 @@ AdviceResultInput ParseAdviceResult(const std::string& text) {
                                   Member(p, path, "value").dump());
       }
       if (!(e.stderr_value > 0 && std::isfinite(e.stderr_value))) {
-        Fail(path + "/stderr", "an identifiable parameter needs a positive, finite standard "
-                               "error, got " +
-                                   Member(p, path, "stderr").dump());
+        Fail(path + "/stderr",
+             "an identifiable parameter needs a positive, finite standard "
+             "error, got " +
+                 Member(p, path, "stderr").dump());
       }
     } else if (p.contains("held_at")) {
       e.held_at = Number(p["held_at"], path + "/held_at");
@@ -76,7 +78,8 @@ AdviceResultInput ParseAdviceResult(const std::string& text) {
   if (j.contains("residual_rms")) {
     const double rms = Number(j["residual_rms"], "/residual_rms");
     if (std::isfinite(rms)) {
-      if (!(rms > 0)) Fail("/residual_rms", "expected a positive number, got " + j["residual_rms"].dump());
+      if (!(rms > 0))
+        Fail("/residual_rms", "expected a positive number, got " + j["residual_rms"].dump());
       in.pose_noise_m = rms / std::sqrt(3.0);
     }
   }
@@ -85,7 +88,8 @@ AdviceResultInput ParseAdviceResult(const std::string& text) {
     if (m.is_object() && m.contains("value")) {
       const double mu = Number(m["value"], "/mu_pusher/value");
       if (std::isfinite(mu)) {
-        if (!(mu >= 0)) Fail("/mu_pusher/value", "expected a number >= 0, got " + m["value"].dump());
+        if (!(mu >= 0))
+          Fail("/mu_pusher/value", "expected a number >= 0, got " + m["value"].dump());
         in.mu_pusher = mu;
       }
     } else if (!m.is_object()) {
@@ -96,8 +100,7 @@ AdviceResultInput ParseAdviceResult(const std::string& text) {
 }
 
 std::string FormatAdviceJson(const PushAdvice& advice, const SliderProperties& slider,
-                             const ContactPatch& patch, const PushAdviceOptions& options,
-                             int top) {
+                             const ContactPatch& patch, const PushAdviceOptions& options, int top) {
   Json j;
   j["criterion"] = ToString(advice.criterion);
   j["pose_noise_m"] = Finite(advice.pose_noise_m);
@@ -132,29 +135,29 @@ std::string FormatAdviceJson(const PushAdvice& advice, const SliderProperties& s
       rel.push_back(Finite(c.relative_stderr_after[i]));
       abs.push_back(Finite(c.relative_stderr_after[i] * values[i]));
     }
-    ranking.push_back(Json{{"rank", r + 1},
-                           {"outline_fraction", Finite(c.push.outline_fraction)},
-                           {"contact_m", Pair(c.push.contact_body)},
-                           {"direction", Pair(c.push.direction_body)},
-                           {"angle_from_normal_deg", Finite(c.push.angle_from_normal_rad * kRadToDeg)},
-                           {"length_m", Finite(c.push.length_m)},
-                           {"tip_start_m", Pair(scene.pusher->path.points_m().front())},
-                           {"tip_end_m", Pair(scene.pusher->path.points_m().back())},
-                           {"score", Finite(c.score)},
-                           {"relative_stderr_after", rel},
-                           {"stderr_after", abs},
-                           {"information_log", info},
-                           {"moved_m", Finite(c.moved_m)},
-                           {"turned_deg", Finite(c.turned_rad * kRadToDeg)},
-                           {"simulated", c.simulated},
-                           {"failure", c.failure}});
+    ranking.push_back(
+        Json{{"rank", r + 1},
+             {"outline_fraction", Finite(c.push.outline_fraction)},
+             {"contact_m", Pair(c.push.contact_body)},
+             {"direction", Pair(c.push.direction_body)},
+             {"angle_from_normal_deg", Finite(c.push.angle_from_normal_rad * kRadToDeg)},
+             {"length_m", Finite(c.push.length_m)},
+             {"tip_start_m", Pair(scene.pusher->path.points_m().front())},
+             {"tip_end_m", Pair(scene.pusher->path.points_m().back())},
+             {"score", Finite(c.score)},
+             {"relative_stderr_after", rel},
+             {"stderr_after", abs},
+             {"information_log", info},
+             {"moved_m", Finite(c.moved_m)},
+             {"turned_deg", Finite(c.turned_rad * kRadToDeg)},
+             {"simulated", c.simulated},
+             {"failure", c.failure}});
   }
   j["ranking"] = ranking;
   return j.dump();
 }
 
-std::string FormatAdviceText(const PushAdvice& advice, const PushAdviceOptions& options,
-                             int top) {
+std::string FormatAdviceText(const PushAdvice& advice, const PushAdviceOptions& options, int top) {
   std::ostringstream out;
   const double values[3] = {advice.knowledge.estimate.a, advice.knowledge.estimate.b,
                             advice.knowledge.estimate.c};
@@ -162,8 +165,7 @@ std::string FormatAdviceText(const PushAdvice& advice, const PushAdviceOptions& 
       << Printf("%.3g", advice.pose_noise_m * 1e3) << " mm, mu_p "
       << Printf("%.3g", options.candidates.mu_pusher) << "):\n";
   for (int i = 0; i < 3; ++i) {
-    out << Printf("  %-13s %10.4g  relative std. error %s  (%s)\n", ParameterName(i),
-                  values[i],
+    out << Printf("  %-13s %10.4g  relative std. error %s  (%s)\n", ParameterName(i), values[i],
                   std::isfinite(advice.relative_stderr_now[i])
                       ? Printf("%.3g%%", 100 * advice.relative_stderr_now[i])
                       : std::string("unknown"),
@@ -174,8 +176,8 @@ std::string FormatAdviceText(const PushAdvice& advice, const PushAdviceOptions& 
   out << advice.ranking.size() << " candidate pushes";
   if (failed) out << " (" << failed << " failed to simulate: ranked last)";
   out << "; expected relative standard errors after each:\n";
-  out << Printf("%4s  %8s  %-19s  %9s  %6s  %9s  %9s  %9s  %s\n", "rank", "outline",
-                "contact (mm)", "angle", "length", "a", "b", "c", "slider moves");
+  out << Printf("%4s  %8s  %-19s  %9s  %6s  %9s  %9s  %9s  %s\n", "rank", "outline", "contact (mm)",
+                "angle", "length", "a", "b", "c", "slider moves");
   const int n = static_cast<int>(advice.ranking.size());
   const int shown = top <= 0 ? n : std::min(top, n);
   const auto pct = [](double v) {
@@ -183,13 +185,12 @@ std::string FormatAdviceText(const PushAdvice& advice, const PushAdviceOptions& 
   };
   for (int r = 0; r < shown; ++r) {
     const CandidateAdvice& c = advice.ranking[r];
-    out << Printf("%4d  %8.3f  %-19s  %+7.1f d  %3.0f mm  %9s  %9s  %9s  ", r + 1,
-                  c.push.outline_fraction,
-                  Printf("(%.1f, %.1f)", c.push.contact_body.x() * 1e3,
-                         c.push.contact_body.y() * 1e3),
-                  c.push.angle_from_normal_rad * kRadToDeg, c.push.length_m * 1e3,
-                  pct(c.relative_stderr_after[0]), pct(c.relative_stderr_after[1]),
-                  pct(c.relative_stderr_after[2]));
+    out << Printf(
+        "%4d  %8.3f  %-19s  %+7.1f d  %3.0f mm  %9s  %9s  %9s  ", r + 1, c.push.outline_fraction,
+        Printf("(%.1f, %.1f)", c.push.contact_body.x() * 1e3, c.push.contact_body.y() * 1e3),
+        c.push.angle_from_normal_rad * kRadToDeg, c.push.length_m * 1e3,
+        pct(c.relative_stderr_after[0]), pct(c.relative_stderr_after[1]),
+        pct(c.relative_stderr_after[2]));
     if (c.simulated) {
       out << Printf("%.0f mm, %.1f deg", c.moved_m * 1e3, c.turned_rad * kRadToDeg);
     } else {

@@ -41,12 +41,10 @@ AdviceResultInput ParseAdviceResult(const std::string& json);
 /// The top `top` candidates (all when top <= 0 or beyond them) as one JSON object, no line
 /// break; `options` says how they were pushed (the tip's path is written out).
 std::string FormatAdviceJson(const PushAdvice& advice, const SliderProperties& slider,
-                             const ContactPatch& patch, const PushAdviceOptions& options,
-                             int top);
+                             const ContactPatch& patch, const PushAdviceOptions& options, int top);
 
 /// The same as a table for people: what is known, then one line per candidate with its
 /// contact point, direction, length and the expected relative standard errors after it.
-std::string FormatAdviceText(const PushAdvice& advice, const PushAdviceOptions& options,
-                             int top);
+std::string FormatAdviceText(const PushAdvice& advice, const PushAdviceOptions& options, int top);
 
 }  // namespace slideid

@@ -74,9 +74,9 @@ void AddAdviseOptions(po::options_description* options) {
       "inertia", po::value<double>()->value_name("KG_M2"),
       "its moment of inertia about the CM [kg m^2] (default: a uniform slab over the patch)")(
       "com-height", po::value<double>()->default_value(0.0)->value_name("M"),
-      "its CM's height above the support [m]")(
-      "candidates", po::value<int>()->default_value(10)->value_name("N"),
-      "how many of the best pushes to print (0: all)")(
+      "its CM's height above the support [m]")("candidates",
+                                               po::value<int>()->default_value(10)->value_name("N"),
+                                               "how many of the best pushes to print (0: all)")(
       "criterion", po::value<std::string>()->default_value("least-known"),
       "least-known (the largest relative standard error after the push, smallest first) "
       "or d-optimal (the determinant of the covariance after it)")(
@@ -95,17 +95,15 @@ void AddAdviseOptions(po::options_description* options) {
       "lengths", po::value<std::string>()->default_value("0.03,0.055,0.08")->value_name("M,..."),
       "tip travel after touching [m]")(
       "tip-speed", po::value<double>()->default_value(0.05)->value_name("MPS"), "tip speed [m/s]")(
-      "tip-radius", po::value<double>()->default_value(0.00475)->value_name("M"),
-      "tip radius [m]")(
+      "tip-radius", po::value<double>()->default_value(0.00475)->value_name("M"), "tip radius [m]")(
       "prior-a", po::value<std::string>()->default_value("0.1:1")->value_name("LO:HI"),
       "prior 95% range of a (used without --friction, or where the result does not identify a)")(
       "prior-b", po::value<std::string>()->default_value("0.5:2")->value_name("LO:HI"),
       "prior 95% range of b")(
       "prior-c", po::value<std::string>()->value_name("LO:HI"),
       "prior 95% range of c [m] (default: 0.1 to 1 times the outline's largest distance "
-      "from the CM)")(
-      "threads", po::value<int>()->default_value(1)->value_name("N"),
-      "candidates simulated at once");
+      "from the CM)")("threads", po::value<int>()->default_value(1)->value_name("N"),
+                      "candidates simulated at once");
 }
 
 AdviseRequest ReadAdviseOptions(const po::variables_map& vm) {
@@ -175,8 +173,8 @@ AdviseRequest ReadAdviseOptions(const po::variables_map& vm) {
       information += LogInformation(log, r.knowledge.estimate, r.options.pose_noise_m);
     }
     r.knowledge = WithCorrelations(r.knowledge, information);
-    r.correlations_from = std::to_string(vm["log"].as<std::vector<std::string>>().size()) +
-                          " log(s)";
+    r.correlations_from =
+        std::to_string(vm["log"].as<std::vector<std::string>>().size()) + " log(s)";
   }
   if (vm.count("mu-pusher")) {
     r.options.candidates.mu_pusher = vm["mu-pusher"].as<double>();

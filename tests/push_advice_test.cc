@@ -102,8 +102,8 @@ TEST(PushAdvice, InformationOfAPushAgreesWithCentralDifferences) {
     double* d[6] = {&down.x, &down.y, &down.theta, &down.vx, &down.vy, &down.wz};
     *u[k] += state_step;
     *d[k] -= state_step;
-    js.col(k) = (ReplayedPoses(part, up, Truth()) - ReplayedPoses(part, down, Truth())) /
-                (2 * state_step);
+    js.col(k) =
+        (ReplayedPoses(part, up, Truth()) - ReplayedPoses(part, down, Truth())) / (2 * state_step);
   }
   const Eigen::MatrixXd hss_pinv =
       (js.transpose() * js).completeOrthogonalDecomposition().pseudoInverse();
@@ -261,7 +261,8 @@ TEST(PushAdvice, BadInputNamesTheOptionOrThePath) {
   };
   EXPECT_NE(message("{").find("not JSON"), std::string::npos) << message("{");
   const std::string ok_a = R"("e_t_mu": {"identifiable": true, "value": 0.4, "stderr": 0.01})";
-  const std::string ok_b = R"("e_o_over_e_t": {"identifiable": true, "value": 1.3, "stderr": 0.02})";
+  const std::string ok_b =
+      R"("e_o_over_e_t": {"identifiable": true, "value": 1.3, "stderr": 0.02})";
   const std::string no_c = "{" + ok_a + ", " + ok_b + "}";
   EXPECT_NE(message(no_c).find("no \"e_r_over_e_t\""), std::string::npos) << message(no_c);
   const std::string bad_stderr =
