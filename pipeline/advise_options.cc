@@ -94,8 +94,10 @@ void AddAdviseOptions(po::options_description* options) {
       "atan(mu_p) from the inward normal")(
       "lengths", po::value<std::string>()->default_value("0.03,0.055,0.08")->value_name("M,..."),
       "tip travel after touching [m]")(
-      "tip-speed", po::value<double>()->default_value(0.05)->value_name("MPS"), "tip speed [m/s]")(
-      "tip-radius", po::value<double>()->default_value(0.00475)->value_name("M"), "tip radius [m]")(
+      "tip-speed", po::value<double>()->default_value(0.05, "0.05")->value_name("MPS"),
+      "tip speed [m/s]")("tip-radius",
+                         po::value<double>()->default_value(0.00475, "0.00475")->value_name("M"),
+                         "tip radius [m]")(
       "prior-a", po::value<std::string>()->default_value("0.1:1")->value_name("LO:HI"),
       "prior 95% range of a (used without --friction, or where the result does not identify a)")(
       "prior-b", po::value<std::string>()->default_value("0.5:2")->value_name("LO:HI"),

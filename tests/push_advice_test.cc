@@ -222,6 +222,21 @@ TEST(PushAdvice, DegenerateInformationGivesInfinityNotNaN) {
     }
     EXPECT_NEAR(ranked[0].relative_stderr_after[2], 0.1, 1e-15);
   }
+  // The whole advice from nothing known at all (a singular prior): every standard error
+  // now infinite, after each push finite or infinite, never NaN.
+  const ContactPatch patch = ContactPatch::Rectangle(0.09, 0.09);
+  FrictionKnowledge nothing;
+  nothing.estimate = Truth();
+  PushAdviceOptions options;
+  options.candidates.contact_points = 2;
+  options.candidates.cone_fractions = {0.0};
+  options.candidates.lengths_m = {0.05};
+  const PushAdvice advice = AdvisePush(Box(patch), patch, nothing, options);
+  for (double v : advice.relative_stderr_now) EXPECT_EQ(v, INFINITY);
+  for (const CandidateAdvice& a : advice.ranking) {
+    EXPECT_FALSE(std::isnan(a.score));
+    for (double v : a.relative_stderr_after) EXPECT_FALSE(std::isnan(v));
+  }
 }
 
 TEST(PushAdvice, CorrelationsFromTheLogsKeepTheResultsStandardErrors) {
