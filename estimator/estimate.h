@@ -55,6 +55,10 @@ struct ParameterEstimate {
   double stderr_value = std::numeric_limits<double>::quiet_NaN();  ///< standard error
   double ci95_lo = std::numeric_limits<double>::quiet_NaN();
   double ci95_hi = std::numeric_limits<double>::quiet_NaN();
+  /// The interval's quantile: Student's t on the covariance's degrees of freedom, or kZ95.
+  /// stderr_value is the interval's (half-width over kZ95, in logs); the covariance's own
+  /// standard error is stderr_value * kZ95 / interval_quantile.
+  double interval_quantile = 1.959963984540054;
   /// The trajectory fit: the value at its cost's minimum, before the model-mismatch
   /// correction moved it to `value` (equal to it when none was applied). Which minimum
   /// the fit ended in is judged on this one (fixtures/suite_check.h). NaN for the other

@@ -207,6 +207,7 @@ ParameterEstimate EstimateFromLog(double log_value, double stderr_log, double qu
   p.verdict = Verdict::kOk;
   p.value = std::exp(log_value);
   p.stderr_value = p.value * stderr_log * quantile / kZ95;
+  p.interval_quantile = quantile;
   p.ci95_lo = std::exp(log_value - quantile * stderr_log);
   p.ci95_hi = std::exp(log_value + quantile * stderr_log);
   return p;

@@ -105,7 +105,8 @@ ParameterEstimate FromSliding(const std::vector<double>& ratios, const PusherFri
   double mean = 0, square = 0;
   for (double m : medians) mean += m / batches;
   for (double m : medians) square += (m - mean) * (m - mean) / (batches - 1);
-  const double half = StudentT95(batches - 1) * std::sqrt(square / batches);
+  p.interval_quantile = StudentT95(batches - 1);
+  const double half = p.interval_quantile * std::sqrt(square / batches);
   p.stderr_value = half / kZ95;  // the interval's, as EstimateFromLog's (identifiability.h)
   p.ci95_lo = p.value - half;
   p.ci95_hi = p.value + half;

@@ -1211,13 +1211,16 @@ void RefitFromPooled(const Trajectory& log, int k, const TrajectoryProblem& pool
 constexpr int kCrossCheckMaxRows = 300;
 
 // Two estimates of one parameter from one log agree when their log-difference is within the
-// first's 95% quantile times the root sum of their squared relative standard errors: their
-// errors are positively correlated (the same data), so this is conservative, and it
-// leaves alone a difference that either fit's own noise explains.
+// first's 95% quantile times the root sum of their squared relative standard errors (the
+// covariances' own, before each interval's quantile): their errors are positively correlated
+// (the same data), so this is conservative, and it leaves alone a difference that either
+// fit's own noise explains.
 bool Consistent(const ParameterEstimate& p, const ParameterEstimate& q) {
-  const double rel_p = p.stderr_value / p.value, rel_q = q.stderr_value / q.value;
-  const double quantile = std::log(p.ci95_hi / p.value) / rel_p;  // the interval's own
-  const double allowed = quantile * std::hypot(rel_p, rel_q);
+  const auto covariance_rel = [](const ParameterEstimate& e) {
+    return e.stderr_value / e.value * kZ95 / e.interval_quantile;
+  };
+  const double rel_p = covariance_rel(p), rel_q = covariance_rel(q);
+  const double allowed = p.interval_quantile * std::hypot(rel_p, rel_q);
   return std::abs(std::log(q.value / p.value)) <= allowed || !(allowed >= 0);
 }
 
