@@ -4,6 +4,7 @@
 #include <set>
 
 #include "io/mcap_push.h"
+#include "io/mit_push_h5.h"
 #include "io/mit_push_json.h"
 #include "io/mit_push_report.h"
 #include "io/rosbag_push.h"
@@ -41,6 +42,25 @@ RecordingReader RosLogReader(const std::string& format, const RosTopics& topics)
     read.recording = std::move(log.recording);
     read.notes = std::move(log.notes);
     read.rejection = StreamOverlapProblem(read.recording, topics);
+    return read;
+  };
+}
+
+RecordingReader MitPushH5Reader() {
+  return [](const std::string& path) {
+    RecordingRead read;
+    read.recording = ReadMitPushH5(path);
+    return read;
+  };
+}
+
+RecordingReader PushStreamsReader(const PushStreamsCsv& files) {
+  return [files](const std::string&) {
+    PushStreamsRead streams = ReadPushStreamsCsv(files);
+    RecordingRead read;
+    read.recording = std::move(streams.recording);
+    read.notes = std::move(streams.notes);
+    read.rejection = StreamFilesOverlapProblem(read.recording, files);
     return read;
   };
 }
@@ -130,17 +150,21 @@ ImportSummary ImportFiles(const ImportRequest& request) {
     objects.table = request.table.get();
     return ImportMitFiles(request.files, objects, request.mit, request.out_dir);
   }
-  if (request.format == "rosbag" || request.format == "mcap") {
+  if (request.format == "rosbag" || request.format == "mcap" ||
+      request.format == "mit-push-h5" || request.format == "streams") {
     MitObjectSource objects = request.objects;
     objects.table = request.table.get();
-    return ImportRecordingFiles(request.files, RosLogReader(request.format, request.ros), objects,
-                                request.mit, request.out_dir);
+    const RecordingReader read = request.format == "mit-push-h5" ? MitPushH5Reader()
+                                 : request.format == "streams"
+                                     ? PushStreamsReader(request.streams)
+                                     : RosLogReader(request.format, request.ros);
+    return ImportRecordingFiles(request.files, read, objects, request.mit, request.out_dir);
   }
   if (request.format == "zhou-tripod") {
     return ImportTripodFiles(request.files, request.tripod, request.out_dir);
   }
   throw std::invalid_argument("unknown import format '" + request.format +
-                              "' (mit-push, rosbag, mcap or zhou-tripod)");
+                              "' (mit-push, mit-push-h5, streams, rosbag, mcap or zhou-tripod)");
 }
 
 }  // namespace slideid
