@@ -144,10 +144,32 @@ ImportSummary ImportTripodFiles(const std::vector<std::string>& files,
   return summary;
 }
 
+/// The reader of MIT JSON files that also writes each recording it read as DIR/<stem>.h5,
+/// the stems made unique in the order read (as ImportRecordingFile names the logs).
+RecordingReader JsonReaderWithH5Copies(const std::string& dir) {
+  CreateDirectory(dir);
+  auto used = std::make_shared<std::set<std::string>>();
+  return [dir, used](const std::string& path) {
+    RecordingRead read;
+    read.recording = ReadMitPushJson(path);
+    std::string stem = std::filesystem::path(path).filename().string();
+    if (stem.size() > 5 && stem.compare(stem.size() - 5, 5, ".json") == 0) stem.resize(stem.size() - 5);
+    std::string name = stem;
+    for (int k = 2; used->count(name); ++k) name = stem + "_" + std::to_string(k);
+    used->insert(name);
+    WriteMitPushH5(read.recording, dir + "/" + name + ".h5");
+    return read;
+  };
+}
+
 ImportSummary ImportFiles(const ImportRequest& request) {
   if (request.format == "mit-push") {
     MitObjectSource objects = request.objects;
     objects.table = request.table.get();
+    if (!request.h5_copies_dir.empty()) {
+      return ImportRecordingFiles(request.files, JsonReaderWithH5Copies(request.h5_copies_dir),
+                                  objects, request.mit, request.out_dir);
+    }
     return ImportMitFiles(request.files, objects, request.mit, request.out_dir);
   }
   if (request.format == "rosbag" || request.format == "mcap" ||

@@ -68,6 +68,10 @@ struct ImportRequest {
   MitImportOptions mit;    ///< the push formats
   RosTopics ros;           ///< rosbag and mcap: the streams' topics and frames
   PushStreamsCsv streams;  ///< streams: the three files and their mappings
+  /// mit-push, for checks (scripts/real_data.sh): each JSON file read is also written, by
+  /// our HDF5 writer, as DIR/<stem>.h5 (stems made unique as the logs' names are), so that
+  /// importing those with mit-push-h5 must give the same logs. Empty: none.
+  std::string h5_copies_dir;
   TripodImportOptions tripod;
 };
 

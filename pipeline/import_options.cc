@@ -168,7 +168,9 @@ void AddImportOptions(po::options_description* options, po::options_description*
       "force", po::value<std::string>()->value_name("FILE[:MAP]"),
       "streams: the force CSV (t, fx, fy; tz optional), frame=world (default) or "
       "frame=sensor with yaw=RAD or yaw=tip (the tip's logged yaw)");
-  hidden->add_options()("files", po::value<std::vector<std::string>>());
+  hidden->add_options()("files", po::value<std::vector<std::string>>())(
+      // A check, not a converter (scripts/real_data.sh): see ImportRequest::h5_copies_dir.
+      "h5-copies", po::value<std::string>()->value_name("DIR"));
 }
 
 ImportRequest ReadImportOptions(const po::variables_map& vm) {
@@ -187,6 +189,10 @@ ImportRequest ReadImportOptions(const po::variables_map& vm) {
     if (!streams && vm.count(option)) {
       throw po::error(std::string("--") + option + " applies to --format streams only");
     }
+  }
+  if (vm.count("h5-copies")) {
+    if (r.format != "mit-push") throw po::error("--h5-copies applies to --format mit-push only");
+    r.h5_copies_dir = vm["h5-copies"].as<std::string>();
   }
   if (streams) {
     if (vm.count("files")) {
