@@ -9,6 +9,7 @@
 #include <cstring>
 #include <fstream>
 #include <iterator>
+#include <memory>
 #include <mutex>
 #include <vector>
 
@@ -139,6 +140,10 @@ std::vector<MitStreamRow> ReadStream(const H5::H5File& file, const std::string& 
 
 }  // namespace
 
+/// The name under which HDF5 opens an image in memory. Its core driver refuses an image
+/// whose name exists on disk ("file already exists"), so it is one that cannot.
+std::string InMemoryName(const std::string& source) { return "slideid-in-memory:/" + source; }
+
 MitPushRecording ParseMitPushH5(std::string_view bytes, const std::string& source) {
   if (bytes.empty()) throw MitPushH5Error(source + ": empty file (expected HDF5)");
   if (!HasHdf5Signature(bytes)) {
@@ -146,29 +151,40 @@ MitPushRecording ParseMitPushH5(std::string_view bytes, const std::string& sourc
   }
   const std::lock_guard<std::mutex> lock(Hdf5Lock());
   H5::Exception::dontPrint();
-  const char* stage = "";
-  try {
-    stage = "cannot be opened as HDF5 (truncated or damaged file?): ";
-    H5::FileAccPropList access;
-    access.setCore(1 << 16, false);  // in memory, never written back
-    // HDF5 copies the image; it never writes to it (read-only open).
-    if (H5Pset_file_image(access.getId(), const_cast<char*>(bytes.data()), bytes.size()) < 0) {
-      throw MitPushH5Error(source + ": HDF5 refused the file image");
-    }
-    const H5::H5File file(source, H5F_ACC_RDONLY, H5::FileCreatPropList::DEFAULT, access);
-    MitPushRecording r;
-    std::vector<MitStreamRow>* streams[] = {&r.object_pose, &r.tip_pose, &r.ft_wrench};
-    for (std::size_t k = 0; k < kDatasets.size(); ++k) {
-      stage = "";
-      *streams[k] = ReadStream(file, source, kDatasets[k], bytes.size());
-    }
-    return r;
-  } catch (const H5::Exception& e) {
-    // Where it failed: opening, or a dataset the message does not name (damaged inside).
-    const std::string why = Describe(e);
-    throw MitPushH5Error(source + ": " +
-                         (*stage ? std::string(stage) : "damaged HDF5 file (truncated?): ") + why);
+  H5::FileAccPropList access;
+  access.setCore(1 << 16, false);  // in memory, never written back
+  // HDF5 copies the image; it never writes to it (read-only open).
+  if (H5Pset_file_image(access.getId(), const_cast<char*>(bytes.data()), bytes.size()) < 0) {
+    throw MitPushH5Error(source + ": HDF5 refused the file image");
   }
+  const std::string name = InMemoryName(source);
+  std::unique_ptr<H5::H5File> file;
+  try {
+    file = std::make_unique<H5::H5File>(name, H5F_ACC_RDONLY, H5::FileCreatPropList::DEFAULT,
+                                        access);
+  } catch (const H5::Exception& e) {
+    // The C++ wrapper leaves only "H5Fopen failed"; the C call again keeps HDF5's reason
+    // (e.g. "truncated file: eof = 1000, ...") on its error stack.
+    std::string why = e.getDetailMsg();
+    const hid_t id = H5Fopen(name.c_str(), H5F_ACC_RDONLY, access.getId());
+    if (id >= 0) {
+      H5Fclose(id);
+    } else if (const std::string inner = InnermostHdf5Message(); !inner.empty()) {
+      why = inner;
+    }
+    throw MitPushH5Error(source + ": cannot be opened as HDF5 (truncated or damaged file?): " + why);
+  }
+  MitPushRecording r;
+  std::vector<MitStreamRow>* streams[] = {&r.object_pose, &r.tip_pose, &r.ft_wrench};
+  for (std::size_t k = 0; k < kDatasets.size(); ++k) {
+    try {
+      *streams[k] = ReadStream(*file, source, kDatasets[k], bytes.size());
+    } catch (const H5::Exception& e) {
+      throw MitPushH5Error(DatasetPlace(source, kDatasets[k]) +
+                           "cannot be read (truncated or damaged file?): " + Describe(e));
+    }
+  }
+  return r;
 }
 
 MitPushRecording ReadMitPushH5(const std::string& path) {
@@ -195,7 +211,8 @@ std::string FormatMitPushH5(const MitPushRecording& recording,
     access.setCore(1 << 16, false);  // built in memory: no file on disk
     std::string bytes;
     {
-      H5::H5File file("slideid_push.h5", H5F_ACC_TRUNC, H5::FileCreatPropList::DEFAULT, access);
+      H5::H5File file(InMemoryName("push.h5"), H5F_ACC_TRUNC, H5::FileCreatPropList::DEFAULT,
+                      access);
       const std::vector<MitStreamRow>* streams[] = {&recording.object_pose, &recording.tip_pose,
                                                     &recording.ft_wrench};
       for (std::size_t k = 0; k < kDatasets.size(); ++k) {

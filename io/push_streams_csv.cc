@@ -285,7 +285,7 @@ StreamCsvMapping ParseStreamMapping(PushStream stream, const std::string& option
   const std::size_t colon = text.find_last_of(':');
   m.path = text.substr(0, colon);
   if (m.path.empty()) fail("no file given (FILE or FILE:key=column,...)");
-  std::optional<std::string> frame, yaw;
+  std::optional<std::string> frame, yaw, unit;
   if (colon != std::string::npos) {
     std::string_view rest(text);
     rest.remove_prefix(colon + 1);
@@ -300,7 +300,7 @@ StreamCsvMapping ParseStreamMapping(PushStream stream, const std::string& option
       const bool known = IsColumnKey(stream, key) || key == "unit" ||
                          (stream == PushStream::kForce && (key == "frame" || key == "yaw"));
       if (!known) fail("unknown key '" + key + "' (keys: " + KeyList(stream) + ")");
-      const bool seen = m.columns.count(key) || (key == "unit" && m.time_digits != 0) ||
+      const bool seen = m.columns.count(key) || (key == "unit" && unit) ||
                         (key == "frame" && frame) || (key == "yaw" && yaw);
       if (seen) fail("key '" + key + "' given twice");
       if (key == "unit") {
@@ -310,6 +310,7 @@ StreamCsvMapping ParseStreamMapping(PushStream stream, const std::string& option
           fail("unknown time unit '" + value + "' in unit=" + value + " (s, ms, us or ns)");
         }
         m.time_digits = it->second;
+        unit = value;
       } else if (key == "frame") {
         frame = value;
       } else if (key == "yaw") {

@@ -13,6 +13,7 @@
 
 #include <cmath>
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 
@@ -133,14 +134,18 @@ TEST(MitPushH5, EveryStreamRoundTripsExactlyContiguousAndCompressed) {
     ExpectSameRows(rec.tip_pose, back.tip_pose);
     ExpectSameRows(rec.ft_wrench, back.ft_wrench);
   }
-  // Compression is real: the gzip file is smaller.
+  // Compression is real where there is something to compress (noisy doubles barely shrink).
+  MitPushRecording still = rec;
+  for (MitStreamRow& row : still.ft_wrench) row = {row[0], 1.0, 2.0, 0.0};
   MitPushH5WriteOptions gzip;
   gzip.deflate = true;
-  EXPECT_LT(FormatMitPushH5(rec, gzip).size(), FormatMitPushH5(rec).size());
+  EXPECT_LT(FormatMitPushH5(still, gzip).size(), FormatMitPushH5(still).size());
 }
 
 TEST(MitPushH5, EachDefectImportsToTheSameLogBytesAsTheJson) {
   const std::string dir = NewDir("h5_same");
+  std::filesystem::create_directories(dir + "/json");
+  std::filesystem::create_directories(dir + "/h5");
   int accepted = 0;
   for (const auto& [name, spec] : DefectCases()) {
     SCOPED_TRACE(name);

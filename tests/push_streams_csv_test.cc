@@ -13,6 +13,7 @@
 
 #include <cmath>
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 
@@ -157,7 +158,7 @@ TEST(PushStreamsMapping, BadMappingsAreNamedWithTheOption) {
   bad(PushStream::kPose, "--pose", "p.csv:unit=min", "unknown time unit 'min' in unit=min");
   bad(PushStream::kTip, "--tip", "p.csv:fx=a", "unknown key 'fx'");
   bad(PushStream::kPose, "--pose", "p.csv:qx=a,qy=b", "a quaternion needs all of qx, qy, qz");
-  bad(PushStream::kPose, "--pose", "p.csv:theta=h,qx=a,qy=b,qz=c,qw=d", "not both");
+  bad(PushStream::kPose, "--pose", "p.csv:theta=h,qx=a,qy=b,qz=c,qw=d", "give theta or qx, qy, qz, qw, not both");
   bad(PushStream::kPose, "--pose", "p.csv:t=a,t=b", "key 't' given twice");
   bad(PushStream::kPose, "--pose", ":t=a", "no file given");
   bad(PushStream::kPose, "--pose", "p.csv:t=", "key 't' has no value");
@@ -225,6 +226,8 @@ TEST(PushStreamsCsv, QuaternionsAndSensorFramesAreTurnedBack) {
 
 TEST(PushStreamsCsv, TheDefectivePushImportsToTheSameLogAsTheJson) {
   const std::string dir = NewDir("streams_same");
+  std::filesystem::create_directories(dir + "/json");
+  std::filesystem::create_directories(dir + "/csv");
   const MitPushRecording rec = MakeMitPushRecording(DefectiveSpec()).recording;
   WriteMitPushJson(rec, dir + "/push.json");
   MitImportOptions options;
