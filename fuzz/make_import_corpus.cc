@@ -41,10 +41,10 @@ int main(int argc, char** argv) {
     files.pose = ParseStreamMapping(PushStream::kPose, "--pose", m[0]);
     files.tip = ParseStreamMapping(PushStream::kTip, "--tip", m[1]);
     files.force = ParseStreamMapping(PushStream::kForce, "--force", m[2]);
-    write("streams/push_" + std::to_string(k++),
-          std::string(m[0]) + "\n" + m[1] + "\n" + m[2] + "\n" +
-              FormatPushStreamCsv(rec, files.pose) + "\f" + FormatPushStreamCsv(rec, files.tip) +
-              "\f" + FormatPushStreamCsv(rec, files.force));
+    write("streams/push_" + std::to_string(k++), std::string(m[0]) + "\n" + m[1] + "\n" + m[2] +
+                                                     "\n" + FormatPushStreamCsv(rec, files.pose) +
+                                                     "\f" + FormatPushStreamCsv(rec, files.tip) +
+                                                     "\f" + FormatPushStreamCsv(rec, files.force));
   }
   return 0;
 }

@@ -100,8 +100,9 @@ std::vector<MitStreamRow> ReadStream(const H5::H5File& file, const std::string& 
     for (hsize_t i = 0; i < file.getNumObjs(); ++i) {
       present += (present.empty() ? "/" : ", /") + std::string(file.getObjnameByIdx(i));
     }
-    throw MitPushH5Error(place + "missing (the file needs object_pose, tip_pose and "
-                                 "ft_wrench; it holds " +
+    throw MitPushH5Error(place +
+                         "missing (the file needs object_pose, tip_pose and "
+                         "ft_wrench; it holds " +
                          (present.empty() ? std::string("nothing") : present) + ")");
   }
   if (file.childObjType(name) != H5O_TYPE_DATASET) {
@@ -130,8 +131,8 @@ std::vector<MitStreamRow> ReadStream(const H5::H5File& file, const std::string& 
   for (std::size_t r = 0; r < rows.size(); ++r) {
     for (int c = 0; c < 4; ++c) {
       if (!std::isfinite(rows[r][c])) {
-        throw MitPushH5Error(place + "row " + std::to_string(r) + ", column " +
-                             std::to_string(c) + " (from 0): not a finite number");
+        throw MitPushH5Error(place + "row " + std::to_string(r) + ", column " + std::to_string(c) +
+                             " (from 0): not a finite number");
       }
     }
   }
@@ -160,8 +161,8 @@ MitPushRecording ParseMitPushH5(std::string_view bytes, const std::string& sourc
   const std::string name = InMemoryName(source);
   std::unique_ptr<H5::H5File> file;
   try {
-    file = std::make_unique<H5::H5File>(name, H5F_ACC_RDONLY, H5::FileCreatPropList::DEFAULT,
-                                        access);
+    file =
+        std::make_unique<H5::H5File>(name, H5F_ACC_RDONLY, H5::FileCreatPropList::DEFAULT, access);
   } catch (const H5::Exception& e) {
     // The C++ wrapper leaves only "H5Fopen failed"; the C call again keeps HDF5's reason
     // (e.g. "truncated file: eof = 1000, ...") on its error stack.
@@ -172,7 +173,8 @@ MitPushRecording ParseMitPushH5(std::string_view bytes, const std::string& sourc
     } else if (const std::string inner = InnermostHdf5Message(); !inner.empty()) {
       why = inner;
     }
-    throw MitPushH5Error(source + ": cannot be opened as HDF5 (truncated or damaged file?): " + why);
+    throw MitPushH5Error(source +
+                         ": cannot be opened as HDF5 (truncated or damaged file?): " + why);
   }
   MitPushRecording r;
   std::vector<MitStreamRow>* streams[] = {&r.object_pose, &r.tip_pose, &r.ft_wrench};
@@ -225,8 +227,7 @@ std::string FormatMitPushH5(const MitPushRecording& recording,
           create.setChunk(2, chunk);
           create.setDeflate(4);
         }
-        H5::DataSet ds =
-            file.createDataSet(kDatasets[k], H5::PredType::IEEE_F64LE, space, create);
+        H5::DataSet ds = file.createDataSet(kDatasets[k], H5::PredType::IEEE_F64LE, space, create);
         if (!rows.empty()) ds.write(rows.data(), H5::PredType::NATIVE_DOUBLE);
       }
       file.flush(H5F_SCOPE_GLOBAL);

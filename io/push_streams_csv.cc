@@ -148,9 +148,9 @@ std::string Describe(const StreamCsvMapping& m) {
   }
   s += std::string("; times in ") + UnitName(m.time_digits);
   if (m.stream == PushStream::kForce) {
-    s += m.sensor_frame ? (m.sensor_yaw_rad ? "; sensor frame at yaw " +
-                                                  ExactNumber(*m.sensor_yaw_rad) + " rad"
-                                            : std::string("; sensor frame at the tip's yaw"))
+    s += m.sensor_frame ? (m.sensor_yaw_rad
+                               ? "; sensor frame at yaw " + ExactNumber(*m.sensor_yaw_rad) + " rad"
+                               : std::string("; sensor frame at the tip's yaw"))
                         : "; world frame";
   }
   return s + ")";
@@ -341,11 +341,11 @@ StreamCsvMapping ParseStreamMapping(PushStream stream, const std::string& option
   if (quaternion == 4 && m.columns.count("theta")) fail("give theta or qx, qy, qz, qw, not both");
   // Unmapped keys name columns like themselves; the tip's orientation is optional (the
   // import does not use it), as is the force's tz.
-  const std::vector<const char*> defaults =
-      stream == PushStream::kForce ? std::vector<const char*>{"t", "fx", "fy"}
-      : stream == PushStream::kPose && quaternion == 0
-          ? std::vector<const char*>{"t", "x", "y", "theta"}
-          : std::vector<const char*>{"t", "x", "y"};
+  const std::vector<const char*> defaults = stream == PushStream::kForce
+                                                ? std::vector<const char*>{"t", "fx", "fy"}
+                                            : stream == PushStream::kPose && quaternion == 0
+                                                ? std::vector<const char*>{"t", "x", "y", "theta"}
+                                                : std::vector<const char*>{"t", "x", "y"};
   for (const char* key : defaults) m.columns.emplace(key, key);
   return m;
 }

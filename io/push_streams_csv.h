@@ -39,8 +39,8 @@ struct StreamCsvMapping {
   /// optional); fx, fy and optionally tz (force).
   std::map<std::string, std::string> columns;
   int time_digits = 0;  ///< the time unit as a power of ten below seconds: 0 s, 3 ms, 6 us, 9 ns
-  bool sensor_frame = false;                 ///< force: in the sensor's frame, not the world's
-  std::optional<double> sensor_yaw_rad;      ///< sensor frame: its fixed yaw; none: the tip's
+  bool sensor_frame = false;             ///< force: in the sensor's frame, not the world's
+  std::optional<double> sensor_yaw_rad;  ///< sensor frame: its fixed yaw; none: the tip's
   bool Quaternion() const { return columns.count("qw") > 0; }
 };
 

@@ -153,7 +153,8 @@ RecordingReader JsonReaderWithH5Copies(const std::string& dir) {
     RecordingRead read;
     read.recording = ReadMitPushJson(path);
     std::string stem = std::filesystem::path(path).filename().string();
-    if (stem.size() > 5 && stem.compare(stem.size() - 5, 5, ".json") == 0) stem.resize(stem.size() - 5);
+    if (stem.size() > 5 && stem.compare(stem.size() - 5, 5, ".json") == 0)
+      stem.resize(stem.size() - 5);
     std::string name = stem;
     for (int k = 2; used->count(name); ++k) name = stem + "_" + std::to_string(k);
     used->insert(name);
@@ -172,8 +173,8 @@ ImportSummary ImportFiles(const ImportRequest& request) {
     }
     return ImportMitFiles(request.files, objects, request.mit, request.out_dir);
   }
-  if (request.format == "rosbag" || request.format == "mcap" ||
-      request.format == "mit-push-h5" || request.format == "streams") {
+  if (request.format == "rosbag" || request.format == "mcap" || request.format == "mit-push-h5" ||
+      request.format == "streams") {
     MitObjectSource objects = request.objects;
     objects.table = request.table.get();
     const RecordingReader read = request.format == "mit-push-h5" ? MitPushH5Reader()

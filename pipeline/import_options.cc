@@ -96,10 +96,11 @@ PushStreamsCsv StreamsOptions(const po::variables_map& vm) {
      : stream == PushStream::kTip ? files.tip
                                   : files.force) = m;
   }
-  if (files.force.sensor_frame && !files.force.sensor_yaw_rad && !files.tip.columns.count("theta") &&
-      !files.tip.Quaternion()) {
-    throw po::error("--force yaw=tip needs the tip's orientation (theta= or qx, qy, qz, qw= in "
-                    "--tip)");
+  if (files.force.sensor_frame && !files.force.sensor_yaw_rad &&
+      !files.tip.columns.count("theta") && !files.tip.Quaternion()) {
+    throw po::error(
+        "--force yaw=tip needs the tip's orientation (theta= or qx, qy, qz, qw= in "
+        "--tip)");
   }
   return files;
 }
@@ -196,8 +197,9 @@ ImportRequest ReadImportOptions(const po::variables_map& vm) {
   }
   if (streams) {
     if (vm.count("files")) {
-      throw po::error("--format streams reads the files of --pose, --tip and --force; no FILE "
-                      "argument");
+      throw po::error(
+          "--format streams reads the files of --pose, --tip and --force; no FILE "
+          "argument");
     }
     r.streams = StreamsOptions(vm);
     r.files = {r.streams.pose.path};

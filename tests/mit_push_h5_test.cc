@@ -310,16 +310,16 @@ TEST(ImportLogTool, ReadsH5FilesAndNamesTheBadOnes) {
   std::ofstream(in + "/cut.h5", std::ios::binary) << bytes.substr(0, bytes.size() / 2);
   const testing::ToolRun run = testing::RunTool(
       "import-log", "--format mit-push-h5 --objects " + std::string(SLIDEID_SOURCE_DIR) +
-                        "/datasets/mit_objects.csv --mass 0.835 --inertia 0.00112725 --out " +
-                        out + " " + good + " " + in + "/cut.h5");
+                        "/datasets/mit_objects.csv --mass 0.835 --inertia 0.00112725 --out " + out +
+                        " " + good + " " + in + "/cut.h5");
   EXPECT_EQ(run.code, 1) << run.all();
   EXPECT_NE(run.all().find("accepted " + out + "/shape=rect1_push.csv"), std::string::npos)
       << run.all();
   EXPECT_NE(run.all().find("unreadable: " + in + "/cut.h5: "), std::string::npos) << run.all();
-  const testing::ToolRun bad = testing::RunTool(
-      "import-log", "--format mit-push-h5 --pose x.csv --objects " +
-                        std::string(SLIDEID_SOURCE_DIR) + "/datasets/mit_objects.csv --out " +
-                        out + " " + good);
+  const testing::ToolRun bad =
+      testing::RunTool("import-log", "--format mit-push-h5 --pose x.csv --objects " +
+                                         std::string(SLIDEID_SOURCE_DIR) +
+                                         "/datasets/mit_objects.csv --out " + out + " " + good);
   EXPECT_EQ(bad.code, 2) << bad.all();
   EXPECT_NE(bad.all().find("--pose applies to --format streams only"), std::string::npos)
       << bad.all();

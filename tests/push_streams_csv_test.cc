@@ -130,8 +130,8 @@ TEST(PushStreamsMapping, ReadsKeysColumnsUnitsAndFrames) {
   EXPECT_EQ(p.columns.at("t"), "stamp");
   EXPECT_EQ(p.columns.at("theta"), "yaw");
   EXPECT_EQ(p.time_digits, 0);
-  const StreamCsvMapping q = ParseStreamMapping(
-      PushStream::kPose, "--pose", "p.csv:t=time,unit=ns,qx=a,qy=b,qz=c,qw=d");
+  const StreamCsvMapping q =
+      ParseStreamMapping(PushStream::kPose, "--pose", "p.csv:t=time,unit=ns,qx=a,qy=b,qz=c,qw=d");
   EXPECT_TRUE(q.Quaternion());
   EXPECT_EQ(q.time_digits, 9);
   EXPECT_EQ(q.columns.count("theta"), 0u);
@@ -158,7 +158,8 @@ TEST(PushStreamsMapping, BadMappingsAreNamedWithTheOption) {
   bad(PushStream::kPose, "--pose", "p.csv:unit=min", "unknown time unit 'min' in unit=min");
   bad(PushStream::kTip, "--tip", "p.csv:fx=a", "unknown key 'fx'");
   bad(PushStream::kPose, "--pose", "p.csv:qx=a,qy=b", "a quaternion needs all of qx, qy, qz");
-  bad(PushStream::kPose, "--pose", "p.csv:theta=h,qx=a,qy=b,qz=c,qw=d", "give theta or qx, qy, qz, qw, not both");
+  bad(PushStream::kPose, "--pose", "p.csv:theta=h,qx=a,qy=b,qz=c,qw=d",
+      "give theta or qx, qy, qz, qw, not both");
   bad(PushStream::kPose, "--pose", "p.csv:t=a,t=b", "key 't' given twice");
   bad(PushStream::kPose, "--pose", ":t=a", "no file given");
   bad(PushStream::kPose, "--pose", "p.csv:t=", "key 't' has no value");
@@ -176,8 +177,7 @@ TEST(PushStreamsCsv, TimesInEachUnitReadBackTheSameDoubles) {
                              std::string("f.csv:t=time,tz,unit=") + unit);
     const std::string pose = FormatPushStreamCsv(rec, f.pose);
     const std::string force = FormatPushStreamCsv(rec, f.force);
-    const PushStreamsRead r =
-        ParsePushStreamsCsv(f, pose, FormatPushStreamCsv(rec, f.tip), force);
+    const PushStreamsRead r = ParsePushStreamsCsv(f, pose, FormatPushStreamCsv(rec, f.tip), force);
     ASSERT_EQ(r.recording.object_pose.size(), rec.object_pose.size());
     for (std::size_t i = 0; i < rec.object_pose.size(); ++i) {
       ASSERT_EQ(r.recording.object_pose[i], rec.object_pose[i]) << i;
@@ -254,8 +254,8 @@ TEST(PushStreamsCsv, TheDefectivePushImportsToTheSameLogAsTheJson) {
   EXPECT_NE(b.notes[0].find("streams: pose " + dir + "/push.csv"), std::string::npos) << b.notes[0];
   // Milliseconds, nanoseconds, a quaternion, a sensor frame: the same log to a few ulps.
   const MitImportResult expected = ImportMitPush(rec, "push", Options(DefectiveSpec()));
-  for (const char* force : {"ft.csv:tz,unit=us,frame=sensor,yaw=-2.5",
-                            "ft.csv:tz,unit=ns,frame=sensor,yaw=tip"}) {
+  for (const char* force :
+       {"ft.csv:tz,unit=us,frame=sensor,yaw=-2.5", "ft.csv:tz,unit=ns,frame=sensor,yaw=tip"}) {
     SCOPED_TRACE(force);
     const PushStreamsCsv turned =
         Files(dir, "push.csv:unit=ms,qx=qx,qy=qy,qz=qz,qw=qw", "tip.csv:unit=ns,theta", force);
@@ -332,15 +332,15 @@ TEST(PushStreamsBadInput, ClocksThatNeverOverlapRejectTheFileNamingTheFiles) {
 TEST(ImportLogTool, ReadsStreamsAndNamesBadMappings) {
   const std::string in = NewDir("streams_tool_in"), out = NewDir("streams_tool_out");
   const MitPushRecording rec = MakeMitPushRecording(MitSynthSpec{}).recording;
-  const PushStreamsCsv f = Files(in, "shape=rect1_push.csv:t=stamp,unit=ms", "tip.csv",
-                                 "ft.csv:frame=sensor,yaw=0.3");
+  const PushStreamsCsv f =
+      Files(in, "shape=rect1_push.csv:t=stamp,unit=ms", "tip.csv", "ft.csv:frame=sensor,yaw=0.3");
   WritePushStreamsCsv(rec, f);
   const std::string objects = " --objects " + std::string(SLIDEID_SOURCE_DIR) +
                               "/datasets/mit_objects.csv --mass 0.835 --inertia 0.00112725";
   const testing::ToolRun run = testing::RunTool(
       "import-log", "--format streams --pose " + in + "/shape=rect1_push.csv:t=stamp,unit=ms" +
-                        " --tip " + in + "/tip.csv --force " + in +
-                        "/ft.csv:frame=sensor,yaw=0.3" + objects + " --out " + out);
+                        " --tip " + in + "/tip.csv --force " + in + "/ft.csv:frame=sensor,yaw=0.3" +
+                        objects + " --out " + out);
   EXPECT_EQ(run.code, 0) << run.all();
   EXPECT_NE(run.all().find("accepted " + out + "/shape=rect1_push.csv"), std::string::npos)
       << run.all();
@@ -361,16 +361,16 @@ TEST(ImportLogTool, ReadsStreamsAndNamesBadMappings) {
                         " --tip " + in + "/tip.csv --force " + in + "/ft.csv" + objects +
                         " --out " + out);
   EXPECT_EQ(column.code, 1) << column.all();
-  EXPECT_NE(column.all().find("unreadable: " + in + "/shape=rect1_push.csv:1: column 'time': "
-                                                    "not in the header"),
+  EXPECT_NE(column.all().find("unreadable: " + in +
+                              "/shape=rect1_push.csv:1: column 'time': "
+                              "not in the header"),
             std::string::npos)
       << column.all();
-  const testing::ToolRun missing = testing::RunTool(
-      "import-log", "--format streams --pose " + in + "/p.csv --force " + in + "/ft.csv" +
-                        objects + " --out " + out);
+  const testing::ToolRun missing =
+      testing::RunTool("import-log", "--format streams --pose " + in + "/p.csv --force " + in +
+                                         "/ft.csv" + objects + " --out " + out);
   EXPECT_EQ(missing.code, 2) << missing.all();
-  EXPECT_NE(missing.all().find("--format streams needs --tip"), std::string::npos)
-      << missing.all();
+  EXPECT_NE(missing.all().find("--format streams needs --tip"), std::string::npos) << missing.all();
 }
 
 }  // namespace
