@@ -37,7 +37,7 @@ constexpr double kMinValuesAllowed = 1 << 20;
 std::string InnermostHdf5Message() {
   std::string message;
   H5Ewalk2(
-      H5E_DEFAULT, H5E_WALK_DOWNWARD,
+      H5E_DEFAULT, H5E_WALK_UPWARD,  // the innermost function first
       [](unsigned n, const H5E_error2_t* err, void* out) -> herr_t {
         if (n == 0 && err && err->desc) *static_cast<std::string*>(out) = err->desc;
         return 0;
