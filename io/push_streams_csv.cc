@@ -347,6 +347,14 @@ StreamCsvMapping ParseStreamMapping(PushStream stream, const std::string& option
                                                 ? std::vector<const char*>{"t", "x", "y", "theta"}
                                                 : std::vector<const char*>{"t", "x", "y"};
   for (const char* key : defaults) m.columns.emplace(key, key);
+  // Two keys on one column (x=px,y=px) is a slip of the mapping, never a layout.
+  for (auto a = m.columns.begin(); a != m.columns.end(); ++a) {
+    for (auto b = std::next(a); b != m.columns.end(); ++b) {
+      if (a->second == b->second) {
+        fail("keys '" + a->first + "' and '" + b->first + "' both name column '" + a->second + "'");
+      }
+    }
+  }
   return m;
 }
 

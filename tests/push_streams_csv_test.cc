@@ -161,6 +161,8 @@ TEST(PushStreamsMapping, BadMappingsAreNamedWithTheOption) {
   bad(PushStream::kPose, "--pose", "p.csv:theta=h,qx=a,qy=b,qz=c,qw=d",
       "give theta or qx, qy, qz, qw, not both");
   bad(PushStream::kPose, "--pose", "p.csv:t=a,t=b", "key 't' given twice");
+  bad(PushStream::kPose, "--pose", "p.csv:x=px,y=px", "keys 'x' and 'y' both name column 'px'");
+  bad(PushStream::kPose, "--pose", "p.csv:theta=x", "keys 'theta' and 'x' both name column 'x'");
   bad(PushStream::kPose, "--pose", ":t=a", "no file given");
   bad(PushStream::kPose, "--pose", "p.csv:t=", "key 't' has no value");
   bad(PushStream::kForce, "--force", "f.csv:frame=sensor", "frame=sensor needs yaw=RAD");
