@@ -1,11 +1,18 @@
 #include "io/mit_push_h5.h"
 
 #include <H5Cpp.h>
+#include <poll.h>
 #include <sys/stat.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include <array>
 #include <cerrno>
+#include <chrono>
 #include <cmath>
+#include <csignal>
+#include <cstdint>
+#include <cstdio>
 #include <cstring>
 #include <fstream>
 #include <iterator>
@@ -139,18 +146,12 @@ std::vector<MitStreamRow> ReadStream(const H5::H5File& file, const std::string& 
   return rows;
 }
 
-}  // namespace
-
 /// The name under which HDF5 opens an image in memory. Its core driver refuses an image
 /// whose name exists on disk ("file already exists"), so it is one that cannot.
 std::string InMemoryName(const std::string& source) { return "slideid-in-memory:/" + source; }
 
-MitPushRecording ParseMitPushH5(std::string_view bytes, const std::string& source) {
-  if (bytes.empty()) throw MitPushH5Error(source + ": empty file (expected HDF5)");
-  if (!HasHdf5Signature(bytes)) {
-    throw MitPushH5Error(source + ": not an HDF5 file (no HDF5 signature)");
-  }
-  const std::lock_guard<std::mutex> lock(Hdf5Lock());
+/// The streams of an HDF5 image, read in this process (the child's work, below).
+MitPushRecording ParseInThisProcess(std::string_view bytes, const std::string& source) {
   H5::Exception::dontPrint();
   H5::FileAccPropList access;
   access.setCore(1 << 16, false);  // in memory, never written back
@@ -187,6 +188,138 @@ MitPushRecording ParseMitPushH5(std::string_view bytes, const std::string& sourc
     }
   }
   return r;
+}
+
+// libhdf5 trusts a file's sizes and addresses: on a damaged file it can copy to a null
+// pointer (H5F__accum_read after a failed allocation of what a header claims, found by
+// fuzz_mit_push_h5). So the file is read in a child process, which sends the streams (or its
+// error) back through a pipe: a crash or hang inside the library becomes an unreadable
+// file, never a crash of import-log. As io/rosbag_push.cc does for librosbag.
+
+void PutBytes(std::string* out, const void* data, std::size_t n) {
+  out->append(static_cast<const char*>(data), n);
+}
+
+/// 'R' and the three streams (a count and the rows each), or 'E' and the message.
+std::string Serialize(const MitPushRecording& r) {
+  std::string out = "R";
+  for (const auto* rows : {&r.object_pose, &r.tip_pose, &r.ft_wrench}) {
+    const std::uint64_t n = rows->size();
+    PutBytes(&out, &n, sizeof(n));
+    PutBytes(&out, rows->data(), rows->size() * sizeof(MitStreamRow));
+  }
+  return out;
+}
+
+MitPushRecording Deserialize(const std::string& bytes, const std::string& source) {
+  MitPushRecording r;
+  std::size_t at = 1;
+  for (auto* rows : {&r.object_pose, &r.tip_pose, &r.ft_wrench}) {
+    std::uint64_t n = 0;
+    if (bytes.size() - at < sizeof(n))
+      throw MitPushH5Error(source + ": short answer from the reader");
+    std::memcpy(&n, bytes.data() + at, sizeof(n));
+    at += sizeof(n);
+    if (n > (bytes.size() - at) / sizeof(MitStreamRow)) {
+      throw MitPushH5Error(source + ": short answer from the reader");
+    }
+    rows->resize(n);
+    std::memcpy(rows->data(), bytes.data() + at, n * sizeof(MitStreamRow));
+    at += n * sizeof(MitStreamRow);
+  }
+  return r;
+}
+
+void WriteAll(int fd, const std::string& bytes) {
+  std::size_t done = 0;
+  while (done < bytes.size()) {
+    const ssize_t n = write(fd, bytes.data() + done, bytes.size() - done);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) return;
+    done += static_cast<std::size_t>(n);
+  }
+}
+
+/// How long the child may take: generous for an image of `bytes` (HDF5 reads them at
+/// hundreds of MB/s), so that only a hang reaches it.
+std::chrono::milliseconds ReadTimeLimit(std::size_t bytes) {
+  return std::chrono::milliseconds(30000 + bytes / 10000);
+}
+
+}  // namespace
+
+MitPushRecording ParseMitPushH5(std::string_view bytes, const std::string& source) {
+  if (bytes.empty()) throw MitPushH5Error(source + ": empty file (expected HDF5)");
+  if (!HasHdf5Signature(bytes)) {
+    throw MitPushH5Error(source + ": not an HDF5 file (no HDF5 signature)");
+  }
+  // Held across the fork: no other thread is inside HDF5 when the child is made, and the
+  // child (whose copy of the lock stays taken) uses HDF5 alone.
+  const std::lock_guard<std::mutex> lock(Hdf5Lock());
+  int fds[2];
+  if (pipe(fds) != 0) throw std::runtime_error(std::string("pipe: ") + std::strerror(errno));
+  std::fflush(nullptr);
+  const pid_t child = fork();
+  if (child < 0) {
+    close(fds[0]);
+    close(fds[1]);
+    throw std::runtime_error(std::string("fork: ") + std::strerror(errno));
+  }
+  if (child == 0) {
+    close(fds[0]);
+    std::string out;
+    try {
+      out = Serialize(ParseInThisProcess(bytes, source));
+    } catch (const std::exception& e) {
+      out = std::string("E") + e.what();
+    }
+    WriteAll(fds[1], out);
+    close(fds[1]);
+    _exit(0);
+  }
+  close(fds[1]);
+  std::string answer;
+  char buffer[1 << 16];
+  const auto deadline = std::chrono::steady_clock::now() + ReadTimeLimit(bytes.size());
+  bool timed_out = false;
+  while (true) {
+    const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(
+        deadline - std::chrono::steady_clock::now());
+    if (left.count() <= 0) {
+      timed_out = true;
+      break;
+    }
+    pollfd p{fds[0], POLLIN, 0};
+    const int ready = poll(&p, 1, static_cast<int>(left.count()));
+    if (ready < 0 && errno == EINTR) continue;
+    if (ready <= 0) {
+      timed_out = ready == 0;
+      break;
+    }
+    const ssize_t n = read(fds[0], buffer, sizeof(buffer));
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) break;
+    answer.append(buffer, static_cast<std::size_t>(n));
+  }
+  close(fds[0]);
+  if (timed_out) kill(child, SIGKILL);
+  int status = 0;
+  while (waitpid(child, &status, 0) < 0 && errno == EINTR) {
+  }
+  if (timed_out) {
+    throw MitPushH5Error(source + ": HDF5 did not finish reading it in " +
+                         std::to_string(ReadTimeLimit(bytes.size()).count() / 1000) +
+                         " s (a damaged file?)");
+  }
+  if (WIFSIGNALED(status)) {
+    throw MitPushH5Error(source + ": libhdf5 crashed reading it (signal " +
+                         std::to_string(WTERMSIG(status)) + "): a damaged file");
+  }
+  if (answer.empty() || (answer[0] != 'E' && answer[0] != 'R')) {
+    throw MitPushH5Error(source + ": the HDF5 reader ended without an answer");
+  }
+  if (answer[0] == 'E') throw MitPushH5Error(answer.substr(1));
+  return Deserialize(answer, source);
 }
 
 MitPushRecording ReadMitPushH5(const std::string& path) {

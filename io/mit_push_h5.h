@@ -24,8 +24,10 @@ class MitPushH5Error : public std::runtime_error {
 /// Reads the file at `path`. Each dataset must exist, be two-dimensional with 4 columns and
 /// at least one row, and hold floating-point values (32- or 64-bit: read as doubles), all
 /// finite. Rows are kept in file order; other datasets and attributes are ignored. Throws
-/// MitPushH5Error. Thread-safe (the library is serialised behind one lock: Debian's HDF5
-/// is not built thread-safe).
+/// MitPushH5Error. libhdf5 crashes on some damaged files (it trusts their sizes), so it
+/// reads in a child process (fork): its crash, or a hang past a limit that grows with the
+/// file's size, is such an error too. Thread-safe (the library is serialised behind one
+/// lock: Debian's HDF5 is not built thread-safe).
 MitPushRecording ReadMitPushH5(const std::string& path);
 /// Same, from the bytes of a file in memory (HDF5's core driver); `source` names it.
 MitPushRecording ParseMitPushH5(std::string_view bytes, const std::string& source);
