@@ -1,7 +1,7 @@
-// Import throughput of the ROS log readers against the MIT JSON reader, measured in the same
+// Import throughput of the other readers against the MIT JSON reader, measured in the same
 // run: one synthetic push (datasets/mit_push_synth.h, 12 s of streams) written by our
-// writers as MIT JSON, a ROS 1 bag (librosbag, uncompressed) and ROS 2 MCAP files (zstd,
-// lz4, none), then
+// writers as MIT JSON, MIT HDF5 (contiguous and gzip), three stream CSVs (seconds, world
+// frame), a ROS 1 bag (librosbag, uncompressed) and ROS 2 MCAP files (zstd, lz4, none), then
 //  - BM_Read<format>: the file into its three streams (what each reader does);
 //  - BM_Import<format>: the same plus the import into a push log (ImportMitPush), the work
 //    of `import-log` per file without writing.
@@ -22,8 +22,10 @@
 
 #include "datasets/mit_push_synth.h"
 #include "io/mcap_push.h"
+#include "io/mit_push_h5.h"
 #include "io/mit_push_import.h"
 #include "io/mit_push_json.h"
+#include "io/push_streams_csv.h"
 #include "io/rosbag_push.h"
 
 namespace slideid {
@@ -34,6 +36,7 @@ struct Inputs {
   MitSynthSpec spec;
   MitPushRecording recording;
   RosTopics topics;
+  PushStreamsCsv streams;
   double rows = 0;
 };
 
@@ -52,6 +55,14 @@ const Inputs& Files() {
     RosPushWriteSpec spec;
     spec.topics = in.topics;
     WriteMitPushJson(in.recording, in.dir + "/push.json");
+    WriteMitPushH5(in.recording, in.dir + "/push.h5");
+    MitPushH5WriteOptions gzip;
+    gzip.deflate = true;
+    WriteMitPushH5(in.recording, in.dir + "/push_gzip.h5", gzip);
+    in.streams.pose = ParseStreamMapping(PushStream::kPose, "--pose", in.dir + "/pose.csv");
+    in.streams.tip = ParseStreamMapping(PushStream::kTip, "--tip", in.dir + "/tip.csv:theta");
+    in.streams.force = ParseStreamMapping(PushStream::kForce, "--force", in.dir + "/ft.csv:tz");
+    WritePushStreamsCsv(in.recording, in.streams);
     WriteRosbagPushLog(in.recording, spec, in.dir + "/push.bag");
     for (McapCompression c :
          {McapCompression::kZstd, McapCompression::kLz4, McapCompression::kNone}) {
@@ -68,6 +79,9 @@ const Inputs& Files() {
 MitPushRecording Read(const std::string& format) {
   const Inputs& in = Files();
   if (format == "json") return ReadMitPushJson(in.dir + "/push.json");
+  if (format == "h5") return ReadMitPushH5(in.dir + "/push.h5");
+  if (format == "h5_gzip") return ReadMitPushH5(in.dir + "/push_gzip.h5");
+  if (format == "streams") return ReadPushStreamsCsv(in.streams).recording;
   if (format == "rosbag") return ReadRosbagPushLog(in.dir + "/push.bag", in.topics).recording;
   return ReadMcapPushLog(in.dir + "/push_" + format.substr(5) + ".mcap", in.topics).recording;
 }
@@ -110,7 +124,8 @@ void BM_Import(benchmark::State& state, const std::string& format) {
       benchmark::Counter(in.rows, benchmark::Counter::kIsIterationInvariantRate);
 }
 
-const char* const kFormats[] = {"json", "rosbag", "mcap_zstd", "mcap_lz4", "mcap_none"};
+const char* const kFormats[] = {"json",   "h5",        "h5_gzip",  "streams",
+                                "rosbag", "mcap_zstd", "mcap_lz4", "mcap_none"};
 
 /// Keeps each benchmark's median real time per iteration, to print the ratios at the end.
 class RatioReporter : public benchmark::ConsoleReporter {

@@ -10,7 +10,7 @@ std::string Stem(const std::string& path) {
   const std::size_t slash = path.find_last_of('/');
   std::string name = slash == std::string::npos ? path : path.substr(slash + 1);
   // Only the known extensions: MIT names hold dots ("_t=0.524") that are not one.
-  for (const std::string ext : {".json", ".h5", ".hdf5", ".bag", ".mcap"}) {
+  for (const std::string ext : {".json", ".h5", ".hdf5", ".bag", ".mcap", ".csv"}) {
     if (name.size() > ext.size() && name.compare(name.size() - ext.size(), ext.size(), ext) == 0) {
       name.resize(name.size() - ext.size());
       break;

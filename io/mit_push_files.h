@@ -45,7 +45,7 @@ struct RecordingRead {
 using RecordingReader = std::function<RecordingRead(const std::string& path)>;
 
 /// ImportMitPushFile for a file of any format that `read` reads; <stem> is its name without
-/// the extension .json, .h5, .hdf5, .bag or .mcap.
+/// the extension .json, .h5, .hdf5, .bag, .mcap or .csv (streams: the pose file's).
 MitImportReport ImportRecordingFile(const std::string& path, const RecordingReader& read,
                                     const MitObjectSource& objects, MitImportOptions options,
                                     const std::string& out_dir, std::set<std::string>* used_names);

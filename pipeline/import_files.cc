@@ -4,6 +4,7 @@
 #include <set>
 
 #include "io/mcap_push.h"
+#include "io/mit_push_h5.h"
 #include "io/mit_push_json.h"
 #include "io/mit_push_report.h"
 #include "io/rosbag_push.h"
@@ -41,6 +42,25 @@ RecordingReader RosLogReader(const std::string& format, const RosTopics& topics)
     read.recording = std::move(log.recording);
     read.notes = std::move(log.notes);
     read.rejection = StreamOverlapProblem(read.recording, topics);
+    return read;
+  };
+}
+
+RecordingReader MitPushH5Reader() {
+  return [](const std::string& path) {
+    RecordingRead read;
+    read.recording = ReadMitPushH5(path);
+    return read;
+  };
+}
+
+RecordingReader PushStreamsReader(const PushStreamsCsv& files) {
+  return [files](const std::string&) {
+    PushStreamsRead streams = ReadPushStreamsCsv(files);
+    RecordingRead read;
+    read.recording = std::move(streams.recording);
+    read.notes = std::move(streams.notes);
+    read.rejection = StreamFilesOverlapProblem(read.recording, files);
     return read;
   };
 }
@@ -124,23 +144,50 @@ ImportSummary ImportTripodFiles(const std::vector<std::string>& files,
   return summary;
 }
 
+/// The reader of MIT JSON files that also writes each recording it read as DIR/<stem>.h5,
+/// the stems made unique in the order read (as ImportRecordingFile names the logs).
+RecordingReader JsonReaderWithH5Copies(const std::string& dir) {
+  CreateDirectory(dir);
+  auto used = std::make_shared<std::set<std::string>>();
+  return [dir, used](const std::string& path) {
+    RecordingRead read;
+    read.recording = ReadMitPushJson(path);
+    std::string stem = std::filesystem::path(path).filename().string();
+    if (stem.size() > 5 && stem.compare(stem.size() - 5, 5, ".json") == 0)
+      stem.resize(stem.size() - 5);
+    std::string name = stem;
+    for (int k = 2; used->count(name); ++k) name = stem + "_" + std::to_string(k);
+    used->insert(name);
+    WriteMitPushH5(read.recording, dir + "/" + name + ".h5");
+    return read;
+  };
+}
+
 ImportSummary ImportFiles(const ImportRequest& request) {
   if (request.format == "mit-push") {
     MitObjectSource objects = request.objects;
     objects.table = request.table.get();
+    if (!request.h5_copies_dir.empty()) {
+      return ImportRecordingFiles(request.files, JsonReaderWithH5Copies(request.h5_copies_dir),
+                                  objects, request.mit, request.out_dir);
+    }
     return ImportMitFiles(request.files, objects, request.mit, request.out_dir);
   }
-  if (request.format == "rosbag" || request.format == "mcap") {
+  if (request.format == "rosbag" || request.format == "mcap" || request.format == "mit-push-h5" ||
+      request.format == "streams") {
     MitObjectSource objects = request.objects;
     objects.table = request.table.get();
-    return ImportRecordingFiles(request.files, RosLogReader(request.format, request.ros), objects,
-                                request.mit, request.out_dir);
+    const RecordingReader read = request.format == "mit-push-h5" ? MitPushH5Reader()
+                                 : request.format == "streams"
+                                     ? PushStreamsReader(request.streams)
+                                     : RosLogReader(request.format, request.ros);
+    return ImportRecordingFiles(request.files, read, objects, request.mit, request.out_dir);
   }
   if (request.format == "zhou-tripod") {
     return ImportTripodFiles(request.files, request.tripod, request.out_dir);
   }
   throw std::invalid_argument("unknown import format '" + request.format +
-                              "' (mit-push, rosbag, mcap or zhou-tripod)");
+                              "' (mit-push, mit-push-h5, streams, rosbag, mcap or zhou-tripod)");
 }
 
 }  // namespace slideid

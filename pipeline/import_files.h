@@ -9,6 +9,7 @@
 
 #include "io/mit_push_files.h"
 #include "io/object_table.h"
+#include "io/push_streams_csv.h"
 #include "io/ros_push_log.h"
 #include "io/zhou_tripod_import.h"
 
@@ -40,6 +41,14 @@ ImportSummary ImportRecordingFiles(const std::vector<std::string>& files,
 /// overlap. Throws std::invalid_argument for another format.
 RecordingReader RosLogReader(const std::string& format, const RosTopics& topics);
 
+/// The reader of the MIT push dataset's HDF5 files (io/mit_push_h5.h).
+RecordingReader MitPushH5Reader();
+
+/// The reader of a push as one CSV file per stream (io/push_streams_csv.h): it reads the
+/// three files of `files` whatever path it is given (the pose file's, which names the push),
+/// with a note naming them and a rejection when their clocks never overlap.
+RecordingReader PushStreamsReader(const PushStreamsCsv& files);
+
 /// Zhou tripod logs into DIR/<stem>.csv wrench-twist pairs (one row per accepted push) and
 /// DIR/<stem>_import_report.csv (one row per push). A file is rejected when it cannot be read or
 /// has no acceptable push. Throws std::runtime_error naming a path that cannot be written.
@@ -49,18 +58,25 @@ ImportSummary ImportTripodFiles(const std::vector<std::string>& files,
 /// One import: the format, the files, where to and how (import-log's options, or the
 /// Python module's import_log).
 struct ImportRequest {
-  std::string format;  ///< "mit-push", "rosbag", "mcap" or "zhou-tripod"
-  std::vector<std::string> files;
+  /// "mit-push", "mit-push-h5", "streams", "rosbag", "mcap" or "zhou-tripod"
+  std::string format;
+  std::vector<std::string> files;  ///< streams: the pose file (named by `streams`)
   std::string out_dir;
   std::shared_ptr<const ObjectTable> table;  ///< mit-push: the --objects table, if any
-  /// mit-push, rosbag and mcap; its table pointer is set from `table`
+  /// the push formats (all but zhou-tripod); its table pointer is set from `table`
   MitObjectSource objects;
-  MitImportOptions mit;  ///< mit-push, rosbag and mcap
-  RosTopics ros;         ///< rosbag and mcap: the streams' topics and frames
+  MitImportOptions mit;    ///< the push formats
+  RosTopics ros;           ///< rosbag and mcap: the streams' topics and frames
+  PushStreamsCsv streams;  ///< streams: the three files and their mappings
+  /// mit-push, for checks (scripts/real_data.sh): each JSON file read is also written, by
+  /// our HDF5 writer, as DIR/<stem>.h5 (stems made unique as the logs' names are), so that
+  /// importing those with mit-push-h5 must give the same logs. Empty: none.
+  std::string h5_copies_dir;
   TripodImportOptions tripod;
 };
 
-/// Runs ImportMitFiles, ImportRecordingFiles (rosbag, mcap) or ImportTripodFiles. Throws
+/// Runs ImportMitFiles, ImportRecordingFiles (mit-push-h5, streams, rosbag, mcap) or
+/// ImportTripodFiles. Throws
 /// std::invalid_argument for an unknown format, std::runtime_error naming a path that cannot be
 /// written.
 ImportSummary ImportFiles(const ImportRequest& request);

@@ -75,6 +75,36 @@ RosTopics RosOptions(const po::variables_map& vm) {
   return t;
 }
 
+/// The three stream files of --format streams (their mappings parsed, errors naming the
+/// option).
+PushStreamsCsv StreamsOptions(const po::variables_map& vm) {
+  PushStreamsCsv files;
+  const std::pair<const char*, PushStream> streams[] = {
+      {"pose", PushStream::kPose}, {"tip", PushStream::kTip}, {"force", PushStream::kForce}};
+  for (const auto& [option, stream] : streams) {
+    if (!vm.count(option)) {
+      throw po::error(std::string("--format streams needs --") + option +
+                      " FILE[:key=column,...] (docs/real-data.md, \"Streams as CSV\")");
+    }
+    StreamCsvMapping m;
+    try {
+      m = ParseStreamMapping(stream, std::string("--") + option, vm[option].as<std::string>());
+    } catch (const std::invalid_argument& e) {
+      throw po::error(e.what());
+    }
+    (stream == PushStream::kPose  ? files.pose
+     : stream == PushStream::kTip ? files.tip
+                                  : files.force) = m;
+  }
+  if (files.force.sensor_frame && !files.force.sensor_yaw_rad &&
+      !files.tip.columns.count("theta") && !files.tip.Quaternion()) {
+    throw po::error(
+        "--force yaw=tip needs the tip's orientation (theta= or qx, qy, qz, qw= in "
+        "--tip)");
+  }
+  return files;
+}
+
 TripodImportOptions TripodOptions(const po::variables_map& vm) {
   TripodImportOptions o;
   o.mass_kg = Physical(vm, "mass", false);
@@ -89,7 +119,8 @@ TripodImportOptions TripodOptions(const po::variables_map& vm) {
 
 void AddImportOptions(po::options_description* options, po::options_description* hidden) {
   options->add_options()("format", po::value<std::string>()->value_name("NAME"),
-                         "mit-push (MIT push dataset JSON), rosbag (ROS 1 bags), mcap (ROS 2 "
+                         "mit-push (MIT push dataset JSON), mit-push-h5 (its HDF5 files), "
+                         "streams (one CSV per stream), rosbag (ROS 1 bags), mcap (ROS 2 "
                          "MCAP files): push logs; or zhou-tripod (ICRA 2016 tripod logs: "
                          "wrench-twist pairs)")(
       "out", po::value<std::string>()->value_name("DIR"),
@@ -129,21 +160,52 @@ void AddImportOptions(po::options_description* options, po::options_description*
       "object-frame", po::value<std::string>()->value_name("FRAME"),
       "rosbag, mcap: the child frame id of the object's transform (required for a TFMessage "
       "topic)")("tip-frame", po::value<std::string>()->value_name("FRAME"),
-                "rosbag, mcap: the child frame id of the tip's transform");
-  hidden->add_options()("files", po::value<std::vector<std::string>>());
+                "rosbag, mcap: the child frame id of the tip's transform")(
+      "pose", po::value<std::string>()->value_name("FILE[:MAP]"),
+      "streams: the object's pose CSV, e.g. pose.csv:t=stamp,x=px,y=py,theta=yaw (or "
+      "qx=..,qy=..,qz=..,qw=..), unit=s|ms|us|ns; its name names the push and the log")(
+      "tip", po::value<std::string>()->value_name("FILE[:MAP]"),
+      "streams: the pusher tip's CSV (t, x, y; theta or a quaternion optional)")(
+      "force", po::value<std::string>()->value_name("FILE[:MAP]"),
+      "streams: the force CSV (t, fx, fy; tz optional), frame=world (default) or "
+      "frame=sensor with yaw=RAD or yaw=tip (the tip's logged yaw)");
+  hidden->add_options()("files", po::value<std::vector<std::string>>())(
+      // A check, not a converter (scripts/real_data.sh): see ImportRequest::h5_copies_dir.
+      "h5-copies", po::value<std::string>()->value_name("DIR"));
 }
 
 ImportRequest ReadImportOptions(const po::variables_map& vm) {
   if (!vm.count("format")) throw po::error("the option '--format' is required");
   if (!vm.count("out")) throw po::error("the option '--out' is required");
-  if (!vm.count("files")) throw po::error("no input FILE given");
   ImportRequest r;
   r.format = vm["format"].as<std::string>();
-  r.files = vm["files"].as<std::vector<std::string>>();
   r.out_dir = vm["out"].as<std::string>();
   const bool ros = r.format == "rosbag" || r.format == "mcap";
-  if (r.format != "mit-push" && !ros && r.format != "zhou-tripod") {
-    throw po::error("--format must be mit-push, rosbag, mcap or zhou-tripod");
+  const bool streams = r.format == "streams";
+  const bool push = r.format == "mit-push" || r.format == "mit-push-h5" || ros || streams;
+  if (!push && r.format != "zhou-tripod") {
+    throw po::error("--format must be mit-push, mit-push-h5, streams, rosbag, mcap or zhou-tripod");
+  }
+  for (const char* option : {"pose", "tip", "force"}) {
+    if (!streams && vm.count(option)) {
+      throw po::error(std::string("--") + option + " applies to --format streams only");
+    }
+  }
+  if (vm.count("h5-copies")) {
+    if (r.format != "mit-push") throw po::error("--h5-copies applies to --format mit-push only");
+    r.h5_copies_dir = vm["h5-copies"].as<std::string>();
+  }
+  if (streams) {
+    if (vm.count("files")) {
+      throw po::error(
+          "--format streams reads the files of --pose, --tip and --force; no FILE "
+          "argument");
+    }
+    r.streams = StreamsOptions(vm);
+    r.files = {r.streams.pose.path};
+  } else {
+    if (!vm.count("files")) throw po::error("no input FILE given");
+    r.files = vm["files"].as<std::vector<std::string>>();
   }
   for (const char* option :
        {"object-topic", "tip-topic", "force-topic", "object-frame", "tip-frame"}) {
@@ -152,7 +214,7 @@ ImportRequest ReadImportOptions(const po::variables_map& vm) {
     }
   }
   // The table is read before any import: a bad table is bad input, not I/O.
-  if (r.format == "mit-push" || ros) {
+  if (push) {
     if (ros) r.ros = RosOptions(vm);
     r.objects = Objects(vm, &r.table);
     r.mit = MitOptions(vm);

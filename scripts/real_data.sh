@@ -54,15 +54,58 @@ identify_all() {
 mit_rect1() {
   local files=("$data"/mit_push_rect1_plywood_v100/*/*.json)
   ((${#files[@]})) || { echo "real_data: mit_rect1: no files; skipped"; return 0; }
-  import mit_rect1 --format mit-push --objects datasets/mit_objects.csv "${files[@]}"
+  import mit_rect1 --format mit-push --objects datasets/mit_objects.csv \
+    --h5-copies "$work/h5_copies/mit_rect1" "${files[@]}"
   identify_all mit_rect1
 }
 
 mit_hex() {
   local files=("$data"/mit_push_hex_plywood_v150/*.json)
   ((${#files[@]})) || { echo "real_data: mit_hex: no files; skipped"; return 0; }
-  import mit_hex --format mit-push --objects datasets/mit_objects.csv "${files[@]}"
+  import mit_hex --format mit-push --objects datasets/mit_objects.csv \
+    --h5-copies "$work/h5_copies/mit_hex" "${files[@]}"
   identify_all mit_hex
+}
+
+# The rect1 and hex pushes again through the HDF5 path: the .h5 copies our writer made of
+# the JSON files as they were imported (--h5-copies), imported with --format mit-push-h5,
+# must give the same logs, byte for byte but the `# source` line, and the same verdicts.
+# Fails the script when they do not.
+mit_h5() {
+  local name json h5 logs same differ
+  {
+    echo "Each JSON file of rect1 and hex, as read, written to \`.h5\` by the project's own writer"
+    echo "(\`io/mit_push_h5.h\`, \`import-log --h5-copies\`) and imported again with"
+    echo "\`--format mit-push-h5\`:"
+    echo
+    echo "| pushes | .h5 files | accepted (JSON) | accepted (HDF5) | logs identical but the source line |"
+    echo "|---|---|---|---|---|"
+  } > "$work/mit_h5.md"
+  for name in mit_rect1 mit_hex; do
+    [ -d "$work/h5_copies/$name" ] || continue
+    local copies=("$work/h5_copies/$name"/*.h5)
+    import "${name}_h5" --format mit-push-h5 --objects datasets/mit_objects.csv "${copies[@]}"
+    logs=0 same=0 differ=0
+    for json in "$work/$name"/*.csv; do
+      [ "$(basename "$json")" = import_report.csv ] && continue
+      logs=$((logs + 1))
+      h5="$work/${name}_h5/$(basename "$json")"
+      if [ -f "$h5" ] && cmp -s <(grep -v '^# source = ' "$json") <(grep -v '^# source = ' "$h5"); then
+        same=$((same + 1))
+      else
+        differ=$((differ + 1))
+        echo "real_data: mit_h5: $name: $(basename "$json") differs through the HDF5 path"
+      fi
+    done
+    local h5_logs
+    h5_logs=$(find "$work/${name}_h5" -name '*.csv' ! -name import_report.csv | wc -l)
+    echo "| ${name#mit_} | ${#copies[@]} | $logs | $h5_logs | $same of $logs |" >> "$work/mit_h5.md"
+    echo "real_data: mit_h5: $name: $same of $logs logs identical through the HDF5 path"
+    if [ "$differ" -gt 0 ] || [ "$h5_logs" -ne "$logs" ]; then
+      echo "real_data: mit_h5: the HDF5 path gave other logs than the JSON path"
+      exit 1
+    fi
+  done
 }
 
 # The rect1 pushes pooled: one estimate from all, as they are and with the sensor nuisances
@@ -126,7 +169,7 @@ zhou_tripod() {
 }
 
 shopt -s nullglob
-sections=(mit_rect1 mit_rect1_pooled mit_rect1_validate mit_hex zhou_tripod)
+sections=(mit_rect1 mit_rect1_pooled mit_rect1_validate mit_hex mit_h5 zhou_tripod)
 for section in "${sections[@]}"; do "$section"; done
 /usr/bin/python3 scripts/real_data_report.py --work "$work" --doc docs/real-data.md \
   --sections "${sections[@]}"

@@ -426,6 +426,7 @@ SECTIONS = {
     "mit_rect1_pooled": pooled_section("MIT rect1 on plywood: every push pooled"),
     "mit_rect1_validate": validate_section("MIT rect1 on plywood: predicting held-out pushes"),
     "mit_hex": mit_section("MIT push dataset: hex on plywood, 150 mm/s"),
+    "mit_h5": markdown_section("MIT rect1 and hex through the HDF5 path", "mit_h5.md"),
     "zhou_tripod": markdown_section("Zhou et al. ICRA 2016 tripod logs: quasi-static pairs",
                                     "zhou_tripod.md"),
 }

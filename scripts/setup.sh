@@ -21,6 +21,7 @@ packages=(
   python3-distributed    # slideid.dask: many logs on a Dask cluster (docs/scale-out.md)
   librosbag-dev libgeometry-msgs-dev libtf2-msgs-dev  # import-log --format rosbag: ROS 1 bags (io/rosbag_push.h)
   libzstd-dev liblz4-dev zlib1g-dev  # import-log --format mcap: chunk compression and CRC-32 (io/mcap_file.h)
+  libhdf5-dev            # import-log --format mit-push-h5: the MIT push dataset's .h5 files (io/mit_push_h5.h)
   clang-format           # the code's format (.clang-format), checked by scripts/check_format.sh
   clang libclang-rt-14-dev  # fuzz targets: libFuzzer and clang's sanitizer runtimes (scripts/fuzz.sh)
 )

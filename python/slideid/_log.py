@@ -289,7 +289,9 @@ def make_dataset(count=10, seed=1, out=None, **options):
 def import_log(format, files, out_dir, **options):
     """Imports real recordings, as import-log does: format "mit-push" (MIT push dataset JSON
     files into push logs; give objects="table.csv" or mass, inertia, com_height and patch),
-    "rosbag" or "mcap" (ROS 1 bags, ROS 2 MCAP files: the same, with object_topic, tip_topic,
+    "mit-push-h5" (the same dataset's .h5 files), "streams" (one CSV per stream: files=[] and
+    pose="pose.csv:t=stamp,x=px,...", tip=..., force=..., as import-log's --pose, --tip and
+    --force), "rosbag" or "mcap" (ROS 1 bags, ROS 2 MCAP files: the same, with object_topic, tip_topic,
     force_topic and, for TF topics, object_frame and tip_frame) or "zhou-tripod" (tripod logs
     into wrench-twist pairs). Each file is imported into
     out_dir or rejected with its reason, on its own. Returns the summary: files, accepted,

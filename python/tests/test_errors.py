@@ -286,12 +286,16 @@ def test_dataset_errors():
 
 def test_import_errors(tmp_path):
     good = CORPUS / "mit_push" / "valid_push.json"
-    with pytest.raises(slideid.OptionError, match="^format must be mit-push, rosbag, mcap or zhou-tripod"):  # the keyword
+    with pytest.raises(slideid.OptionError, match="^format must be mit-push, mit-push-h5, streams, rosbag, mcap or zhou-tripod"):  # the keyword
         slideid.import_log("csv", [good], tmp_path)
     with pytest.raises(slideid.OptionError, match="the object is not known"):
         slideid.import_log("mit-push", [good], tmp_path, mass=1)
     with pytest.raises(slideid.OptionError, match="no input FILE"):
         slideid.import_log("mit-push", [], tmp_path)
+    with pytest.raises(slideid.OptionError, match="unknown time unit 'min' in unit=min"):
+        slideid.import_log("streams", [], tmp_path, pose="p.csv:unit=min", tip="t.csv",
+                           force="f.csv", mass=1, inertia=1e-3, com_height=0,
+                           patch="disk 0.05")
     table = tmp_path / "objects.csv"
     table.write_text("name,mass\nrect1,abc\n")
     with pytest.raises(ValueError, match="objects.csv"):

@@ -1,6 +1,7 @@
 """Logs in Python: arrays and metadata read from files, logs made from arrays, written,
 simulated, pickled; datasets and imports as the tools make them."""
 
+import json
 import pickle
 import warnings
 
@@ -157,6 +158,34 @@ def test_import_log_reads_mcap_files_with_the_topic_keywords(tmp_path):
                                  com_height=0.0065, patch="rectangle 0.09 0.09", **topics)
     assert "topic '/tf' (the tip stream) has no transform with child frame 'nothing'" in \
         summary["rejections"][0]
+
+
+def test_import_log_reads_stream_csvs_and_h5_files(tmp_path):
+    # The MIT JSON push written as three CSVs (repr: exact doubles), each with its own
+    # column names: the same log as from the JSON, but for its source line.
+    good = CORPUS / "mit_push" / "valid_push.json"
+    streams = json.loads(good.read_text())
+    (tmp_path / "in").mkdir()
+    for name, header in (("object_pose", "stamp,px,py,yaw"), ("tip_pose", "time,x,y,theta"),
+                         ("ft_wrench", "t,fx,fy,tz")):
+        rows = "".join(",".join(repr(v) for v in row) + "\n" for row in streams[name])
+        (tmp_path / "in" / (name + ".csv")).write_text(header + "\n" + rows)
+    obj = dict(mass=0.835, inertia=1.13e-3, com_height=0.0065, patch="rectangle 0.09 0.09")
+    json_run = slideid.import_log("mit-push", [good], tmp_path / "json", **obj)
+    csv_run = slideid.import_log(
+        "streams", [], tmp_path / "csv", pose=f"{tmp_path}/in/object_pose.csv:t=stamp,x=px,y=py,theta=yaw",
+        tip=f"{tmp_path}/in/tip_pose.csv:t=time", force=f"{tmp_path}/in/ft_wrench.csv:tz", **obj)
+    assert json_run["accepted"] == 1 and csv_run["accepted"] == 1
+    def body(path):
+        return [line for line in path.read_text().splitlines() if not line.startswith("# source = ")]
+    assert body(tmp_path / "csv" / "object_pose.csv") == body(tmp_path / "json" / "valid_push.csv")
+    # An .h5 file (the fuzz seed: a 12-row push, read and then rejected as too short) and a
+    # JSON file given as HDF5 (unreadable, named).
+    h5_run = slideid.import_log("mit-push-h5", [CORPUS / "mit_push_h5" / "push.h5", good],
+                                tmp_path / "h5", **obj)
+    assert h5_run["files"] == 2 and h5_run["accepted"] == 0
+    assert h5_run["rejections"][0].startswith("rejected: ")
+    assert "valid_push.json: not an HDF5 file" in h5_run["rejections"][1]
 
 
 def test_import_tripod_logs_into_pairs_as_import_log_does(tmp_path):
