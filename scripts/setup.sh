@@ -23,6 +23,7 @@ packages=(
   libzstd-dev liblz4-dev zlib1g-dev  # import-log --format mcap: chunk compression and CRC-32 (io/mcap_file.h)
   clang-format           # the code's format (.clang-format), checked by scripts/check_format.sh
   clang libclang-rt-14-dev  # fuzz targets: libFuzzer and clang's sanitizer runtimes (scripts/fuzz.sh)
+  chromium               # headless browser: renders the HTML report in a test (tests/report_browser_test.cc)
 )
 
 missing=()
