@@ -1464,7 +1464,8 @@ SeedInformation TrajectoryInformationAtSeed(const Trajectory& log, const Identif
   // The fit's own seeds (Fit, "Seeds"), least squares as its first stage is.
   SetRowLosses(problem.get(), RobustLoss::kNone, options.trajectory.loss_scale_sigmas,
                std::vector<double>{0.0});
-  SeedFromHeads(problem.get(), CandidateSeeds(log, options), &out.seed);
+  std::vector<SolverIteration> unused_trace;  // the check reports no trace
+  SeedFromHeads(problem.get(), CandidateSeeds(log, options), &out.seed, &unused_trace);
   out.seed = problem->Friction();
   const FitInformation info = problem->Information();
   const int G = problem->num_global();
