@@ -59,8 +59,9 @@ ReportInputs IdentifyReportOf(std::vector<ReportLog> logs, const FileIdentifyOpt
   in.warnings.insert(in.warnings.end(), warnings.begin(), warnings.end());
   const EstimateResult& r = run.result;
   if (options.identify.method == EstimatorMethod::kQuasiStatic) {
-    in.warnings.push_back("the quasi-static method fits wrench-twist pairs, not push logs: the "
-                          "report has no per-log section");
+    in.warnings.push_back(
+        "the quasi-static method fits wrench-twist pairs, not push logs: the "
+        "report has no per-log section");
     return in;
   }
   // The fitted logs' order (the residuals' `log`): the pooled entries not skipped.
@@ -83,8 +84,8 @@ ReportInputs IdentifyReportOf(std::vector<ReportLog> logs, const FileIdentifyOpt
       l.replay_note = "No replay: the fit gave no value to replay with.";
     } else if (l.log.samples.size() >= 2) {
       try {
-        SimulationResult replay = ReplayLog(l.log, friction.ToFrictionParameters(),
-                                            options.identify.trajectory.substeps);
+        SimulationResult replay =
+            ReplayLog(l.log, friction.ToFrictionParameters(), options.identify.trajectory.substeps);
         l.replay_note = StoppedNote("replay", replay.summary, replay.trajectory);
         l.replay = std::move(replay.trajectory);
       } catch (const std::exception& e) {
@@ -163,9 +164,8 @@ ReportInputs GatherValidateReport(const std::vector<Trajectory>& logs,
       l.prediction_note = "No prediction of its fold.";
     } else {
       try {
-        const Prediction p = PredictPush(log, push->friction,
-                                         std::optional<double>(push->mu_pusher),
-                                         options.prediction);
+        const Prediction p = PredictPush(
+            log, push->friction, std::optional<double>(push->mu_pusher), options.prediction);
         l.prediction_note = StoppedNote("prediction", p.summary, p.predicted);
         l.prediction = p.predicted;
       } catch (const std::exception& e) {
@@ -186,10 +186,10 @@ std::string QuotedCommandLine(int argc, const char* const* argv) {
   std::string line;
   for (int k = 0; k < argc; ++k) {
     const std::string arg = argv[k];
-    const bool plain =
-        !arg.empty() && std::all_of(arg.begin(), arg.end(), [](char c) {
-          return std::isalnum(static_cast<unsigned char>(c)) || std::string("-_./=:,+@%").find(c) != std::string::npos;
-        });
+    const bool plain = !arg.empty() && std::all_of(arg.begin(), arg.end(), [](char c) {
+      return std::isalnum(static_cast<unsigned char>(c)) ||
+             std::string("-_./=:,+@%").find(c) != std::string::npos;
+    });
     std::string quoted = "'";
     for (const char c : arg) quoted += c == '\'' ? std::string("'\\''") : std::string(1, c);
     quoted += "'";

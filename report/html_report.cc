@@ -46,9 +46,12 @@ article { border-top: 1px dashed #ccc; margin-top: 1em; }
 
 const char* VerdictClass(Verdict v) {
   switch (v) {
-    case Verdict::kOk: return "ok";
-    case Verdict::kSuspect: return "suspect";
-    case Verdict::kNotIdentifiable: return "not-identifiable";
+    case Verdict::kOk:
+      return "ok";
+    case Verdict::kSuspect:
+      return "suspect";
+    case Verdict::kNotIdentifiable:
+      return "not-identifiable";
   }
   return "";
 }
@@ -72,7 +75,8 @@ std::string EstimateRow(const std::string& name, const ParameterEstimate& p,
                         const std::string& truth) {
   std::ostringstream row;
   const bool known = p.verdict != Verdict::kNotIdentifiable;
-  row << "<tr>" << Td(HtmlEscape(name)) << Td(known ? HtmlNumber(p.value, 6) : "not identifiable", known)
+  row << "<tr>" << Td(HtmlEscape(name))
+      << Td(known ? HtmlNumber(p.value, 6) : "not identifiable", known)
       << Td(HtmlNumber(p.stderr_value, 3), true) << Td(Interval(p.ci95_lo, p.ci95_hi), true)
       << "<td class=\"" << VerdictClass(p.verdict) << "\">" << HtmlEscape(ToString(p.verdict))
       << "</td>" << Td(truth, true) << Td(HtmlEscape(p.reason.empty() ? p.note : p.reason))
@@ -105,8 +109,8 @@ std::optional<ContactPatch> PatchOf(const Trajectory& log) {
   }
 }
 
-void AddPath(const std::vector<PlanarState>& poses, const SvgStyle& style, const std::string& legend,
-             SvgPlot* plot) {
+void AddPath(const std::vector<PlanarState>& poses, const SvgStyle& style,
+             const std::string& legend, SvgPlot* plot) {
   std::vector<double> x, y;
   for (const PlanarState& q : poses) {
     x.push_back(q.x * 1e3);
@@ -147,7 +151,8 @@ std::vector<size_t> SnapshotRows(size_t rows) {
 
 /// The CM path of the log (and of `other`, a replay or a prediction), the patch at a few
 /// poses and the tip's path.
-std::string PathFigure(const Trajectory& log, const Trajectory* other, const std::string& other_name) {
+std::string PathFigure(const Trajectory& log, const Trajectory* other,
+                       const std::string& other_name) {
   SvgPlot plot(kFigureWidth, kFigureHeight);
   plot.SetTitle("path of the CM, patch at " + std::to_string(kPatchSnapshots) + " poses");
   plot.SetXLabel("x [mm]");
@@ -158,8 +163,9 @@ std::string PathFigure(const Trajectory& log, const Trajectory* other, const std
   const std::vector<std::string>& colors = SeriesColors();
   if (const std::optional<ContactPatch> patch = PatchOf(log)) {
     AddOutlines(*patch, poses, rows, {colors[0], 0.8, false, 0.6}, &plot);
-    if (other) AddOutlines(*patch, other->samples.empty() ? poses : Poses(*other), rows,
-                           {colors[1], 0.8, true, 0.6}, &plot);
+    if (other)
+      AddOutlines(*patch, other->samples.empty() ? poses : Poses(*other), rows,
+                  {colors[1], 0.8, true, 0.6}, &plot);
   }
   AddPath(poses, {colors[0], 2.0}, "logged", &plot);
   if (other) AddPath(Poses(*other), {colors[1], 1.6, true}, other_name, &plot);
@@ -236,15 +242,15 @@ std::string StatusInWords(const ReportInputs& in) {
       suspect += p.verdict == Verdict::kSuspect;
       unknown += p.verdict == Verdict::kNotIdentifiable;
     }
-    std::string words = std::string("The ") + ToString(r.method) + " fit " +
-                        (r.status == TerminationStatus::kConverged ? "converged, and every estimate is ok."
-                         : r.status == TerminationStatus::kConvergedWithCaveats
-                             ? "converged with caveats: " + std::to_string(ok) + " ok, " +
-                                   std::to_string(suspect) + " suspect, " + std::to_string(unknown) +
-                                   " not identifiable."
-                         : r.status == TerminationStatus::kNoConvergence
-                             ? "did not converge: its estimates are not to be used."
-                             : "found too little excitation: the logs determine no parameter.");
+    std::string words =
+        std::string("The ") + ToString(r.method) + " fit " +
+        (r.status == TerminationStatus::kConverged ? "converged, and every estimate is ok."
+         : r.status == TerminationStatus::kConvergedWithCaveats
+             ? "converged with caveats: " + std::to_string(ok) + " ok, " + std::to_string(suspect) +
+                   " suspect, " + std::to_string(unknown) + " not identifiable."
+         : r.status == TerminationStatus::kNoConvergence
+             ? "did not converge: its estimates are not to be used."
+             : "found too little excitation: the logs determine no parameter.");
     const int fitted = static_cast<int>(
         std::count_if(r.logs.begin(), r.logs.end(), [](const LogResult& l) { return !l.skipped; }));
     if (fitted > 1) words += " " + std::to_string(fitted) + " logs pooled.";
@@ -289,11 +295,13 @@ std::string EstimatesSection(const ReportInputs& in) {
       s << EstimateRow(n.name + (n.log.empty() ? "" : " (" + n.log + ")"), p,
                        std::string(kMissingValue));
     }
-    s << "</table><p>Residuals: " << HtmlNumber(r.residual_rms * 1e3, 3) << " mm RMS against the log's own noise of "
-      << HtmlNumber(r.log_noise * 1e3, 3) << " mm; steps used " << r.steps_used << " of "
-      << r.steps_total << "; " << r.iterations << " solver iterations, "
-      << HtmlNumber(r.seconds, 3) << " s.</p>";
-    s << "<p class=\"note\">How the solve ended: " << HtmlEscape(r.message) << "</p>";
+    s << "</table><p>Residuals: " << HtmlNumber(r.residual_rms * 1e3, 3)
+      << " mm RMS against the log's own noise of " << HtmlNumber(r.log_noise * 1e3, 3)
+      << " mm; steps used " << r.steps_used << " of " << r.steps_total << "; " << r.iterations
+      << " solver iterations, " << HtmlNumber(r.seconds, 3) << " s.</p>";
+    s << "<p class=\"note\">The last solve's own account (of its iterations alone; the "
+         "trace below has every solve's): "
+      << HtmlEscape(r.message) << "</p>";
   } else if (in.validation) {
     s << "<p>Each fold's friction, fitted pooled on the other logs:</p><table><tr><th>fold</th>"
          "<th>held out</th><th>a</th><th>b</th><th>c [m]</th><th>mu_p</th><th>from</th></tr>";
@@ -315,7 +323,8 @@ std::string EstimatesSection(const ReportInputs& in) {
   return s.str() + "</section>";
 }
 
-std::string ForestPlot(const EstimateResult& r, int i, const std::optional<ReducedFriction>& truth) {
+std::string ForestPlot(const EstimateResult& r, int i,
+                       const std::optional<ReducedFriction>& truth) {
   std::vector<std::string> names;
   std::vector<const ParameterEstimate*> rows;
   for (const LogResult& l : r.logs) {
@@ -336,7 +345,8 @@ std::string ForestPlot(const EstimateResult& r, int i, const std::optional<Reduc
     const bool pooled = k + 1 == rows.size();
     const ParameterEstimate& p = *rows[k];
     if (p.verdict == Verdict::kNotIdentifiable) continue;
-    plot.AddIntervalX(k, p.ci95_lo, p.ci95_hi, {pooled ? colors[1] : colors[0], pooled ? 2.5 : 1.5});
+    plot.AddIntervalX(k, p.ci95_lo, p.ci95_hi,
+                      {pooled ? colors[1] : colors[0], pooled ? 2.5 : 1.5});
     (pooled ? px : x).push_back(p.value);
     (pooled ? py : y).push_back(k);
   }
@@ -379,11 +389,13 @@ std::string PooledSection(const ReportInputs& in) {
       << "</tr>";
   }
   s << "</table>";
-  const bool skipped = std::any_of(r->logs.begin(), r->logs.end(), [](const LogResult& l) { return l.skipped; });
+  const bool skipped =
+      std::any_of(r->logs.begin(), r->logs.end(), [](const LogResult& l) { return l.skipped; });
   if (skipped) {
     s << "<p>Skipped:</p><ul>";
     for (const LogResult& l : r->logs) {
-      if (l.skipped) s << "<li>" << HtmlEscape(l.name) << ": " << HtmlEscape(l.skip_reason) << "</li>";
+      if (l.skipped)
+        s << "<li>" << HtmlEscape(l.name) << ": " << HtmlEscape(l.skip_reason) << "</li>";
     }
     s << "</ul>";
   }
@@ -400,24 +412,26 @@ std::string CheckTable(const LogCheck& c) {
   s << "<table>";
   row("rows, duration, rate", std::to_string(c.rows) + " rows, " + HtmlNumber(c.duration_s, 4) +
                                   " s, " + HtmlNumber(c.rate_hz, 4) + " Hz");
-  row("gaps", std::to_string(c.gaps) + (c.gaps > 0 ? ", the longest " + HtmlNumber(c.longest_gap_s, 3) + " s" : ""));
+  row("gaps", std::to_string(c.gaps) +
+                  (c.gaps > 0 ? ", the longest " + HtmlNumber(c.longest_gap_s, 3) + " s" : ""));
   row("columns", "pose " + Yes(c.has_pose) + ", velocity " + Yes(c.has_velocity) + ", force " +
-                     Yes(c.has_force) + ", push point " + Yes(c.has_push_point) + ", tip " + Yes(c.has_tip));
+                     Yes(c.has_force) + ", push point " + Yes(c.has_push_point) + ", tip " +
+                     Yes(c.has_tip));
   row("noise the log shows", HtmlNumber(c.pose_noise_m * 1e3, 3) + " mm, " +
                                  HtmlNumber(c.angle_noise_rad * 1e3, 3) + " mrad");
   row("force at rest", std::to_string(c.rest_rows) + " rows at rest, median (" +
-                           HtmlNumber(c.rest_force_x_n, 3) + ", " + HtmlNumber(c.rest_force_y_n, 3) +
-                           ") N; largest push " + HtmlNumber(c.max_push_n, 3) + " N");
+                           HtmlNumber(c.rest_force_x_n, 3) + ", " +
+                           HtmlNumber(c.rest_force_y_n, 3) + ") N; largest push " +
+                           HtmlNumber(c.max_push_n, 3) + " N");
   std::string dead;
   for (const std::string& d : c.dead_channels) dead += (dead.empty() ? "" : "; ") + HtmlEscape(d);
   row("dead channels", dead.empty() ? "none" : dead);
-  row("excitation", "turns " + HtmlNumber(c.rotation_range_rad * kRadToDeg, 3) +
-                        " deg; pushed over " + HtmlNumber(c.push_directions_rad * kRadToDeg, 3) +
-                        " deg of directions, slides over " +
-                        HtmlNumber(c.slide_directions_rad * kRadToDeg, 3) +
-                        " deg; pushes pass up to " + HtmlNumber(c.max_push_offset_m * 1e3, 3) +
-                        " mm from the CM; slides " + HtmlNumber(100 * c.sliding_share, 3) +
-                        "% of the time");
+  row("excitation",
+      "turns " + HtmlNumber(c.rotation_range_rad * kRadToDeg, 3) + " deg; pushed over " +
+          HtmlNumber(c.push_directions_rad * kRadToDeg, 3) + " deg of directions, slides over " +
+          HtmlNumber(c.slide_directions_rad * kRadToDeg, 3) + " deg; pushes pass up to " +
+          HtmlNumber(c.max_push_offset_m * 1e3, 3) + " mm from the CM; slides " +
+          HtmlNumber(100 * c.sliding_share, 3) + "% of the time");
   if (!c.failure.empty()) row("the fit could not look", HtmlEscape(c.failure));
   for (int i = 0; i < 3; ++i) {
     const ParameterOutlook& o = c.parameters[i];
@@ -435,8 +449,8 @@ std::string CheckTable(const LogCheck& c) {
   for (const auto& [name, o] : c.nuisances) {
     row("could identify " + name, o.identifiable ? "yes" : "no: " + HtmlEscape(o.reason));
   }
-  row("condition number of J^T J", std::isinf(c.condition_number) ? "infinite (singular)"
-                                                                 : HtmlNumber(c.condition_number, 3));
+  row("condition number of J^T J",
+      std::isinf(c.condition_number) ? "infinite (singular)" : HtmlNumber(c.condition_number, 3));
   std::string advice;
   for (const std::string& a : c.advice) advice += "<li>" + HtmlEscape(a) + "</li>";
   row("what would help", advice.empty() ? "nothing is amiss" : "<ul>" + advice + "</ul>");
@@ -460,22 +474,24 @@ std::string CheckSection(const ReportInputs& in) {
 std::string CorrelationCell(double r) {
   if (!std::isfinite(r)) return "<td class=\"num\">" + std::string(kMissingValue) + "</td>";
   const int shade = static_cast<int>(std::lround(255 * (1 - std::min(1.0, std::abs(r)) * 0.6)));
-  const std::string color = r >= 0 ? Printf("rgb(%d,%d,255)", shade, shade)
-                                   : Printf("rgb(255,%d,%d)", shade, shade);
+  const std::string color =
+      r >= 0 ? Printf("rgb(%d,%d,255)", shade, shade) : Printf("rgb(255,%d,%d)", shade, shade);
   return "<td class=\"num\" style=\"background:" + color + "\">" + Printf("%+.3f", r) + "</td>";
 }
 
 std::string CorrelationSection(const ReportInputs& in) {
   std::ostringstream s;
   s << "<section id=\"correlation\"><h2>Correlations of a, b, c</h2>";
-  const bool any = in.result && std::any_of(in.result->correlation.begin(), in.result->correlation.end(),
-                                            [](const std::array<double, 3>& row) {
-                                              return std::isfinite(row[0]) || std::isfinite(row[1]) ||
-                                                     std::isfinite(row[2]);
-                                            });
+  const bool any =
+      in.result && std::any_of(in.result->correlation.begin(), in.result->correlation.end(),
+                               [](const std::array<double, 3>& row) {
+                                 return std::isfinite(row[0]) || std::isfinite(row[1]) ||
+                                        std::isfinite(row[2]);
+                               });
   if (!any) {
-    s << "<p>Not available: " << (in.result ? "this method does not compute them, or no parameter is identifiable."
-                                             : "validate fits each fold; see identify --report.")
+    s << "<p>Not available: "
+      << (in.result ? "this method does not compute them, or no parameter is identifiable."
+                    : "validate fits each fold; see identify --report.")
       << "</p></section>";
     return s.str();
   }
@@ -511,11 +527,13 @@ std::string TraceSection(const ReportInputs& in) {
   std::vector<std::string> stages;
   std::map<std::string, std::pair<std::vector<double>, std::vector<double>>> series;
   std::ostringstream table;
-  table << "<table><tr><th>solve</th><th>iterations</th><th>cost at start</th><th>cost at end</th></tr>";
+  table << "<table><tr><th>solve</th><th>iterations (with its start)</th><th>cost at start</th>"
+           "<th>cost at end</th></tr>";
   int n = 0;
   for (size_t k = 0; k < trace.size(); ++k) {
     const SolverIteration& it = trace[k];
-    if (std::find(stages.begin(), stages.end(), it.stage) == stages.end()) stages.push_back(it.stage);
+    if (std::find(stages.begin(), stages.end(), it.stage) == stages.end())
+      stages.push_back(it.stage);
     auto& [x, y] = series[it.stage];
     if (it.iteration == 0 && !x.empty()) {  // a new solve of a stage already seen: break the line
       x.push_back(std::nan(""));
@@ -527,7 +545,7 @@ std::string TraceSection(const ReportInputs& in) {
     if (last) {
       size_t first = k;
       while (first > 0 && trace[first].iteration != 0) --first;
-      table << "<tr>" << Td(HtmlEscape(it.stage)) << Td(std::to_string(it.iteration), true)
+      table << "<tr>" << Td(HtmlEscape(it.stage)) << Td(std::to_string(k - first + 1), true)
             << Td(HtmlNumber(trace[first].cost, 4), true) << Td(HtmlNumber(it.cost, 4), true)
             << "</tr>";
     }
@@ -560,7 +578,8 @@ std::string PredictionsSection(const ReportInputs& in) {
     s << "<p>Not run: validate --report predicts each push from the other logs' fit.</p></section>";
     return s.str();
   }
-  s << "<p>Errors: median [quartiles] worst over the pushes predicted.</p><table><tr><th>method</th>"
+  s << "<p>Errors: median [quartiles] worst over the pushes "
+       "predicted.</p><table><tr><th>method</th>"
        "<th>failed</th><th>final position [mm]</th><th>final rotation [deg]</th>"
        "<th>position per 100 mm [mm]</th><th>position / displacement [%]</th></tr>";
   for (const MethodValidation& m : in.validation->methods) {
@@ -575,14 +594,17 @@ std::string PredictionsSection(const ReportInputs& in) {
 std::string LogArticle(const ReportInputs& in, const ReportLog& l) {
   std::ostringstream s;
   s << "<article class=\"log\"><h3>" << HtmlEscape(l.name) << "</h3>";
-  if (!l.path.empty() && l.path != l.name) s << "<p class=\"note\">" << HtmlEscape(l.path) << "</p>";
+  if (!l.path.empty() && l.path != l.name)
+    s << "<p class=\"note\">" << HtmlEscape(l.path) << "</p>";
   s << "<div class=\"figures\">";
   if (in.validation) {
     s << Figure(PathFigure(l.log, l.prediction ? &*l.prediction : nullptr, "predicted"),
                 "Solid: the log; dashed: its fold's prediction from the first row" +
                     std::string(l.log.columns.tip ? "; green: the pusher tip" : "") + "." +
                     (l.prediction_note.empty() ? "" : " " + l.prediction_note));
-    if (l.prediction) s << Figure(PredictionErrorFigure(l.log, *l.prediction), "How far the prediction is from the log, row by row.");
+    if (l.prediction)
+      s << Figure(PredictionErrorFigure(l.log, *l.prediction),
+                  "How far the prediction is from the log, row by row.");
   } else {
     s << Figure(PathFigure(l.log, l.replay ? &*l.replay : nullptr, "replayed"),
                 "Solid: the log; dashed: replayed from its first row under the logged forces with "
@@ -616,11 +638,13 @@ std::string LogArticle(const ReportInputs& in, const ReportLog& l) {
     s << "<details open><summary>Import report row (" << HtmlEscape(l.import_report_path)
       << ")</summary><table>";
     for (const auto& [column, cell] : l.import_row) {
-      s << "<tr><th>" << HtmlEscape(column) << "</th>" << Td(cell.empty() ? std::string(kMissingValue) : HtmlEscape(cell)) << "</tr>";
+      s << "<tr><th>" << HtmlEscape(column) << "</th>"
+        << Td(cell.empty() ? std::string(kMissingValue) : HtmlEscape(cell)) << "</tr>";
     }
     s << "</table></details>";
   } else {
-    s << "<p class=\"note\">No import report beside it (only logs written by import-log have one).</p>";
+    s << "<p class=\"note\">No import report beside it (only logs written by import-log have "
+         "one).</p>";
   }
   return s.str() + "</article>";
 }
@@ -638,7 +662,8 @@ std::string RunSection(const ReportInputs& in) {
     << HtmlEscape(in.command_line) << "</code></td></tr><tr><th>version</th><td>slideid "
     << HtmlEscape(in.version) << "</td></tr>";
   for (const ReportTiming& t : in.timings) {
-    s << "<tr><th>" << HtmlEscape(t.what) << "</th>" << Td(HtmlNumber(t.seconds, 3) + " s", true) << "</tr>";
+    s << "<tr><th>" << HtmlEscape(t.what) << "</th>" << Td(HtmlNumber(t.seconds, 3) + " s", true)
+      << "</tr>";
   }
   s << "</table>";
   if (!in.warnings.empty()) {
@@ -652,9 +677,9 @@ std::string RunSection(const ReportInputs& in) {
 }  // namespace
 
 const std::vector<std::string>& ReportSectionIds() {
-  static const std::vector<std::string> ids = {"summary", "estimates", "pooled", "check",
-                                               "correlation", "trace", "predictions", "logs",
-                                               "run"};
+  static const std::vector<std::string> ids = {"summary",     "estimates",   "pooled",
+                                               "check",       "correlation", "trace",
+                                               "predictions", "logs",        "run"};
   return ids;
 }
 
@@ -667,15 +692,22 @@ std::string RenderHtmlReport(const ReportInputs& in) {
        << "</style></head><body>\n";
   html << "<h1>slideid " << HtmlEscape(in.tool) << " report</h1>";
   html << "<nav>";
-  for (const std::string& id : ReportSectionIds()) html << "<a href=\"#" << id << "\">" << id << "</a>";
+  for (const std::string& id : ReportSectionIds())
+    html << "<a href=\"#" << id << "\">" << id << "</a>";
   html << "</nav>\n";
   html << "<section id=\"summary\"><p class=\"status\">" << HtmlEscape(StatusInWords(in)) << "</p>";
   std::string names;
   for (const ReportLog& l : in.logs) names += (names.empty() ? "" : ", ") + l.name;
-  html << "<p>Logs: " << HtmlEscape(names.empty() ? std::string(kMissingValue) : names) << "</p></section>\n";
-  html << EstimatesSection(in) << "\n" << PooledSection(in) << "\n" << CheckSection(in) << "\n"
-       << CorrelationSection(in) << "\n" << TraceSection(in) << "\n" << PredictionsSection(in)
-       << "\n" << LogsSection(in) << "\n" << RunSection(in) << "\n</body></html>\n";
+  html << "<p>Logs: " << HtmlEscape(names.empty() ? std::string(kMissingValue) : names)
+       << "</p></section>\n";
+  html << EstimatesSection(in) << "\n"
+       << PooledSection(in) << "\n"
+       << CheckSection(in) << "\n"
+       << CorrelationSection(in) << "\n"
+       << TraceSection(in) << "\n"
+       << PredictionsSection(in) << "\n"
+       << LogsSection(in) << "\n"
+       << RunSection(in) << "\n</body></html>\n";
   return html.str();
 }
 

@@ -13,12 +13,14 @@ namespace {
 
 // The frame's margins [px]: room for the tick labels and the axis labels.
 constexpr double kLeft = 64, kRight = 16, kTop = 28, kBottom = 44;
-// Forest plots: the row names need more room on the left.
-constexpr double kCategoryLeft = 150;
+// Forest plots: the row names need room on the left, at most this share of the width.
+constexpr double kMaxCategoryShare = 0.45;
 // A range of zero width is opened by this fraction of its value (or by 1 at zero).
 constexpr double kFlatRangeFraction = 0.05;
 // Data ranges are padded by this fraction on each side, so that nothing sits on the frame.
 constexpr double kPadFraction = 0.04;
+// Labels and legends (11 px sans-serif) take about this many px per character.
+constexpr double kCharPx = 6.2;
 // About this many ticks per axis.
 constexpr int kTargetTicks = 6;
 
@@ -137,7 +139,11 @@ void SvgPlot::AddVerticalLine(double x, const SvgStyle& style, const std::string
 
 std::string SvgPlot::Render(const std::string& label) const {
   const bool categorical = !categories_.empty();
-  const double left = categorical ? kCategoryLeft : kLeft;
+  size_t longest_name = 0;
+  for (const std::string& name : categories_) longest_name = std::max(longest_name, name.size());
+  const double left = categorical ? std::min(kMaxCategoryShare * width_,
+                                             std::max(kLeft, 12 + kCharPx * longest_name))
+                                  : kLeft;
   const double frame_w = width_ - left - kRight, frame_h = height_ - kTop - kBottom;
   auto ty = [&](double v) { return log_y_ ? (v > 0 ? std::log10(v) : std::nan("")) : v; };
 
@@ -176,8 +182,8 @@ std::string SvgPlot::Render(const std::string& label) const {
 
   std::ostringstream svg;
   svg << "<svg class=\"figure\" viewBox=\"0 0 " << width_ << ' ' << height_ << "\" width=\""
-      << width_ << "\" height=\"" << height_ << "\" role=\"img\" aria-label=\""
-      << HtmlEscape(label) << "\">";
+      << width_ << "\" height=\"" << height_ << "\" role=\"img\" aria-label=\"" << HtmlEscape(label)
+      << "\">";
   svg << "<title>" << HtmlEscape(title_.empty() ? label : title_) << "</title>";
   svg << "<rect x=\"" << Px(left) << "\" y=\"" << Px(kTop) << "\" width=\"" << Px(frame_w)
       << "\" height=\"" << Px(frame_h) << "\" fill=\"#fff\" stroke=\"#888\"/>";
@@ -191,8 +197,7 @@ std::string SvgPlot::Render(const std::string& label) const {
     svg << "<line x1=\"" << Px(X(v)) << "\" x2=\"" << Px(X(v)) << "\" y1=\"" << Px(kTop)
         << "\" y2=\"" << Px(kTop + frame_h) << "\" class=\"grid\"/>";
     svg << "<text x=\"" << Px(X(v)) << "\" y=\"" << Px(kTop + frame_h + 14)
-        << "\" text-anchor=\"middle\" class=\"tick\">" << HtmlEscape(TickLabel(v, xs))
-        << "</text>";
+        << "\" text-anchor=\"middle\" class=\"tick\">" << HtmlEscape(TickLabel(v, xs)) << "</text>";
   }
   if (categorical) {
     for (size_t k = 0; k < categories_.size(); ++k) {
@@ -200,13 +205,13 @@ std::string SvgPlot::Render(const std::string& label) const {
           << "\" text-anchor=\"end\" class=\"tick\">" << HtmlEscape(categories_[k]) << "</text>";
     }
   } else {
-    const double ys = log_y_ ? std::max(1.0, std::round(TickStep(ry.hi - ry.lo)))
-                             : TickStep(ry.hi - ry.lo);
+    const double ys =
+        log_y_ ? std::max(1.0, std::round(TickStep(ry.hi - ry.lo))) : TickStep(ry.hi - ry.lo);
     for (double v = std::ceil(ry.lo / ys) * ys; v <= ry.hi; v += ys) {
-      svg << "<line x1=\"" << Px(left) << "\" x2=\"" << Px(left + frame_w) << "\" y1=\""
-          << Px(Y(v)) << "\" y2=\"" << Px(Y(v)) << "\" class=\"grid\"/>";
-      const std::string text = log_y_ ? Printf("1e%d", static_cast<int>(std::lround(v)))
-                                      : TickLabel(v, ys);
+      svg << "<line x1=\"" << Px(left) << "\" x2=\"" << Px(left + frame_w) << "\" y1=\"" << Px(Y(v))
+          << "\" y2=\"" << Px(Y(v)) << "\" class=\"grid\"/>";
+      const std::string text =
+          log_y_ ? Printf("1e%d", static_cast<int>(std::lround(v))) : TickLabel(v, ys);
       svg << "<text x=\"" << Px(left - 6) << "\" y=\"" << Px(Y(v) + 4)
           << "\" text-anchor=\"end\" class=\"tick\">" << HtmlEscape(text) << "</text>";
     }
@@ -268,10 +273,10 @@ std::string SvgPlot::Render(const std::string& label) const {
       case Item::kInterval: {
         if (!std::isfinite(item.x[0]) || !std::isfinite(item.x[1])) break;
         const double y = Y(item.y[0]), x0 = X(item.x[0]), x1 = X(item.x[1]);
-        svg << "<path fill=\"none\" stroke=\"" << s.color << "\" stroke-width=\""
-            << Px(s.width_px) << "\"" << Dash(s) << Opacity(s) << " d=\"M" << Px(x0) << ","
-            << Px(y) << "H" << Px(x1) << "M" << Px(x0) << "," << Px(y - 4) << "V" << Px(y + 4)
-            << "M" << Px(x1) << "," << Px(y - 4) << "V" << Px(y + 4) << "\"/>";
+        svg << "<path fill=\"none\" stroke=\"" << s.color << "\" stroke-width=\"" << Px(s.width_px)
+            << "\"" << Dash(s) << Opacity(s) << " d=\"M" << Px(x0) << "," << Px(y) << "H" << Px(x1)
+            << "M" << Px(x0) << "," << Px(y - 4) << "V" << Px(y + 4) << "M" << Px(x1) << ","
+            << Px(y - 4) << "V" << Px(y + 4) << "\"/>";
         break;
       }
       case Item::kVertical:
@@ -282,16 +287,27 @@ std::string SvgPlot::Render(const std::string& label) const {
         break;
     }
   }
-  // The legend, top right inside the frame.
+  // The legend, top right inside the frame, on a veil that keeps the data behind it legible.
+  int entries = 0;
+  size_t longest = 0;
+  for (const Item& item : items_) {
+    if (item.legend.empty()) continue;
+    ++entries;
+    longest = std::max(longest, item.legend.size());
+  }
+  if (entries > 0) {
+    const double w = 40 + kCharPx * longest, h = 6 + 15 * entries;
+    svg << "<rect x=\"" << Px(left + frame_w - 4 - w) << "\" y=\"" << Px(kTop + 2) << "\" width=\""
+        << Px(w) << "\" height=\"" << Px(h) << "\" fill=\"#fff\" opacity=\"0.85\"/>";
+  }
   int row = 0;
   for (const Item& item : items_) {
     if (item.legend.empty()) continue;
     const double y = kTop + 14 + 15 * row++;
     const double x = left + frame_w - 8;
     svg << "<line x1=\"" << Px(x - 22) << "\" x2=\"" << Px(x) << "\" y1=\"" << Px(y - 4)
-        << "\" y2=\"" << Px(y - 4) << "\" stroke=\"" << item.style.color
-        << "\" stroke-width=\"" << Px(std::max(2.0, item.style.width_px)) << "\""
-        << Dash(item.style) << "/>";
+        << "\" y2=\"" << Px(y - 4) << "\" stroke=\"" << item.style.color << "\" stroke-width=\""
+        << Px(std::max(2.0, item.style.width_px)) << "\"" << Dash(item.style) << "/>";
     svg << "<text x=\"" << Px(x - 26) << "\" y=\"" << Px(y) << "\" text-anchor=\"end\""
         << " class=\"legend\">" << HtmlEscape(item.legend) << "</text>";
   }

@@ -2,6 +2,8 @@
 // loaded from anywhere, no "nan" printed; the import report row; and the report of the
 // bundled default log gathered through the pipeline as identify --report gathers it.
 
+#include "report/html_report.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -13,7 +15,6 @@
 #include "io/import_report_row.h"
 #include "pipeline/identify_files.h"
 #include "pipeline/report_files.h"
-#include "report/html_report.h"
 #include "report/html_text.h"
 #include "report/svg_plot.h"
 
@@ -71,7 +72,8 @@ TEST(SvgPlot, ALineBrokenByANonFinitePointIsTwoPolylines) {
   EXPECT_NE(svg.find("aria-label=\"label &quot;quoted&quot;\""), std::string::npos);
   EXPECT_NE(svg.find("t &lt;1&gt;"), std::string::npos);
   EXPECT_NE(svg.find("a &amp; b"), std::string::npos);
-  ExpectSelfContained(svg + "<meta http-equiv=\"Content-Security-Policy\" content=\"default-src 'none'\">");
+  ExpectSelfContained(
+      svg + "<meta http-equiv=\"Content-Security-Policy\" content=\"default-src 'none'\">");
   ExpectNoNan(svg);
 }
 
@@ -242,8 +244,7 @@ TEST(ImportReportRow, FindsTheLogsRowByItsFileNameWithQuotedCells) {
 
 TEST(ReportFiles, CommandLineIsQuotedAsAShellWouldReadIt) {
   const char* argv[] = {"identify", "--log", "my log.csv", "--report", "it's.html"};
-  EXPECT_EQ(QuotedCommandLine(5, argv),
-            "identify --log 'my log.csv' --report 'it'\\''s.html'");
+  EXPECT_EQ(QuotedCommandLine(5, argv), "identify --log 'my log.csv' --report 'it'\\''s.html'");
 }
 
 // The bundled log through the pipeline: what identify --report writes, without the tool.

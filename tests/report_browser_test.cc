@@ -99,11 +99,11 @@ std::vector<std::string> PageTroubles(const std::string& log) {
 
 bool HasChromium() { return access(kChromium, X_OK) == 0; }
 
-#define SKIP_WITHOUT_CHROMIUM()                                                            \
-  if (!HasChromium()) {                                                                    \
-    GTEST_SKIP() << "chromium is not installed (" << kChromium                             \
+#define SKIP_WITHOUT_CHROMIUM()                                                               \
+  if (!HasChromium()) {                                                                       \
+    GTEST_SKIP() << "chromium is not installed (" << kChromium                                \
                  << "): the report was not rendered in a browser; scripts/setup.sh installs " \
-                    "it (apt-get install chromium)";                                      \
+                    "it (apt-get install chromium)";                                          \
   }
 
 void ExpectRenderedReport(const Rendered& r, int min_figures) {
@@ -140,9 +140,9 @@ TEST(ReportBrowser, DefaultLogReportRendersWithEverySectionAndNothingLoaded) {
   const std::string work = MakeTempDir("report_default");
   ASSERT_FALSE(work.empty());
   const std::string report = work + "/report.html";
-  ASSERT_EQ(Shell("timeout " + std::to_string(kToolTimeoutS) + " " + Bin("identify") +
-                  " --log " + SLIDEID_SOURCE_DIR + "/datasets/logs/default_push.csv --report " +
-                  report + " > " + work + "/identify.txt 2>&1"),
+  ASSERT_EQ(Shell("timeout " + std::to_string(kToolTimeoutS) + " " + Bin("identify") + " --log " +
+                  SLIDEID_SOURCE_DIR + "/datasets/logs/default_push.csv --report " + report +
+                  " > " + work + "/identify.txt 2>&1"),
             0)
       << ReadText(work + "/identify.txt");
   const Rendered r = Render(report, work);
