@@ -5,6 +5,7 @@
 #include "report/html_report.h"
 
 #include <gtest/gtest.h>
+#include <stdlib.h>
 
 #include <cmath>
 #include <fstream>
@@ -278,6 +279,29 @@ TEST(ReportFiles, DefaultLogReportHasItsTraceCorrelationsReplayAndCheck) {
   EXPECT_NE(html.find("One log: nothing was pooled."), std::string::npos);
   ExpectSelfContained(html);
   ExpectNoNan(html);
+}
+
+// A log that import-log wrote sits beside its import_report.csv: the report shows its row.
+TEST(ReportFiles, LogBesideAnImportReportShowsItsRow) {
+  std::string dir = ::testing::TempDir() + "report_import_XXXXXX";
+  ASSERT_NE(mkdtemp(dir.data()), nullptr);
+  const std::string log = dir + "/push_7.csv";
+  {
+    std::ifstream in(std::string(SLIDEID_SOURCE_DIR) + "/datasets/logs/default_push.csv");
+    std::ofstream out(log);
+    out << in.rdbuf();
+    std::ofstream report(dir + "/import_report.csv");
+    report << "source,object,verdict,reason,output,rows\n"
+           << "push_6.json,rect1,accepted,,out/push_6.csv,10\n"
+           << "push_7.json,rect1,accepted,,out/push_7.csv,601\n";
+  }
+  FileIdentifyOptions options;
+  const FileIdentifyResult run = IdentifyFiles({log}, options);
+  const ReportInputs in = GatherIdentifyReport({log}, options, run);
+  ASSERT_EQ(in.logs.size(), 1u);
+  ASSERT_EQ(in.logs[0].import_row.size(), 6u);
+  EXPECT_EQ(in.logs[0].import_row[0].second, "push_7.json");
+  EXPECT_NE(RenderHtmlReport(in).find("push_7.json"), std::string::npos);
 }
 
 }  // namespace

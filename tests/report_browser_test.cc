@@ -25,7 +25,11 @@ constexpr int kBrowserTimeoutS = 120;
 // A tool run (identify, make-dataset, validate) likewise.
 constexpr int kToolTimeoutS = 600;
 
-const char* const kChromium = "/usr/bin/chromium";
+// Debian's chromium; SLIDEID_CHROMIUM names another (or none, to see the skip).
+std::string Chromium() {
+  const char* env = std::getenv("SLIDEID_CHROMIUM");
+  return env ? env : "/usr/bin/chromium";
+}
 
 std::string ReadText(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
@@ -44,10 +48,15 @@ std::string Bin(const std::string& tool) {
   return std::string(env ? env : "build/bin") + "/" + tool;
 }
 
-std::string MakeTempDir(const std::string& name) {
-  std::string dir = ::testing::TempDir() + name + "_XXXXXX";
+// A fresh directory `prefix`XXXXXX ("" when it cannot be made).
+std::string FreshDir(const std::string& prefix) {
+  std::string dir = prefix + "XXXXXX";
   if (!mkdtemp(dir.data())) return "";
   return dir;
+}
+
+std::string MakeTempDir(const std::string& name) {
+  return FreshDir(::testing::TempDir() + name + "_");
 }
 
 int Count(const std::string& text, const std::string& what) {
@@ -66,20 +75,24 @@ struct Rendered {
 // Renders `html` (a path) headless: the DOM dump, then a screenshot, each in a fresh profile.
 Rendered Render(const std::string& html, const std::string& work) {
   const std::string flags = std::string("timeout ") + std::to_string(kBrowserTimeoutS) + " " +
-                            kChromium +
+                            Chromium() +
                             " --headless --no-sandbox --disable-gpu --no-first-run "
                             "--enable-logging=stderr --v=0 --user-data-dir=";
+  // A profile of its own per run: two browsers on one profile refuse to start.
+  const std::string dom_profile = FreshDir(work + "/profile_dom_");
+  const std::string png_profile = FreshDir(work + "/profile_png_");
   Rendered r;
-  r.exit_code = Shell(flags + MakeTempDir(work + "/profile_dom") + " --dump-dom file://" + html +
-                      " > " + work + "/dom.html 2> " + work + "/dom.log");
+  if (dom_profile.empty() || png_profile.empty()) return r;
+  r.exit_code = Shell(flags + dom_profile + " --dump-dom file://" + html + " > " + work +
+                      "/dom.html 2> " + work + "/dom.log");
   r.dom = ReadText(work + "/dom.html");
   r.log = ReadText(work + "/dom.log");
-  const int shot = Shell(flags + MakeTempDir(work + "/profile_png") +
-                         " --window-size=1280,2000 --screenshot=" + work + "/page.png file://" +
-                         html + " > /dev/null 2> " + work + "/png.log");
+  const int shot = Shell(flags + png_profile + " --window-size=1280,2000 --screenshot=" + work +
+                         "/page.png file://" + html + " > /dev/null 2> " + work + "/png.log");
   if (r.exit_code == 0) r.exit_code = shot;
   r.log += ReadText(work + "/png.log");
   r.png = ReadText(work + "/page.png");
+  Shell("rm -rf " + dom_profile + " " + png_profile);  // tens of MB each
   return r;
 }
 
@@ -97,11 +110,11 @@ std::vector<std::string> PageTroubles(const std::string& log) {
   return out;
 }
 
-bool HasChromium() { return access(kChromium, X_OK) == 0; }
+bool HasChromium() { return access(Chromium().c_str(), X_OK) == 0; }
 
 #define SKIP_WITHOUT_CHROMIUM()                                                               \
   if (!HasChromium()) {                                                                       \
-    GTEST_SKIP() << "chromium is not installed (" << kChromium                                \
+    GTEST_SKIP() << "chromium is not installed (" << Chromium()                               \
                  << "): the report was not rendered in a browser; scripts/setup.sh installs " \
                     "it (apt-get install chromium)";                                          \
   }
