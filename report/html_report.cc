@@ -16,8 +16,8 @@ namespace {
 
 // Patch outlines drawn along a path: about this many, evenly over the rows.
 constexpr int kPatchSnapshots = 6;
-// Figure sizes [px]: wide enough to read, small enough for two side by side on a laptop.
-constexpr int kFigureWidth = 560, kFigureHeight = 380, kForestRowHeight = 22;
+// Figure sizes [px]: wide enough to read, two side by side in a 1100 px window.
+constexpr int kFigureWidth = 520, kFigureHeight = 360, kForestRowHeight = 22;
 
 // Loads nothing: no default source; inline style only; images only from data: URIs (none
 // are used, but a browser's own favicon request then fails silently instead of loading).
@@ -25,7 +25,7 @@ constexpr const char* kContentSecurityPolicy =
     "default-src 'none'; style-src 'unsafe-inline'; img-src data:";
 
 constexpr const char* kStyle = R"(
-body { font-family: sans-serif; margin: 1.5em auto; max-width: 1200px; color: #222; }
+body { font-family: sans-serif; margin: 1.5em auto; padding: 0 1em; max-width: 1200px; color: #222; }
 h1 { font-size: 1.5em; } h2 { border-bottom: 1px solid #ccc; padding-bottom: .2em; }
 table { border-collapse: collapse; margin: .5em 0; }
 th, td { border: 1px solid #ccc; padding: .25em .5em; text-align: left; vertical-align: top; }
@@ -34,7 +34,7 @@ td.num { text-align: right; font-variant-numeric: tabular-nums; }
 .status { font-size: 1.1em; padding: .5em; background: #f4f4f4; border-left: 4px solid #0072B2; }
 .note { color: #555; font-size: .9em; }
 .figures { display: flex; flex-wrap: wrap; gap: 1em; }
-figure { margin: 0; } figcaption { font-size: .85em; color: #555; max-width: 560px; }
+figure { margin: 0; } figcaption { font-size: .85em; color: #555; max-width: 520px; }
 svg.figure { max-width: 100%; height: auto; }
 svg .grid { stroke: #eee; } svg .tick { font-size: 11px; fill: #444; }
 svg .axis-label { font-size: 12px; fill: #222; } svg .fig-title { font-size: 13px; font-weight: bold; }
@@ -677,9 +677,9 @@ std::string RunSection(const ReportInputs& in) {
 }  // namespace
 
 const std::vector<std::string>& ReportSectionIds() {
-  static const std::vector<std::string> ids = {"summary",     "estimates",   "pooled",
-                                               "check",       "correlation", "trace",
-                                               "predictions", "logs",        "run"};
+  static const std::vector<std::string> ids = {"summary",     "estimates", "pooled",
+                                               "predictions", "logs",      "check",
+                                               "correlation", "trace",     "run"};
   return ids;
 }
 
@@ -700,14 +700,12 @@ std::string RenderHtmlReport(const ReportInputs& in) {
   for (const ReportLog& l : in.logs) names += (names.empty() ? "" : ", ") + l.name;
   html << "<p>Logs: " << HtmlEscape(names.empty() ? std::string(kMissingValue) : names)
        << "</p></section>\n";
-  html << EstimatesSection(in) << "\n"
-       << PooledSection(in) << "\n"
-       << CheckSection(in) << "\n"
-       << CorrelationSection(in) << "\n"
-       << TraceSection(in) << "\n"
-       << PredictionsSection(in) << "\n"
-       << LogsSection(in) << "\n"
-       << RunSection(in) << "\n</body></html>\n";
+  for (const std::string& section :
+       {EstimatesSection(in), PooledSection(in), PredictionsSection(in), LogsSection(in),
+        CheckSection(in), CorrelationSection(in), TraceSection(in), RunSection(in)}) {
+    html << section << "\n";
+  }
+  html << "</body></html>\n";
   return html.str();
 }
 

@@ -8,13 +8,13 @@
 //   estimates    a, b, c (and mu_p, the nuisances) with intervals and verdicts; validate:
 //                each fold's friction
 //   pooled       pooled fits: the forest plot of each parameter and the heterogeneity
-//   check        the check before fitting, per log (estimator/log_check.h)
-//   correlation  the correlations of a, b, c from the fit's covariance
-//   trace        the optimisation trace: Ceres' cost per iteration of each solve
 //   predictions  validate: each method's errors over the pushes
 //   logs         per log: the logged and replayed (or predicted) path with the contact
 //                patch at a few poses and the tip's path, the residuals against time
 //                (validate: the prediction's error against time), its import report row
+//   check        the check before fitting, per log (estimator/log_check.h)
+//   correlation  the correlations of a, b, c from the fit's covariance
+//   trace        the optimisation trace: Ceres' cost per iteration of each solve
 //   run          the command line, the version, the timings, the warnings
 
 #include <string>
