@@ -4,6 +4,7 @@
 // must show no console message: the page's Content-Security-Policy forbids every load, so a
 // resource the page tried to load shows there as a blocked load (a control page proves it).
 // Skipped, saying so, only where chromium is not installed (scripts/setup.sh installs it).
+// Also the --report option's own errors: usage, and a page that cannot be written.
 
 #include <gtest/gtest.h>
 #include <sys/wait.h>
@@ -133,6 +134,37 @@ void ExpectRenderedReport(const Rendered& r, int min_figures) {
   // A blank page of this size compresses to a few kB; the report's text and figures do not.
   EXPECT_GT(r.png.size(), 20000u);
 }
+
+// ---- the --report option itself (no browser) ----
+
+TEST(ReportTool, ReportWithCheckBatchOrFollowIsAUsageError) {
+  const std::string work = MakeTempDir("report_usage");
+  ASSERT_FALSE(work.empty());
+  const std::string log = std::string(SLIDEID_SOURCE_DIR) + "/datasets/logs/default_push.csv";
+  for (const std::string& args : std::vector<std::string>{
+           "--check --log " + log, "--batch " + log + " --out " + work + "/r.jsonl", "--follow"}) {
+    EXPECT_EQ(Shell(Bin("identify") + " " + args + " --report " + work +
+                    "/r.html < /dev/null > /dev/null 2>&1"),
+              2)
+        << args;
+  }
+  EXPECT_NE(access((work + "/r.html").c_str(), F_OK), 0);
+}
+
+TEST(ReportTool, AReportThatCannotBeWrittenExitsFourAndLeavesNoFile) {
+  const std::string work = MakeTempDir("report_unwritable");
+  ASSERT_FALSE(work.empty());
+  const std::string out = work + "/no_such_directory/report.html";
+  EXPECT_EQ(
+      Shell(Bin("identify") + " --log " + SLIDEID_SOURCE_DIR +
+            "/datasets/logs/default_push.csv --report " + out + " > " + work + "/out.txt 2>&1"),
+      4);
+  EXPECT_NE(ReadText(work + "/out.txt").find("cannot write the HTML report"), std::string::npos)
+      << ReadText(work + "/out.txt");
+  EXPECT_NE(access(out.c_str(), F_OK), 0);
+}
+
+// ---- in the browser ----
 
 TEST(ReportBrowser, ControlPageThatLoadsSomethingIsCaught) {
   SKIP_WITHOUT_CHROMIUM();
