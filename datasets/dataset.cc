@@ -174,11 +174,6 @@ bool DatasetSpec::IsValid(std::string* why) const {
 
 // ---- drawing ----
 
-namespace {
-
-/// The pusher of a pusher-driven log, drawn from its own stream (seeded by the dataset's
-/// seed and the log's index and attempt), so that the other draws stay those of a
-/// force-driven dataset with the same seed.
 Pusher DrawPusher(const PusherDraw& d, const ContactPatch& patch, std::uint64_t seed, int index,
                   int attempt) {
   std::seed_seq seq{static_cast<std::uint32_t>(seed), static_cast<std::uint32_t>(seed >> 32),
@@ -212,8 +207,6 @@ Pusher DrawPusher(const PusherDraw& d, const ContactPatch& patch, std::uint64_t 
   p.path = PusherPath::Polyline(0.0, start, {start + (meets + distance) * along}, {speed});
   return p;
 }
-
-}  // namespace
 
 DatasetEntry DrawDatasetLog(const DatasetSpec& spec, int index, Trajectory* log) {
   std::string why;

@@ -52,6 +52,14 @@ struct PusherDraw {
   double tip_radius_m = 0.00475;
 };
 
+/// The pusher of a pusher-driven log (make-dataset --pusher): one straight push of `patch`'s
+/// slider, at rest at the origin, drawn from `d` on its own stream (seeded by the dataset's
+/// `seed`, the log's `index` and the draw's `attempt`), so that a dataset's other draws stay
+/// those of a force-driven dataset with the same seed. Also the random arm of the push
+/// advice's benchmark (fixtures/push_race.h).
+Pusher DrawPusher(const PusherDraw& d, const ContactPatch& patch, std::uint64_t seed, int index,
+                  int attempt);
+
 /// What a dataset draws from, and how each log is made.
 struct DatasetSpec {
   int count = 10;          ///< logs to make (>= 1)

@@ -206,7 +206,7 @@ ParameterEstimate EstimateFromLog(double log_value, double stderr_log, double qu
   p.identifiable = true;
   p.verdict = Verdict::kOk;
   p.value = std::exp(log_value);
-  p.stderr_value = p.value * stderr_log;
+  p.stderr_value = p.value * stderr_log * quantile / kZ95;
   p.ci95_lo = std::exp(log_value - quantile * stderr_log);
   p.ci95_hi = std::exp(log_value + quantile * stderr_log);
   return p;

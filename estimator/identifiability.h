@@ -100,7 +100,11 @@ std::array<ParameterIdentifiability, 3> AssessIdentifiability(const Eigen::Matri
 /// [exp(log_value - kZ95 stderr_log), exp(log_value + kZ95 stderr_log)] (asymmetric, > 0).
 ParameterEstimate EstimateFromLog(double log_value, double stderr_log);
 /// The same with the interval's quantile given (e.g. Student's t for few clusters):
-/// [exp(log_value - quantile stderr_log), exp(log_value + quantile stderr_log)].
+/// [exp(log_value - quantile stderr_log), exp(log_value + quantile stderr_log)]. The standard
+/// error reported is the one that interval implies, value * stderr_log * quantile / kZ95:
+/// a user who reads value +- 1.96 stderr as the 95% band (a planner's Gaussian, a weighted
+/// mean) gets the interval, not a band that a t quantile of 4 on 2 degrees of freedom would
+/// make half as wide as the uncertainty.
 ParameterEstimate EstimateFromLog(double log_value, double stderr_log, double quantile);
 
 /// A parameter the data do not determine: value, stderr and interval NaN, held_at the value

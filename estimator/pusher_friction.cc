@@ -105,8 +105,8 @@ ParameterEstimate FromSliding(const std::vector<double>& ratios, const PusherFri
   double mean = 0, square = 0;
   for (double m : medians) mean += m / batches;
   for (double m : medians) square += (m - mean) * (m - mean) / (batches - 1);
-  p.stderr_value = std::sqrt(square / batches);
-  const double half = StudentT95(batches - 1) * p.stderr_value;
+  const double half = StudentT95(batches - 1) * std::sqrt(square / batches);
+  p.stderr_value = half / kZ95;  // the interval's, as EstimateFromLog's (identifiability.h)
   p.ci95_lo = p.value - half;
   p.ci95_hi = p.value + half;
   p.note = "median |f_t| / f_n over " + std::to_string(ratios.size()) +

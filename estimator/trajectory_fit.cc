@@ -1056,7 +1056,7 @@ IntervalStage Intervals(const FitStages& f, const HeldStage& held, EstimateResul
       n.identifiable = true;
       n.verdict = Verdict::kOk;
       n.value = out.value_of[i];
-      n.stderr_value = iv.stderr_value;
+      n.stderr_value = iv.quantile * iv.stderr_value / kZ95;  // the interval's (EstimateFromLog)
       n.ci95_lo = n.value - iv.quantile * iv.stderr_value;
       n.ci95_hi = n.value + iv.quantile * iv.stderr_value;
     }

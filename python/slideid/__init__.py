@@ -23,7 +23,8 @@ per file, result_row a flat table row of it, read_results reads the JSON lines o
 --batch; slideid.dask (import it, with python3-distributed) runs them on a Dask cluster.
 
 What a friction predicts: predict replays a push with it (by the pusher's path or the force),
-validate cross-validates over logs; both return the tools' JSON.
+validate cross-validates over logs; both return the tools' JSON. Which push next:
+advise_push ranks candidate pushes by what they are expected to teach (advise-push --json).
 """
 
 import sys as _sys
@@ -49,7 +50,7 @@ from ._log import (
     write_log,
 )
 from ._online import OnlineIdentifier
-from ._predict import predict, validate
+from ._predict import advise_push, predict, validate
 from ._results import ROW_FIELDS, log_files, read_results, result_row
 
 __all__ = [
@@ -64,6 +65,7 @@ __all__ = [
     "Result",
     "SlideidWarning",
     "__version__",
+    "advise_push",
     "check",
     "identify",
     "identify_file",

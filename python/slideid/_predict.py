@@ -1,7 +1,8 @@
-"""Prediction in Python: predict (one push replayed with a friction) and validate
-(cross-validation over logs). Both return the JSON object the tools print with --json, as a
-plain dict: ``slideid.predict(log, mu=0.3, b=1.2, c=0.035, mu_pusher=0.25)`` equals
-``json.loads`` of ``predict --log ... --mu 0.3 --b 1.2 --c 0.035 --mu-pusher 0.25 --json``."""
+"""Prediction in Python: predict (one push replayed with a friction), validate
+(cross-validation over logs) and advise_push (which push next). Each returns the JSON
+object its tool prints with --json, as a plain dict:
+``slideid.predict(log, mu=0.3, b=1.2, c=0.035, mu_pusher=0.25)`` equals ``json.loads`` of
+``predict --log ... --mu 0.3 --b 1.2 --c 0.035 --mu-pusher 0.25 --json``."""
 
 import json
 import os
@@ -34,3 +35,16 @@ def validate(logs, **options):
     if isinstance(logs, (str, os.PathLike)):
         logs = _core.log_files(os.fspath(logs))
     return json.loads(_core.validate([_input(item) for item in logs], **options))
+
+
+def advise_push(**options):
+    """Ranks candidate pushes by what each is expected to teach about the friction, with
+    advise-push's options as keywords: patch (required), friction (identify's JSON file;
+    without it the prior), mass, inertia, com_height, candidates (how many to return),
+    criterion ("least-known" or "d-optimal"), mu_pusher, pose_noise, rate, contact_points,
+    cone_fractions, lengths, tip_speed, tip_radius, prior_a, prior_b, prior_c, threads.
+    Returns what advise-push --json prints: {"criterion", "known", "ranking": [...], ...}."""
+    for key in ("friction",):
+        if key in options and options[key] is not None:
+            options[key] = os.fspath(options[key])
+    return json.loads(_core.advise_push(**options))

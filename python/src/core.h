@@ -59,5 +59,6 @@ void BindSimulate(py::module_& m);        ///< simulate, make_dataset
 void BindImport(py::module_& m);          ///< import_log
 void BindPredict(py::module_& m);         ///< predict, validate
 void BindOnline(py::module_& m);          ///< OnlineCore (slideid.OnlineIdentifier)
+void BindAdvise(py::module_& m);          ///< advise_push
 
 }  // namespace slideid::python

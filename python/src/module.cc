@@ -102,4 +102,5 @@ PYBIND11_MODULE(_core, m) {
   sp::BindImport(m);
   sp::BindPredict(m);
   sp::BindOnline(m);
+  sp::BindAdvise(m);
 }
