@@ -98,6 +98,17 @@ struct StepResidual {
   bool used = true;
 };
 
+/// One iteration of one least-squares solve of the fit, from Ceres' Summary: the
+/// optimisation trace. Costs of different solves are of different problems (the segments'
+/// heads, the plain and the robust loss) and are compared within a solve only.
+struct SolverIteration {
+  std::string stage;  ///< which solve: "seed (segment heads)", "least squares", "robust", ...
+  int iteration = 0;  ///< within its solve; 0 is the point the solve starts from
+  double cost = 0;    ///< Ceres' cost: half the sum of the squared (robustified) residuals
+  double gradient_max_norm = 0;  ///< of the cost, in the solver's parameters
+  double step_norm = 0;          ///< of the step that led here (0 at iteration 0)
+};
+
 /// One log of a pooled identification, fitted on its own.
 struct LogResult {
   std::string name;      ///< its source (file name), or "log N"
@@ -126,6 +137,12 @@ struct Heterogeneity {
   bool consistent = true;  ///< p_value >= kHeterogeneityAlpha
 };
 
+/// A correlation matrix of unknown entries (EstimateResult::correlation's default).
+inline std::array<std::array<double, 3>, 3> NaNCorrelation() {
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  return {{{nan, nan, nan}, {nan, nan, nan}, {nan, nan, nan}}};
+}
+
 /// The Summary of an identification: estimates with verdicts, how the fit ended, and what
 /// the log (or logs) told it.
 struct EstimateResult {
@@ -150,6 +167,13 @@ struct EstimateResult {
   double residual_rms = std::numeric_limits<double>::quiet_NaN();
   double final_cost = 0;
   int iterations = 0;
+  /// The trajectory fit: every iteration of its least-squares solves, in order (the
+  /// optimisation trace; empty for the other methods). Of the pooled fit when pooled.
+  std::vector<SolverIteration> trace;
+  /// The trajectory fit: the correlations of the estimates of log a, log b and log c, from
+  /// the covariance its intervals come from (ParameterIndex order; NaN where a parameter is
+  /// not identifiable, or for the other methods).
+  std::array<std::array<double, 3>, 3> correlation = NaNCorrelation();
   double seconds = 0;
   bool converged = true;  ///< status is kConverged or kConvergedWithCaveats
   std::string message;    ///< how the solve ended

@@ -172,9 +172,17 @@ constexpr int kSeedHeadSteps = 20;
 // Heads holding more than this fraction of the rows save too little to be worth a stage.
 constexpr double kMaxHeadsFraction = 0.5;
 
+// Appends the iterations of one solve, named `stage`, to the optimisation trace.
+void AppendTrace(const ceres::Solver::Summary& summary, const char* stage,
+                 std::vector<SolverIteration>* trace) {
+  for (const ceres::IterationSummary& it : summary.iterations) {
+    trace->push_back({stage, it.iteration, it.cost, it.gradient_max_norm, it.step_norm});
+  }
+}
+
 // Seeds the problem's friction (returned in *seed) and states; returns the iterations spent.
 int SeedFromHeads(TrajectoryProblem* problem, const SeedCandidates& candidates,
-                  std::array<double, 3>* seed) {
+                  std::array<double, 3>* seed, std::vector<SolverIteration>* trace) {
   if (problem->HeadsFraction(kSeedHeadSteps) > kMaxHeadsFraction) {
     *seed = SeedFriction(problem, candidates);
     return 0;
@@ -184,7 +192,9 @@ int SeedFromHeads(TrajectoryProblem* problem, const SeedCandidates& candidates,
   // Delays held at zero, as in Fit's first stage (SeedDelays says why).
   std::vector<bool> free(heads->num_global(), true);
   for (int i = 3; i < heads->num_global(); ++i) free[i] = heads->GlobalName(i) != "delay_s";
-  const int iterations = static_cast<int>(heads->Solve(free, /*stage=*/true).iterations.size());
+  const ceres::Solver::Summary summary = heads->Solve(free, /*stage=*/true);
+  AppendTrace(summary, "seed (segment heads)", trace);
+  const int iterations = static_cast<int>(summary.iterations.size());
   // A guard, not a choice: heads without sliding could leave the friction anywhere.
   problem->SetFriction(*seed);
   const TrajectoryProblem::Point at_seed = problem->point();
@@ -237,6 +247,7 @@ struct SecondStart {
   int steps = 0;  ///< intervals per long segment
   int iterations = 0;
   ceres::Solver::Summary summary;  ///< of the fit's own solve from the second start
+  std::vector<SolverIteration> trace;
 };
 
 SecondStart TrySecondStart(TrajectoryProblem* problem, const std::vector<bool>& free, bool stage) {
@@ -245,6 +256,7 @@ SecondStart TrySecondStart(TrajectoryProblem* problem, const std::vector<bool>& 
   if (out.steps == 0) return out;
   std::unique_ptr<TrajectoryProblem> wide = problem->Resegmented(out.steps);
   const ceres::Solver::Summary wide_summary = wide->Solve(free, /*stage=*/true);
+  AppendTrace(wide_summary, "second start (long segments)", &out.trace);
   out.iterations += static_cast<int>(wide_summary.iterations.size());
   if (!(wide->RawCost() < std::numeric_limits<double>::infinity())) return out;
   const TrajectoryProblem::Point first = problem->point();
@@ -252,6 +264,7 @@ SecondStart TrySecondStart(TrajectoryProblem* problem, const std::vector<bool>& 
   for (int i = 0; i < problem->num_global(); ++i) problem->set_global(i, wide->global(i));
   problem->StatesFrom(*wide);
   out.summary = problem->Solve(free, stage);
+  AppendTrace(out.summary, "second start (own segments)", &out.trace);
   out.iterations += static_cast<int>(out.summary.iterations.size());
   out.cost_second = problem->RawCost();
   out.moved = out.cost_second < out.cost_first;
@@ -399,6 +412,9 @@ struct IntervalChoice {
   bool correction_refused = false;  ///< it would have moved a parameter too far
   /// The residuals' sum of squares after the correction over the fit's own (1 without).
   double residual_ratio = 1.0;
+  /// Covariance of the free global parameters the intervals come from (its correlations
+  /// are reported; where the logs' covariance widened an interval, still the segments').
+  Eigen::MatrixXd covariance;
 };
 
 // A mismatch nuisance whose direction, once the free parameters explain what they can of
@@ -680,6 +696,8 @@ IntervalChoice ChooseIntervals(const FitInformation& info, const std::vector<int
     by_segment.ok = false;
     by_segment.failure = "fewer than " + std::to_string(kMinRobustSegments) + " segments";
   }
+  choice.covariance = by_segment.ok ? Eigen::MatrixXd(by_segment.covariance.topLeftCorner(n, n))
+                                    : Eigen::MatrixXd(inflation * s2 * Hinv.topLeftCorner(n, n));
   std::vector<int> shared;
   const ClusterCovariance by_log =
       logs >= 2 ? LogClusterCovariance(a, logs, &shared) : ClusterCovariance{};
@@ -819,10 +837,12 @@ struct FitStages {
   std::array<double, 3> seed{};             ///< the friction the fit started from
   ceres::Solver::Summary summary;           ///< of the last solve
   int iterations = 0;                       ///< over every solve
+  std::vector<SolverIteration> trace;       ///< every solve's iterations (the trace)
   SecondStart second;
 
-  void Solve(const std::vector<bool>& which, bool stage = false) {
+  void Solve(const std::vector<bool>& which, const char* name, bool stage = false) {
     summary = problem->Solve(which, stage);
+    AppendTrace(summary, name, &trace);
     iterations += static_cast<int>(summary.iterations.size());
   }
 };
@@ -843,7 +863,8 @@ void SeedStage(const FitStart* start, FitStages* f) {
     f->seed = start->friction;
     ApplyStart(*start, f->problem);
   } else {
-    f->iterations += SeedFromHeads(f->problem, CandidateSeeds(*f->logs[0], f->options), &f->seed);
+    f->iterations +=
+        SeedFromHeads(f->problem, CandidateSeeds(*f->logs[0], f->options), &f->seed, &f->trace);
   }
 }
 
@@ -862,13 +883,16 @@ void LeastSquaresStage(const FitStart* start, FitStages* f) {
     for (int i = 3; i < problem.num_global(); ++i) {
       stage[i] = problem.GlobalName(i) != "delay_s";
     }
-    f->iterations += static_cast<int>(problem.Solve(stage, /*stage=*/true).iterations.size());
+    const ceres::Solver::Summary held = problem.Solve(stage, /*stage=*/true);
+    AppendTrace(held, "least squares, delays held", &f->trace);
+    f->iterations += static_cast<int>(held.iterations.size());
     SeedDelays(&problem, f->topt.max_delay_s);
   }
-  if (!(start && start->settled) || !robust) f->Solve(f->free, /*stage=*/robust);
+  if (!(start && start->settled) || !robust) f->Solve(f->free, "least squares", /*stage=*/robust);
   if (!start && f->topt.second_start) {
     f->second = TrySecondStart(&problem, f->free, /*stage=*/robust);
     f->iterations += f->second.iterations;
+    f->trace.insert(f->trace.end(), f->second.trace.begin(), f->second.trace.end());
     if (f->second.moved) f->summary = f->second.summary;
   }
   f->residual_scale = ResidualRowScale(problem);
@@ -896,7 +920,7 @@ void RobustStage(FitStages* f) {
       RowsBeyond(problem, f->topt.loss_scale_sigmas, loss_noise) > 0) {
     SetRowLosses(&problem, f->topt.loss, f->topt.loss_scale_sigmas, loss_noise);
   }
-  f->Solve(f->free);
+  f->Solve(f->free, "robust");
   f->residual_scale = ResidualRowScale(problem);
 }
 
@@ -945,7 +969,7 @@ bool HoldStage(FitStages* f, HeldStage* held) {
   }
   if (!f->free[0] && !f->free[1] && !f->free[2]) return false;
   if (std::find(f->free.begin(), f->free.end(), false) != f->free.end()) {
-    f->Solve(f->free);
+    f->Solve(f->free, "refit, unidentifiable held");
     f->residual_scale = ResidualRowScale(problem);
     held->info = InformationOf(&problem, held->correctable);
   }
@@ -979,6 +1003,14 @@ IntervalStage Intervals(const FitStages& f, const HeldStage& held, EstimateResul
   for (size_t a = 0; a < free_index.size(); ++a) {
     out.interval_of[free_index[a]] = out.choice.intervals[a];
     out.value_of[free_index[a]] += out.choice.shift[a];
+  }
+  const Eigen::MatrixXd& cov = out.choice.covariance;
+  for (size_t a = 0; a < free_index.size() && free_index[a] < 3; ++a) {
+    for (size_t b = 0; b < free_index.size() && free_index[b] < 3; ++b) {
+      if (cov.rows() <= static_cast<int>(std::max(a, b))) continue;
+      const double scale = std::sqrt(cov(a, a) * cov(b, b));
+      if (scale > 0) result->correlation[free_index[a]][free_index[b]] = cov(a, b) / scale;
+    }
   }
   for (int i = 0; i < 3; ++i) {
     if (!f.free[i]) {
@@ -1098,6 +1130,7 @@ void Conclude(const FitStages& f, EstimateResult* result) {
   }
   result->final_cost = f.summary.final_cost;
   result->iterations = f.iterations;
+  result->trace = f.trace;
   result->message = f.summary.BriefReport();
   if (f.second.moved) {
     result->message += Printf(
@@ -1434,7 +1467,8 @@ SeedInformation TrajectoryInformationAtSeed(const Trajectory& log, const Identif
   // The fit's own seeds (Fit, "Seeds"), least squares as its first stage is.
   SetRowLosses(problem.get(), RobustLoss::kNone, options.trajectory.loss_scale_sigmas,
                std::vector<double>{0.0});
-  SeedFromHeads(problem.get(), CandidateSeeds(log, options), &out.seed);
+  std::vector<SolverIteration> unused_trace;  // the check reports no trace
+  SeedFromHeads(problem.get(), CandidateSeeds(log, options), &out.seed, &unused_trace);
   out.seed = problem->Friction();
   const FitInformation info = problem->Information();
   const int G = problem->num_global();

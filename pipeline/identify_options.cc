@@ -156,6 +156,10 @@ void AddIdentifyOptions(po::options_description* options, po::options_descriptio
       "instead of failing the run")("json", "print one JSON object instead of the table")(
       "residuals", po::value<std::string>()->value_name("OUT.csv"),
       "write per-step residuals (only when the fit succeeds)")(
+      "report", po::value<std::string>()->value_name("OUT.html"),
+      "also write a self-contained HTML report: the estimates, the forest plot of pooled logs, "
+      "each log's path, replay and residuals, the check before fitting, the correlations, "
+      "the optimisation trace, the command line and the timings (docs/identify.md)")(
       "verbose,v",
       "also print what the readers noticed about the logs (notes), the solver's own report "
       "and how each interval was computed in full")(
@@ -199,7 +203,7 @@ void AddIdentifyOptions(po::options_description* options, po::options_descriptio
 // --batch and its companions; the batch's files, sharded.
 void ReadBatchOptions(const po::variables_map& vm, IdentifyRequest* r) {
   r->batch = true;
-  for (const char* option : {"log", "logs", "json", "residuals", "skip-bad", "strict"}) {
+  for (const char* option : {"log", "logs", "json", "residuals", "skip-bad", "strict", "report"}) {
     if (vm.count(option)) throw po::error(std::string("--") + option + " does not go with --batch");
   }
   if (!vm.count("out")) throw po::error("--batch needs --out RESULTS.jsonl");
@@ -227,7 +231,8 @@ void ReadBatchOptions(const po::variables_map& vm, IdentifyRequest* r) {
 // --follow and --every: rows from standard input, to the online identifier.
 void ReadFollowOptions(const po::variables_map& vm, IdentifyRequest* r) {
   r->follow = true;
-  for (const char* option : {"log", "logs", "batch", "residuals", "skip-bad", "strict", "json"}) {
+  for (const char* option :
+       {"log", "logs", "batch", "residuals", "skip-bad", "strict", "json", "report"}) {
     if (vm.count(option))
       throw po::error(std::string("--") + option + " does not go with --follow");
   }
@@ -242,7 +247,7 @@ IdentifyRequest ReadIdentifyOptions(const po::variables_map& vm) {
   IdentifyRequest r;
   if (vm.count("check")) {
     r.check = true;
-    for (const char* option : {"batch", "residuals", "strict", "follow"}) {
+    for (const char* option : {"batch", "residuals", "strict", "follow", "report"}) {
       if (vm.count(option))
         throw po::error(std::string("--") + option + " does not go with --check");
     }
@@ -284,6 +289,7 @@ IdentifyRequest ReadIdentifyOptions(const po::variables_map& vm) {
   r.verbose = vm.count("verbose") > 0;
   r.strict = vm.count("strict") > 0;
   if (vm.count("residuals")) r.residuals_path = vm["residuals"].as<std::string>();
+  if (vm.count("report")) r.report_path = vm["report"].as<std::string>();
   return r;
 }
 

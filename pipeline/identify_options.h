@@ -20,6 +20,7 @@ struct IdentifyRequest {
   bool verbose = false;
   bool strict = false;         ///< a suspect verdict exits with the numerical code
   std::string residuals_path;  ///< --residuals, empty when not asked
+  std::string report_path;     ///< --report: the HTML report (pipeline/report_files.h)
   /// --batch: fit each file on its own (files come from --batch DIR|GLOB, sharded) on
   /// `jobs` threads and write JSON lines to `batch_out`.
   bool batch = false;

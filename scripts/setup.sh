@@ -24,6 +24,7 @@ packages=(
   libhdf5-dev            # import-log --format mit-push-h5: the MIT push dataset's .h5 files (io/mit_push_h5.h)
   clang-format           # the code's format (.clang-format), checked by scripts/check_format.sh
   clang libclang-rt-14-dev  # fuzz targets: libFuzzer and clang's sanitizer runtimes (scripts/fuzz.sh)
+  chromium               # headless browser: renders the HTML report in a test (tests/report_browser_test.cc)
 )
 
 missing=()

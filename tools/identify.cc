@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <chrono>
 #include <cmath>
 #include <csignal>
 #include <cstdio>
@@ -19,6 +20,7 @@
 #include "pipeline/check_files.h"
 #include "pipeline/follow.h"
 #include "pipeline/identify_options.h"
+#include "pipeline/report_files.h"
 #include "tools/tool_support.h"
 
 namespace po = boost::program_options;
@@ -140,6 +142,28 @@ int RunFollowCommand(const cli::IdentifyRequest& request) {
   return tools::kExitOk;
 }
 
+double SecondsSince(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+/// --report: the HTML report of this run; false (with a message) when it cannot be written.
+bool WriteReport(const cli::IdentifyRequest& request, const FileIdentifyResult& run,
+                 const std::string& command_line, double identify_s) {
+  const auto t0 = std::chrono::steady_clock::now();
+  ReportInputs inputs = GatherIdentifyReport(request.files, request.options, run);
+  inputs.command_line = command_line;
+  inputs.timings = {{"reading the logs and identifying", identify_s},
+                    {"the fit itself", run.result.seconds},
+                    {"the report's replays and checks", SecondsSince(t0)}};
+  try {
+    WriteHtmlReport(inputs, request.report_path);
+  } catch (const std::exception& e) {
+    std::cerr << "identify: error: " << e.what() << "\n";
+    return false;
+  }
+  return true;
+}
+
 std::string Describe(const std::vector<std::string>& files) {
   return files.size() == 1 ? files[0] : std::to_string(files.size()) + " logs";
 }
@@ -185,8 +209,15 @@ int main(int argc, char** argv) {
     if (request.check) return RunCheckCommand(request);
     if (request.follow) return RunFollowCommand(request);
 
+    const auto t0 = std::chrono::steady_clock::now();
     const FileIdentifyResult run = IdentifyFiles(request.files, request.options);
+    const double identify_s = SecondsSince(t0);
     for (const std::string& w : run.warnings) std::cerr << "identify: warning: " << w << "\n";
+    // Written whatever the fit's outcome: the report says it in words.
+    if (!request.report_path.empty() &&
+        !WriteReport(request, run, QuotedCommandLine(argc, argv), identify_s)) {
+      return tools::kExitIo;
+    }
     if (request.verbose) {
       for (const std::string& n : run.notes) std::cerr << "identify: note: " << n << "\n";
     }

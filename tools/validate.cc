@@ -2,6 +2,7 @@
 // Each fold is fitted pooled on the other logs and predicts its own pushes; the pushes'
 // own fits (an oracle) and the textbook friction are predicted beside it.
 
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -11,6 +12,7 @@
 #include "io/push_log.h"
 #include "pipeline/identify_files.h"
 #include "pipeline/predict_options.h"
+#include "pipeline/report_files.h"
 #include "plots/validate_plot.h"
 #include "tools/tool_support.h"
 
@@ -65,7 +67,11 @@ int main(int argc, char** argv) {
         "json", po::value<std::string>()->value_name("OUT.json"), "write everything as JSON")(
         "csv", po::value<std::string>()->value_name("OUT.csv"), "write the per-push table")(
         "plot", po::value<std::string>()->value_name("FIG.png"),
-        "draw each friction's errors, push by push, with medians and quartiles (gnuplot)");
+        "draw each friction's errors, push by push, with medians and quartiles (gnuplot)")(
+        "report", po::value<std::string>()->value_name("OUT.html"),
+        "write a self-contained HTML report: each fold's friction, each method's errors, per "
+        "log the logged and predicted path and the error against time, the check before "
+        "fitting, the command line and the timings (docs/identify.md)");
     cli::AddValidateOptions(&opts);
     po::variables_map vm;
     po::store(po::parse_command_line(argc, argv, opts), vm);
@@ -118,6 +124,16 @@ int main(int argc, char** argv) {
       if (vm.count("json")) {
         WriteFileAtomically(vm["json"].as<std::string>(), "the validation JSON",
                             cli::ValidationJson(r) + "\n");
+      }
+      if (vm.count("report")) {
+        const auto t0 = std::chrono::steady_clock::now();
+        ReportInputs inputs = GatherValidateReport(logs, options, r);
+        inputs.command_line = QuotedCommandLine(argc, argv);
+        inputs.timings = {
+            {"cross-validation", r.seconds},
+            {"the report's predictions and checks",
+             std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count()}};
+        WriteHtmlReport(inputs, vm["report"].as<std::string>());
       }
       if (vm.count("plot")) {
         ValidationPlotOptions picture;

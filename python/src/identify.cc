@@ -11,6 +11,7 @@
 #include "io/result_json.h"
 #include "pipeline/check_files.h"
 #include "pipeline/identify_options.h"
+#include "pipeline/report_files.h"
 
 namespace slideid::python {
 namespace po = boost::program_options;
@@ -121,6 +122,7 @@ py::dict IdentifyInputs(const py::list& inputs, const py::kwargs& keywords) {
   std::string what;
   // The readers' warnings, and those of them not yet issued (read_log issued its own).
   std::vector<std::string> warnings, fresh_warnings, notes;
+  std::vector<Trajectory> read_logs;  // kept for the report
   if (handles.empty()) {
     what = paths.size() == 1 ? paths[0] : std::to_string(paths.size()) + " logs";
     {
@@ -149,7 +151,16 @@ py::dict IdentifyInputs(const py::list& inputs, const py::kwargs& keywords) {
     what = logs.size() == 1 ? (logs[0].source.empty() ? "the log" : logs[0].source)
                             : std::to_string(logs.size()) + " logs";
     py::gil_scoped_release release;
+    if (vm.count("report")) read_logs = logs;  // the report shows them
     run = IdentifyReadLogs(std::move(logs), options);
+  }
+  if (vm.count("report")) {  // report=PATH: identify --report's page
+    py::gil_scoped_release release;
+    ReportInputs report = handles.empty() ? GatherIdentifyReport(paths, options, run)
+                                          : GatherIdentifyReportOfLogs(read_logs, options, run);
+    report.command_line = "slideid.identify(" + what + ", report=...)";
+    report.timings = {{"the fit itself", run.result.seconds}};
+    WriteHtmlReport(report, vm["report"].as<std::string>());
   }
   const EstimateResult& result = run.result;
   py::dict out;

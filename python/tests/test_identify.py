@@ -211,3 +211,17 @@ def test_check_equals_the_cli_and_fits_nothing():
         slideid.check(DEFAULT_LOG, method="closed-form")
     with pytest.raises(TypeError, match="unexpected keyword argument 'check'"):
         slideid.identify(DEFAULT_LOG, check=True)
+
+
+def test_identify_writes_the_html_report_when_asked(tmp_path):
+    """report=PATH writes identify --report's page, for a path and for a Log object."""
+    for name, logs in (("from_path.html", str(DEFAULT_LOG)),
+                       ("from_log.html", slideid.read_log(str(DEFAULT_LOG)))):
+        path = tmp_path / name
+        result = slideid.identify(logs, report=str(path))
+        assert result.e_t_mu.verdict == "ok"
+        html = path.read_text(encoding="utf-8")
+        for section in ("estimates", "check", "correlation", "trace", "logs", "run"):
+            assert f'<section id="{section}">' in html
+        assert "default_push.csv" in html
+        assert "://" not in html and "<script" not in html
