@@ -1,16 +1,13 @@
 #include "io/mit_push_h5.h"
 
 #include <H5Cpp.h>
-#include <poll.h>
 #include <sys/stat.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include <array>
 #include <cerrno>
 #include <chrono>
 #include <cmath>
-#include <csignal>
 #include <cstdint>
 #include <cstdio>
 #include <cstring>
@@ -21,6 +18,7 @@
 #include <vector>
 
 #include "io/atomic_file.h"
+#include "io/internal/child_process.h"
 
 namespace slideid {
 namespace {
@@ -200,7 +198,7 @@ void PutBytes(std::string* out, const void* data, std::size_t n) {
   out->append(static_cast<const char*>(data), n);
 }
 
-/// 'R' and the three streams (a count and the rows each), or 'E' and the message.
+/// 'R' and the three streams (a count and the rows each).
 std::string Serialize(const MitPushRecording& r) {
   std::string out = "R";
   for (const auto* rows : {&r.object_pose, &r.tip_pose, &r.ft_wrench}) {
@@ -230,22 +228,6 @@ MitPushRecording Deserialize(const std::string& bytes, const std::string& source
   return r;
 }
 
-void WriteAll(int fd, const std::string& bytes) {
-  std::size_t done = 0;
-  while (done < bytes.size()) {
-    const ssize_t n = write(fd, bytes.data() + done, bytes.size() - done);
-    if (n < 0 && errno == EINTR) continue;
-    if (n <= 0) return;
-    done += static_cast<std::size_t>(n);
-  }
-}
-
-/// How long the child may take: generous for an image of `bytes` (HDF5 reads them at
-/// hundreds of MB/s), so that only a hang reaches it.
-std::chrono::milliseconds ReadTimeLimit(std::size_t bytes) {
-  return std::chrono::milliseconds(30000 + bytes / 10000);
-}
-
 }  // namespace
 
 MitPushRecording ParseMitPushH5(std::string_view bytes, const std::string& source) {
@@ -256,70 +238,24 @@ MitPushRecording ParseMitPushH5(std::string_view bytes, const std::string& sourc
   // Held across the fork: no other thread is inside HDF5 when the child is made, and the
   // child (whose copy of the lock stays taken) uses HDF5 alone.
   const std::lock_guard<std::mutex> lock(Hdf5Lock());
-  int fds[2];
-  if (pipe(fds) != 0) throw std::runtime_error(std::string("pipe: ") + std::strerror(errno));
-  std::fflush(nullptr);
-  const pid_t child = fork();
-  if (child < 0) {
-    close(fds[0]);
-    close(fds[1]);
-    throw std::runtime_error(std::string("fork: ") + std::strerror(errno));
-  }
-  if (child == 0) {
-    close(fds[0]);
-    std::string out;
-    try {
-      out = Serialize(ParseInThisProcess(bytes, source));
-    } catch (const std::exception& e) {
-      out = std::string("E") + e.what();
-    }
-    WriteAll(fds[1], out);
-    close(fds[1]);
-    _exit(0);
-  }
-  close(fds[1]);
-  std::string answer;
-  char buffer[1 << 16];
-  const auto deadline = std::chrono::steady_clock::now() + ReadTimeLimit(bytes.size());
-  bool timed_out = false;
-  while (true) {
-    const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(
-        deadline - std::chrono::steady_clock::now());
-    if (left.count() <= 0) {
-      timed_out = true;
+  const std::chrono::milliseconds limit = child_process::TimeLimitFor(bytes.size());
+  const child_process::Outcome out =
+      child_process::Run([&] { return Serialize(ParseInThisProcess(bytes, source)); }, limit);
+  switch (out.ending) {
+    case child_process::Ending::kAnswered:
+      return Deserialize(out.answer, source);
+    case child_process::Ending::kThrew:
+      throw MitPushH5Error(out.answer);
+    case child_process::Ending::kTimedOut:
+      throw MitPushH5Error(source + ": HDF5 did not finish reading it in " +
+                           std::to_string(limit.count() / 1000) + " s (a damaged file?)");
+    case child_process::Ending::kCrashed:
+      throw MitPushH5Error(source + ": libhdf5 crashed reading it (signal " +
+                           std::to_string(out.signal) + "): a damaged file");
+    case child_process::Ending::kSilent:
       break;
-    }
-    pollfd p{fds[0], POLLIN, 0};
-    const int ready = poll(&p, 1, static_cast<int>(left.count()));
-    if (ready < 0 && errno == EINTR) continue;
-    if (ready <= 0) {
-      timed_out = ready == 0;
-      break;
-    }
-    const ssize_t n = read(fds[0], buffer, sizeof(buffer));
-    if (n < 0 && errno == EINTR) continue;
-    if (n <= 0) break;
-    answer.append(buffer, static_cast<std::size_t>(n));
   }
-  close(fds[0]);
-  if (timed_out) kill(child, SIGKILL);
-  int status = 0;
-  while (waitpid(child, &status, 0) < 0 && errno == EINTR) {
-  }
-  if (timed_out) {
-    throw MitPushH5Error(source + ": HDF5 did not finish reading it in " +
-                         std::to_string(ReadTimeLimit(bytes.size()).count() / 1000) +
-                         " s (a damaged file?)");
-  }
-  if (WIFSIGNALED(status)) {
-    throw MitPushH5Error(source + ": libhdf5 crashed reading it (signal " +
-                         std::to_string(WTERMSIG(status)) + "): a damaged file");
-  }
-  if (answer.empty() || (answer[0] != 'E' && answer[0] != 'R')) {
-    throw MitPushH5Error(source + ": the HDF5 reader ended without an answer");
-  }
-  if (answer[0] == 'E') throw MitPushH5Error(answer.substr(1));
-  return Deserialize(answer, source);
+  throw MitPushH5Error(source + ": the HDF5 reader ended without an answer");
 }
 
 MitPushRecording ReadMitPushH5(const std::string& path) {

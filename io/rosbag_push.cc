@@ -3,12 +3,9 @@
 #include <geometry_msgs/PoseStamped.h>
 #include <geometry_msgs/TransformStamped.h>
 #include <geometry_msgs/WrenchStamped.h>
-#include <poll.h>
 #include <rosbag/bag.h>
 #include <rosbag/view.h>
-#include <signal.h>
 #include <sys/stat.h>
-#include <sys/wait.h>
 #include <tf2_msgs/TFMessage.h>
 #include <unistd.h>
 
@@ -17,6 +14,8 @@
 #include <cstdio>
 #include <cstring>
 #include <map>
+
+#include "io/internal/child_process.h"
 
 namespace slideid {
 namespace {
@@ -148,7 +147,7 @@ void PutText(std::string* out, const std::string& s) {
   *out += s;
 }
 
-/// 'E' and the message, or 'L' and the streams and notes.
+/// 'L' and the streams and notes.
 std::string Serialize(const RosPushLog& log) {
   std::string out = "L";
   for (const auto* rows :
@@ -200,22 +199,6 @@ RosPushLog Deserialize(const std::string& bytes) {
   return log;
 }
 
-void WriteAll(int fd, const std::string& bytes) {
-  std::size_t done = 0;
-  while (done < bytes.size()) {
-    const ssize_t n = write(fd, bytes.data() + done, bytes.size() - done);
-    if (n < 0 && errno == EINTR) continue;
-    if (n <= 0) return;
-    done += static_cast<std::size_t>(n);
-  }
-}
-
-/// How long the child may take: generous for a bag of `bytes` (librosbag reads about
-/// 100 MB/s here), so that only a hang reaches it.
-std::chrono::milliseconds ReadTimeLimit(std::uint64_t bytes) {
-  return std::chrono::milliseconds(30000 + bytes / 10000);
-}
-
 }  // namespace
 
 RosPushLog ReadRosbagPushLog(const std::string& path, const RosTopics& topics) {
@@ -224,75 +207,32 @@ RosPushLog ReadRosbagPushLog(const std::string& path, const RosTopics& topics) {
     throw RosLogError(path + ": cannot be opened for reading: " + std::strerror(errno));
   }
   if (!S_ISREG(info.st_mode)) throw RosLogError(path + ": not a regular file");
-  int fds[2];
-  if (pipe(fds) != 0) throw std::runtime_error(std::string("pipe: ") + std::strerror(errno));
-  std::fflush(nullptr);
-  const pid_t child = fork();
-  if (child < 0) {
-    close(fds[0]);
-    close(fds[1]);
-    throw std::runtime_error(std::string("fork: ") + std::strerror(errno));
-  }
-  if (child == 0) {
-    close(fds[0]);
-    // The errors come back through the pipe: console_bridge's own prints of librosbag's
-    // complaints ("Received an invalid TCPROS header") would only repeat them on stderr.
-    console_bridge::setLogLevel(console_bridge::CONSOLE_BRIDGE_LOG_NONE);
-    std::string out;
-    try {
-      out = Serialize(ReadInThisProcess(path, topics));
-    } catch (const std::exception& e) {
-      out = std::string("E") + e.what();
-    }
-    WriteAll(fds[1], out);
-    close(fds[1]);
-    _exit(0);
-  }
-  close(fds[1]);
-  std::string bytes;
-  char buffer[1 << 16];
-  const auto deadline = std::chrono::steady_clock::now() + ReadTimeLimit(info.st_size);
-  bool timed_out = false;
-  while (true) {
-    const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(
-        deadline - std::chrono::steady_clock::now());
-    if (left.count() <= 0) {
-      timed_out = true;
+  const std::chrono::milliseconds limit = child_process::TimeLimitFor(info.st_size);
+  const child_process::Outcome out = child_process::Run(
+      [&] {
+        // The errors come back as the answer: console_bridge's own prints of librosbag's
+        // complaints ("Received an invalid TCPROS header") would only repeat them on stderr.
+        console_bridge::setLogLevel(console_bridge::CONSOLE_BRIDGE_LOG_NONE);
+        return Serialize(ReadInThisProcess(path, topics));
+      },
+      limit);
+  switch (out.ending) {
+    case child_process::Ending::kAnswered:
+      return Deserialize(out.answer);
+    case child_process::Ending::kThrew:
+      throw RosLogError(out.answer);
+    case child_process::Ending::kTimedOut:
+      throw RosLogError(path + ": librosbag did not finish reading it in " +
+                        std::to_string(limit.count() / 1000) + " s (a damaged bag?)");
+    case child_process::Ending::kCrashed:
+      throw RosLogError(path + ": librosbag crashed reading it (signal " +
+                        std::to_string(out.signal) +
+                        "): the bag is damaged (its index points outside its data?)");
+    case child_process::Ending::kSilent:
       break;
-    }
-    pollfd p{fds[0], POLLIN, 0};
-    const int ready = poll(&p, 1, static_cast<int>(left.count()));
-    if (ready < 0 && errno == EINTR) continue;
-    if (ready <= 0) {
-      timed_out = ready == 0;
-      break;
-    }
-    const ssize_t n = read(fds[0], buffer, sizeof(buffer));
-    if (n < 0 && errno == EINTR) continue;
-    if (n <= 0) break;
-    bytes.append(buffer, static_cast<std::size_t>(n));
   }
-  close(fds[0]);
-  if (timed_out) kill(child, SIGKILL);
-  int status = 0;
-  while (waitpid(child, &status, 0) < 0 && errno == EINTR) {
-  }
-  if (timed_out) {
-    throw RosLogError(path + ": librosbag did not finish reading it in " +
-                      std::to_string(ReadTimeLimit(info.st_size).count() / 1000) +
-                      " s (a damaged bag?)");
-  }
-  if (WIFSIGNALED(status)) {
-    throw RosLogError(path + ": librosbag crashed reading it (signal " +
-                      std::to_string(WTERMSIG(status)) +
-                      "): the bag is damaged (its index points outside its data?)");
-  }
-  if (bytes.empty() || (bytes[0] != 'E' && bytes[0] != 'L')) {
-    throw RosLogError(path + ": the bag reader ended without an answer (exit status " +
-                      std::to_string(WIFEXITED(status) ? WEXITSTATUS(status) : -1) + ")");
-  }
-  if (bytes[0] == 'E') throw RosLogError(bytes.substr(1));
-  return Deserialize(bytes);
+  throw RosLogError(path + ": the bag reader ended without an answer (exit status " +
+                    std::to_string(out.exit_status) + ")");
 }
 
 void WriteRosbagPushLog(const MitPushRecording& recording, const RosPushWriteSpec& spec,
