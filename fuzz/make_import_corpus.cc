@@ -1,8 +1,9 @@
-// Writes the seed corpora of fuzz_mit_push_h5 (fuzz/corpus/mit_push_h5/) and fuzz_streams
-// (fuzz/corpus/streams/) with our own writers: short synthetic pushes (the first rows of each
-// stream of a simulated MIT recording), as HDF5 contiguous and gzip-compressed, and as
-// stream CSVs under several mappings (units, a quaternion, sensor frames). Run by hand when a
-// format changes: build-fuzz/bin/make_import_corpus fuzz/corpus
+// Writes the seed corpora of fuzz_mit_push_h5 (fuzz/corpus/mit_push_h5/), fuzz_streams
+// (fuzz/corpus/streams/) and fuzz_rosbag (fuzz/corpus/rosbag/) with our own writers: short
+// synthetic pushes (the first rows of each stream of a simulated MIT recording), as HDF5 contiguous
+// and gzip-compressed, and as stream CSVs under several mappings (units, a quaternion, sensor
+// frames), and as bags (PoseStamped or TransformStamped poses, some stamps zero; uncompressed, bz2
+// and lz4 chunks). Run by hand when a format changes: build-fuzz/bin/make_import_corpus fuzz/corpus
 #include <cstdio>
 #include <fstream>
 #include <string>
@@ -10,6 +11,7 @@
 #include "datasets/mit_push_synth.h"
 #include "io/mit_push_h5.h"
 #include "io/push_streams_csv.h"
+#include "io/rosbag_push.h"
 
 using namespace slideid;
 
@@ -46,5 +48,15 @@ int main(int argc, char** argv) {
                                                      "\f" + FormatPushStreamCsv(rec, files.tip) +
                                                      "\f" + FormatPushStreamCsv(rec, files.force));
   }
+  RosPushWriteSpec bag;
+  bag.topics.object_topic = "/vicon/object";  // fuzz/fuzz_rosbag.cc reads these topics
+  bag.topics.tip_topic = "/tip_pose";
+  bag.topics.force_topic = "/netft/wrench";
+  WriteRosbagPushLog(rec, bag, dir + "/rosbag/push.bag");
+  WriteRosbagPushLog(rec, bag, dir + "/rosbag/push_lz4.bag", RosbagCompression::kLz4);
+  WriteRosbagPushLog(rec, bag, dir + "/rosbag/push_bz2.bag", RosbagCompression::kBz2);
+  bag.object_type = RosMessageType::kTransformStamped;
+  bag.zero_stamp_every = 3;
+  WriteRosbagPushLog(rec, bag, dir + "/rosbag/push_transform.bag");
   return 0;
 }
