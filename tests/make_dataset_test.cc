@@ -221,7 +221,10 @@ TEST(Dataset, RangesAndPatchesParseAndReportErrors) {
 
 int RunTool(const std::string& tool, const std::string& args, std::string* output = nullptr) {
   const char* bin = std::getenv("SLIDEID_BIN_DIR");
-  const std::string out = ::testing::TempDir() + "/tool_output.txt";
+  // One file per process: ctest runs the tests of this file side by side, and a shared
+  // file let one test read another's output (seen under the sanitizers).
+  const std::string out =
+      ::testing::TempDir() + "/tool_output_" + std::to_string(getpid()) + ".txt";
   const std::string cmd =
       std::string(bin ? bin : "build/bin") + "/" + tool + " " + args + " > " + out + " 2>&1";
   const int status = std::system(cmd.c_str());
