@@ -470,9 +470,10 @@ TEST(RosPushBadInput, ADamagedCdrMessageNamesTheChunkTheRecordAndTheTopic) {
   McapWriter w(McapWriterOptions{McapCompression::kNone});
   const std::uint16_t s = w.AddSchema("geometry_msgs/msg/WrenchStamped", "ros2msg", "");
   const std::uint16_t c = w.AddChannel(s, topics.force_topic, "cdr");
+  const std::string cut_stamp("\0\1\0\0\1\0\0\0", 8);  // a stamp cut short
   McapMessage m;
   m.channel_id = c;
-  m.data = std::string("\0\1\0\0\1\0\0\0", 8);  // a stamp cut short
+  m.data = cut_stamp;  // a view: the bytes must outlive the message
   w.AddMessage(m);
   ExpectError([&] { ParseMcapPushLog(w.Finish(), "w.mcap", topics); },
               {"w.mcap: chunk at byte ", "record at byte ", "of its records: topic '/netft/wrench'",
