@@ -14,6 +14,7 @@
 
 #include "forward_model/constants.h"
 #include "forward_model/contact_patch.h"
+#include "forward_model/logged_poses.h"
 #include "forward_model/number_format.h"
 
 namespace slideid {
@@ -34,21 +35,6 @@ std::optional<ContactPatch> PatchOf(const Trajectory& log) {
   } catch (const std::invalid_argument&) {
     return std::nullopt;  // the plot goes without outlines
   }
-}
-
-/// Poses of the log: as logged, or integrated from the velocities (backward Euler, from 0)
-/// for a log without pose columns.
-std::vector<PlanarState> Poses(const Trajectory& log) {
-  std::vector<PlanarState> out;
-  for (const TrajectorySample& s : log.samples) out.push_back(s.state);
-  if (log.columns.pose) return out;
-  for (size_t u = 1; u < out.size(); ++u) {
-    const double dt = log.samples[u].t_s - log.samples[u - 1].t_s;
-    out[u].x = out[u - 1].x + dt * out[u].vx;
-    out[u].y = out[u - 1].y + dt * out[u].vy;
-    out[u].theta = out[u - 1].theta + dt * out[u].wz;
-  }
-  return out;
 }
 
 int SnapshotEvery(const Trajectory& log, const PlotOptions& o) {
@@ -106,7 +92,7 @@ bool PlotOptions::IsValid(std::string* why) const {
 
 void WritePlotData(const Trajectory& log, const Trajectory* fit, const PlotOptions& options,
                    const std::string& dir) {
-  const std::vector<PlanarState> poses = Poses(log);
+  const std::vector<PlanarState> poses = LoggedOrIntegratedPoses(log);
   std::ostringstream path, patch, ecp, push;
   WriteMotion(path, log, poses);
 

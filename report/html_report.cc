@@ -7,6 +7,7 @@
 
 #include "forward_model/constants.h"
 #include "forward_model/contact_patch.h"
+#include "forward_model/logged_poses.h"
 #include "forward_model/number_format.h"
 #include "report/html_text.h"
 #include "report/svg_plot.h"
@@ -86,20 +87,6 @@ std::string EstimateRow(const std::string& name, const ParameterEstimate& p,
 
 // ---- geometry of the path figures ---------------------------------------------------------
 
-/// Poses as logged, or integrated from the velocities for a log without poses (as plot-log).
-std::vector<PlanarState> Poses(const Trajectory& log) {
-  std::vector<PlanarState> out;
-  for (const TrajectorySample& s : log.samples) out.push_back(s.state);
-  if (log.columns.pose) return out;
-  for (size_t u = 1; u < out.size(); ++u) {
-    const double dt = log.samples[u].t_s - log.samples[u - 1].t_s;
-    out[u].x = out[u - 1].x + dt * out[u].vx;
-    out[u].y = out[u - 1].y + dt * out[u].vy;
-    out[u].theta = out[u - 1].theta + dt * out[u].wz;
-  }
-  return out;
-}
-
 std::optional<ContactPatch> PatchOf(const Trajectory& log) {
   if (log.patch_spec.empty()) return std::nullopt;
   try {
@@ -158,17 +145,17 @@ std::string PathFigure(const Trajectory& log, const Trajectory* other,
   plot.SetXLabel("x [mm]");
   plot.SetYLabel("y [mm]");
   plot.SetEqualAspect(true);
-  const std::vector<PlanarState> poses = Poses(log);
+  const std::vector<PlanarState> poses = LoggedOrIntegratedPoses(log);
   const std::vector<size_t> rows = SnapshotRows(poses.size());
   const std::vector<std::string>& colors = SeriesColors();
   if (const std::optional<ContactPatch> patch = PatchOf(log)) {
     AddOutlines(*patch, poses, rows, {colors[0], 0.8, false, 0.6}, &plot);
     if (other)
-      AddOutlines(*patch, other->samples.empty() ? poses : Poses(*other), rows,
+      AddOutlines(*patch, other->samples.empty() ? poses : LoggedOrIntegratedPoses(*other), rows,
                   {colors[1], 0.8, true, 0.6}, &plot);
   }
   AddPath(poses, {colors[0], 2.0}, "logged", &plot);
-  if (other) AddPath(Poses(*other), {colors[1], 1.6, true}, other_name, &plot);
+  if (other) AddPath(LoggedOrIntegratedPoses(*other), {colors[1], 1.6, true}, other_name, &plot);
   if (log.columns.tip) {
     std::vector<double> x, y;
     for (const TrajectorySample& s : log.samples) {
@@ -216,7 +203,8 @@ std::string PredictionErrorFigure(const Trajectory& log, const Trajectory& predi
   plot.SetXLabel("t [s]");
   plot.SetYLabel("error [mm] / [deg]");
   std::vector<double> t, position, rotation;
-  const std::vector<PlanarState> a = Poses(log), b = Poses(predicted);
+  const std::vector<PlanarState> a = LoggedOrIntegratedPoses(log),
+                                 b = LoggedOrIntegratedPoses(predicted);
   for (size_t u = 0; u < std::min(a.size(), b.size()); ++u) {
     t.push_back(log.samples[u].t_s);
     position.push_back(1e3 * std::hypot(a[u].x - b[u].x, a[u].y - b[u].y));
