@@ -13,8 +13,8 @@
 #include <cstdlib>
 #include <string_view>
 
+#include "fuzz/import_invariants.h"
 #include "io/mit_push_h5.h"
-#include "io/mit_push_import.h"
 
 namespace {
 
@@ -46,18 +46,6 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   Require(back.object_pose == r.object_pose && back.tip_pose == r.tip_pose &&
               back.ft_wrench == r.ft_wrench,
           "an accepted recording round-trips exactly");
-  slideid::MitImportOptions options;
-  options.slider = {0.835, 1.13e-3, 0.0065, 9.81};
-  options.patch_spec = "rectangle 0.09 0.09";
-  const slideid::MitImportResult result = slideid::ImportMitPush(r, "fuzz.h5", options);
-  const bool accepted = result.report.verdict == slideid::ImportVerdict::kAccepted;
-  Require(accepted == !result.log.samples.empty(), "a log exactly when accepted");
-  for (std::size_t u = 0; u < result.log.samples.size(); ++u) {
-    const slideid::TrajectorySample& s = result.log.samples[u];
-    for (double v : {s.t_s, s.state.x, s.state.y, s.state.theta, s.applied.fx, s.applied.fy}) {
-      Require(std::isfinite(v), "every imported number is finite");
-    }
-    if (u > 0) Require(s.t_s > result.log.samples[u - 1].t_s, "imported t strictly increases");
-  }
+  slideid::fuzz::CheckImport(r, "fuzz.h5", "fuzz_mit_push_h5");
   return 0;
 }

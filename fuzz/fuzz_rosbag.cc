@@ -17,7 +17,7 @@
 #include <cstdlib>
 #include <string>
 
-#include "io/mit_push_import.h"
+#include "fuzz/import_invariants.h"
 #include "io/rosbag_push.h"
 
 namespace {
@@ -64,19 +64,6 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   } catch (const slideid::RosLogError&) {
     return 0;
   }
-  slideid::MitImportOptions options;
-  options.slider = {0.835, 1.13e-3, 0.0065, 9.81};
-  options.patch_spec = "rectangle 0.09 0.09";
-  const slideid::MitImportResult result =
-      slideid::ImportMitPush(read.recording, "fuzz.bag", options);
-  const bool accepted = result.report.verdict == slideid::ImportVerdict::kAccepted;
-  Require(accepted == !result.log.samples.empty(), "a log exactly when accepted");
-  for (std::size_t u = 0; u < result.log.samples.size(); ++u) {
-    const slideid::TrajectorySample& s = result.log.samples[u];
-    for (double v : {s.t_s, s.state.x, s.state.y, s.state.theta, s.applied.fx, s.applied.fy}) {
-      Require(std::isfinite(v), "every imported number is finite");
-    }
-    if (u > 0) Require(s.t_s > result.log.samples[u - 1].t_s, "imported t strictly increases");
-  }
+  slideid::fuzz::CheckImport(read.recording, "fuzz.bag", "fuzz_rosbag");
   return 0;
 }
