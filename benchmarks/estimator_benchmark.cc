@@ -42,7 +42,7 @@ const Trajectory& NoisyLog() {
 // after a first pass that warm-starts every step's Newton, as the fit's own passes are).
 double ForwardPassSeconds(const Trajectory& log, bool with_derivatives) {
   const int rows = static_cast<int>(log.samples.size());
-  const int steps = TrajectorySegmentSteps(rows, TrajectoryOptions{});
+  const int steps = TrajectorySegmentSteps(rows, MedianInterval(log), TrajectoryOptions{});
   const ReducedFriction abc = ReducedFriction::From(testing::LongPushScene(kSteps).friction);
   double log_abc[3] = {std::log(abc.a), std::log(abc.b), std::log(abc.c)};
   std::vector<std::unique_ptr<ceres::CostFunction>> costs;

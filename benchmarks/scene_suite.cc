@@ -41,6 +41,7 @@ struct Config {
   int first = 0;
   int threads = 1;
   int max_rows = 10000;
+  double noise_scale = 1.0;  ///< SceneSuiteLimits::noise_scale
   std::string markdown_path, csv_path;
   suite::FitChoices choices;  ///< of the default fit
   std::string dump_dir;       ///< writes each log there as suite_NNNN.csv (to look at one)
@@ -58,6 +59,8 @@ Config Parse(int argc, char** argv) {
       c.threads = args.Integer(1);
     else if (args.Is("--max-rows"))
       c.max_rows = args.Integer(100);
+    else if (args.Is("--noise-scale"))
+      c.noise_scale = std::stod(args.Value());
     else if (args.Is("--markdown"))
       c.markdown_path = args.Value();
     else if (args.Is("--csv"))
@@ -179,6 +182,7 @@ int Main(int argc, char** argv) {
   std::mutex print;
   SceneSuiteLimits limits;
   limits.max_rows = c.max_rows;
+  limits.noise_scale = c.noise_scale;
   auto work = [&] {
     for (int k; (k = next++) < c.logs;) {
       Row& row = rows[k];

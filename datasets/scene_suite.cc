@@ -104,6 +104,12 @@ void DrawNoise(Draw* d, bool pushed, bool velocities, bool outliers, NoiseSpec* 
   n->seed = d->Seed();
 }
 
+void ScaleNoise(double scale, NoiseSpec* n) {
+  for (double* level : {&n->pose_m, &n->angle_rad, &n->velocity_mps, &n->spin_radps,
+                        &n->force_relative, &n->force_n, &n->push_point_m, &n->outlier_fraction})
+    *level *= scale;
+}
+
 }  // namespace
 
 const char* ToString(SuiteMotion motion) {
@@ -154,6 +160,7 @@ SuiteLog MakeSuiteLog(int index, std::uint64_t seed, const SceneSuiteLimits& lim
     scene.log.motion = velocities ? LogMotion::kBoth : LogMotion::kPoses;
     scene.log.push = LogPush::kPoint;
     DrawNoise(&d, pushed, velocities, made.outliers, &scene.log.noise);
+    ScaleNoise(limits.noise_scale, &scene.log.noise);
     if (pushed) {
       RandomProgramSpec program;
       program.seed = d.Seed();

@@ -29,6 +29,9 @@ constexpr std::uint64_t kSceneSuiteSeed = 20261125;
 struct SceneSuiteLimits {
   int min_rows = 100;
   int max_rows = 10000;
+  /// Multiplies every noise level after it is drawn (the draws stay the same): 0 gives the
+  /// same log without noise, to tell a bias of the noise from one of the model.
+  double noise_scale = 1.0;
 };
 
 /// How a suite log moves.

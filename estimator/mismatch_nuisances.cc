@@ -35,21 +35,46 @@ void ThroughRowLoss(const RowLoss& loss, const Eigen::VectorXd& r, Eigen::Matrix
 
 }  // namespace
 
-const char* MismatchNuisanceName(int index) { return index == 0 ? "discretisation" : "force hold"; }
+const char* MismatchNuisanceName(int index) {
+  static const char* const kNames[kMismatchNuisances] = {"discretisation", "force hold",
+                                                         "push switch timing"};
+  return index >= 0 && index < kMismatchNuisances ? kNames[index] : "?";
+}
 
-Trajectory InterpolatedHold(const Trajectory& log) {
-  Trajectory out = log;
+std::vector<RowForceChange> ClassifyForceChanges(const Trajectory& log) {
+  const std::vector<TrajectorySample>& rows = log.samples;
+  std::vector<RowForceChange> kind(rows.size(), RowForceChange::kNone);
   double largest = 0;
-  for (const TrajectorySample& s : log.samples)
-    largest = std::max(largest, HorizontalForce(s.applied));
+  for (const TrajectorySample& s : rows) largest = std::max(largest, HorizontalForce(s.applied));
   const double contact = kContactForceFraction * largest;
-  if (!(contact > 0)) return out;
-  for (size_t u = 0; u + 1 < log.samples.size(); ++u) {
-    const AppliedWrench& here = log.samples[u].applied;
-    const AppliedWrench& next = log.samples[u + 1].applied;
-    if (HorizontalForce(here) > contact && HorizontalForce(next) > contact) {
-      out.samples[u].applied = Mean(here, next);
+  if (!(contact > 0)) return kind;
+  const auto change = [&](size_t u) {  // of the horizontal force from row u to u + 1
+    return std::hypot(rows[u + 1].applied.fx - rows[u].applied.fx,
+                      rows[u + 1].applied.fy - rows[u].applied.fy);
+  };
+  for (size_t u = 0; u + 1 < rows.size(); ++u) {
+    const bool here = HorizontalForce(rows[u].applied) > contact;
+    const bool next = HorizontalForce(rows[u + 1].applied) > contact;
+    if (!here && !next) continue;
+    if (here != next) {
+      kind[u] = RowForceChange::kJump;  // a push starts or ends within the interval
+      continue;
     }
+    double around = 0;
+    if (u > 0) around = std::max(around, change(u - 1));
+    if (u + 2 < rows.size()) around = std::max(around, change(u + 1));
+    kind[u] = change(u) > kJumpRatio * around + 1e-9 * largest ? RowForceChange::kJump
+                                                               : RowForceChange::kSmooth;
+  }
+  return kind;
+}
+
+Trajectory HoldVariant(const Trajectory& log, RowForceChange which) {
+  Trajectory out = log;
+  const std::vector<RowForceChange> kind = ClassifyForceChanges(log);
+  for (size_t u = 0; u + 1 < log.samples.size(); ++u) {
+    if (kind[u] == which)
+      out.samples[u].applied = Mean(log.samples[u].applied, log.samples[u + 1].applied);
   }
   return out;
 }
@@ -57,18 +82,24 @@ Trajectory InterpolatedHold(const Trajectory& log) {
 std::vector<Eigen::MatrixXd> MismatchDirections(const TrajectoryProblem& problem) {
   const int logs = problem.num_logs();
   std::vector<const Trajectory*> own;
-  std::vector<Trajectory> interpolated;
+  std::vector<Trajectory> interpolated, switched;
   interpolated.reserve(logs);
+  switched.reserve(logs);
   for (int k = 0; k < logs; ++k) {
     own.push_back(&problem.log(k));
-    interpolated.push_back(InterpolatedHold(problem.log(k)));
+    interpolated.push_back(HoldVariant(problem.log(k), RowForceChange::kSmooth));
+    switched.push_back(HoldVariant(problem.log(k), RowForceChange::kJump));
   }
-  std::vector<const Trajectory*> held;
-  for (const Trajectory& t : interpolated) held.push_back(&t);
+  std::vector<const Trajectory*> held, switch_held;
+  for (int k = 0; k < logs; ++k) {
+    held.push_back(&interpolated[k]);
+    switch_held.push_back(&switched[k]);
+  }
   const int substeps = problem.substeps();
   const std::vector<Eigen::VectorXd> base = problem.SegmentResidualsWith(own, substeps);
   const std::vector<Eigen::VectorXd> finer = problem.SegmentResidualsWith(own, 2 * substeps);
   const std::vector<Eigen::VectorXd> hold = problem.SegmentResidualsWith(held, substeps);
+  const std::vector<Eigen::VectorXd> jump = problem.SegmentResidualsWith(switch_held, substeps);
 
   std::vector<Eigen::MatrixXd> directions;
   const std::vector<TrajectorySegment>& segments = problem.segments();
@@ -79,6 +110,7 @@ std::vector<Eigen::MatrixXd> MismatchDirections(const TrajectoryProblem& problem
     if (base[s].size() == n) {
       if (finer[s].size() == n) X.col(column) = finer[s] - base[s];
       if (hold[s].size() == n) X.col(column + 1) = hold[s] - base[s];
+      if (jump[s].size() == n) X.col(column + 2) = jump[s] - base[s];
       ThroughRowLoss(segments[s].cost->row_loss(), base[s], &X);
     }
     directions.push_back(std::move(X));

@@ -101,9 +101,15 @@ struct SegmentShare {
 
 }  // namespace
 
-int TrajectorySegmentSteps(int rows, const TrajectoryOptions& options) {
+int TrajectorySegmentSteps(int rows, double interval_s, const TrajectoryOptions& options) {
   if (options.segment_steps > 0) return options.segment_steps;
-  const int steps = std::clamp(rows / kTargetSegments, kMinAutoSegmentSteps, kMaxAutoSegmentSteps);
+  // A log without a usable interval (one row, or equal times) is cut as a 100 Hz one.
+  const double interval = interval_s > 0 && std::isfinite(interval_s) ? interval_s : 0.01;
+  const auto intervals_in = [&](double seconds) {
+    return static_cast<int>(std::clamp(std::round(seconds / interval), 2.0, 1e6));
+  };
+  const int steps = std::clamp(rows / kTargetSegments, intervals_in(kMinAutoSegment_s),
+                               intervals_in(kMaxAutoSegment_s));
   // A segment of s intervals holds s + 1 rows (CutSegments).
   const int for_robust = rows / kMinRobustSegments - 1;
   return steps <= for_robust ? steps : std::max(kMinShortSegmentSteps, for_robust);
@@ -138,7 +144,8 @@ TrajectoryProblem::TrajectoryProblem(const std::vector<const Trajectory*>& logs,
   }
   for (int k = 0; k < n; ++k) {
     const Trajectory& log = *logs[k];
-    const int steps = TrajectorySegmentSteps(static_cast<int>(log.samples.size()), t);
+    const int steps =
+        TrajectorySegmentSteps(static_cast<int>(log.samples.size()), MedianInterval(log), t);
     // No segment spans a gap: each run (forward_model/trajectory.h) is cut on its own.
     for (const auto& [run_first, run_last] : Runs(log)) {
       for (auto [first, last] : CutSegments(run_last - run_first + 1, steps)) {
