@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <deque>
+#include <optional>
 #include <stdexcept>
 #include <utility>
 
@@ -12,6 +13,7 @@
 #include "estimator/internal/trajectory_problem.h"
 #include "estimator/log_diagnostics.h"
 #include "estimator/plausibility.h"
+#include "estimator/pusher_friction.h"
 #include "estimator/robust_statistics.h"
 #include "estimator/step_sensitivity.h"
 #include "forward_model/number_format.h"
@@ -216,9 +218,10 @@ struct OnlineIdentifier::Impl {
   Eigen::Vector3d found_jump = Eigen::Vector3d::Zero();
   std::deque<std::pair<int, TrajectorySample>> recent;  // the last rows filtered
   int rows_filtered = 0;
-  double window_statistics = 0;  // sum of completed windows' likelihood ratios
-  int window_ranks = 0;          // and of their degrees of freedom
-  int row_index = 0;             // of the row being filtered
+  double window_statistics = 0;             // sum of completed windows' likelihood ratios
+  int window_ranks = 0;                     // and of their degrees of freedom
+  int row_index = 0;                        // of the row being filtered
+  std::optional<PusherFrictionStream> tip;  // mu_p, where the log has the tip
 
   void ReadNoise() {
     sigma_p = options.pose_noise_m > 0
@@ -571,6 +574,22 @@ struct OnlineIdentifier::Impl {
     window_ranks = 0;
   }
 
+  // The pose noise so far: the filter's once it runs, the readers' before.
+  void AddTipRow(const TrajectorySample& row) {
+    if (!tip) return;
+    if (result.started) {
+      tip->Add(row, sigma_p, sigma_theta);
+    } else {
+      tip->Add(row, std::sqrt(0.5 * (std::pow(noise_x.Sigma(), 2) + std::pow(noise_y.Sigma(), 2))),
+               noise_theta.Sigma());
+    }
+    const PusherFrictionResult& r = tip->result();
+    result.mu_pusher = r.mu;
+    result.mu_pusher_lower_bound = r.lower_bound;
+    result.mu_pusher_contact_rows = r.contact_rows;
+    result.mu_pusher_sliding_rows = r.sliding_rows;
+  }
+
   void Report() {
     result.state = {x(0), x(1), x(2), x(3), x(4), x(5)};
     result.pose_noise_m = sigma_p;
@@ -632,6 +651,11 @@ OnlineIdentifier::OnlineIdentifier(const Trajectory& metadata, const OnlineOptio
   m.warm_base.assign(options.substeps, Eigen::Vector4d::Zero());
   m.warm_fine.assign(2 * options.substeps, Eigen::Vector4d::Zero());
   m.warm_hold.assign(options.substeps, Eigen::Vector4d::Zero());
+  if (PusherFrictionStream::Applies(metadata)) {
+    m.tip.emplace(metadata);
+    m.result.mu_pusher_examined = true;
+    m.result.mu_pusher = m.tip->result().mu;
+  }
   m.Report();
 }
 
@@ -664,6 +688,7 @@ const OnlineResult& OnlineIdentifier::Update(const TrajectorySample& row) {
     if (++m.rows_since_noise >= kNoiseRefreshRows) m.ReadNoise();
     m.Filter(row, index);
   }
+  m.AddTipRow(row);
   m.Report();
   return m.result;
 }

@@ -85,10 +85,16 @@ struct OnlineResult {
   /// a, b, c with intervals exp(log +- z95 sigma) and verdicts: ok, or not identifiable
   /// while the interval spans more than kMaxIntervalFactor (the prior's width).
   std::array<ParameterEstimate, 3> parameters;
-  /// mu_p: not estimated online yet (examined stays false; the batch fit's
-  /// estimator/pusher_friction.h gives it from a whole log).
+  /// mu_p, the tip-edge friction, where the log has the tip's path, its radius and the
+  /// outline (examined): the batch fit's estimate (estimator/pusher_friction.h) from the rows
+  /// so far, as PusherFrictionStream keeps it: the median |f_t| / f_n over the rows where
+  /// the tip slides along the edge, each row classified slip_half_window_rows (5) rows
+  /// later. Not identifiable while the tip has not slid in enough rows; then
+  /// mu_pusher_lower_bound, from the rows where it sticks, when it has pushed at all.
   bool mu_pusher_examined = false;
   ParameterEstimate mu_pusher;
+  double mu_pusher_lower_bound = std::numeric_limits<double>::quiet_NaN();
+  int mu_pusher_contact_rows = 0, mu_pusher_sliding_rows = 0;
   PlanarState state;  ///< the filter's state at the last row
   /// The last row's normalised innovation squared (chi-square(3) when the model fits).
   double nis = std::numeric_limits<double>::quiet_NaN();

@@ -33,7 +33,13 @@ json Change(const FrictionChange& c) {
 std::string FormatOnlineJson(const OnlineResult& r) {
   json out = {{"row", r.rows - 1}, {"t", Number(r.t_s)}, {"started", r.started}};
   for (int i = 0; i < 3; ++i) out[ParameterName(i)] = Parameter(r.parameters[i]);
-  if (r.mu_pusher_examined) out["mu_pusher"] = Parameter(r.mu_pusher);
+  if (r.mu_pusher_examined) {
+    json mu = Parameter(r.mu_pusher);
+    if (std::isfinite(r.mu_pusher_lower_bound)) mu["lower_bound"] = r.mu_pusher_lower_bound;
+    mu["contact_rows"] = r.mu_pusher_contact_rows;
+    mu["sliding_rows"] = r.mu_pusher_sliding_rows;
+    out["mu_pusher"] = mu;
+  }
   out["variance_factor"] = Number(r.variance_factor);
   out["nis"] = Number(r.nis);
   out["changes"] = r.changes.size();
