@@ -5,9 +5,9 @@
 //   online_plot --log FILE.csv --out PREFIX [--title TEXT] [--from T]
 //
 // writes PREFIX_a.svg, PREFIX_b.svg, PREFIX_c.svg (and PREFIX_mu_p.svg when the log has
-// the tip, from where its verdict is ok), from time T on (default: the log's start; the first rows' estimates, far off,
-// would set the scale). A plain program; it reads the log, runs it through the identifier row by row
-// (estimator/online_identifier.h) and the batch fit (Identify, defaults).
+// the tip, from where its verdict is ok), from time T on (default: the log's start; the first rows'
+// estimates, far off, would set the scale). A plain program; it reads the log, runs it through the
+// identifier row by row (estimator/online_identifier.h) and the batch fit (Identify, defaults).
 
 #include <algorithm>
 #include <cmath>
@@ -95,12 +95,14 @@ int main(int argc, char** argv) {
       } else if (args.Is("--from")) {
         from_s = std::stod(args.Value());
       } else {
-        std::fprintf(stderr, "usage: online_plot --log FILE.csv --out PREFIX [--title TEXT] [--from T]\n");
+        std::fprintf(stderr,
+                     "usage: online_plot --log FILE.csv --out PREFIX [--title TEXT] [--from T]\n");
         return 2;
       }
     }
     if (log_path.empty() || prefix.empty()) {
-      std::fprintf(stderr, "usage: online_plot --log FILE.csv --out PREFIX [--title TEXT] [--from T]\n");
+      std::fprintf(stderr,
+                   "usage: online_plot --log FILE.csv --out PREFIX [--title TEXT] [--from T]\n");
       return 2;
     }
     const Trajectory log = ReadPushLog(log_path);
@@ -132,8 +134,8 @@ int main(int argc, char** argv) {
     }
     for (int i = 0; i < 4; ++i) {
       if (series[i].t.empty()) continue;
-      const ParameterEstimate* b = i < 3 ? &batch.parameters[i]
-                                         : (batch.mu_pusher_examined ? &batch.mu_pusher : nullptr);
+      const ParameterEstimate* b =
+          i < 3 ? &batch.parameters[i] : (batch.mu_pusher_examined ? &batch.mu_pusher : nullptr);
       Write(prefix + "_" + names[i] + ".svg", title + ": " + labels[i], labels[i], series[i], t0,
             t1, b, truth[i]);
     }

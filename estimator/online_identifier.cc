@@ -64,6 +64,15 @@ constexpr double kMinJumpInformation = 1.0 / (0.5 * 0.5);
 /// windows that determine all three parameters), and not below kMinKappa.
 constexpr int kMinKappaRanks = 12;
 constexpr double kMinKappa = 0.25;
+/// The intervals' variance factor (IntervalKappa) is read once this many degrees of freedom
+/// are in, over completed windows and those under way: a window's statistic sits a few
+/// rows after the filter settles, where a factor read only from four completed windows came
+/// 120 rows later, and short logs' early intervals were the filter's own (too narrow: c
+/// held the truth in 70-85% of the coverage suite's short logs at a quarter of their rows).
+constexpr int kMinIntervalRanks = 3;
+/// A parameter's own variance factor needs its directions to weigh this much (two
+/// directions' worth); less, and the overall factor is used.
+constexpr double kMinParameterWeight = 2.0;
 /// The change test is disarmed while the variance factor exceeds this: a filter whose
 /// innovations are that much larger than it says does not describe its log, and the
 /// windows' statistics measure its misfit. On a coverage-suite log whose fast-spinning
@@ -149,7 +158,9 @@ struct ChangeWindow {
 };
 
 /// b^T A^+ b over the directions A determines, and the jump A^+ b.
-double LikelihoodRatio(const ChangeWindow& w, Eigen::Vector3d* jump, int* rank) {
+double LikelihoodRatio(const ChangeWindow& w, Eigen::Vector3d* jump, int* rank,
+                       Eigen::Vector3d* parameter_statistic = nullptr,
+                       Eigen::Vector3d* parameter_weight = nullptr) {
   Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(w.info);
   const Eigen::Vector3d lambda = eig.eigenvalues();
   const double largest = lambda.maxCoeff();
@@ -165,6 +176,11 @@ double LikelihoodRatio(const ChangeWindow& w, Eigen::Vector3d* jump, int* rank) 
     const double along = eig.eigenvectors().col(i).dot(w.score);
     stat += along * along / lambda(i);
     *jump += eig.eigenvectors().col(i) * (along / lambda(i));
+    if (parameter_statistic) {
+      const Eigen::Vector3d share = eig.eigenvectors().col(i).cwiseAbs2();
+      *parameter_statistic += share * (along * along / lambda(i));
+      *parameter_weight += share;
+    }
   }
   return stat;
 }
@@ -218,8 +234,15 @@ struct OnlineIdentifier::Impl {
   Eigen::Vector3d found_jump = Eigen::Vector3d::Zero();
   std::deque<std::pair<int, TrajectorySample>> recent;  // the last rows filtered
   int rows_filtered = 0;
-  double window_statistics = 0;             // sum of completed windows' likelihood ratios
-  int window_ranks = 0;                     // and of their degrees of freedom
+  double window_statistics = 0;  // sum of completed windows' likelihood ratios
+  int window_ranks = 0;          // and of their degrees of freedom
+  // The same per parameter: each direction's chi-square(1) term shared out by the squares of
+  // its eigenvector's components, and the shares' sums (IntervalKappa).
+  Eigen::Vector3d parameter_statistics = Eigen::Vector3d::Zero();
+  Eigen::Vector3d parameter_weights = Eigen::Vector3d::Zero();
+  Eigen::Vector3d open_statistics = Eigen::Vector3d::Zero(), open_weights = Eigen::Vector3d::Zero();
+  double open_total = 0;
+  int open_ranks = 0;
   int row_index = 0;                        // of the row being filtered
   std::optional<PusherFrictionStream> tip;  // mu_p, where the log has the tip
 
@@ -249,7 +272,15 @@ struct OnlineIdentifier::Impl {
     for (auto* warm : {&warm_base, &warm_fine, &warm_hold})
       std::fill(warm->begin(), warm->end(), Eigen::Vector4d::Zero());
     windows.clear();
+    ClearOpenWindows();
     last = row;
+  }
+
+  void ClearOpenWindows() {
+    open_statistics.setZero();
+    open_weights.setZero();
+    open_total = 0;
+    open_ranks = 0;
   }
 
   void Start() {
@@ -462,6 +493,7 @@ struct OnlineIdentifier::Impl {
   void UpdateChangeWindows(const Matrix9& phi, const Matrix93& K, const Eigen::Matrix3d& S_inv,
                            const Eigen::Vector3d& nu, const TrajectorySample& row) {
     result.change_detected = false;
+    ClearOpenWindows();
     const int half = options.change_window_rows / 2;
     // Before the filter knows a, a change is indistinguishable from its convergence.
     const bool settled = P(kPar, kPar) < kChangeStartLogSigma * kChangeStartLogSigma;
@@ -487,10 +519,19 @@ struct OnlineIdentifier::Impl {
       if (w.rows < kMinChangeRows) continue;
       Eigen::Vector3d jump;
       int rank = 0;
-      const double raw = LikelihoodRatio(w, &jump, &rank);
-      if (w.rows == options.change_window_rows) {
+      const bool complete = w.rows == options.change_window_rows;
+      // Windows under way count towards the intervals' variance factor (IntervalKappa).
+      const bool open = !complete;
+      const double raw =
+          LikelihoodRatio(w, &jump, &rank, complete ? &parameter_statistics : &open_statistics,
+                          complete ? &parameter_weights : &open_weights);
+      if (complete) {
         window_statistics += raw;
         window_ranks += rank;
+      }
+      if (open) {
+        open_total += raw;
+        open_ranks += rank;
       }
       // A filter whose innovations are noisier than it says in every window is not
       // changing: the test is on the statistic over its own typical level.
@@ -535,6 +576,22 @@ struct OnlineIdentifier::Impl {
     return std::max(kMinKappa, window_statistics / window_ranks);
   }
 
+  // The variance factor of parameter i's interval: the mean likelihood ratio per degree of
+  // freedom in i's directions (each direction's chi-square(1) term shared out by the squares
+  // of its eigenvector's components), over the completed windows and those under way (from
+  // kMinChangeRows rows), once kMinIntervalRanks degrees of freedom are in; the overall
+  // factor while i's directions weigh less than kMinParameterWeight. Never below 1: the
+  // windows' statistics may widen the filter's own covariance, not narrow it. docs/online.md.
+  double IntervalKappa(int i) const {
+    const int ranks = window_ranks + open_ranks;
+    if (ranks < kMinIntervalRanks) return 1.0;
+    const double weight = parameter_weights(i) + open_weights(i);
+    const double kappa = weight >= kMinParameterWeight
+                             ? (parameter_statistics(i) + open_statistics(i)) / weight
+                             : (window_statistics + open_total) / ranks;
+    return std::max(1.0, kappa);
+  }
+
   // The filter lost the motion (its model stuck while the slider slid, say): the motion
   // restarts from the last two rows, and what the parameters know is widened.
   void Relocate(const TrajectorySample& row, double h) {
@@ -572,6 +629,9 @@ struct OnlineIdentifier::Impl {
     // The new surface's filter earns its own variance factor, and its alarms wait for it.
     window_statistics = 0;
     window_ranks = 0;
+    parameter_statistics.setZero();
+    parameter_weights.setZero();
+    ClearOpenWindows();
   }
 
   // The pose noise so far: the filter's once it runs, the readers' before.
@@ -594,8 +654,8 @@ struct OnlineIdentifier::Impl {
     result.state = {x(0), x(1), x(2), x(3), x(4), x(5)};
     result.pose_noise_m = sigma_p;
     result.angle_noise_rad = sigma_theta;
-    const double kappa = Kappa();
-    result.variance_factor = kappa;
+    result.variance_factor = Kappa();
+    for (int i = 0; i < 3; ++i) result.interval_variance_factors[i] = IntervalKappa(i);
     for (int i = 0; i < 3; ++i) {
       ParameterEstimate& p = result.parameters[i];
       p = ParameterEstimate{};
@@ -604,7 +664,8 @@ struct OnlineIdentifier::Impl {
                    " rows (from which it reads the noise)";
         continue;
       }
-      const double sd = std::sqrt(std::max(0.0, P(kPar + i, kPar + i)) * kappa);
+      const double sd =
+          std::sqrt(std::max(0.0, P(kPar + i, kPar + i)) * result.interval_variance_factors[i]);
       const double lo = std::exp(x(kPar + i) - kZ95 * sd), hi = std::exp(x(kPar + i) + kZ95 * sd);
       if (!(hi / lo <= kMaxIntervalFactor)) {
         p.held_at = std::exp(x(kPar + i));

@@ -101,9 +101,13 @@ struct OnlineResult {
   double pose_noise_m = 0, angle_noise_rad = 0;  ///< the noise the filter uses
   /// How much larger than the filter's own covariance of the log-parameters their
   /// innovations say it is (the mean likelihood ratio per degree of freedom of the completed
-  /// change windows; 1 until four are in): the intervals are widened (or narrowed) by its
-  /// square root, as a quasi-likelihood scales its covariance. docs/online.md.
+  /// change windows; 1 until four are in), as a quasi-likelihood scales its covariance: the
+  /// change test's scale. docs/online.md.
   double variance_factor = 1;
+  /// The factors the intervals of a, b, c are widened by (their variances'): each
+  /// parameter's own variance factor, from the windows' statistics in its directions, the
+  /// completed windows' and those under way; never below 1 (docs/online.md, "Calibration").
+  std::array<double, 3> interval_variance_factors{{1, 1, 1}};
   /// The change test runs (the filter has settled and its variance factor is known).
   bool change_test_armed = false;
   bool change_detected = false;         ///< at this row

@@ -41,6 +41,9 @@ std::string FormatOnlineJson(const OnlineResult& r) {
     out["mu_pusher"] = mu;
   }
   out["variance_factor"] = Number(r.variance_factor);
+  out["interval_variance_factors"] =
+      json::array({Number(r.interval_variance_factors[0]), Number(r.interval_variance_factors[1]),
+                   Number(r.interval_variance_factors[2])});
   out["nis"] = Number(r.nis);
   out["changes"] = r.changes.size();
   out["change"] = r.change_detected ? Change(r.changes.back()) : json(nullptr);
