@@ -41,7 +41,10 @@ struct OnlineOptions {
   int warmup_rows = 16;
   /// Process noise: relative noise of the logged force and moment (1 sigma), the
   /// uncertainty a logged force carries into the velocity over a row (h sigma_f / m).
-  double force_noise_fraction = 0.03;
+  /// 0: read off the log (the MAD of the force's third differences over its magnitude, in
+  /// the rows that push), at least 0.5%, once the filter's variance factor is in (12
+  /// degrees of freedom of completed change windows); 3% before, and again after a change.
+  double force_noise_fraction = 0;
   /// Process noise: an acceleration [m/s^2] (and that over the radius of gyration, in
   /// rad/s^2) that the model may miss in any row: a continuous motion against backward-Euler
   /// steps, force interpolation. Keeps the filter from trusting its own model further than
@@ -99,6 +102,7 @@ struct OnlineResult {
   /// The last row's normalised innovation squared (chi-square(3) when the model fits).
   double nis = std::numeric_limits<double>::quiet_NaN();
   double pose_noise_m = 0, angle_noise_rad = 0;  ///< the noise the filter uses
+  double force_noise_fraction = 0;               ///< the relative force noise it uses
   /// How much larger than the filter's own covariance of the log-parameters their
   /// innovations say it is (the mean likelihood ratio per degree of freedom of the completed
   /// change windows; 1 until four are in), as a quasi-likelihood scales its covariance: the
