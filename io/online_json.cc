@@ -44,6 +44,7 @@ std::string FormatOnlineJson(const OnlineResult& r) {
   out["interval_variance_factors"] =
       json::array({Number(r.interval_variance_factors[0]), Number(r.interval_variance_factors[1]),
                    Number(r.interval_variance_factors[2])});
+  out["force_noise_fraction"] = Number(r.force_noise_fraction);
   out["nis"] = Number(r.nis);
   out["changes"] = r.changes.size();
   out["change"] = r.change_detected ? Change(r.changes.back()) : json(nullptr);
