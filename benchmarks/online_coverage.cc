@@ -98,8 +98,9 @@ void RunLog(const CoverageCondition& condition, int index, bool batch, Tally* ta
       std::fprintf(stderr, " %.5g [%.5g %.5g] (truth %.5g; batch %.5g)", p.value, p.ci95_lo,
                    p.ci95_hi, made.truth[i], batch ? fit.parameters[i].value : 0.0);
     }
-    std::fprintf(stderr, " failed %d changes %zu noise %.3g %.3g kappa %.3g", r.failed_steps,
-                 r.changes.size(), r.pose_noise_m, r.angle_noise_rad, r.variance_factor);
+    std::fprintf(stderr, " failed %d changes %zu noise %.3g %.3g force %.3g kappa %.3g",
+                 r.failed_steps, r.changes.size(), r.pose_noise_m, r.angle_noise_rad,
+                 r.force_noise_fraction, r.variance_factor);
     for (const FrictionChange& c : r.changes)
       std::fprintf(stderr, " [row %d at %d stat %.1f ratio %.3f %.3f %.3f]", c.row, c.detected_row,
                    c.statistic, c.ratio[0], c.ratio[1], c.ratio[2]);

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <deque>
+#include <optional>
 #include <stdexcept>
 #include <utility>
 
@@ -12,6 +13,7 @@
 #include "estimator/internal/trajectory_problem.h"
 #include "estimator/log_diagnostics.h"
 #include "estimator/plausibility.h"
+#include "estimator/pusher_friction.h"
 #include "estimator/robust_statistics.h"
 #include "estimator/step_sensitivity.h"
 #include "forward_model/number_format.h"
@@ -39,6 +41,14 @@ constexpr int kNoiseRefreshRows = 64;
 /// innovation covariance; 1 um and 1 urad are far below any motion capture.
 constexpr double kMinPoseNoise_m = 1e-6;
 constexpr double kMinAngleNoise_rad = 1e-6;
+/// The relative force noise (OnlineOptions::force_noise_fraction = 0): 3% until the filter's
+/// variance factor is in, a floor of 0.5% after (a force sensor's calibration), read off at
+/// least this many pushing rows' third differences. The noise is read along the force:
+/// the median of |d3 f . f| / (sqrt(20) |f|^2) is sigma times the median of a half-normal.
+constexpr double kDefaultForceNoiseFraction = 0.03;
+constexpr double kMinForceNoiseFraction = 0.005;
+constexpr int kMinForceNoiseSamples = 32;
+constexpr double kHalfNormalMedian = 0.6744897501960817;
 /// The start velocity is unknown: within 0.3 m/s (1 sigma), a fast push.
 constexpr double kStartSpeedSigma_mps = 0.3;
 /// A row whose innovation exceeds this NIS (the 1e-4 tail of chi-square(3)) is weighted
@@ -62,6 +72,15 @@ constexpr double kMinJumpInformation = 1.0 / (0.5 * 0.5);
 /// windows that determine all three parameters), and not below kMinKappa.
 constexpr int kMinKappaRanks = 12;
 constexpr double kMinKappa = 0.25;
+/// The intervals' variance factor (IntervalKappa) is read once this many degrees of freedom
+/// are in, over completed windows and those under way: a window's statistic sits a few
+/// rows after the filter settles, where a factor read only from four completed windows came
+/// 120 rows later, and short logs' early intervals were the filter's own (too narrow: c
+/// held the truth in 70-85% of the coverage suite's short logs at a quarter of their rows).
+constexpr int kMinIntervalRanks = 3;
+/// A parameter's own variance factor needs its directions to weigh this much (two
+/// directions' worth); less, and the overall factor is used.
+constexpr double kMinParameterWeight = 2.0;
 /// The change test is disarmed while the variance factor exceeds this: a filter whose
 /// innovations are that much larger than it says does not describe its log, and the
 /// windows' statistics measure its misfit. On a coverage-suite log whose fast-spinning
@@ -129,6 +148,45 @@ class NoiseReader {
   int next_ = 0;
 };
 
+/// The running relative noise of the logged force, from its third differences over its
+/// magnitude in the rows that push (a force above `min_force_n`).
+class ForceNoiseReader {
+ public:
+  void Add(const AppliedWrench& w, double min_force_n) {
+    for (int k = 0; k < 3; ++k) last_[k] = last_[k + 1];
+    last_[3] = w;
+    if (++seen_ < 4) return;
+    const double f = std::hypot(w.fx, w.fy);
+    if (!(f > min_force_n) || !(f > 0)) return;
+    for (int k = 0; k < 3; ++k)
+      if (!(std::hypot(last_[k].fx, last_[k].fy) > min_force_n)) return;  // a push starts
+    auto d3 = [&](double AppliedWrench::*c) {
+      return last_[3].*c - 3 * (last_[2].*c) + 3 * (last_[1].*c) - last_[0].*c;
+    };
+    // Along the force: a relative noise on each component (a sensor's gain) is largest
+    // there, and it is the push's direction that the noise moves the slider in.
+    const double r = std::abs(d3(&AppliedWrench::fx) * w.fx + d3(&AppliedWrench::fy) * w.fy) /
+                     (std::sqrt(kThirdDifferenceVariance) * f * f);
+    if (static_cast<int>(ring_.size()) < kNoiseRing) {
+      ring_.push_back(r);
+    } else {
+      ring_[next_] = r;
+      next_ = (next_ + 1) % kNoiseRing;
+    }
+  }
+  /// sigma, or 0 before kMinForceNoiseSamples.
+  double Fraction() const {
+    if (static_cast<int>(ring_.size()) < kMinForceNoiseSamples) return 0;
+    return Median(ring_) / kHalfNormalMedian;
+  }
+
+ private:
+  AppliedWrench last_[4];
+  int seen_ = 0;
+  std::vector<double> ring_;
+  int next_ = 0;
+};
+
 /// One window of the change test: the signature of a jump of the log-parameters at its
 /// start in the filter's later innovations (Willsky and Jones 1976), and the information
 /// it has gathered about such a jump.
@@ -147,7 +205,9 @@ struct ChangeWindow {
 };
 
 /// b^T A^+ b over the directions A determines, and the jump A^+ b.
-double LikelihoodRatio(const ChangeWindow& w, Eigen::Vector3d* jump, int* rank) {
+double LikelihoodRatio(const ChangeWindow& w, Eigen::Vector3d* jump, int* rank,
+                       Eigen::Vector3d* parameter_statistic = nullptr,
+                       Eigen::Vector3d* parameter_weight = nullptr) {
   Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(w.info);
   const Eigen::Vector3d lambda = eig.eigenvalues();
   const double largest = lambda.maxCoeff();
@@ -163,6 +223,11 @@ double LikelihoodRatio(const ChangeWindow& w, Eigen::Vector3d* jump, int* rank) 
     const double along = eig.eigenvectors().col(i).dot(w.score);
     stat += along * along / lambda(i);
     *jump += eig.eigenvectors().col(i) * (along / lambda(i));
+    if (parameter_statistic) {
+      const Eigen::Vector3d share = eig.eigenvectors().col(i).cwiseAbs2();
+      *parameter_statistic += share * (along * along / lambda(i));
+      *parameter_weight += share;
+    }
   }
   return stat;
 }
@@ -200,7 +265,9 @@ struct OnlineIdentifier::Impl {
   OnlineResult result;
 
   NoiseReader noise_x, noise_y, noise_theta;
+  ForceNoiseReader noise_force;
   double sigma_p = 0, sigma_theta = 0;
+  double force_noise_read = 0;  // the reader's, at the last ReadNoise
   int rows_since_noise = 0;
 
   std::vector<TrajectorySample> warmup;
@@ -213,12 +280,22 @@ struct OnlineIdentifier::Impl {
   std::vector<ChangeWindow> windows;
   bool mismatch_released = false;
   ChangeWindow found;  // the window of the last change found
+  Eigen::Vector3d size_before_change = Eigen::Vector3d::Zero();  // log a, b, c then
+  int rows_to_refine_size = 0;                                   // RefineChangeSize
   Eigen::Vector3d found_jump = Eigen::Vector3d::Zero();
   std::deque<std::pair<int, TrajectorySample>> recent;  // the last rows filtered
   int rows_filtered = 0;
   double window_statistics = 0;  // sum of completed windows' likelihood ratios
   int window_ranks = 0;          // and of their degrees of freedom
-  int row_index = 0;             // of the row being filtered
+  // The same per parameter: each direction's chi-square(1) term shared out by the squares of
+  // its eigenvector's components, and the shares' sums (IntervalKappa).
+  Eigen::Vector3d parameter_statistics = Eigen::Vector3d::Zero();
+  Eigen::Vector3d parameter_weights = Eigen::Vector3d::Zero();
+  Eigen::Vector3d open_statistics = Eigen::Vector3d::Zero(), open_weights = Eigen::Vector3d::Zero();
+  double open_total = 0;
+  int open_ranks = 0;
+  int row_index = 0;                        // of the row being filtered
+  std::optional<PusherFrictionStream> tip;  // mu_p, where the log has the tip
 
   void ReadNoise() {
     sigma_p = options.pose_noise_m > 0
@@ -227,6 +304,7 @@ struct OnlineIdentifier::Impl {
                                                                std::pow(noise_y.Sigma(), 2))));
     sigma_theta = options.angle_noise_rad > 0 ? options.angle_noise_rad
                                               : std::max(kMinAngleNoise_rad, noise_theta.Sigma());
+    force_noise_read = noise_force.Fraction();
     rows_since_noise = 0;
   }
 
@@ -246,7 +324,15 @@ struct OnlineIdentifier::Impl {
     for (auto* warm : {&warm_base, &warm_fine, &warm_hold})
       std::fill(warm->begin(), warm->end(), Eigen::Vector4d::Zero());
     windows.clear();
+    ClearOpenWindows();
     last = row;
+  }
+
+  void ClearOpenWindows() {
+    open_statistics.setZero();
+    open_weights.setZero();
+    open_total = 0;
+    open_ranks = 0;
   }
 
   void Start() {
@@ -336,11 +422,18 @@ struct OnlineIdentifier::Impl {
     return true;
   }
 
+  // The relative force noise of the process noise (OnlineOptions::force_noise_fraction).
+  double ForceNoiseFraction() const {
+    if (options.force_noise_fraction > 0) return options.force_noise_fraction;
+    if (window_ranks < kMinKappaRanks || !(force_noise_read > 0)) return kDefaultForceNoiseFraction;
+    return std::clamp(force_noise_read, kMinForceNoiseFraction, kDefaultForceNoiseFraction);
+  }
+
   // What the model may miss over a row of length h: the logged force's noise and an
   // acceleration, as a velocity random walk (and the pose it moves).
   Matrix9 ProcessNoise(double h) const {
     const AppliedWrench& w = last.applied;
-    const double f = options.force_noise_fraction;
+    const double f = ForceNoiseFraction();
     const double acc = options.model_acceleration_mps2;
     const double qv = std::pow(h / slider.mass_kg, 2) * std::pow(f * HorizontalForce(w), 2) +
                       std::pow(h * acc, 2);
@@ -420,7 +513,11 @@ struct OnlineIdentifier::Impl {
     }
     recent.emplace_back(index, row);
     while (static_cast<int>(recent.size()) > options.change_window_rows + 1) recent.pop_front();
-    if (result.change_detected) RefilterAfterChange();
+    if (result.change_detected) {
+      RefilterAfterChange();
+    } else {
+      RefineChangeSize();
+    }
   }
 
   // After a change found in window `found`: the filter goes back to the window's start,
@@ -452,6 +549,19 @@ struct OnlineIdentifier::Impl {
     lost_rows = 0;
     for (const auto& [index, row] : again) Filter(row, index);
     result.change_detected = true;
+    // The change's size is refined once the filter has re-converged (RefineChangeSize).
+    size_before_change = w.x0.segment<3>(kPar);
+    rows_to_refine_size = options.change_window_rows;
+  }
+
+  // change_window_rows rows after an alarm, the change's size becomes the re-converged
+  // estimate over the one at its window's start: the jump's own estimate, from a window that
+  // may start before the change, can be well short of it (a x 1.08 for a truth of 1.33,
+  // with the process noise read off an exact-force log).
+  void RefineChangeSize() {
+    if (rows_to_refine_size <= 0 || --rows_to_refine_size > 0 || result.changes.empty()) return;
+    for (int i = 0; i < 3; ++i)
+      result.changes.back().ratio[i] = std::exp(x(kPar + i) - size_before_change(i));
   }
 
   // The generalised likelihood ratio of a parameter jump at each window's start, from the
@@ -459,6 +569,7 @@ struct OnlineIdentifier::Impl {
   void UpdateChangeWindows(const Matrix9& phi, const Matrix93& K, const Eigen::Matrix3d& S_inv,
                            const Eigen::Vector3d& nu, const TrajectorySample& row) {
     result.change_detected = false;
+    ClearOpenWindows();
     const int half = options.change_window_rows / 2;
     // Before the filter knows a, a change is indistinguishable from its convergence.
     const bool settled = P(kPar, kPar) < kChangeStartLogSigma * kChangeStartLogSigma;
@@ -484,10 +595,19 @@ struct OnlineIdentifier::Impl {
       if (w.rows < kMinChangeRows) continue;
       Eigen::Vector3d jump;
       int rank = 0;
-      const double raw = LikelihoodRatio(w, &jump, &rank);
-      if (w.rows == options.change_window_rows) {
+      const bool complete = w.rows == options.change_window_rows;
+      // Windows under way count towards the intervals' variance factor (IntervalKappa).
+      const bool open = !complete;
+      const double raw =
+          LikelihoodRatio(w, &jump, &rank, complete ? &parameter_statistics : &open_statistics,
+                          complete ? &parameter_weights : &open_weights);
+      if (complete) {
         window_statistics += raw;
         window_ranks += rank;
+      }
+      if (open) {
+        open_total += raw;
+        open_ranks += rank;
       }
       // A filter whose innovations are noisier than it says in every window is not
       // changing: the test is on the statistic over its own typical level.
@@ -532,6 +652,22 @@ struct OnlineIdentifier::Impl {
     return std::max(kMinKappa, window_statistics / window_ranks);
   }
 
+  // The variance factor of parameter i's interval: the mean likelihood ratio per degree of
+  // freedom in i's directions (each direction's chi-square(1) term shared out by the squares
+  // of its eigenvector's components), over the completed windows and those under way (from
+  // kMinChangeRows rows), once kMinIntervalRanks degrees of freedom are in; the overall
+  // factor while i's directions weigh less than kMinParameterWeight. Never below 1: the
+  // windows' statistics may widen the filter's own covariance, not narrow it. docs/online.md.
+  double IntervalKappa(int i) const {
+    const int ranks = window_ranks + open_ranks;
+    if (ranks < kMinIntervalRanks) return 1.0;
+    const double weight = parameter_weights(i) + open_weights(i);
+    const double kappa = weight >= kMinParameterWeight
+                             ? (parameter_statistics(i) + open_statistics(i)) / weight
+                             : (window_statistics + open_total) / ranks;
+    return std::max(1.0, kappa);
+  }
+
   // The filter lost the motion (its model stuck while the slider slid, say): the motion
   // restarts from the last two rows, and what the parameters know is widened.
   void Relocate(const TrajectorySample& row, double h) {
@@ -569,14 +705,34 @@ struct OnlineIdentifier::Impl {
     // The new surface's filter earns its own variance factor, and its alarms wait for it.
     window_statistics = 0;
     window_ranks = 0;
+    parameter_statistics.setZero();
+    parameter_weights.setZero();
+    ClearOpenWindows();
+  }
+
+  // The pose noise so far: the filter's once it runs, the readers' before.
+  void AddTipRow(const TrajectorySample& row) {
+    if (!tip) return;
+    if (result.started) {
+      tip->Add(row, sigma_p, sigma_theta);
+    } else {
+      tip->Add(row, std::sqrt(0.5 * (std::pow(noise_x.Sigma(), 2) + std::pow(noise_y.Sigma(), 2))),
+               noise_theta.Sigma());
+    }
+    const PusherFrictionResult& r = tip->result();
+    result.mu_pusher = r.mu;
+    result.mu_pusher_lower_bound = r.lower_bound;
+    result.mu_pusher_contact_rows = r.contact_rows;
+    result.mu_pusher_sliding_rows = r.sliding_rows;
   }
 
   void Report() {
     result.state = {x(0), x(1), x(2), x(3), x(4), x(5)};
     result.pose_noise_m = sigma_p;
     result.angle_noise_rad = sigma_theta;
-    const double kappa = Kappa();
-    result.variance_factor = kappa;
+    result.variance_factor = Kappa();
+    result.force_noise_fraction = ForceNoiseFraction();
+    for (int i = 0; i < 3; ++i) result.interval_variance_factors[i] = IntervalKappa(i);
     for (int i = 0; i < 3; ++i) {
       ParameterEstimate& p = result.parameters[i];
       p = ParameterEstimate{};
@@ -585,7 +741,8 @@ struct OnlineIdentifier::Impl {
                    " rows (from which it reads the noise)";
         continue;
       }
-      const double sd = std::sqrt(std::max(0.0, P(kPar + i, kPar + i)) * kappa);
+      const double sd =
+          std::sqrt(std::max(0.0, P(kPar + i, kPar + i)) * result.interval_variance_factors[i]);
       const double lo = std::exp(x(kPar + i) - kZ95 * sd), hi = std::exp(x(kPar + i) + kZ95 * sd);
       if (!(hi / lo <= kMaxIntervalFactor)) {
         p.held_at = std::exp(x(kPar + i));
@@ -632,6 +789,11 @@ OnlineIdentifier::OnlineIdentifier(const Trajectory& metadata, const OnlineOptio
   m.warm_base.assign(options.substeps, Eigen::Vector4d::Zero());
   m.warm_fine.assign(2 * options.substeps, Eigen::Vector4d::Zero());
   m.warm_hold.assign(options.substeps, Eigen::Vector4d::Zero());
+  if (PusherFrictionStream::Applies(metadata)) {
+    m.tip.emplace(metadata);
+    m.result.mu_pusher_examined = true;
+    m.result.mu_pusher = m.tip->result().mu;
+  }
   m.Report();
 }
 
@@ -657,6 +819,7 @@ const OnlineResult& OnlineIdentifier::Update(const TrajectorySample& row) {
   m.noise_x.Add(row.state.x);
   m.noise_y.Add(row.state.y);
   m.noise_theta.Add(row.state.theta);
+  m.noise_force.Add(row.applied, kContactForceFraction * m.largest_push_n);
   if (!m.result.started) {
     m.warmup.push_back(row);
     if (static_cast<int>(m.warmup.size()) >= m.options.warmup_rows) m.Start();
@@ -664,6 +827,7 @@ const OnlineResult& OnlineIdentifier::Update(const TrajectorySample& row) {
     if (++m.rows_since_noise >= kNoiseRefreshRows) m.ReadNoise();
     m.Filter(row, index);
   }
+  m.AddTipRow(row);
   m.Report();
   return m.result;
 }

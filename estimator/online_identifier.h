@@ -41,7 +41,10 @@ struct OnlineOptions {
   int warmup_rows = 16;
   /// Process noise: relative noise of the logged force and moment (1 sigma), the
   /// uncertainty a logged force carries into the velocity over a row (h sigma_f / m).
-  double force_noise_fraction = 0.03;
+  /// 0: read off the log (the MAD of the force's third differences over its magnitude, in
+  /// the rows that push), at least 0.5%, once the filter's variance factor is in (12
+  /// degrees of freedom of completed change windows); 3% before, and again after a change.
+  double force_noise_fraction = 0;
   /// Process noise: an acceleration [m/s^2] (and that over the radius of gyration, in
   /// rad/s^2) that the model may miss in any row: a continuous motion against backward-Euler
   /// steps, force interpolation. Keeps the filter from trusting its own model further than
@@ -85,19 +88,30 @@ struct OnlineResult {
   /// a, b, c with intervals exp(log +- z95 sigma) and verdicts: ok, or not identifiable
   /// while the interval spans more than kMaxIntervalFactor (the prior's width).
   std::array<ParameterEstimate, 3> parameters;
-  /// mu_p: not estimated online yet (examined stays false; the batch fit's
-  /// estimator/pusher_friction.h gives it from a whole log).
+  /// mu_p, the tip-edge friction, where the log has the tip's path, its radius and the
+  /// outline (examined): the batch fit's estimate (estimator/pusher_friction.h) from the rows
+  /// so far, as PusherFrictionStream keeps it: the median |f_t| / f_n over the rows where
+  /// the tip slides along the edge, each row classified slip_half_window_rows (5) rows
+  /// later. Not identifiable while the tip has not slid in enough rows; then
+  /// mu_pusher_lower_bound, from the rows where it sticks, when it has pushed at all.
   bool mu_pusher_examined = false;
   ParameterEstimate mu_pusher;
+  double mu_pusher_lower_bound = std::numeric_limits<double>::quiet_NaN();
+  int mu_pusher_contact_rows = 0, mu_pusher_sliding_rows = 0;
   PlanarState state;  ///< the filter's state at the last row
   /// The last row's normalised innovation squared (chi-square(3) when the model fits).
   double nis = std::numeric_limits<double>::quiet_NaN();
   double pose_noise_m = 0, angle_noise_rad = 0;  ///< the noise the filter uses
+  double force_noise_fraction = 0;               ///< the relative force noise it uses
   /// How much larger than the filter's own covariance of the log-parameters their
   /// innovations say it is (the mean likelihood ratio per degree of freedom of the completed
-  /// change windows; 1 until four are in): the intervals are widened (or narrowed) by its
-  /// square root, as a quasi-likelihood scales its covariance. docs/online.md.
+  /// change windows; 1 until four are in), as a quasi-likelihood scales its covariance: the
+  /// change test's scale. docs/online.md.
   double variance_factor = 1;
+  /// The factors the intervals of a, b, c are widened by (their variances'): each
+  /// parameter's own variance factor, from the windows' statistics in its directions, the
+  /// completed windows' and those under way; never below 1 (docs/online.md, "Calibration").
+  std::array<double, 3> interval_variance_factors{{1, 1, 1}};
   /// The change test runs (the filter has settled and its variance factor is known).
   bool change_test_armed = false;
   bool change_detected = false;         ///< at this row

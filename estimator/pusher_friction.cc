@@ -38,9 +38,40 @@ Eigen::Vector2d TipInBody(const TrajectorySample& s) {
   return {c * d.x() + si * d.y(), -si * d.x() + c * d.y()};
 }
 
-/// The contact rows of one log, in order. The slip is read in the body frame, where it is
-/// the tip's drift along the edge: over rows u - k .. u + k (inside one run), whose
-/// difference divides the pose noise by the window's length instead of one interval's.
+/// Row `a` as a contact row, or nullopt when the tip does not push the edge there. The slip
+/// is read in the body frame, where it is the tip's drift along the edge: over rows `lo` ..
+/// `hi` (around `a`, inside one run), whose difference divides the pose noise by the
+/// window's length instead of one interval's.
+std::optional<ContactRow> ClassifyContact(const ContactPatch& patch, double tip_radius_m,
+                                          const TrajectorySample& a, const TrajectorySample& lo,
+                                          const TrajectorySample& hi, double min_force_n,
+                                          double pose_noise, double angle_noise,
+                                          const PusherFrictionOptions& o) {
+  const TipContact c = ContactWithTip(patch, a.state, *a.tip_world, tip_radius_m);
+  if (!(c.gap_m < o.contact_tolerance_m)) return std::nullopt;
+  const Eigen::Vector2d n_w = c.normal_world, t_w(-n_w.y(), n_w.x());
+  const Eigen::Vector2d f(a.applied.fx, a.applied.fy);
+  const double fn = -f.dot(n_w);  // into the slider
+  if (!(fn > min_force_n)) return std::nullopt;
+  const double window = hi.t_s - lo.t_s;
+  if (!(window > 0)) return std::nullopt;
+  const double ct = std::cos(a.state.theta), st = std::sin(a.state.theta);
+  const Eigen::Vector2d t_body(ct * t_w.x() + st * t_w.y(), -st * t_w.x() + ct * t_w.y());
+  // The slider's contact point relative to the tip, along t: minus the tip's drift.
+  const double slip = -(TipInBody(hi) - TipInBody(lo)).dot(t_body) / window;
+  const double arm = (c.point_world - Eigen::Vector2d(a.state.x, a.state.y)).norm() + tip_radius_m;
+  const double slip_noise = std::sqrt(2.0) * std::hypot(pose_noise, arm * angle_noise) / window;
+  const Eigen::Vector2d tip_velocity = (*hi.tip_world - *lo.tip_world) / window;
+  const double threshold =
+      std::max(o.slip_sigmas * slip_noise, o.min_slip_fraction * tip_velocity.norm());
+  ContactRow row;
+  row.ratio = f.dot(t_w) / fn;
+  // Sliding: the slip beyond its noise, the friction on the slider against it.
+  row.sliding = std::abs(slip) > threshold && row.ratio * slip < 0;
+  return row;
+}
+
+/// The contact rows of one log, in order, each with its slip over rows u - k .. u + k.
 std::vector<ContactRow> ContactRows(const Trajectory& log, double min_force_n,
                                     const PusherFrictionOptions& o) {
   const ContactPatch patch = ContactPatch::Parse(log.patch_spec);
@@ -53,35 +84,14 @@ std::vector<ContactRow> ContactRows(const Trajectory& log, double min_force_n,
   const int n = static_cast<int>(log.samples.size());
   std::vector<ContactRow> rows;
   for (int u = 0; u < n; ++u) {
-    const TrajectorySample& a = log.samples[u];
-    const TipContact c = ContactWithTip(patch, a.state, *a.tip_world, *log.tip_radius_m);
-    if (!(c.gap_m < o.contact_tolerance_m)) continue;
-    const Eigen::Vector2d n_w = c.normal_world, t_w(-n_w.y(), n_w.x());
-    const Eigen::Vector2d f(a.applied.fx, a.applied.fy);
-    const double fn = -f.dot(n_w);  // into the slider
-    if (!(fn > min_force_n)) continue;
     int lo = u, hi = u;
     while (u - lo < o.slip_half_window_rows && lo > 0 && run_of[lo - 1] == run_of[u]) --lo;
     while (hi - u < o.slip_half_window_rows && hi + 1 < n && run_of[hi + 1] == run_of[u]) ++hi;
     if (hi == lo) continue;
-    const double window = log.samples[hi].t_s - log.samples[lo].t_s;
-    const double ct = std::cos(a.state.theta), st = std::sin(a.state.theta);
-    const Eigen::Vector2d t_body(ct * t_w.x() + st * t_w.y(), -st * t_w.x() + ct * t_w.y());
-    // The slider's contact point relative to the tip, along t: minus the tip's drift.
-    const double slip =
-        -(TipInBody(log.samples[hi]) - TipInBody(log.samples[lo])).dot(t_body) / window;
-    const double arm =
-        (c.point_world - Eigen::Vector2d(a.state.x, a.state.y)).norm() + *log.tip_radius_m;
-    const double slip_noise = std::sqrt(2.0) * std::hypot(pose_noise, arm * angle_noise) / window;
-    const Eigen::Vector2d tip_velocity =
-        (*log.samples[hi].tip_world - *log.samples[lo].tip_world) / window;
-    const double threshold =
-        std::max(o.slip_sigmas * slip_noise, o.min_slip_fraction * tip_velocity.norm());
-    ContactRow row;
-    row.ratio = f.dot(t_w) / fn;
-    // Sliding: the slip beyond its noise, the friction on the slider against it.
-    row.sliding = std::abs(slip) > threshold && row.ratio * slip < 0;
-    rows.push_back(row);
+    const std::optional<ContactRow> row =
+        ClassifyContact(patch, *log.tip_radius_m, log.samples[u], log.samples[lo], log.samples[hi],
+                        min_force_n, pose_noise, angle_noise, o);
+    if (row) rows.push_back(*row);
   }
   return rows;
 }
@@ -121,6 +131,34 @@ ParameterEstimate FromSliding(const std::vector<double>& ratios, const PusherFri
     p.verdict = Verdict::kOk;
   }
   return p;
+}
+
+/// The result from the contact rows' |f_t| / f_n: of the rows where the tip slides, and of
+/// all of them (in log order).
+PusherFrictionResult FromContactRows(const std::vector<double>& sliding,
+                                     const std::vector<double>& all,
+                                     const PusherFrictionOptions& options) {
+  PusherFrictionResult r;
+  r.contact_rows = static_cast<int>(all.size());
+  r.sliding_rows = static_cast<int>(sliding.size());
+  if (r.sliding_rows >= options.min_sliding_rows) {
+    r.mu = FromSliding(sliding, options);
+    return r;
+  }
+  r.mu.verdict = Verdict::kNotIdentifiable;
+  if (all.empty()) {
+    r.mu.reason =
+        "the tip never pushes the object's edge (no row with the tip on the outline "
+        "and a force into it)";
+    return r;
+  }
+  r.lower_bound = Quantile(all, options.sticking_quantile);
+  r.mu.reason = "the tip does not slide along the edge (" + std::to_string(r.sliding_rows) +
+                " of " + std::to_string(r.contact_rows) +
+                " contact rows): mu_p >= " + Rounded(r.lower_bound) + ", the " +
+                Rounded(100 * options.sticking_quantile) +
+                "th percentile of |f_t| / f_n while it sticks";
+  return r;
 }
 
 }  // namespace
@@ -169,7 +207,6 @@ std::optional<PusherFrictionResult> EstimatePusherFriction(
   }
   if (with_tip.empty()) return std::nullopt;
   const double typical = TypicalPush(with_tip);
-  PusherFrictionResult r;
   std::vector<double> sliding, all;
   for (const Trajectory* log : with_tip) {
     for (const ContactRow& row : ContactRows(*log, options.min_force_fraction * typical, options)) {
@@ -177,26 +214,80 @@ std::optional<PusherFrictionResult> EstimatePusherFriction(
       if (row.sliding) sliding.push_back(std::abs(row.ratio));
     }
   }
-  r.contact_rows = static_cast<int>(all.size());
-  r.sliding_rows = static_cast<int>(sliding.size());
-  if (r.sliding_rows >= options.min_sliding_rows) {
-    r.mu = FromSliding(sliding, options);
-    return r;
+  return FromContactRows(sliding, all, options);
+}
+
+bool PusherFrictionStream::Applies(const Trajectory& metadata) {
+  return metadata.columns.tip && metadata.tip_radius_m && !metadata.patch_spec.empty();
+}
+
+namespace {
+const Trajectory& Checked(const Trajectory& metadata, const PusherFrictionOptions& options) {
+  std::string why;
+  if (!options.IsValid(&why)) throw std::invalid_argument(why);
+  if (!PusherFrictionStream::Applies(metadata)) {
+    throw std::invalid_argument(
+        "pusher friction: the log needs the tip's path (tip_x, tip_y), '# tip_radius' and "
+        "'# patch'");
   }
-  r.mu.verdict = Verdict::kNotIdentifiable;
-  if (all.empty()) {
-    r.mu.reason =
-        "the tip never pushes the object's edge (no row with the tip on the outline "
-        "and a force into it)";
-    return r;
+  return metadata;
+}
+}  // namespace
+
+PusherFrictionStream::PusherFrictionStream(const Trajectory& metadata,
+                                           const PusherFrictionOptions& options)
+    : options_(options),
+      patch_(ContactPatch::Parse(Checked(metadata, options).patch_spec)),
+      tip_radius_m_(*metadata.tip_radius_m) {
+  result_ = FromContactRows({}, {}, options_);
+}
+
+void PusherFrictionStream::Add(const TrajectorySample& row, double pose_noise_m,
+                               double angle_noise_rad) {
+  if (!row.tip_world) return;
+  pose_noise_m_ = std::isfinite(pose_noise_m) ? pose_noise_m : 0.0;
+  angle_noise_rad_ = std::isfinite(angle_noise_rad) ? angle_noise_rad : 0.0;
+  const size_t k = static_cast<size_t>(options_.slip_half_window_rows);
+  if (!ring_.empty() && row.mode == SampleMode::kStart) {
+    // A new run: the old run's last rows are classified with what their windows have.
+    while (classified_ < ring_.size()) Classify(classified_++);
+    ++run_;
   }
-  r.lower_bound = Quantile(all, options.sticking_quantile);
-  r.mu.reason = "the tip does not slide along the edge (" + std::to_string(r.sliding_rows) +
-                " of " + std::to_string(r.contact_rows) +
-                " contact rows): mu_p >= " + Rounded(r.lower_bound) + ", the " +
-                Rounded(100 * options.sticking_quantile) +
-                "th percentile of |f_t| / f_n while it sticks";
-  return r;
+  const double f = std::hypot(row.applied.fx, row.applied.fy);
+  if (f > 0) {
+    forces_.push_back(f);
+    if (forces_.size() >= forces_at_recompute_ + std::max<size_t>(1, forces_at_recompute_ / 16)) {
+      min_force_n_ = options_.min_force_fraction * Quantile(forces_, kTypicalPushQuantile);
+      forces_at_recompute_ = forces_.size();
+    }
+  }
+  ring_.push_back({row, run_});
+  while (classified_ < ring_.size() && ring_.size() - 1 - classified_ >= k) Classify(classified_++);
+  while (classified_ > k) {
+    ring_.pop_front();
+    --classified_;
+  }
+  if (all_.size() >= rows_at_recompute_ + std::max<size_t>(1, rows_at_recompute_ / 16)) Recompute();
+}
+
+void PusherFrictionStream::Classify(size_t i) {
+  const int k = options_.slip_half_window_rows;
+  size_t lo = i, hi = i;
+  while (static_cast<int>(i - lo) < k && lo > 0 && ring_[lo - 1].run == ring_[i].run) --lo;
+  while (static_cast<int>(hi - i) < k && hi + 1 < ring_.size() && ring_[hi + 1].run == ring_[i].run)
+    ++hi;
+  if (hi == lo) return;
+  const std::optional<ContactRow> row =
+      ClassifyContact(patch_, tip_radius_m_, ring_[i].row, ring_[lo].row, ring_[hi].row,
+                      min_force_n_, pose_noise_m_, angle_noise_rad_, options_);
+  if (!row) return;
+  all_.push_back(std::abs(row->ratio));
+  if (row->sliding) sliding_.push_back(std::abs(row->ratio));
+}
+
+void PusherFrictionStream::Recompute() {
+  result_ = FromContactRows(sliding_, all_, options_);
+  rows_at_recompute_ = all_.size();
 }
 
 void AddPusherFriction(const std::vector<const Trajectory*>& logs, EstimateResult* result) {

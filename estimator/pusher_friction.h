@@ -11,12 +11,14 @@
 // and says so.
 
 #include <cstdint>
+#include <deque>
 #include <limits>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "estimator/estimate.h"
+#include "forward_model/contact_patch.h"
 #include "forward_model/trajectory.h"
 
 namespace slideid {
@@ -64,6 +66,45 @@ double TypicalPush(const std::vector<const Trajectory*>& logs);
 /// when none has. Throws std::invalid_argument for invalid options.
 std::optional<PusherFrictionResult> EstimatePusherFriction(
     const std::vector<const Trajectory*>& logs, const PusherFrictionOptions& options = {});
+
+/// mu_p from rows as they come (the online identifier, estimator/online_identifier.h): the
+/// same contact rows and the same estimate as EstimatePusherFriction, each row classified
+/// once its slip window is in, slip_half_window_rows rows later (or at the end of its run).
+/// The typical push is that of the rows so far. The estimate is recomputed from the rows'
+/// ratios whenever they have grown by a sixteenth (medians are O(n)): O(1) per row
+/// amortised, and at most that far behind the rows.
+class PusherFrictionStream {
+ public:
+  /// Whether a log with this metadata carries what mu_p needs: the tip's path, its radius
+  /// and the object's outline.
+  static bool Applies(const Trajectory& metadata);
+  /// `metadata` must Apply; throws std::invalid_argument otherwise or for invalid options.
+  explicit PusherFrictionStream(const Trajectory& metadata,
+                                const PusherFrictionOptions& options = {});
+  /// The next row (its mode kStart after a gap), with the pose noise the caller reads off
+  /// the log so far [m, rad]. A row without the tip is skipped.
+  void Add(const TrajectorySample& row, double pose_noise_m, double angle_noise_rad);
+  const PusherFrictionResult& result() const { return result_; }
+
+ private:
+  struct Held {
+    TrajectorySample row;
+    int run = 0;
+  };
+  void Classify(size_t index_in_ring);
+  void Recompute();
+  PusherFrictionOptions options_;
+  ContactPatch patch_;
+  double tip_radius_m_ = 0;
+  std::deque<Held> ring_;  // the rows whose slip window is not yet in, and k before them
+  size_t classified_ = 0;  // rows of ring_ classified
+  int run_ = 0;
+  double pose_noise_m_ = 0, angle_noise_rad_ = 0;
+  std::vector<double> forces_, sliding_, all_;
+  double min_force_n_ = 0;
+  size_t forces_at_recompute_ = 0, rows_at_recompute_ = 0;
+  PusherFrictionResult result_;
+};
 
 /// Sets result->mu_pusher* from EstimatePusherFriction (untouched when no log has a tip).
 void AddPusherFriction(const std::vector<const Trajectory*>& logs, EstimateResult* result);

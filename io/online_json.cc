@@ -33,8 +33,18 @@ json Change(const FrictionChange& c) {
 std::string FormatOnlineJson(const OnlineResult& r) {
   json out = {{"row", r.rows - 1}, {"t", Number(r.t_s)}, {"started", r.started}};
   for (int i = 0; i < 3; ++i) out[ParameterName(i)] = Parameter(r.parameters[i]);
-  if (r.mu_pusher_examined) out["mu_pusher"] = Parameter(r.mu_pusher);
+  if (r.mu_pusher_examined) {
+    json mu = Parameter(r.mu_pusher);
+    if (std::isfinite(r.mu_pusher_lower_bound)) mu["lower_bound"] = r.mu_pusher_lower_bound;
+    mu["contact_rows"] = r.mu_pusher_contact_rows;
+    mu["sliding_rows"] = r.mu_pusher_sliding_rows;
+    out["mu_pusher"] = mu;
+  }
   out["variance_factor"] = Number(r.variance_factor);
+  out["interval_variance_factors"] =
+      json::array({Number(r.interval_variance_factors[0]), Number(r.interval_variance_factors[1]),
+                   Number(r.interval_variance_factors[2])});
+  out["force_noise_fraction"] = Number(r.force_noise_fraction);
   out["nis"] = Number(r.nis);
   out["changes"] = r.changes.size();
   out["change"] = r.change_detected ? Change(r.changes.back()) : json(nullptr);

@@ -15,6 +15,8 @@
 
 #include "datasets/coverage_conditions.h"
 #include "estimator/online_identifier.h"
+#include "fixtures/pushed_square.h"
+#include "forward_model/constants.h"
 #include "io/push_log.h"
 
 namespace slideid {
@@ -79,6 +81,36 @@ TEST(IdentifyFollow, PrintsALinePerEveryNRowsWithTheOnlineIdentifiersEstimates) 
     EXPECT_EQ(last[ParameterName(i)]["ci95"][0].get<double>(), p.ci95_lo) << ParameterName(i);
     EXPECT_EQ(last[ParameterName(i)]["verdict"], "ok");
   }
+}
+
+// A log with the tip's path: each line carries mu_pusher, the identifier's.
+TEST(IdentifyFollow, ReportsMuPusherWhereTheLogHasTheTip) {
+  testing::SquarePush push;
+  push.angle_rad = 60 * kPi / 180;  // the tip slides along the edge
+  push.mu_pusher = 0.3;
+  push.offset_m = -0.02;
+  push.distance_m = 0.06;
+  const std::string path =
+      ::testing::TempDir() + "/follow_tip_" + std::to_string(getpid()) + ".csv";
+  WritePushLog(testing::NoisyPushLog(testing::PushedSquareScene(push), 3), path);
+  const ShellRun run = Shell("cat " + path + " | $IDENTIFY --follow --every 20");
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const std::vector<nlohmann::json> lines = Lines(run.out);
+  ASSERT_FALSE(lines.empty());
+  const Trajectory log = ReadPushLog(path);
+  OnlineIdentifier id(log);
+  for (const TrajectorySample& row : log.samples) id.Update(row);
+  ASSERT_TRUE(id.result().mu_pusher.identifiable) << id.result().mu_pusher.reason;
+  const nlohmann::json& mu = lines.back()["mu_pusher"];
+  ASSERT_TRUE(mu.is_object()) << lines.back();
+  if (static_cast<int>(lines.back()["row"]) == id.result().rows - 1) {
+    EXPECT_EQ(mu["value"].get<double>(), id.result().mu_pusher.value);
+    EXPECT_EQ(mu["ci95"][1].get<double>(), id.result().mu_pusher.ci95_hi);
+  }
+  EXPECT_NEAR(mu["value"].get<double>(), 0.3, 0.015);
+  EXPECT_EQ(mu["verdict"], "ok");
+  // Row 19: the tip has slid in a few rows only (suspect: its interval rests on 2 batches).
+  EXPECT_NE(lines.front()["mu_pusher"]["verdict"], "ok");
 }
 
 TEST(IdentifyFollow, EndsCleanlyWhenTheReaderGoesAway) {

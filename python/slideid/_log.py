@@ -66,7 +66,8 @@ class Log:
 
     @property
     def metadata(self):
-        """source, mass, inertia, com_height, gravity, patch, truth and extra, as a dict."""
+        """source, mass, inertia, com_height, gravity, patch, tip_radius, truth and extra, as
+        a dict."""
         if self._metadata is None:
             self._metadata = self._handle.metadata()
         return dict(self._metadata)

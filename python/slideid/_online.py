@@ -16,9 +16,9 @@ DEFAULT_COLUMNS = ("t", "x", "y", "theta", "fx", "fy")
 class OnlineIdentifier:
     """The friction identified row by row as a push is logged (estimator/online_identifier.h).
 
-    ``metadata`` is a ``slideid.Log`` (its slider properties and patch) or a dict with
-    ``mass`` [kg], ``inertia`` [kg m^2], ``com_height`` [m] and optionally ``gravity`` and
-    ``patch``. ``columns`` names what each row carries, in order (log-format.md's column
+    ``metadata`` is a ``slideid.Log`` (its slider properties, patch and tip radius) or a
+    dict with ``mass`` [kg], ``inertia`` [kg m^2], ``com_height`` [m] and optionally
+    ``gravity``, ``patch`` and ``tip_radius`` [m]. ``columns`` names what each row carries, in order (log-format.md's column
     names: ``t``, ``x``, ``y``, ``theta``, ``fx``, ``fy``, ``px``, ``py``, ``pz``, ...); rows
     are read as the log reader reads a file's rows (moments r x f at a push point).
 
@@ -27,7 +27,9 @@ class OnlineIdentifier:
     returns the estimate after each row, running without the GIL. An estimate is a plain
     dict, the JSON line of ``identify --follow``: ``row``, ``t``, ``started``, and for
     ``e_t_mu``, ``e_o_over_e_t``, ``e_r_over_e_t`` a dict of ``value``, ``stderr``, ``ci95``
-    and ``verdict``; ``changes`` (how many changes of the friction so far) and ``change``
+    and ``verdict``; ``mu_pusher`` likewise (with ``lower_bound``, ``contact_rows`` and
+    ``sliding_rows``) where the rows carry the tip (columns ``tip_x``, ``tip_y``) and the
+    metadata its radius and the patch; ``changes`` (how many changes of the friction so far) and ``change``
     (the one found at this row, or None).
     """
 
@@ -40,9 +42,11 @@ class OnlineIdentifier:
         if missing:
             raise ValueError(f"OnlineIdentifier: metadata needs {', '.join(missing)}")
         self.columns = tuple(str(c) for c in columns)
+        tip = metadata.get("tip_radius")
         entries = _metadata_entries(metadata["mass"], metadata["inertia"],
                                     metadata["com_height"], metadata.get("gravity"),
-                                    metadata.get("patch"), None, None)
+                                    metadata.get("patch"), None,
+                                    None if tip is None else {"tip_radius": repr(float(tip))})
         self._core = _core.OnlineCore(entries, list(self.columns))
 
     def update(self, row):

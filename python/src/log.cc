@@ -69,6 +69,8 @@ py::dict Metadata(const LogHandle& h) {
   m["gravity"] = log.slider.gravity_mps2;
   m["patch"] =
       log.patch_spec.empty() ? py::object(py::none()) : py::object(py::str(log.patch_spec));
+  m["tip_radius"] =
+      log.tip_radius_m ? py::object(py::float_(*log.tip_radius_m)) : py::object(py::none());
   if (log.true_friction) {
     const FrictionParameters& f = *log.true_friction;
     py::dict truth;

@@ -94,3 +94,28 @@ def test_update_many_releases_the_gil():
     during = [t for t in ticks if start < t < end]
     assert end - start > 0.02, "too short to tell"
     assert len(during) >= 5, (len(during), end - start)
+
+
+def test_mu_pusher_where_the_rows_carry_the_tip(tmp_path):
+    code, _, err = run_tool("make-dataset", "--count", 1, "--seed", 1, "--out", tmp_path,
+                            "--drive", "pusher", "--log-every", 10, "-q")
+    assert code == 0, err
+    path = tmp_path / "log_0000.csv"
+    log = slideid.read_log(path)
+    assert log.metadata["tip_radius"] == pytest.approx(0.00475)
+    columns = ("t", "x", "y", "theta", "fx", "fy", "px", "py", "pz", "tip_x", "tip_y")
+    header, *lines = [line for line in path.read_text().splitlines()
+                      if not line.startswith("#")]
+    names = header.split(",")
+    rows = np.array([[float(line.split(",")[names.index(c)]) for c in columns]
+                     for line in lines])
+    online = slideid.OnlineIdentifier(log, columns=columns)
+    results = online.update_many(rows)
+    assert results == follow_lines(path)
+    mu = results[-1]["mu_pusher"]
+    assert mu["sliding_rows"] > 0 and mu["contact_rows"] >= mu["sliding_rows"]
+    assert mu["verdict"] in ("ok", "suspect") and mu["value"] > 0
+    # Without the tip's radius, or without its path, mu_p is not examined.
+    metadata = {key: log.metadata[key] for key in ("mass", "inertia", "com_height", "patch")}
+    plain = slideid.OnlineIdentifier(metadata, columns=columns).update_many(rows[:30])
+    assert "mu_pusher" not in plain[-1]
