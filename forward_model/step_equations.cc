@@ -50,6 +50,20 @@ StepEquations::StepEquations(const SliderProperties& slider, const ReducedFricti
       (velocity_scale_ == 0 && (u0 != 0 || u1 != 0 || u2 != 0))) {
     velocity_scale_ = std::hypot(u0, u1, u2);
   }
+  PrecomputeJacobianTerms();
+}
+
+void StepEquations::PrecomputeJacobianTerms() {
+  pw_[0] = P_;
+  pw_[1] = P_ * t_.b;
+  pw_[2] = P_ * t_.c;
+  // (ptx / pn) / I, not ptx / (pn I): the product underflows for tiny masses (issue 5:
+  // m = 1e-300 kg gave 0 / 0 = NaN).
+  dw_[0] = t_.ptx / t_.pn / t_.I;
+  dw_[1] = t_.pty / t_.pn / t_.I;
+  dw_[2] = 1.0 / t_.I;
+  dr_ = -t_.qz / t_.pn;
+  inv_m_ = 1.0 / t_.m;
 }
 
 const Eigen::Vector3d& StepEquations::RowTerms() const {
@@ -120,26 +134,15 @@ Eigen::Vector3d StepEquations::Impulses(const Eigen::Vector4d& z) const {
 
 void StepEquations::Evaluate(const Eigen::Vector4d& z, Eigen::Vector4d* f,
                              Eigen::Matrix4d* jac) const {
-  *f = ScaledStepResidual(t_, z, velocity_scale_);
+  Residual(z, f);
   if (jac) {
-    // Analytic: dp/dtau = P diag(weight), du/dv = diag(weight), dv/dp from EcpVelocity.
-    const Eigen::Vector3d weight(1.0, t_.b, t_.c);
-    const Eigen::Vector3d tau = z.head<3>();
-    Eigen::Matrix3d dv_dp;
-    EcpVelocity(Impulses(z), &dv_dp);
-    jac->topLeftCorner<3, 3>() = P_ * weight.asDiagonal() * dv_dp * weight.asDiagonal();
-    jac->topLeftCorner<3, 3>().diagonal().array() += z(3);
-    jac->topRightCorner<3, 1>() = tau;
-    jac->bottomLeftCorner<1, 3>() = velocity_scale_ * tau.transpose();
+    Eigen::Matrix3d block;
+    JacobianBlock(z, &block);
+    jac->topLeftCorner<3, 3>() = block;
+    jac->topRightCorner<3, 1>() = z.head<3>();
+    jac->bottomLeftCorner<1, 3>() = velocity_scale_ * z.head<3>().transpose();
     (*jac)(3, 3) = 0.0;
   }
-}
-
-double StepEquations::RelativeResidual(const Eigen::Vector4d& z, const Eigen::Vector4d& f) const {
-  const double scale = velocity_scale_ + std::abs(z(3));
-  const double motion = scale > 0 ? f.head<3>().cwiseAbs().maxCoeff() / scale : 0.0;
-  const double sphere = velocity_scale_ > 0 ? 2.0 * std::abs(f(3)) / velocity_scale_ : 0.0;
-  return std::max(motion, sphere);
 }
 
 double StepEquations::ComponentwiseResidual(const Eigen::Vector4d& z,
@@ -350,6 +353,7 @@ StepEquations StepEquations::WithCouplingScaled(double scale) const {
   scaled.t_.ptx *= scale;
   scaled.t_.pty *= scale;
   scaled.row_terms_ready_ = false;
+  scaled.PrecomputeJacobianTerms();
   return scaled;
 }
 
