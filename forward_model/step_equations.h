@@ -94,9 +94,13 @@ class StepEquations {
   struct Shared {
     double w, r0, r1;
   };
-  /// The residual F(z) alone: ScaledStepResidual in doubles, bit for bit; with `shared`,
-  /// also what JacobianBlock needs at the same z.
+  /// The residual F(z) alone: ScaledStepResidual in doubles (to rounding: by reciprocals of
+  /// m, p_n and I); with `shared`, also what JacobianBlock needs at the same z.
   void Residual(const Eigen::Vector4d& z, Eigen::Vector4d* f, Shared* shared = nullptr) const;
+  /// End velocity (v_x', v_y', w_z') and ECP offset (world) at the scaled unknowns z, by the
+  /// same arithmetic as Residual (EndVelocity and EcpOffset of Impulses(z), to rounding).
+  void EndVelocityAndOffset(const Eigen::Vector4d& z, Eigen::Vector3d* nu,
+                            Eigen::Vector2d* offset) const;
   /// The Jacobian's 3x3 block dF_1..3 / dtau (with s on its diagonal) at z. The rest of
   /// dF/dz is the border: dF_1..3 / ds = tau, dF_4 / dtau = V tau^T, dF_4 / ds = 0.
   void JacobianBlock(const Eigen::Vector4d& z, Eigen::Matrix3d* block) const;
@@ -134,7 +138,10 @@ class StepEquations {
   /// Exact solution of the decoupled problem (coupling ignored) by a safeguarded Newton
   /// root of |tau(s)| = 1, monotone in s, to |1/|tau| - 1| <= tolerance (default: a few
   /// ulps). Returns false if it did not converge.
-  bool SolveDecoupled(Eigen::Vector4d* z, int* iterations, double tolerance = 0.0) const;
+  /// With accept_after_step > 0, a Newton step taken from |g| <= accept_after_step ends the
+  /// root without a check of g after it (for a first guess, where g squared is enough).
+  bool SolveDecoupled(Eigen::Vector4d* z, int* iterations, double tolerance = 0.0,
+                      double accept_after_step = 0.0) const;
   /// The decoupled solution as a first guess for the general solve (valid even where the
   /// decoupled problem itself would stick).
   Eigen::Vector4d DecoupledGuess() const;
@@ -179,22 +186,53 @@ class StepEquations {
   double dw_[3];
   double dr_;
   double inv_m_;
+  // 1 / p_n and 1 / I, and whether 1 / m, 1 / p_n, 1 / I and their arguments are all normal
+  // doubles (then Residual multiplies by them).
+  double inv_pn_, inv_I_;
+  bool reciprocals_ = false;
 };
 
 // The hot members of the Newton iteration, inline: the solver calls them a few times per
 // step, and a call costs as much as their arithmetic.
 inline void StepEquations::Residual(const Eigen::Vector4d& z, Eigen::Vector4d* f,
                                     Shared* shared) const {
-  // ScaledStepResidual<double>, written out in the same order of operations.
+  // ScaledStepResidual<double>, written out; with reciprocals of m, p_n and I where those
+  // are normal doubles (all but the domain probes of issue 5): a division is on the
+  // critical path of every Newton iteration, a product is a quarter of its latency.
   const double p0 = P_ * z(0), p1 = pw_[1] * z(1), p2 = pw_[2] * z(2);
-  const double nu0 = (t_.k(0) + p0) / t_.m, nu1 = (t_.k(1) + p1) / t_.m;
-  const double nu2 = (t_.k(2) + p2 + (p0 * t_.ptx + p1 * t_.pty) / t_.pn) / t_.I;
-  const double r0 = (t_.pty - t_.qz * p0) / t_.pn, r1 = (-t_.ptx - t_.qz * p1) / t_.pn;
+  double nu0, nu1, nu2, r0, r1;
+  if (reciprocals_) {
+    nu0 = (t_.k(0) + p0) * inv_m_;
+    nu1 = (t_.k(1) + p1) * inv_m_;
+    nu2 = (t_.k(2) + p2 + (p0 * t_.ptx + p1 * t_.pty) * inv_pn_) * inv_I_;
+    r0 = (t_.pty - t_.qz * p0) * inv_pn_;
+    r1 = (-t_.ptx - t_.qz * p1) * inv_pn_;
+  } else {
+    nu0 = (t_.k(0) + p0) / t_.m;
+    nu1 = (t_.k(1) + p1) / t_.m;
+    nu2 = (t_.k(2) + p2 + (p0 * t_.ptx + p1 * t_.pty) / t_.pn) / t_.I;
+    r0 = (t_.pty - t_.qz * p0) / t_.pn;
+    r1 = (-t_.ptx - t_.qz * p1) / t_.pn;
+  }
   (*f)(0) = nu0 - nu2 * r1 + z(3) * z(0);
   (*f)(1) = t_.b * (nu1 + nu2 * r0) + z(3) * z(1);
   (*f)(2) = t_.c * nu2 + z(3) * z(2);
   (*f)(3) = (0.5 * velocity_scale_) * (z(0) * z(0) + z(1) * z(1) + z(2) * z(2) - 1.0);
   if (shared) *shared = {nu2, r0, r1};
+}
+
+inline void StepEquations::EndVelocityAndOffset(const Eigen::Vector4d& z, Eigen::Vector3d* nu,
+                                                Eigen::Vector2d* offset) const {
+  if (!reciprocals_) {
+    const Eigen::Vector3d p = Impulses(z);
+    *nu = EndVelocity(p);
+    *offset = EcpOffset(p);
+    return;
+  }
+  const double p0 = P_ * z(0), p1 = pw_[1] * z(1), p2 = pw_[2] * z(2);
+  *nu << (t_.k(0) + p0) * inv_m_, (t_.k(1) + p1) * inv_m_,
+      (t_.k(2) + p2 + (p0 * t_.ptx + p1 * t_.pty) * inv_pn_) * inv_I_;
+  *offset << (t_.pty - t_.qz * p0) * inv_pn_, (-t_.ptx - t_.qz * p1) * inv_pn_;
 }
 
 inline void StepEquations::JacobianBlock(const Eigen::Vector4d& z, Eigen::Matrix3d* block) const {

@@ -116,28 +116,32 @@ bool SolveNewtonSystem(const Eigen::Matrix3d& A, const Eigen::Vector4d& z, doubl
     const double c20 = A(0, 1) * A(1, 2) - A(0, 2) * A(1, 1);
     const double c21 = A(0, 2) * A(1, 0) - A(0, 0) * A(1, 2);
     const double c22 = A(0, 0) * A(1, 1) - A(0, 1) * A(1, 0);
-    const double inv_det = 1.0 / det;
-    // x1 = -A^-1 f_1..3, x2 = A^-1 tau, A^-1 = adj(A) / det, adj(A)_ij = c_ji.
+    // With y1 = -adj(A) f_1..3 and y2 = adj(A) tau (A^-1 = adj(A) / det, adj(A)_ij = c_ji):
+    // x1 = -A^-1 f_1..3 = y1 / det, x2 = A^-1 tau = y2 / det, and the slip step
+    // ds = (g x1 + f_4) / (g x2) = (g y1 + det f_4) / (g y2) with g = V tau^T. 1 / det is
+    // then off the critical path (issue 19: the iteration is a chain of dependent
+    // operations, and a division is its longest link).
     const double t0 = z(0), t1 = z(1), t2 = z(2);
-    const double x10 = -(c00 * f(0) + c10 * f(1) + c20 * f(2)) * inv_det;
-    const double x11 = -(c01 * f(0) + c11 * f(1) + c21 * f(2)) * inv_det;
-    const double x12 = -(c02 * f(0) + c12 * f(1) + c22 * f(2)) * inv_det;
-    const double x20 = (c00 * t0 + c10 * t1 + c20 * t2) * inv_det;
-    const double x21 = (c01 * t0 + c11 * t1 + c21 * t2) * inv_det;
-    const double x22 = (c02 * t0 + c12 * t1 + c22 * t2) * inv_det;
-    // The border g = V tau^T: g x2 against |g| |x2|, in squares (no square roots) while
-    // those are finite.
+    const double y10 = -(c00 * f(0) + c10 * f(1) + c20 * f(2));
+    const double y11 = -(c01 * f(0) + c11 * f(1) + c21 * f(2));
+    const double y12 = -(c02 * f(0) + c12 * f(1) + c22 * f(2));
+    const double y20 = c00 * t0 + c10 * t1 + c20 * t2;
+    const double y21 = c01 * t0 + c11 * t1 + c21 * t2;
+    const double y22 = c02 * t0 + c12 * t1 + c22 * t2;
+    const double inv_det = 1.0 / det;
+    // The border test |g x2| > k |g| |x2|, in squares (no square roots) while those are
+    // finite: with y2 = det x2 on both sides, det cancels.
     const double g0 = V * t0, g1 = V * t1, g2 = V * t2;
-    const double border = g0 * x20 + g1 * x21 + g2 * x22;
-    const double g_sq = g0 * g0 + g1 * g1 + g2 * g2, x2_sq = x20 * x20 + x21 * x21 + x22 * x22;
-    const double bound_sq = g_sq * x2_sq;
+    const double border = g0 * y20 + g1 * y21 + g2 * y22;
+    const double g_sq = g0 * g0 + g1 * g1 + g2 * g2, y2_sq = y20 * y20 + y21 * y21 + y22 * y22;
+    const double bound_sq = g_sq * y2_sq;
     const bool border_ok =
         std::isfinite(bound_sq) && bound_sq > 0
             ? border * border > kSingularBlock * kSingularBlock * bound_sq
-            : std::abs(border) > kSingularBlock * std::sqrt(g_sq) * std::sqrt(x2_sq);
+            : std::abs(border) > kSingularBlock * std::sqrt(g_sq) * std::sqrt(y2_sq);
     if (border_ok) {
-      const double ds = (g0 * x10 + g1 * x11 + g2 * x12 + f(3)) / border;
-      *dz << x10 - x20 * ds, x11 - x21 * ds, x12 - x22 * ds, ds;
+      const double ds = (g0 * y10 + g1 * y11 + g2 * y12 + det * f(3)) / border;
+      *dz << (y10 - y20 * ds) * inv_det, (y11 - y21 * ds) * inv_det, (y12 - y22 * ds) * inv_det, ds;
       if (dz->allFinite()) return true;
     }
   }
@@ -257,8 +261,10 @@ bool SolveGeneral(const StepEquations& eq, const StepOptions& options, double st
   return true;
 }
 
+// The end of a step with friction impulse p, end velocity nu and ECP offset (world).
 StepResult Finish(const PlanarState& state, double dt_s, const StepEquations& eq,
-                  const Eigen::Vector3d& p, double slip) {
+                  const Eigen::Vector3d& p, double slip, const Eigen::Vector3d& nu,
+                  const Eigen::Vector2d& ecp_offset) {
   StepResult r;
   r.status = StepStatus::kConverged;
   r.pt = p(0);
@@ -266,14 +272,13 @@ StepResult Finish(const PlanarState& state, double dt_s, const StepEquations& eq
   r.pr = p(2);
   r.pn = eq.pn();
   r.sigma = slip;
-  const Eigen::Vector3d nu = eq.EndVelocity(p);
   r.state.vx = nu(0);
   r.state.vy = nu(1);
   r.state.wz = nu(2);
   r.state.x = state.x + dt_s * nu(0);
   r.state.y = state.y + dt_s * nu(1);
   r.state.theta = state.theta + dt_s * nu(2);
-  r.ecp_offset_world = eq.EcpOffset(p);
+  r.ecp_offset_world = ecp_offset;
   r.ecp_world = Eigen::Vector2d(r.state.x, r.state.y) + r.ecp_offset_world;
   return r;
 }
@@ -281,7 +286,7 @@ StepResult Finish(const PlanarState& state, double dt_s, const StepEquations& eq
 // The step ends at rest with the stopping impulse p_stop (model.md, "Sticking").
 StepResult Stick(const PlanarState& state, double dt_s, const StepEquations& eq,
                  const Eigen::Vector3d& p_stop) {
-  StepResult r = Finish(state, dt_s, eq, p_stop, 0.0);
+  StepResult r = Finish(state, dt_s, eq, p_stop, 0.0, eq.EndVelocity(p_stop), eq.EcpOffset(p_stop));
   r.state.vx = r.state.vy = r.state.wz = 0.0;  // exact zero, not rounding residue
   r.state.x = state.x;
   r.state.y = state.y;
@@ -423,7 +428,10 @@ StepResult SolveStep(const SliderProperties& slider, const ReducedFriction& fric
     fail.message = msg.str();
     return fail;
   }
-  StepResult r = Finish(state, dt_s, eq, eq.Impulses(z), z(3));
+  Eigen::Vector3d nu;
+  Eigen::Vector2d ecp_offset;
+  eq.EndVelocityAndOffset(z, &nu, &ecp_offset);
+  StepResult r = Finish(state, dt_s, eq, eq.Impulses(z), z(3), nu, ecp_offset);
   r.mode = StepMode::kSlide;
   r.path = path;
   r.residual = residual;
