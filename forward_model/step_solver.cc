@@ -100,9 +100,9 @@ void ValidateFinite(const PlanarState& s, const AppliedWrench& w) {
 }
 
 // The Jacobian is bordered, [[A, tau], [V tau^T, 0]]: eliminate through the 3x3 block A
-// by its adjugate (no pivot search: A is the identity times s plus the small coupling of
-// the friction, or nearly singular only where the fallback takes over); fall back to pivoted
-// LU of the whole Jacobian where A is singular or the border is degenerate.
+// by its adjugate, nine 2x2 cofactors and no pivot search (issue 19); fall back to pivoted
+// LU of the whole Jacobian where A is near singular (the same threshold on det A as
+// before) or the border is degenerate.
 bool SolveNewtonSystem(const Eigen::Matrix3d& A, const Eigen::Vector4d& z, double V,
                        const Eigen::Vector4d& f, Eigen::Vector4d* dz) {
   const double c00 = A(1, 1) * A(2, 2) - A(1, 2) * A(2, 1);
