@@ -90,17 +90,55 @@ Eigen::Matrix<double, 3, 4> EndVelocityByUnknowns(const StepTerms<double>& t, do
   return dnu_dz;
 }
 
+// Relative size below which the 3x3 block of F_z (or its border) counts as singular, as in
+// the step solver's Newton system (forward_model/step_solver.cc).
+constexpr double kSingularBlock = 1e-12;
+
+// dz/dx = -F_z^-1 F_x through the bordered structure of F_z = [[A, tau], [V tau^T, 0]], by
+// the adjugate of A (issue 19: the pivoted 4x4 LU and its two triangular solves of N
+// columns were 45% of SolveStepWithSensitivity). False where A is near singular or the
+// border degenerate; the caller then solves by the LU.
+template <int N>
+bool SolveBordered(const StepEquations& eq, const Eigen::Vector4d& z,
+                   const Eigen::Matrix<double, 4, N>& f_x, Eigen::Matrix<double, 4, N>* dz_dx) {
+  Eigen::Matrix3d A;
+  eq.JacobianBlock(z, &A);
+  const double c00 = A(1, 1) * A(2, 2) - A(1, 2) * A(2, 1);
+  const double c01 = A(1, 2) * A(2, 0) - A(1, 0) * A(2, 2);
+  const double c02 = A(1, 0) * A(2, 1) - A(1, 1) * A(2, 0);
+  const double det = A(0, 0) * c00 + A(0, 1) * c01 + A(0, 2) * c02;
+  if (!(std::abs(det) > kSingularBlock * A.cwiseAbs().maxCoeff())) return false;
+  Eigen::Matrix3d adj;  // adj(A)_ij = c_ji: A^-1 = adj / det
+  adj << c00, A(0, 2) * A(2, 1) - A(0, 1) * A(2, 2), A(0, 1) * A(1, 2) - A(0, 2) * A(1, 1), c01,
+      A(0, 0) * A(2, 2) - A(0, 2) * A(2, 0), A(0, 2) * A(1, 0) - A(0, 0) * A(1, 2), c02,
+      A(0, 1) * A(2, 0) - A(0, 0) * A(2, 1), A(0, 0) * A(1, 1) - A(0, 1) * A(1, 0);
+  const Eigen::Vector3d g = eq.velocity_scale() * z.head<3>();  // F_4's row, V tau^T
+  const Eigen::Vector3d w = adj * z.head<3>();                  // det A^-1 tau
+  const double border = g.dot(w);
+  if (!(std::abs(border) > kSingularBlock * g.norm() * w.norm())) return false;
+  // Column by column: x_s = (g u - r_s det) / (g w), x_h = (u - w x_s) / det, u = adj r_h.
+  const Eigen::Matrix<double, 3, N> u = adj * f_x.template topRows<3>();
+  const Eigen::Matrix<double, 1, N> x_s =
+      (g.transpose() * u - det * f_x.template bottomRows<1>()) / border;
+  dz_dx->template topRows<3>() = -(u - w * x_s) / det;
+  dz_dx->template bottomRows<1>() = -x_s;
+  return dz_dx->allFinite();
+}
+
 // Implicit function theorem: d nu'/dx = nu_x + nu_z dz/dx, dz/dx = -F_z^-1 F_x.
 template <int N>
 bool Combine(const StepEquations& eq, const Eigen::Vector4d& z, double pn,
              const Eigen::Matrix<double, 4, N>& f_x, const Eigen::Matrix<double, 3, N>& nu_x,
              Eigen::Matrix<double, 3, N>* dnu_dx) {
-  Eigen::Vector4d f_value;
-  Eigen::Matrix4d f_z;
-  eq.Evaluate(z, &f_value, &f_z);
-  const Eigen::PartialPivLU<Eigen::Matrix4d> lu(f_z);
-  if (!(std::abs(lu.determinant()) > 0)) return false;
-  const Eigen::Matrix<double, 4, N> dz_dx = -lu.solve(f_x);
+  Eigen::Matrix<double, 4, N> dz_dx;
+  if (!SolveBordered<N>(eq, z, f_x, &dz_dx)) {
+    Eigen::Vector4d f_value;
+    Eigen::Matrix4d f_z;
+    eq.Evaluate(z, &f_value, &f_z);
+    const Eigen::PartialPivLU<Eigen::Matrix4d> lu(f_z);
+    if (!(std::abs(lu.determinant()) > 0)) return false;
+    dz_dx = -lu.solve(f_x);
+  }
   *dnu_dx = nu_x + EndVelocityByUnknowns(eq.terms(), eq.terms().a * pn) * dz_dx;
   return dnu_dx->allFinite();
 }

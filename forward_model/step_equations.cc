@@ -18,6 +18,11 @@ constexpr int kMaxScalarIterations = 200;
 constexpr double kGuessSlipFraction = 1e-2;
 // A first guess needs no more digits than Newton's first quadratic step doubles.
 constexpr double kGuessTolerance = 1e-8;
+// The decoupled guess takes the scalar root's Newton step from |g| <= 1e-4 without
+// evaluating g after it: g is nearly linear in s, so the step squares |g| to about 1e-8
+// (issue 19: that last evaluation, a square root and four divisions in series, was a
+// quarter of the guess's time).
+constexpr double kGuessAcceptAfterStep = 1e-4;
 // ComponentwiseResidual measures each row against its own terms plus this fraction of
 // the same terms with the impulses at the ellipsoid's size. Without it a row whose exact
 // value is zero (no spin: tau_r = 0) is measured against its own rounding residue and
@@ -50,6 +55,24 @@ StepEquations::StepEquations(const SliderProperties& slider, const ReducedFricti
       (velocity_scale_ == 0 && (u0 != 0 || u1 != 0 || u2 != 0))) {
     velocity_scale_ = std::hypot(u0, u1, u2);
   }
+  PrecomputeJacobianTerms();
+}
+
+void StepEquations::PrecomputeJacobianTerms() {
+  pw_[0] = P_;
+  pw_[1] = P_ * t_.b;
+  pw_[2] = P_ * t_.c;
+  // (ptx / pn) / I, not ptx / (pn I): the product underflows for tiny masses (issue 5:
+  // m = 1e-300 kg gave 0 / 0 = NaN).
+  dw_[0] = t_.ptx / t_.pn / t_.I;
+  dw_[1] = t_.pty / t_.pn / t_.I;
+  dw_[2] = 1.0 / t_.I;
+  dr_ = -t_.qz / t_.pn;
+  inv_m_ = 1.0 / t_.m;
+  inv_pn_ = 1.0 / t_.pn;
+  inv_I_ = 1.0 / t_.I;
+  reciprocals_ = std::isnormal(t_.m) && std::isnormal(t_.pn) && std::isnormal(t_.I) &&
+                 std::isnormal(inv_m_) && std::isnormal(inv_pn_) && std::isnormal(inv_I_);
 }
 
 const Eigen::Vector3d& StepEquations::RowTerms() const {
@@ -120,26 +143,15 @@ Eigen::Vector3d StepEquations::Impulses(const Eigen::Vector4d& z) const {
 
 void StepEquations::Evaluate(const Eigen::Vector4d& z, Eigen::Vector4d* f,
                              Eigen::Matrix4d* jac) const {
-  *f = ScaledStepResidual(t_, z, velocity_scale_);
+  Residual(z, f);
   if (jac) {
-    // Analytic: dp/dtau = P diag(weight), du/dv = diag(weight), dv/dp from EcpVelocity.
-    const Eigen::Vector3d weight(1.0, t_.b, t_.c);
-    const Eigen::Vector3d tau = z.head<3>();
-    Eigen::Matrix3d dv_dp;
-    EcpVelocity(Impulses(z), &dv_dp);
-    jac->topLeftCorner<3, 3>() = P_ * weight.asDiagonal() * dv_dp * weight.asDiagonal();
-    jac->topLeftCorner<3, 3>().diagonal().array() += z(3);
-    jac->topRightCorner<3, 1>() = tau;
-    jac->bottomLeftCorner<1, 3>() = velocity_scale_ * tau.transpose();
+    Eigen::Matrix3d block;
+    JacobianBlock(z, &block);
+    jac->topLeftCorner<3, 3>() = block;
+    jac->topRightCorner<3, 1>() = z.head<3>();
+    jac->bottomLeftCorner<1, 3>() = velocity_scale_ * z.head<3>().transpose();
     (*jac)(3, 3) = 0.0;
   }
-}
-
-double StepEquations::RelativeResidual(const Eigen::Vector4d& z, const Eigen::Vector4d& f) const {
-  const double scale = velocity_scale_ + std::abs(z(3));
-  const double motion = scale > 0 ? f.head<3>().cwiseAbs().maxCoeff() / scale : 0.0;
-  const double sphere = velocity_scale_ > 0 ? 2.0 * std::abs(f(3)) / velocity_scale_ : 0.0;
-  return std::max(motion, sphere);
 }
 
 double StepEquations::ComponentwiseResidual(const Eigen::Vector4d& z,
@@ -147,16 +159,28 @@ double StepEquations::ComponentwiseResidual(const Eigen::Vector4d& z,
   // |terms| of nu' = M^-1 (k + p + coupling), of the ECP offsets and of u + s tau at z,
   // plus kEllipsoidFloor of the same with the impulses at the ellipsoid's size.
   const Eigen::Vector3d p = Impulses(z).cwiseAbs();
-  const double w = (std::abs(t_.k(2)) + p(2) + p(0) * (std::abs(t_.ptx) / t_.pn) +
-                    p(1) * (std::abs(t_.pty) / t_.pn)) /
-                   t_.I;
-  const double rx = std::abs(t_.pty) / t_.pn + t_.qz * (p(0) / t_.pn);
-  const double ry = std::abs(t_.ptx) / t_.pn + t_.qz * (p(1) / t_.pn);
   const double s = std::abs(z(3));
-  const Eigen::Vector3d terms(
-      (std::abs(t_.k(0)) + p(0)) / t_.m + w * ry + s * std::abs(z(0)),
-      t_.b * ((std::abs(t_.k(1)) + p(1)) / t_.m + w * rx) + s * std::abs(z(1)),
-      t_.c * w + s * std::abs(z(2)));
+  Eigen::Vector3d terms;
+  if (reciprocals_) {
+    // The same magnitudes by the reciprocals of the constructor (issue 19: this test runs in
+    // the last one or two Newton iterations of every step).
+    const double tx = std::abs(t_.ptx) * inv_pn_, ty = std::abs(t_.pty) * inv_pn_;
+    const double w = (std::abs(t_.k(2)) + p(2) + p(0) * tx + p(1) * ty) * inv_I_;
+    const double rx = ty + t_.qz * (p(0) * inv_pn_);
+    const double ry = tx + t_.qz * (p(1) * inv_pn_);
+    terms << (std::abs(t_.k(0)) + p(0)) * inv_m_ + w * ry + s * std::abs(z(0)),
+        t_.b * ((std::abs(t_.k(1)) + p(1)) * inv_m_ + w * rx) + s * std::abs(z(1)),
+        t_.c * w + s * std::abs(z(2));
+  } else {
+    const double w = (std::abs(t_.k(2)) + p(2) + p(0) * (std::abs(t_.ptx) / t_.pn) +
+                      p(1) * (std::abs(t_.pty) / t_.pn)) /
+                     t_.I;
+    const double rx = std::abs(t_.pty) / t_.pn + t_.qz * (p(0) / t_.pn);
+    const double ry = std::abs(t_.ptx) / t_.pn + t_.qz * (p(1) / t_.pn);
+    terms << (std::abs(t_.k(0)) + p(0)) / t_.m + w * ry + s * std::abs(z(0)),
+        t_.b * ((std::abs(t_.k(1)) + p(1)) / t_.m + w * rx) + s * std::abs(z(1)),
+        t_.c * w + s * std::abs(z(2));
+  }
   double worst = 0;
   for (int i = 0; i < 3; ++i) {
     const double scale = terms(i) + kEllipsoidFloor * RowTerms()(i);
@@ -271,7 +295,8 @@ Eigen::Vector4d StepEquations::DecoupledAt(double s) const {
           -t_.c * t_.k(2) / (t_.I * s + P_ * t_.c * t_.c), s};
 }
 
-bool StepEquations::SolveDecoupled(Eigen::Vector4d* z, int* iterations, double tolerance) const {
+bool StepEquations::SolveDecoupled(Eigen::Vector4d* z, int* iterations, double tolerance,
+                                   double accept_after_step) const {
   tolerance = std::max(tolerance, kScalarTolerance);
   const Eigen::Vector3d mass(t_.m, t_.m, t_.I);
   const Eigen::Vector3d weight(1.0, t_.b, t_.c);
@@ -286,6 +311,9 @@ bool StepEquations::SolveDecoupled(Eigen::Vector4d* z, int* iterations, double t
   double s = lo;
   for (int it = 1; it <= kMaxScalarIterations; ++it) {
     // g(s) = |tau(s)|^{-1} - 1, increasing in s; exactly linear with one non-zero term.
+    // With q = sqrt(phi) = |tau|: g = (1 - q) / q, g' = -phi' / (2 phi q), and the Newton
+    // step g / g' = 2 phi (q - 1) / phi': one square root and one division in series per
+    // iteration (issue 19; the three divisions of the terms are independent).
     double phi = 0, dphi = 0;
     for (int i = 0; i < 3; ++i) {
       const double d = weight(i) * weight(i);
@@ -296,17 +324,21 @@ bool StepEquations::SolveDecoupled(Eigen::Vector4d* z, int* iterations, double t
       phi += term;
       dphi -= 2.0 * term * mass(i) / den;
     }
-    const double g = 1.0 / std::sqrt(phi) - 1.0;
+    const double q = std::sqrt(phi);
     *iterations = it;
-    if (std::abs(g) <= tolerance) break;
-    if (g < 0)
+    if (std::abs(1.0 - q) <= tolerance * q) break;  // |g| <= tolerance
+    if (q > 1.0)                                    // g < 0
       lo = s;
     else
       hi = s;
     if (hi - lo <= 2 * kEps * hi) break;
-    const double dg = -0.5 * dphi / (phi * std::sqrt(phi));
-    double next = s - g / dg;
-    if (!(next > lo && next < hi)) next = 0.5 * (lo + hi);
+    double next = s - 2.0 * phi * (q - 1.0) / dphi;
+    if (!(next > lo && next < hi)) {
+      next = 0.5 * (lo + hi);
+    } else if (std::abs(1.0 - q) <= accept_after_step * q) {
+      s = next;  // |g| squared (about) is below the tolerance after this step
+      break;
+    }
     s = next;
   }
   if (!(s > 0)) return false;
@@ -320,7 +352,7 @@ Eigen::Vector4d StepEquations::DecoupledGuess() const {
   const Eigen::Vector3d weight(1.0, t_.b, t_.c);
   double phi0 = 0;  // |tau(0)|^2: the decoupled stick test
   for (int i = 0; i < 3; ++i) phi0 += std::pow(t_.k(i) / (P_ * weight(i)), 2);
-  if (phi0 > 1.0 && SolveDecoupled(&z, &its, kGuessTolerance)) return z;
+  if (phi0 > 1.0 && SolveDecoupled(&z, &its, kGuessTolerance, kGuessAcceptAfterStep)) return z;
   z = DecoupledAt(kGuessSlipFraction * velocity_scale_);
   z.head<3>().normalize();
   return z;
@@ -350,6 +382,7 @@ StepEquations StepEquations::WithCouplingScaled(double scale) const {
   scaled.t_.ptx *= scale;
   scaled.t_.pty *= scale;
   scaled.row_terms_ready_ = false;
+  scaled.PrecomputeJacobianTerms();
   return scaled;
 }
 

@@ -10,6 +10,8 @@
 // in velocity units, so a relative tolerance means the same in every scene.
 
 #include <Eigen/Core>
+#include <algorithm>
+#include <cmath>
 #include <string>
 
 #include "forward_model/planar_state.h"
@@ -88,6 +90,22 @@ class StepEquations {
   Eigen::Vector3d Impulses(const Eigen::Vector4d& z) const;
   /// Residual F(z) (last entry scaled by the velocity scale) and its Jacobian dF/dz.
   void Evaluate(const Eigen::Vector4d& z, Eigen::Vector4d* f, Eigen::Matrix4d* jac) const;
+  /// What the Jacobian shares with the residual at one z: w_z' and the ECP offset (r_x, r_y).
+  struct Shared {
+    double w, r0, r1;
+  };
+  /// The residual F(z) alone: ScaledStepResidual in doubles (to rounding: by reciprocals of
+  /// m, p_n and I); with `shared`, also what JacobianBlock needs at the same z.
+  void Residual(const Eigen::Vector4d& z, Eigen::Vector4d* f, Shared* shared = nullptr) const;
+  /// End velocity (v_x', v_y', w_z') and ECP offset (world) at the scaled unknowns z, by the
+  /// same arithmetic as Residual (EndVelocity and EcpOffset of Impulses(z), to rounding).
+  void EndVelocityAndOffset(const Eigen::Vector4d& z, Eigen::Vector3d* nu,
+                            Eigen::Vector2d* offset) const;
+  /// The Jacobian's 3x3 block dF_1..3 / dtau (with s on its diagonal) at z. The rest of
+  /// dF/dz is the border: dF_1..3 / ds = tau, dF_4 / dtau = V tau^T, dF_4 / ds = 0.
+  void JacobianBlock(const Eigen::Vector4d& z, Eigen::Matrix3d* block) const;
+  /// The same from what Residual shared at z.
+  void JacobianBlock(const Eigen::Vector4d& z, const Shared& shared, Eigen::Matrix3d* block) const;
   /// max(|F_1..3| / (V + s), | |tau|^2 - 1 |): the solver's convergence measure.
   double RelativeResidual(const Eigen::Vector4d& z, const Eigen::Vector4d& f) const;
   /// max_i |F_i| / T_i over the three motion rows, T_i the sum of the magnitudes of row i's
@@ -120,7 +138,10 @@ class StepEquations {
   /// Exact solution of the decoupled problem (coupling ignored) by a safeguarded Newton
   /// root of |tau(s)| = 1, monotone in s, to |1/|tau| - 1| <= tolerance (default: a few
   /// ulps). Returns false if it did not converge.
-  bool SolveDecoupled(Eigen::Vector4d* z, int* iterations, double tolerance = 0.0) const;
+  /// With accept_after_step > 0, a Newton step taken from |g| <= accept_after_step ends the
+  /// root without a check of g after it (for a first guess, where g squared is enough).
+  bool SolveDecoupled(Eigen::Vector4d* z, int* iterations, double tolerance = 0.0,
+                      double accept_after_step = 0.0) const;
   /// The decoupled solution as a first guess for the general solve (valid even where the
   /// decoupled problem itself would stick).
   Eigen::Vector4d DecoupledGuess() const;
@@ -148,6 +169,8 @@ class StepEquations {
 
  private:
   Eigen::Vector4d DecoupledAt(double s) const;
+  /// Fills the constants of the Jacobian below from t_ and P_.
+  void PrecomputeJacobianTerms();
   /// T_i of ComponentwiseResidual at the ellipsoid's size (without s tau_i); cached,
   /// computed only for steps that slide.
   const Eigen::Vector3d& RowTerms() const;
@@ -156,6 +179,97 @@ class StepEquations {
   mutable bool row_terms_ready_ = false;
   double P_;               // a p_n
   double velocity_scale_;  // |k / M| weighted by (1, b, c): free slip speed [m/s]
+  // Constants of the Jacobian, computed once per step (the solver evaluates it 4-5 times):
+  // P (1, b, c), d w_z' / d p = (t_x / p_n / I, t_y / p_n / I, 1 / I), d r_x / d p_t =
+  // d r_y / d p_o = -q_z / p_n, and 1 / m.
+  double pw_[3];
+  double dw_[3];
+  double dr_;
+  double inv_m_;
+  // 1 / p_n and 1 / I, and whether 1 / m, 1 / p_n, 1 / I and their arguments are all normal
+  // doubles (then Residual multiplies by them).
+  double inv_pn_, inv_I_;
+  bool reciprocals_ = false;
 };
+
+// The hot members of the Newton iteration, inline: the solver calls them a few times per
+// step, and a call costs as much as their arithmetic.
+inline void StepEquations::Residual(const Eigen::Vector4d& z, Eigen::Vector4d* f,
+                                    Shared* shared) const {
+  // ScaledStepResidual<double>, written out; with reciprocals of m, p_n and I where those
+  // are normal doubles (all but the domain probes of issue 5): a division is on the
+  // critical path of every Newton iteration, a product is a quarter of its latency.
+  const double p0 = P_ * z(0), p1 = pw_[1] * z(1), p2 = pw_[2] * z(2);
+  double nu0, nu1, nu2, r0, r1;
+  if (reciprocals_) {
+    nu0 = (t_.k(0) + p0) * inv_m_;
+    nu1 = (t_.k(1) + p1) * inv_m_;
+    nu2 = (t_.k(2) + p2 + (p0 * t_.ptx + p1 * t_.pty) * inv_pn_) * inv_I_;
+    r0 = (t_.pty - t_.qz * p0) * inv_pn_;
+    r1 = (-t_.ptx - t_.qz * p1) * inv_pn_;
+  } else {
+    nu0 = (t_.k(0) + p0) / t_.m;
+    nu1 = (t_.k(1) + p1) / t_.m;
+    nu2 = (t_.k(2) + p2 + (p0 * t_.ptx + p1 * t_.pty) / t_.pn) / t_.I;
+    r0 = (t_.pty - t_.qz * p0) / t_.pn;
+    r1 = (-t_.ptx - t_.qz * p1) / t_.pn;
+  }
+  (*f)(0) = nu0 - nu2 * r1 + z(3) * z(0);
+  (*f)(1) = t_.b * (nu1 + nu2 * r0) + z(3) * z(1);
+  (*f)(2) = t_.c * nu2 + z(3) * z(2);
+  (*f)(3) = (0.5 * velocity_scale_) * (z(0) * z(0) + z(1) * z(1) + z(2) * z(2) - 1.0);
+  if (shared) *shared = {nu2, r0, r1};
+}
+
+inline void StepEquations::EndVelocityAndOffset(const Eigen::Vector4d& z, Eigen::Vector3d* nu,
+                                                Eigen::Vector2d* offset) const {
+  if (!reciprocals_) {
+    const Eigen::Vector3d p = Impulses(z);
+    *nu = EndVelocity(p);
+    *offset = EcpOffset(p);
+    return;
+  }
+  const double p0 = P_ * z(0), p1 = pw_[1] * z(1), p2 = pw_[2] * z(2);
+  *nu << (t_.k(0) + p0) * inv_m_, (t_.k(1) + p1) * inv_m_,
+      (t_.k(2) + p2 + (p0 * t_.ptx + p1 * t_.pty) * inv_pn_) * inv_I_;
+  *offset << (t_.pty - t_.qz * p0) * inv_pn_, (-t_.ptx - t_.qz * p1) * inv_pn_;
+}
+
+inline void StepEquations::JacobianBlock(const Eigen::Vector4d& z, Eigen::Matrix3d* block) const {
+  // u = diag(1, b, c) v(p), p = P diag(1, b, c) tau: du/dtau = diag(1, b, c) dv/dp P diag(1,
+  // b, c), with dv/dp as in EcpVelocity.
+  const double p0 = P_ * z(0), p1 = pw_[1] * z(1), p2 = pw_[2] * z(2);
+  const double w = (t_.k(2) + p2 + (p0 * t_.ptx + p1 * t_.pty) / t_.pn) / t_.I;
+  const double r0 = (t_.pty - t_.qz * p0) / t_.pn, r1 = (-t_.ptx - t_.qz * p1) / t_.pn;
+  JacobianBlock(z, Shared{w, r0, r1}, block);
+}
+
+inline void StepEquations::JacobianBlock(const Eigen::Vector4d& z, const Shared& shared,
+                                         Eigen::Matrix3d* block) const {
+  const double w = shared.w, r0 = shared.r0, r1 = shared.r1;
+  const double wdr = w * dr_;
+  const double d00 = inv_m_ - r1 * dw_[0], d01 = -r1 * dw_[1] - wdr, d02 = -r1 * dw_[2];
+  const double d10 = r0 * dw_[0] + wdr, d11 = inv_m_ + r0 * dw_[1], d12 = r0 * dw_[2];
+  const double bb = t_.b, cc = t_.c;
+  Eigen::Matrix3d& A = *block;
+  A(0, 0) = pw_[0] * d00 + z(3);
+  A(0, 1) = pw_[0] * d01 * bb;
+  A(0, 2) = pw_[0] * d02 * cc;
+  A(1, 0) = pw_[1] * d10;
+  A(1, 1) = pw_[1] * d11 * bb + z(3);
+  A(1, 2) = pw_[1] * d12 * cc;
+  A(2, 0) = pw_[2] * dw_[0];
+  A(2, 1) = pw_[2] * dw_[1] * bb;
+  A(2, 2) = pw_[2] * dw_[2] * cc + z(3);
+}
+
+inline double StepEquations::RelativeResidual(const Eigen::Vector4d& z,
+                                              const Eigen::Vector4d& f) const {
+  const double scale = velocity_scale_ + std::abs(z(3));
+  const double motion =
+      scale > 0 ? std::max(std::max(std::abs(f(0)), std::abs(f(1))), std::abs(f(2))) / scale : 0.0;
+  const double sphere = velocity_scale_ > 0 ? 2.0 * std::abs(f(3)) / velocity_scale_ : 0.0;
+  return std::max(motion, sphere);
+}
 
 }  // namespace slideid

@@ -6,6 +6,8 @@
 #include <limits>
 #include <sstream>
 #include <stdexcept>
+#include <string>
+#include <utility>
 
 #include "forward_model/step_equations.h"
 
@@ -45,7 +47,17 @@ constexpr double kNearStickBoundary = 1e-3;
 // ellipsoid's half-axis (as StepEquations::ComponentwiseResidual does).
 constexpr double kEllipsoidFloor = 1e-6;
 
+// x > 0 and finite (false for NaN).
+bool PositiveFinite(double x) { return x > 0 && x <= std::numeric_limits<double>::max(); }
+
 void Validate(const SliderProperties& slider, const ReducedFriction& f, double dt_s) {
+  // One test for the valid case; the messages below only when it fails.
+  if (PositiveFinite(slider.mass_kg) && PositiveFinite(slider.inertia_kgm2) &&
+      slider.com_height_m >= 0 && slider.com_height_m <= std::numeric_limits<double>::max() &&
+      PositiveFinite(slider.gravity_mps2) && PositiveFinite(f.a) && PositiveFinite(f.b) &&
+      PositiveFinite(f.c) && PositiveFinite(dt_s)) {
+    return;
+  }
   auto require = [](bool ok, const char* what, double value) {
     if (!ok) {
       std::ostringstream msg;
@@ -69,13 +81,15 @@ void Validate(const SliderProperties& slider, const ReducedFriction& f, double d
 // Issue 5: a NaN or Inf in the state or the wrench went through as "did not converge
 // (relative residual nan)"; it is bad input and says which field.
 void ValidateFinite(const PlanarState& s, const AppliedWrench& w) {
+  // v * 0 is 0 for every finite v, NaN for Inf or NaN: one test.
+  const double probe =
+      (s.x * 0.0 + s.y * 0.0 + s.theta * 0.0 + s.vx * 0.0 + s.vy * 0.0 + s.wz * 0.0) +
+      (w.fx * 0.0 + w.fy * 0.0 + w.fz * 0.0 + w.tx * 0.0 + w.ty * 0.0 + w.tz * 0.0);
+  if (probe == 0.0) return;
   const std::pair<const char*, double> fields[] = {
       {"state.x", s.x},     {"state.y", s.y},     {"state.theta", s.theta}, {"state.vx", s.vx},
       {"state.vy", s.vy},   {"state.wz", s.wz},   {"applied.fx", w.fx},     {"applied.fy", w.fy},
       {"applied.fz", w.fz}, {"applied.tx", w.tx}, {"applied.ty", w.ty},     {"applied.tz", w.tz}};
-  double probe = 0.0;  // v * 0 is 0 for every finite v, NaN for Inf or NaN: one test
-  for (const auto& field : fields) probe += field.second * 0.0;
-  if (probe == 0.0) return;
   for (const auto& [name, value] : fields) {
     if (!std::isfinite(value)) {
       std::ostringstream msg;
@@ -86,68 +100,111 @@ void ValidateFinite(const PlanarState& s, const AppliedWrench& w) {
 }
 
 // The Jacobian is bordered, [[A, tau], [V tau^T, 0]]: eliminate through the 3x3 block A
-// (cofactor inverse, cheaper than a 4x4 LU); fall back to pivoted LU where A is singular
-// or the border is degenerate.
-bool SolveNewtonSystem(const Eigen::Matrix4d& jac, const Eigen::Vector4d& f, Eigen::Vector4d* dz) {
-  const Eigen::Matrix3d A = jac.topLeftCorner<3, 3>();
-  Eigen::Matrix3d A_inv;
-  bool invertible = false;
-  A.computeInverseWithCheck(A_inv, invertible, kSingularBlock * A.cwiseAbs().maxCoeff());
-  if (invertible) {
-    const Eigen::Vector3d x1 = -(A_inv * f.head<3>());
-    const Eigen::Vector3d x2 = A_inv * jac.topRightCorner<3, 1>();
-    const Eigen::RowVector3d g = jac.bottomLeftCorner<1, 3>();
-    const double border = g.dot(x2);
-    if (std::abs(border) > kSingularBlock * g.norm() * x2.norm()) {
-      const double ds = (g.dot(x1) + f(3)) / border;
-      dz->head<3>() = x1 - x2 * ds;
-      (*dz)(3) = ds;
+// by its adjugate, nine 2x2 cofactors and no pivot search (issue 19); fall back to pivoted
+// LU of the whole Jacobian where A is near singular (the same threshold on det A as
+// before) or the border is degenerate.
+bool SolveNewtonSystem(const Eigen::Matrix3d& A, const Eigen::Vector4d& z, double V,
+                       const Eigen::Vector4d& f, Eigen::Vector4d* dz) {
+  const double c00 = A(1, 1) * A(2, 2) - A(1, 2) * A(2, 1);
+  const double c01 = A(1, 2) * A(2, 0) - A(1, 0) * A(2, 2);
+  const double c02 = A(1, 0) * A(2, 1) - A(1, 1) * A(2, 0);
+  const double det = A(0, 0) * c00 + A(0, 1) * c01 + A(0, 2) * c02;
+  if (std::abs(det) > kSingularBlock * A.cwiseAbs().maxCoeff()) {
+    const double c10 = A(0, 2) * A(2, 1) - A(0, 1) * A(2, 2);
+    const double c11 = A(0, 0) * A(2, 2) - A(0, 2) * A(2, 0);
+    const double c12 = A(0, 1) * A(2, 0) - A(0, 0) * A(2, 1);
+    const double c20 = A(0, 1) * A(1, 2) - A(0, 2) * A(1, 1);
+    const double c21 = A(0, 2) * A(1, 0) - A(0, 0) * A(1, 2);
+    const double c22 = A(0, 0) * A(1, 1) - A(0, 1) * A(1, 0);
+    // With y1 = -adj(A) f_1..3 and y2 = adj(A) tau (A^-1 = adj(A) / det, adj(A)_ij = c_ji):
+    // x1 = -A^-1 f_1..3 = y1 / det, x2 = A^-1 tau = y2 / det, and the slip step
+    // ds = (g x1 + f_4) / (g x2) = (g y1 + det f_4) / (g y2) with g = V tau^T. 1 / det is
+    // then off the critical path (issue 19: the iteration is a chain of dependent
+    // operations, and a division is its longest link).
+    const double t0 = z(0), t1 = z(1), t2 = z(2);
+    const double y10 = -(c00 * f(0) + c10 * f(1) + c20 * f(2));
+    const double y11 = -(c01 * f(0) + c11 * f(1) + c21 * f(2));
+    const double y12 = -(c02 * f(0) + c12 * f(1) + c22 * f(2));
+    const double y20 = c00 * t0 + c10 * t1 + c20 * t2;
+    const double y21 = c01 * t0 + c11 * t1 + c21 * t2;
+    const double y22 = c02 * t0 + c12 * t1 + c22 * t2;
+    const double inv_det = 1.0 / det;
+    // The border test |g x2| > k |g| |x2|, in squares (no square roots) while those are
+    // finite: with y2 = det x2 on both sides, det cancels.
+    const double g0 = V * t0, g1 = V * t1, g2 = V * t2;
+    const double border = g0 * y20 + g1 * y21 + g2 * y22;
+    const double g_sq = g0 * g0 + g1 * g1 + g2 * g2, y2_sq = y20 * y20 + y21 * y21 + y22 * y22;
+    const double bound_sq = g_sq * y2_sq;
+    const bool border_ok =
+        std::isfinite(bound_sq) && bound_sq > 0
+            ? border * border > kSingularBlock * kSingularBlock * bound_sq
+            : std::abs(border) > kSingularBlock * std::sqrt(g_sq) * std::sqrt(y2_sq);
+    if (border_ok) {
+      const double ds = (g0 * y10 + g1 * y11 + g2 * y12 + det * f(3)) / border;
+      *dz << (y10 - y20 * ds) * inv_det, (y11 - y21 * ds) * inv_det, (y12 - y22 * ds) * inv_det, ds;
       if (dz->allFinite()) return true;
     }
   }
+  Eigen::Matrix4d jac;
+  jac.topLeftCorner<3, 3>() = A;
+  jac.topRightCorner<3, 1>() = z.head<3>();
+  jac.bottomLeftCorner<1, 3>() = V * z.head<3>().transpose();
+  jac(3, 3) = 0.0;
   *dz = Eigen::PartialPivLU<Eigen::Matrix4d>(jac).solve(-f);
   return dz->allFinite();
 }
 
-// Newton on the scaled equations from `z`; returns true when converged.
+// Newton on the scaled equations from `z`; returns true when converged. The residual is
+// evaluated at every trial point, the Jacobian only at accepted points that have not
+// converged.
 bool Newton(const StepEquations& eq, const StepOptions& options, Eigen::Vector4d* z,
             int* iterations, double* relative_residual) {
   Eigen::Vector4d f;
-  Eigen::Matrix4d jac;
-  eq.Evaluate(*z, &f, &jac);
+  StepEquations::Shared shared;
+  eq.Residual(*z, &f, &shared);
   const double tol = options.relative_tolerance;
+  const double V = eq.velocity_scale();
+  // ConvergenceResidual, keeping its normwise part for the choice of step below.
+  auto convergence = [&](const Eigen::Vector4d& at, const Eigen::Vector4d& f_at, double* normwise) {
+    *normwise = eq.RelativeResidual(at, f_at);
+    if (!(*normwise <= tol)) return *normwise;
+    return std::max(*normwise, eq.ComponentwiseResidual(at, f_at));
+  };
+  double normwise = 0;
   for (int it = 0; it < options.max_iterations; ++it) {
-    *relative_residual = eq.ConvergenceResidual(*z, f, tol);
+    *relative_residual = convergence(*z, f, &normwise);
     if (*relative_residual <= tol) return (*z)(3) > 0;
+    Eigen::Matrix3d A;
+    eq.JacobianBlock(*z, shared, &A);
     Eigen::Vector4d dz;
-    if (!SolveNewtonSystem(jac, f, &dz)) return false;
+    if (!SolveNewtonSystem(A, *z, V, f, &dz)) return false;
     double alpha = 1.0;
     if ((*z)(3) + dz(3) < kMinSlipFraction * (*z)(3)) {
       alpha = (1.0 - kMinSlipFraction) * (*z)(3) / -dz(3);
     }
-    Eigen::Vector4d trial_f;
-    Eigen::Matrix4d trial_jac;
-    if (eq.RelativeResidual(*z, f) <= tol) {
+    Eigen::Vector4d trial, trial_f;
+    StepEquations::Shared trial_shared;
+    if (normwise <= tol) {
       // Polishing (issue 5): only a row whose terms are much smaller than V is left above
       // tolerance. The merit |F|^2 is at rounding level and cannot rank the steps; take the
       // Newton step while it lowers the convergence residual.
-      eq.Evaluate(*z + alpha * dz, &trial_f, &trial_jac);
-      if (!(eq.ConvergenceResidual(*z + alpha * dz, trial_f, tol) < *relative_residual)) {
-        return false;
-      }
+      trial = *z + alpha * dz;
+      eq.Residual(trial, &trial_f, &trial_shared);
+      double trial_normwise = 0;
+      if (!(convergence(trial, trial_f, &trial_normwise) < *relative_residual)) return false;
     } else {
       const double merit = 0.5 * f.squaredNorm();
       for (int halvings = 0;; ++halvings) {
-        const Eigen::Vector4d trial = *z + alpha * dz;
-        eq.Evaluate(trial, &trial_f, &trial_jac);
+        trial = *z + alpha * dz;
+        eq.Residual(trial, &trial_f, &trial_shared);
         if (0.5 * trial_f.squaredNorm() <= (1.0 - 2.0 * kArmijo * alpha) * merit) break;
         if (halvings == kMaxHalvings) return false;
         alpha *= 0.5;
       }
     }
-    *z += alpha * dz;
+    *z = trial;
     f = trial_f;
-    jac = trial_jac;
+    shared = trial_shared;
     *iterations = it + 1;
   }
   *relative_residual = eq.ConvergenceResidual(*z, f, tol);
@@ -204,8 +261,10 @@ bool SolveGeneral(const StepEquations& eq, const StepOptions& options, double st
   return true;
 }
 
+// The end of a step with friction impulse p, end velocity nu and ECP offset (world).
 StepResult Finish(const PlanarState& state, double dt_s, const StepEquations& eq,
-                  const Eigen::Vector3d& p, double slip) {
+                  const Eigen::Vector3d& p, double slip, const Eigen::Vector3d& nu,
+                  const Eigen::Vector2d& ecp_offset) {
   StepResult r;
   r.status = StepStatus::kConverged;
   r.pt = p(0);
@@ -213,14 +272,13 @@ StepResult Finish(const PlanarState& state, double dt_s, const StepEquations& eq
   r.pr = p(2);
   r.pn = eq.pn();
   r.sigma = slip;
-  const Eigen::Vector3d nu = eq.EndVelocity(p);
   r.state.vx = nu(0);
   r.state.vy = nu(1);
   r.state.wz = nu(2);
   r.state.x = state.x + dt_s * nu(0);
   r.state.y = state.y + dt_s * nu(1);
   r.state.theta = state.theta + dt_s * nu(2);
-  r.ecp_offset_world = eq.EcpOffset(p);
+  r.ecp_offset_world = ecp_offset;
   r.ecp_world = Eigen::Vector2d(r.state.x, r.state.y) + r.ecp_offset_world;
   return r;
 }
@@ -228,7 +286,7 @@ StepResult Finish(const PlanarState& state, double dt_s, const StepEquations& eq
 // The step ends at rest with the stopping impulse p_stop (model.md, "Sticking").
 StepResult Stick(const PlanarState& state, double dt_s, const StepEquations& eq,
                  const Eigen::Vector3d& p_stop) {
-  StepResult r = Finish(state, dt_s, eq, p_stop, 0.0);
+  StepResult r = Finish(state, dt_s, eq, p_stop, 0.0, eq.EndVelocity(p_stop), eq.EcpOffset(p_stop));
   r.state.vx = r.state.vy = r.state.wz = 0.0;  // exact zero, not rounding residue
   r.state.x = state.x;
   r.state.y = state.y;
@@ -257,16 +315,19 @@ StepResult SolveStep(const SliderProperties& slider, const FrictionParameters& f
                      const PlanarState& state, const AppliedWrench& applied, double dt_s,
                      const StepOptions& options) {
   auto require = [](double value, const char* name) {
-    if (!(std::isfinite(value) && value > 0)) {
+    if (!PositiveFinite(value)) {
       std::ostringstream msg;
       msg << "SolveStep: " << name << " must be > 0 (got " << value << ")";
       throw std::invalid_argument(msg.str());
     }
   };
-  require(friction.mu, "mu");
-  require(friction.e_t, "e_t");
-  require(friction.e_o, "e_o");
-  require(friction.e_r, "e_r");
+  if (!(PositiveFinite(friction.mu) && PositiveFinite(friction.e_t) &&
+        PositiveFinite(friction.e_o) && PositiveFinite(friction.e_r))) {
+    require(friction.mu, "mu");
+    require(friction.e_t, "e_t");
+    require(friction.e_o, "e_o");
+    require(friction.e_r, "e_r");
+  }
   StepResult r = SolveStep(slider, ReducedFriction::From(friction), state, applied, dt_s, options);
   r.sigma *= friction.e_t;  // the reduced step's slip is sigma / e_t
   return r;
@@ -278,16 +339,25 @@ StepResult SolveStep(const SliderProperties& slider, const ReducedFriction& fric
   Validate(slider, friction, dt_s);
   ValidateFinite(state, applied);
   std::string why;
-  if (!options.IsValid(&why)) throw std::invalid_argument("SolveStep: " + why);
+  if (!(options.relative_tolerance > 0 && options.relative_tolerance < 1 &&
+        options.max_iterations >= 1) &&
+      !options.IsValid(&why)) {
+    throw std::invalid_argument("SolveStep: " + why);
+  }
 
-  StepResult fail;
-  fail.state = state;
+  // The result of a step that failed: the start state, with a status and a message.
+  auto failure = [&state](StepStatus status, std::string message) {
+    StepResult fail;
+    fail.state = state;
+    fail.status = status;
+    fail.message = std::move(message);
+    return fail;
+  };
   const double net_weight = slider.mass_kg * slider.gravity_mps2 - applied.fz;
   const double pn = dt_s * net_weight;
   if (!(net_weight > 0)) {
-    fail.status = StepStatus::kLiftOff;
-    fail.message = "normal impulse p_n <= 0: the applied vertical force lifts the slider";
-    return fail;
+    return failure(StepStatus::kLiftOff,
+                   "normal impulse p_n <= 0: the applied vertical force lifts the slider");
   }
   const StepEquations eq(slider, friction, state, applied, dt_s);
 
@@ -300,7 +370,6 @@ StepResult SolveStep(const SliderProperties& slider, const ReducedFriction& fric
   // h m g < 1e-308 N s, or c > 1e150 m). A status naming the scale, not a NaN residual.
   const bool pn_normal = std::isnormal(pn);
   if (!pn_normal || !eq.ScalesRepresentable(&why)) {
-    fail.status = StepStatus::kNoConvergence;
     std::ostringstream msg;
     msg << "step outside the range of double: ";
     if (!pn_normal) {
@@ -308,8 +377,7 @@ StepResult SolveStep(const SliderProperties& slider, const ReducedFriction& fric
     } else {
       msg << why;
     }
-    fail.message = msg.str();
-    return fail;
+    return failure(StepStatus::kNoConvergence, msg.str());
   }
 
   Eigen::Vector4d z;
@@ -344,12 +412,10 @@ StepResult SolveStep(const SliderProperties& slider, const ReducedFriction& fric
   }
   if (!ok && !eq.ScalesRepresentable(&why, true)) {
     // The terms of the scaled equations overflow (e.g. c = 1e300 m): say so (issue 5).
-    fail.status = StepStatus::kNoConvergence;
-    fail.message = "step outside the range of double: " + why;
-    return fail;
+    return failure(StepStatus::kNoConvergence, "step outside the range of double: " + why);
   }
   if (!ok) {
-    fail.status = StepStatus::kNoConvergence;
+    StepResult fail = failure(StepStatus::kNoConvergence, "");
     fail.iterations = iterations;
     fail.residual = residual;
     std::ostringstream msg;
@@ -362,7 +428,10 @@ StepResult SolveStep(const SliderProperties& slider, const ReducedFriction& fric
     fail.message = msg.str();
     return fail;
   }
-  StepResult r = Finish(state, dt_s, eq, eq.Impulses(z), z(3));
+  Eigen::Vector3d nu;
+  Eigen::Vector2d ecp_offset;
+  eq.EndVelocityAndOffset(z, &nu, &ecp_offset);
+  StepResult r = Finish(state, dt_s, eq, eq.Impulses(z), z(3), nu, ecp_offset);
   r.mode = StepMode::kSlide;
   r.path = path;
   r.residual = residual;
