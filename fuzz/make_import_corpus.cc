@@ -9,6 +9,7 @@
 #include <string>
 
 #include "datasets/mit_push_synth.h"
+#include "fuzz/corpus_seed.h"
 #include "io/mit_push_h5.h"
 #include "io/push_streams_csv.h"
 #include "io/rosbag_push.h"
@@ -21,12 +22,9 @@ int main(int argc, char** argv) {
     return 2;
   }
   const std::string dir = argv[1];
-  MitPushRecording rec = MakeMitPushRecording(MitSynthSpec{}).recording;
-  rec.object_pose.resize(12);
-  rec.tip_pose.resize(12);
-  rec.ft_wrench.resize(12);
+  const MitPushRecording rec = ShortSeedRecording();
   auto write = [&](const std::string& name, const std::string& bytes) {
-    std::ofstream(dir + "/" + name, std::ios::binary) << bytes;
+    WriteSeed(dir, name, bytes);
   };
   MitPushH5WriteOptions gzip;
   gzip.deflate = true;

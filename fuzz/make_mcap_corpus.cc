@@ -8,6 +8,7 @@
 #include <string>
 
 #include "datasets/mit_push_synth.h"
+#include "fuzz/corpus_seed.h"
 #include "io/mcap_push.h"
 #include "io/ros2_cdr.h"
 
@@ -19,12 +20,9 @@ int main(int argc, char** argv) {
     return 2;
   }
   const std::string dir = argv[1];
-  MitPushRecording rec = MakeMitPushRecording(MitSynthSpec{}).recording;
-  rec.object_pose.resize(12);
-  rec.tip_pose.resize(12);
-  rec.ft_wrench.resize(12);
+  const MitPushRecording rec = ShortSeedRecording();
   auto write = [&](const std::string& name, const std::string& bytes) {
-    std::ofstream(dir + "/" + name, std::ios::binary) << bytes;
+    WriteSeed(dir, name, bytes);
   };
   RosPushWriteSpec spec;
   spec.topics.object_topic = "/object";

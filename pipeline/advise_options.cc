@@ -1,7 +1,6 @@
 #include "pipeline/advise_options.h"
 
 #include <cmath>
-#include <fstream>
 #include <sstream>
 #include <stdexcept>
 #include <vector>
@@ -11,6 +10,7 @@
 #include "io/push_advice_report.h"
 #include "io/push_log.h"
 #include "io/result_json.h"
+#include "pipeline/friction_file.h"
 
 namespace slideid::cli {
 namespace po = boost::program_options;
@@ -143,13 +143,10 @@ AdviseRequest ReadAdviseOptions(const po::variables_map& vm) {
   r.mu_pusher_from = "default";
   if (vm.count("friction")) {
     const std::string path = vm["friction"].as<std::string>();
-    std::ifstream in(path);
-    if (!in) throw std::runtime_error(path + ": cannot open the friction (identify --json)");
-    std::stringstream text;
-    text << in.rdbuf();
+    const std::string text = ReadFrictionFile(path);
     AdviceResultInput result;
     try {
-      result = ParseAdviceResult(text.str());
+      result = ParseAdviceResult(text);
       r.knowledge = KnowledgeFromResult(result.result, r.knowledge);
     } catch (const std::invalid_argument& e) {
       throw std::runtime_error(path + ": " + e.what());

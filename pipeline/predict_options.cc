@@ -1,11 +1,10 @@
 #include "pipeline/predict_options.h"
 
-#include <fstream>
 #include <nlohmann/json.hpp>
-#include <sstream>
 #include <stdexcept>
 
 #include "io/result_json.h"
+#include "pipeline/friction_file.h"
 
 namespace slideid::cli {
 namespace po = boost::program_options;
@@ -62,13 +61,10 @@ PredictRequest ReadPredictOptions(const po::variables_map& vm) {
   bool a = false, b = false, c = false;
   if (vm.count("friction")) {
     const std::string path = vm["friction"].as<std::string>();
-    std::ifstream in(path);
-    if (!in) throw std::runtime_error(path + ": cannot open the friction (identify --json)");
-    std::stringstream text;
-    text << in.rdbuf();
+    const std::string text = ReadFrictionFile(path);
     EstimateResult fit;
     try {
-      fit = ParseResultJson(text.str());
+      fit = ParseResultJson(text);
     } catch (const ResultJsonError& e) {
       throw std::runtime_error(path + ": " + e.what());
     }

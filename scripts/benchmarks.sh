@@ -14,13 +14,7 @@ cd "$(dirname "$0")/.."
 # shellcheck source=generated_section.sh
 source scripts/generated_section.sh
 
-quick=0
-case "${1:-}" in
-  --quick) quick=1 ;;
-  "") ;;
-  *) echo "usage: bash scripts/benchmarks.sh [--quick]" >&2; exit 2 ;;
-esac
-build_dir="${BUILD_DIR:-build}"
+quick_option "$@"
 
 for tool in cmake gnuplot awk; do
   command -v "$tool" >/dev/null || { echo "benchmarks: $tool not found (bash scripts/setup.sh)" >&2; exit 1; }

@@ -1,6 +1,7 @@
 # Sourced by the scripts that regenerate part of a page (benchmarks.sh, coverage.sh,
 # scale_benchmark.sh, scene_suite.sh): the part between a page's "generated" markers, the
-# commit a measurement was taken at, and the common start of a suite page's script.
+# commit a measurement was taken at, the --quick option of a benchmark script, and the common
+# start of a suite page's script.
 
 # Replaces what lies between the generated markers of page $1 with the file $2; a page
 # without markers is created with them, under a title from its name.
@@ -23,6 +24,19 @@ commit_label() {
   commit="$(git rev-parse --short HEAD 2>/dev/null || echo unknown)"
   if [ -n "$(git status --porcelain 2>/dev/null)" ]; then commit="$commit + uncommitted changes"; fi
   echo "$commit"
+}
+
+# The option of a benchmark script (benchmarks.sh, scale_benchmark.sh): reads its one
+# option, --quick, into $quick (1 or 0), and $BUILD_DIR (default build) into $build_dir. The
+# script's arguments follow: quick_option "$@".
+quick_option() {
+  quick=0
+  case "${1:-}" in
+    --quick) quick=1 ;;
+    "") ;;
+    *) echo "usage: bash scripts/$(basename "$0") [--quick]" >&2; exit 2 ;;
+  esac
+  build_dir="${BUILD_DIR:-build}"
 }
 
 # The common start of a suite page's script (coverage.sh, scene_suite.sh): reads its one

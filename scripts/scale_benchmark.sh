@@ -18,13 +18,7 @@ cd "$(dirname "$0")/.."
 # shellcheck source=generated_section.sh
 source scripts/generated_section.sh
 
-quick=0
-case "${1:-}" in
-  --quick) quick=1 ;;
-  "") ;;
-  *) echo "usage: bash scripts/scale_benchmark.sh [--quick]" >&2; exit 2 ;;
-esac
-build_dir="${BUILD_DIR:-build}"
+quick_option "$@"
 work="${WORK:-/tmp/slideid-scale}"
 python=/usr/bin/python3
 count=$((quick ? 500 : 10000))

@@ -39,7 +39,14 @@ inline std::string TempPath(const std::string& name) {
   return dir + "/" + name;
 }
 
-/// The whole content of a file ("" when it cannot be read).
+/// A new, empty directory under GoogleTest's temporary directory, named `name` and a unique
+/// suffix (one per call, unlike TempPath's directory).
+inline std::string NewDir(const std::string& name) {
+  std::string dir = ::testing::TempDir() + name + "_XXXXXX";
+  if (mkdtemp(dir.data()) == nullptr) std::abort();
+  return dir;
+}
+
 /// The directory TempPath's files go in (made once per test process).
 inline std::string TempDirectory() {
   const std::string probe = TempPath("");
@@ -53,6 +60,7 @@ inline std::string WriteFile(const std::string& name, const std::string& content
   return path;
 }
 
+/// The whole content of a file ("" when it cannot be read).
 inline std::string ReadText(const std::string& path) {
   std::ostringstream text;
   text << std::ifstream(path, std::ios::binary).rdbuf();

@@ -15,7 +15,6 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
-#include <sstream>
 
 #include "datasets/mit_push_synth.h"
 #include "io/mit_push_files.h"
@@ -23,55 +22,16 @@
 #include "io/mit_push_json.h"
 #include "pipeline/import_files.h"
 #include "tests/estimator_test_support.h"
+#include "tests/import_test_support.h"
 
 namespace slideid {
 namespace {
 
-std::string NewDir(const std::string& name) {
-  std::string dir = ::testing::TempDir() + name + "_XXXXXX";
-  if (mkdtemp(dir.data()) == nullptr) std::abort();
-  return dir;
-}
-
-std::string FileText(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
-/// A push log's text without its `# source = ...` line (the input file's name).
-std::string WithoutSource(const std::string& text) {
-  std::istringstream in(text);
-  std::string line, out;
-  while (std::getline(in, line)) {
-    if (line.rfind("# source = ", 0) != 0) out += line + "\n";
-  }
-  return out;
-}
-
-MitObjectSource Rect1() {
-  MitObjectSource objects;
-  const MitSynthSpec spec;
-  objects.mass_kg = spec.slider.mass_kg;
-  objects.inertia_kgm2 = spec.slider.inertia_kgm2;
-  objects.com_height_m = spec.slider.com_height_m;
-  objects.patch_spec = "rectangle 0.09 0.09";
-  return objects;
-}
-
-/// Every repairable defect of the MIT tests at once: unsorted and repeated rows, quarter
-/// turns, a motion-capture gap, pose glitches and a pre-load.
-MitSynthSpec DefectiveSpec() {
-  MitSynthSpec spec;
-  spec.defects.backward_steps = 10;
-  spec.defects.duplicate_rows = 7;
-  spec.defects.quarter_turns = {{0.5, 1}, {0.8, -2}, {1.0, 0}};
-  spec.defects.pose_gaps = {{0.02, 0.12}};
-  spec.defects.glitch_every = 50;
-  spec.preload_n = 0.6;
-  return spec;
-}
+using testing::DefectiveSpec;
+using testing::ExpectError;
+using testing::NewDir;
+using testing::Rect1;
+using testing::WithoutSource;
 
 /// The pushes of the MIT importer's tests: each defect it repairs, and each it rejects.
 std::vector<std::pair<std::string, MitSynthSpec>> DefectCases() {
@@ -106,17 +66,6 @@ std::vector<std::pair<std::string, MitSynthSpec>> DefectCases() {
   s.force_ratio = 1.3;
   cases.emplace_back("short_push", s);
   return cases;
-}
-
-template <typename Fn>
-void ExpectError(Fn fn, std::initializer_list<std::string> parts) {
-  try {
-    fn();
-    ADD_FAILURE() << "no error";
-  } catch (const std::runtime_error& e) {
-    for (const std::string& part : parts)
-      EXPECT_NE(std::string(e.what()).find(part), std::string::npos) << e.what();
-  }
 }
 
 void ExpectSameRows(const std::vector<MitStreamRow>& a, const std::vector<MitStreamRow>& b) {
@@ -171,7 +120,7 @@ TEST(MitPushH5, EachDefectImportsToTheSameLogBytesAsTheJson) {
     EXPECT_EQ(a.rows, b.rows);
     if (a.verdict != ImportVerdict::kAccepted) continue;
     ++accepted;
-    const std::string ja = FileText(a.output), hb = FileText(b.output);
+    const std::string ja = testing::ReadText(a.output), hb = testing::ReadText(b.output);
     ASSERT_FALSE(ja.empty());
     EXPECT_EQ(WithoutSource(ja), WithoutSource(hb));  // byte for byte but the input's name
     EXPECT_NE(ja, hb);                                // which does differ: .json, .h5

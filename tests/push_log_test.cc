@@ -16,6 +16,7 @@
 #include "forward_model/constants.h"
 #include "forward_model/simulator.h"
 #include "tests/estimator_test_support.h"
+#include "tests/reader_test_support.h"
 
 namespace slideid {
 namespace {
@@ -43,12 +44,7 @@ void ExpectLogError(const std::string& name, const std::string& content, int lin
     ADD_FAILURE() << name << ": no LogError";
   } catch (const LogError& e) {
     const std::string what = e.what();
-    // "file:line:", or "file: " for the file as a whole (line 0), never "file:0:".
-    EXPECT_NE(what.find(path + (line > 0 ? ":" + std::to_string(line) + ":" : std::string(": "))),
-              std::string::npos)
-        << what;
-    EXPECT_EQ(what.find(":0:"), std::string::npos) << what;
-    EXPECT_EQ(e.line(), line) << what;
+    testing::ExpectNamesFileAndLine(e, path, line);
     if (!column.empty()) {
       EXPECT_NE(what.find("column '" + column + "'"), std::string::npos) << what;
       EXPECT_EQ(e.column(), column) << what;

@@ -9,13 +9,10 @@
 #include "io/push_streams_csv.h"
 
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
-#include <fstream>
-#include <sstream>
 
 #include "datasets/mit_push_synth.h"
 #include "io/mit_push_files.h"
@@ -23,66 +20,22 @@
 #include "io/mit_push_json.h"
 #include "pipeline/import_files.h"
 #include "tests/estimator_test_support.h"
+#include "tests/import_test_support.h"
 
 namespace slideid {
 namespace {
 
+using testing::DefectiveSpec;
+using testing::ExpectError;
+using testing::ExpectSameImport;
+using testing::NewDir;
+using testing::Options;
+using testing::Rect1;
+using testing::WithoutSource;
+
 // A yaw through a quaternion (half-angle sine and cosine, then atan2), or a force turned into
 // a sensor frame and back: a few ulps of values of order 1.
 constexpr double kTurnedValueTol = 1e-13;
-// A log row mixes interpolated poses and averaged forces of those rows: the same few ulps.
-constexpr double kSameLogTol = 1e-12;
-
-std::string NewDir(const std::string& name) {
-  std::string dir = ::testing::TempDir() + name + "_XXXXXX";
-  if (mkdtemp(dir.data()) == nullptr) std::abort();
-  return dir;
-}
-
-std::string FileText(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
-std::string WithoutSource(const std::string& text) {
-  std::istringstream in(text);
-  std::string line, out;
-  while (std::getline(in, line)) {
-    if (line.rfind("# source = ", 0) != 0) out += line + "\n";
-  }
-  return out;
-}
-
-MitSynthSpec DefectiveSpec() {
-  MitSynthSpec spec;
-  spec.defects.backward_steps = 10;
-  spec.defects.duplicate_rows = 7;
-  spec.defects.quarter_turns = {{0.5, 1}, {0.8, -2}, {1.0, 0}};
-  spec.defects.pose_gaps = {{0.02, 0.12}};
-  spec.defects.glitch_every = 50;
-  spec.preload_n = 0.6;
-  return spec;
-}
-
-MitObjectSource Rect1() {
-  MitObjectSource objects;
-  const MitSynthSpec spec;
-  objects.mass_kg = spec.slider.mass_kg;
-  objects.inertia_kgm2 = spec.slider.inertia_kgm2;
-  objects.com_height_m = spec.slider.com_height_m;
-  objects.patch_spec = "rectangle 0.09 0.09";
-  return objects;
-}
-
-MitImportOptions Options(const MitSynthSpec& spec) {
-  MitImportOptions o;
-  o.slider = spec.slider;
-  o.patch_spec = "rectangle 0.09 0.09";
-  o.tip_radius_m = spec.tip_radius_m;
-  return o;
-}
 
 /// The three files in `dir`, mapped by the given texts.
 PushStreamsCsv Files(const std::string& dir, const std::string& pose, const std::string& tip,
@@ -92,35 +45,6 @@ PushStreamsCsv Files(const std::string& dir, const std::string& pose, const std:
   f.tip = ParseStreamMapping(PushStream::kTip, "--tip", dir + "/" + tip);
   f.force = ParseStreamMapping(PushStream::kForce, "--force", dir + "/" + force);
   return f;
-}
-
-template <typename Fn>
-void ExpectError(Fn fn, std::initializer_list<std::string> parts) {
-  try {
-    fn();
-    ADD_FAILURE() << "no error";
-  } catch (const std::exception& e) {
-    for (const std::string& part : parts)
-      EXPECT_NE(std::string(e.what()).find(part), std::string::npos) << e.what();
-  }
-}
-
-void ExpectSameImport(const MitImportResult& a, const MitImportResult& b) {
-  EXPECT_EQ(a.report.verdict, b.report.verdict);
-  EXPECT_EQ(a.report.reason, b.report.reason);
-  EXPECT_EQ(a.report.theta_jumps_repaired, b.report.theta_jumps_repaired);
-  EXPECT_EQ(a.report.force_flipped, b.report.force_flipped);
-  ASSERT_EQ(a.log.samples.size(), b.log.samples.size());
-  for (std::size_t u = 0; u < a.log.samples.size(); ++u) {
-    const TrajectorySample &p = a.log.samples[u], &q = b.log.samples[u];
-    ASSERT_EQ(p.t_s, q.t_s) << u;
-    ASSERT_NEAR(p.state.x, q.state.x, kSameLogTol) << u;
-    ASSERT_NEAR(p.state.y, q.state.y, kSameLogTol) << u;
-    ASSERT_NEAR(p.state.theta, q.state.theta, kSameLogTol) << u;
-    ASSERT_NEAR(p.applied.fx, q.applied.fx, kSameLogTol) << u;
-    ASSERT_NEAR(p.applied.fy, q.applied.fy, kSameLogTol) << u;
-    ASSERT_NEAR(p.applied.tz, q.applied.tz, kSameLogTol) << u;
-  }
 }
 
 TEST(PushStreamsMapping, ReadsKeysColumnsUnitsAndFrames) {
@@ -152,7 +76,8 @@ TEST(PushStreamsMapping, ReadsKeysColumnsUnitsAndFrames) {
 
 TEST(PushStreamsMapping, BadMappingsAreNamedWithTheOption) {
   auto bad = [](PushStream s, const char* option, const std::string& text, const std::string& m) {
-    ExpectError([&] { ParseStreamMapping(s, option, text); }, {std::string(option) + ": " + m});
+    ExpectError<std::exception>([&] { ParseStreamMapping(s, option, text); },
+                                {std::string(option) + ": " + m});
   };
   bad(PushStream::kPose, "--pose", "p.csv:t=stamp,thta=yaw", "unknown key 'thta' (keys: t, x, y");
   bad(PushStream::kPose, "--pose", "p.csv:unit=min", "unknown time unit 'min' in unit=min");
@@ -252,7 +177,7 @@ TEST(PushStreamsCsv, TheDefectivePushImportsToTheSameLogAsTheJson) {
   const MitImportReport b = ImportRecordingFile(dir + "/push.csv", PushStreamsReader(plain),
                                                 Rect1(), options, dir + "/csv", &used_csv);
   ASSERT_EQ(b.verdict, ImportVerdict::kAccepted) << b.reason;
-  EXPECT_EQ(WithoutSource(FileText(a.output)), WithoutSource(FileText(b.output)));
+  EXPECT_EQ(WithoutSource(testing::ReadText(a.output)), WithoutSource(testing::ReadText(b.output)));
   EXPECT_NE(b.notes[0].find("streams: pose " + dir + "/push.csv"), std::string::npos) << b.notes[0];
   // Milliseconds, nanoseconds, a quaternion, a sensor frame: the same log to a few ulps.
   const MitImportResult expected = ImportMitPush(rec, "push", Options(DefectiveSpec()));
@@ -290,7 +215,7 @@ TEST(PushStreamsBadInput, EachBadFileIsNamedWithItsLineAndColumn) {
   const PushStreamsCsv f = Files("d", "p.csv:t=stamp,x=px,y=py,theta=yaw", "t.csv", "f.csv");
   const std::string tip = "t,x,y\n1,0,0\n2,0,0\n", force = "t,fx,fy\n1,0,0\n2,0,0\n";
   auto pose = [&](const std::string& text, std::initializer_list<std::string> parts) {
-    ExpectError([&] { ParsePushStreamsCsv(f, text, tip, force); }, parts);
+    ExpectError<std::exception>([&] { ParsePushStreamsCsv(f, text, tip, force); }, parts);
   };
   pose("stamp,px,py,thta\n1,0,0,0\n",
        {"d/p.csv:1: column 'yaw': not in the header (--pose maps theta to it; the header's "
@@ -303,14 +228,16 @@ TEST(PushStreamsBadInput, EachBadFileIsNamedWithItsLineAndColumn) {
   pose("stamp,px,py,yaw\nnan,0,0,0\n", {"d/p.csv:2: column 'stamp': not a finite number: 'nan'"});
   pose("stamp,px,px,yaw\n1,0,0,0\n", {"d/p.csv:1: column 'px': appears twice in the header"});
   const PushStreamsCsv q = Files("d", "p.csv:qx=a,qy=b,qz=c,qw=d", "t.csv", "f.csv");
-  ExpectError([&] { ParsePushStreamsCsv(q, "t,x,y,a,b,c,d\n1,0,0,0,0,0,0\n", tip, force); },
-              {"d/p.csv:2: column 'd': the quaternion is zero"});
+  ExpectError<std::exception>(
+      [&] { ParsePushStreamsCsv(q, "t,x,y,a,b,c,d\n1,0,0,0,0,0,0\n", tip, force); },
+      {"d/p.csv:2: column 'd': the quaternion is zero"});
   const PushStreamsCsv tipyaw = Files("d", "p.csv", "t.csv", "f.csv:frame=sensor,yaw=tip");
-  ExpectError([&] { ParsePushStreamsCsv(tipyaw, "t,x,y,theta\n1,0,0,0\n", tip, force); },
-              {"--force yaw=tip needs the tip's orientation"});
+  ExpectError<std::exception>(
+      [&] { ParsePushStreamsCsv(tipyaw, "t,x,y,theta\n1,0,0,0\n", tip, force); },
+      {"--force yaw=tip needs the tip's orientation"});
   const std::string dir = NewDir("streams_missing");
   const PushStreamsCsv missing = Files(dir, "p.csv", "t.csv", "f.csv");
-  ExpectError([&] { ReadPushStreamsCsv(missing); }, {dir + "/p.csv"});
+  ExpectError<std::exception>([&] { ReadPushStreamsCsv(missing); }, {dir + "/p.csv"});
 }
 
 TEST(PushStreamsBadInput, ClocksThatNeverOverlapRejectTheFileNamingTheFiles) {

@@ -5,17 +5,15 @@
 #include "io/wrench_twist_csv.h"
 
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <cmath>
 #include <cstdlib>
-#include <filesystem>
-#include <fstream>
 #include <sstream>
 #include <string>
 
 #include "forward_model/constants.h"
 #include "tests/estimator_test_support.h"
+#include "tests/reader_test_support.h"
 
 namespace slideid {
 namespace {
@@ -64,15 +62,7 @@ void ExpectCsvError(const std::string& name, const std::string& content, int lin
     ReadWrenchTwistCsv(path);
     ADD_FAILURE() << name << ": no LogError";
   } catch (const LogError& e) {
-    const std::string what = e.what();
-    // "file:line:", or "file: " for the file as a whole (line 0), never "file:0:".
-    EXPECT_NE(what.find(path + (line > 0 ? ":" + std::to_string(line) + ":" : std::string(": "))),
-              std::string::npos)
-        << what;
-    EXPECT_EQ(what.find(":0:"), std::string::npos) << what;
-    EXPECT_EQ(e.line(), line) << what;
-    EXPECT_EQ(e.column(), column) << what;
-    EXPECT_NE(what.find(words), std::string::npos) << what;
+    testing::ExpectNamesFileLineColumn(e, path, line, column, words);
   }
   // The memory reader says the same.
   EXPECT_THROW(ParseWrenchTwistCsv(content, name), LogError) << name;
@@ -257,31 +247,12 @@ TEST(WrenchTwistCsv, AFileThatCannotBeReadIsALogErrorNamingIt) {
 }
 
 TEST(WrenchTwistCsv, FileAndMemoryReadersAgreeOnEverySeedCorpusFile) {
-  const std::string corpus = std::string(SLIDEID_SOURCE_DIR) + "/fuzz/corpus/pairs";
-  int files = 0;
-  for (const auto& entry : std::filesystem::directory_iterator(corpus)) {
-    const std::string path = entry.path().string();
-    std::ostringstream text;
-    text << std::ifstream(path, std::ios::binary).rdbuf();
-    std::string file_error, memory_error;
-    std::size_t file_rows = 0, memory_rows = 0;
-    try {
-      file_rows = ReadWrenchTwistCsv(path).rows.size();
-    } catch (const LogError& e) {
-      file_error = e.what();
-    }
-    try {
-      memory_rows = ParseWrenchTwistCsv(text.str(), path).rows.size();
-    } catch (const LogError& e) {
-      memory_error = e.what();
-    }
-    EXPECT_EQ(file_error, memory_error) << path;
-    EXPECT_EQ(file_rows, memory_rows) << path;
-    const bool bad = entry.path().filename().string().rfind("bad_", 0) == 0;
-    EXPECT_EQ(!file_error.empty(), bad) << path << ": " << file_error;
-    ++files;
-  }
-  EXPECT_GE(files, 8);
+  const testing::CorpusReads reads = testing::ExpectFileAndMemoryReadersAgree(
+      "pairs", [](const std::string& path) { return ReadWrenchTwistCsv(path).rows.size(); },
+      [](const std::string& text, const std::string& path) {
+        return ParseWrenchTwistCsv(text, path).rows.size();
+      });
+  EXPECT_GE(reads.files, 8);
 }
 
 TEST(WrenchTwistCsv, TheWriterRefusesNonFiniteValuesAndBadMetadata) {

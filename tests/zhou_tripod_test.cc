@@ -4,7 +4,6 @@
 // pushes it cannot trust with a reason, and leads to the true a, b, c.
 
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <algorithm>
 #include <cmath>
@@ -21,6 +20,7 @@
 #include "io/zhou_tripod_log.h"
 #include "io/zhou_tripod_synth.h"
 #include "tests/estimator_test_support.h"
+#include "tests/reader_test_support.h"
 
 namespace slideid {
 namespace {
@@ -112,15 +112,7 @@ void ExpectTripodError(const std::string& name, const std::string& text, int lin
       }
       ADD_FAILURE() << name << ": no LogError";
     } catch (const LogError& e) {
-      const std::string what = e.what();
-      // "file:line:", or "file: " for the file as a whole (line 0), never "file:0:".
-      EXPECT_NE(what.find(path + (line > 0 ? ":" + std::to_string(line) + ":" : std::string(": "))),
-                std::string::npos)
-          << what;
-      EXPECT_EQ(what.find(":0:"), std::string::npos) << what;
-      EXPECT_EQ(e.line(), line) << what;
-      EXPECT_EQ(e.column(), column) << what;
-      EXPECT_NE(what.find(words), std::string::npos) << what;
+      testing::ExpectNamesFileLineColumn(e, path, line, column, words);
     }
   }
 }
@@ -215,34 +207,14 @@ TEST(ZhouTripodLog, ATruncatedOrEmptyFileIsNamed) {
 }
 
 TEST(ZhouTripodLog, FileAndMemoryReadersAgreeOnEverySeedCorpusFile) {
-  const std::string corpus = std::string(SLIDEID_SOURCE_DIR) + "/fuzz/corpus/tripod";
-  int files = 0, accepted = 0;
-  for (const auto& entry : std::filesystem::directory_iterator(corpus)) {
-    const std::string path = entry.path().string();
-    std::ostringstream text;
-    text << std::ifstream(path, std::ios::binary).rdbuf();
-    std::string file_error, memory_error;
-    std::size_t file_pushes = 0, memory_pushes = 0;
-    try {
-      file_pushes = ReadZhouTripodLog(path).pushes.size();
-    } catch (const LogError& e) {
-      file_error = e.what();
-    }
-    try {
-      memory_pushes = ParseZhouTripodLog(text.str(), path).pushes.size();
-    } catch (const LogError& e) {
-      memory_error = e.what();
-    }
-    EXPECT_EQ(file_error, memory_error) << path;
-    EXPECT_EQ(file_pushes, memory_pushes) << path;
-    // Seeds named bad_ fail; the others are read.
-    const bool bad = entry.path().filename().string().rfind("bad_", 0) == 0;
-    EXPECT_EQ(!file_error.empty(), bad) << path << ": " << file_error;
-    ++files;
-    accepted += file_error.empty();
-  }
-  EXPECT_GE(files, 8);
-  EXPECT_GE(accepted, 4);
+  // Seeds named bad_ fail; the others are read.
+  const testing::CorpusReads reads = testing::ExpectFileAndMemoryReadersAgree(
+      "tripod", [](const std::string& path) { return ReadZhouTripodLog(path).pushes.size(); },
+      [](const std::string& text, const std::string& path) {
+        return ParseZhouTripodLog(text, path).pushes.size();
+      });
+  EXPECT_GE(reads.files, 8);
+  EXPECT_GE(reads.accepted, 4);
 }
 
 TEST(ZhouTripodConventions, PosesAndForcesRoundTripThroughTheLogsFrames) {
