@@ -9,14 +9,13 @@
 #include "estimator/log_diagnostics.h"
 #include "estimator/pusher_friction.h"
 #include "estimator/robust_statistics.h"
+#include "forward_model/constants.h"
 #include "forward_model/number_format.h"
 
 namespace slideid {
 namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-constexpr double kPi = 3.14159265358979323846;
-constexpr double kDeg = 180.0 / kPi;
 
 // Motion is read over rows u - k .. u + k, which divides the pose noise by the window's
 // length: 2 k intervals. k = 2 keeps short pushes (a few rows) visible.
@@ -36,8 +35,8 @@ constexpr double kRestForceFraction = 0.05;
 // turned less than this "barely turns".
 constexpr double kRoughRelativeError = 0.1;
 constexpr double kStrongCorrelation = 0.95;
-constexpr double kNarrowSlideArcRad = 15.0 / kDeg;
-constexpr double kSmallTurnRad = 5.0 / kDeg;
+constexpr double kNarrowSlideArcRad = 15.0 / kRadToDeg;
+constexpr double kSmallTurnRad = 5.0 / kRadToDeg;
 // Beyond this condition number J^T J counts as singular: its inverse is rounding.
 constexpr double kSingularCondition = 1e14;
 
@@ -258,16 +257,16 @@ std::string AdviceOnB(const LogCheck& c) {
     return Printf(
         "b is not identifiable: the object slides along one direction of its own only "
         "(all within %.0f deg); push it in another direction relative to the object, or turn it",
-        c.slide_directions_rad * kDeg);
+        c.slide_directions_rad * kRadToDeg);
   }
   return Printf(
       "b is not identifiable: its slides span %.0f deg of directions of its own, too little "
       "for the log's noise; push it in more directions relative to the object",
-      c.slide_directions_rad * kDeg);
+      c.slide_directions_rad * kRadToDeg);
 }
 
 std::string AdviceOnC(const LogCheck& c) {
-  const double turned_deg = c.rotation_range_rad * kDeg;
+  const double turned_deg = c.rotation_range_rad * kRadToDeg;
   if (c.rotation_range_rad < kSmallTurnRad && std::isfinite(c.max_push_offset_m)) {
     return Printf(
         "c is not identifiable: every push passes within %.0f mm of the CM and the object "
