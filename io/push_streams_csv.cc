@@ -57,7 +57,7 @@ std::optional<double> ParseTime(std::string_view cell, int digits) {
 /// `t_s` at full precision in `digits` powers of ten below seconds: the decimal point of its
 /// shortest exact text moved, so that ParseTime reads back the same double.
 std::string FormatTime(double t_s, int digits) {
-  std::string s = Printf("%.17g", t_s);
+  std::string s = ExactNumber(t_s);
   if (digits == 0) return s;
   const std::size_t e = s.find_first_of("eE");
   if (e != std::string::npos) {
@@ -433,7 +433,7 @@ std::string FormatPushStreamCsv(const MitPushRecording& recording, const StreamC
       if (k == "theta" || k == "tz") v = r[3];
       if (k == "qz") v = std::sin(0.5 * r[3]);
       if (k == "qw") v = std::cos(0.5 * r[3]);
-      out += "," + Printf("%.17g", v);
+      out += "," + ExactNumber(v);
     }
     out += "\n";
   }
