@@ -69,9 +69,9 @@ std::vector<RowForceChange> ClassifyForceChanges(const Trajectory& log) {
   return kind;
 }
 
-Trajectory HoldVariant(const Trajectory& log, RowForceChange which) {
+Trajectory HoldVariant(const Trajectory& log, const std::vector<RowForceChange>& kind,
+                       RowForceChange which) {
   Trajectory out = log;
-  const std::vector<RowForceChange> kind = ClassifyForceChanges(log);
   for (size_t u = 0; u + 1 < log.samples.size(); ++u) {
     if (kind[u] == which)
       out.samples[u].applied = Mean(log.samples[u].applied, log.samples[u + 1].applied);
@@ -81,28 +81,34 @@ Trajectory HoldVariant(const Trajectory& log, RowForceChange which) {
 
 std::vector<Eigen::MatrixXd> MismatchDirections(const TrajectoryProblem& problem) {
   const int logs = problem.num_logs();
-  std::vector<const Trajectory*> own;
+  const std::vector<TrajectorySegment>& segments = problem.segments();
+  std::vector<int> segments_of_log(logs, 0);
+  for (const TrajectorySegment& seg : segments) ++segments_of_log[seg.log];
+  const auto switches = [&](int k) { return segments_of_log[k] >= kMinSwitchCorrectionSegments; };
+  // Logs without a switch direction keep their own wrenches in its pass (a zero direction,
+  // which the fit leaves out as undetermined); without any such log the pass is skipped.
   std::vector<Trajectory> interpolated, switched;
   interpolated.reserve(logs);
   switched.reserve(logs);
+  std::vector<const Trajectory*> own, held, switch_held;
   for (int k = 0; k < logs; ++k) {
-    own.push_back(&problem.log(k));
-    interpolated.push_back(HoldVariant(problem.log(k), RowForceChange::kSmooth));
-    switched.push_back(HoldVariant(problem.log(k), RowForceChange::kJump));
-  }
-  std::vector<const Trajectory*> held, switch_held;
-  for (int k = 0; k < logs; ++k) {
-    held.push_back(&interpolated[k]);
-    switch_held.push_back(&switched[k]);
+    const Trajectory& log = problem.log(k);
+    const std::vector<RowForceChange> kind = ClassifyForceChanges(log);
+    own.push_back(&log);
+    interpolated.push_back(HoldVariant(log, kind, RowForceChange::kSmooth));
+    held.push_back(&interpolated.back());
+    if (switches(k)) switched.push_back(HoldVariant(log, kind, RowForceChange::kJump));
+    switch_held.push_back(switches(k) ? &switched.back() : &log);
   }
   const int substeps = problem.substeps();
   const std::vector<Eigen::VectorXd> base = problem.SegmentResidualsWith(own, substeps);
   const std::vector<Eigen::VectorXd> finer = problem.SegmentResidualsWith(own, 2 * substeps);
   const std::vector<Eigen::VectorXd> hold = problem.SegmentResidualsWith(held, substeps);
-  const std::vector<Eigen::VectorXd> jump = problem.SegmentResidualsWith(switch_held, substeps);
+  const std::vector<Eigen::VectorXd> jump =
+      switched.empty() ? std::vector<Eigen::VectorXd>(segments.size())
+                       : problem.SegmentResidualsWith(switch_held, substeps);
 
   std::vector<Eigen::MatrixXd> directions;
-  const std::vector<TrajectorySegment>& segments = problem.segments();
   for (size_t s = 0; s < segments.size(); ++s) {
     const int n = 3 * (segments[s].last_row - segments[s].first_row + 1);
     Eigen::MatrixXd X = Eigen::MatrixXd::Zero(n, kMismatchNuisances * logs);
@@ -110,7 +116,7 @@ std::vector<Eigen::MatrixXd> MismatchDirections(const TrajectoryProblem& problem
     if (base[s].size() == n) {
       if (finer[s].size() == n) X.col(column) = finer[s] - base[s];
       if (hold[s].size() == n) X.col(column + 1) = hold[s] - base[s];
-      if (jump[s].size() == n) X.col(column + 2) = jump[s] - base[s];
+      if (switches(segments[s].log) && jump[s].size() == n) X.col(column + 2) = jump[s] - base[s];
       ThroughRowLoss(segments[s].cost->row_loss(), base[s], &X);
     }
     directions.push_back(std::move(X));

@@ -439,12 +439,6 @@ constexpr double kNoticeableWidening = 1.01;
 
 // A log's mismatch is corrected only when it has at least this many segments.
 constexpr int kMinCorrectionSegments = 8;
-// The push switches' timing (the third nuisance) only from this many: it matters on long
-// pushed logs (scene suite log 230, 6613 rows: a -0.55%, 4.4 standard errors, without it),
-// and on 300-row logs of 8 segments a third nuisance fitted their noise (the coverage
-// suite's `users`: a's interval covered 89.5%).
-constexpr int kMinSwitchCorrectionSegments = 16;
-constexpr int kSwitchNuisance = 2;  // its index among a log's (mismatch_nuisances.h)
 
 // Below kMinRobustSegments (trajectory_problem.h) the fit reports the white-noise interval
 // and says so; the plausibility checks still mark a log whose residuals are far above its
@@ -526,13 +520,8 @@ std::vector<int> ActiveNuisances(const FitInformation& info, const std::vector<i
   const AugmentedShares base = Augment(info, free, std::vector<int>(free.size(), -1), {});
   const Eigen::LDLT<Eigen::MatrixXd> ldlt(base.H);
   if (ldlt.info() != Eigen::Success) return active;
-  std::vector<int> segments_of_log(correctable.size(), 0);
-  for (const SegmentInformation& seg : info.per_segment) ++segments_of_log[seg.log];
   for (int e = 0; e < E; ++e) {
     if (!correctable[e / kMismatchNuisances]) continue;
-    if (e % kMismatchNuisances == kSwitchNuisance &&
-        segments_of_log[e / kMismatchNuisances] < kMinSwitchCorrectionSegments)
-      continue;
     double own = 0;
     Eigen::VectorXd cross = Eigen::VectorXd::Zero(free.size());
     for (const SegmentInformation& seg : info.per_segment) {

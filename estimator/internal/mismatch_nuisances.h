@@ -66,15 +66,24 @@ constexpr double kJumpRatio = 3.0;
 /// Per row, the change from it to the next (the last row: kNone).
 std::vector<RowForceChange> ClassifyForceChanges(const Trajectory& log);
 
-/// `log` with the wrench of each row of kind `which` replaced by the mean of it and the
-/// next row's: for kSmooth, the interval's mean to first order; for kJump, a switch at the
-/// interval's middle.
-Trajectory HoldVariant(const Trajectory& log, RowForceChange which);
+/// `log` with the wrench of each row of kind `which` (`kind`: ClassifyForceChanges of
+/// `log`) replaced by the mean of it and the next row's: for kSmooth, the interval's mean
+/// to first order; for kJump, a switch at the interval's middle.
+Trajectory HoldVariant(const Trajectory& log, const std::vector<RowForceChange>& kind,
+                       RowForceChange which);
+
+/// The push switches' timing (the third nuisance) has a direction only on logs of this many
+/// segments: it matters on long pushed logs (scene suite log 230, 6613 rows: a -0.55%, 4.4
+/// standard errors, without it), and on 300-row logs of 8 segments a third nuisance fitted
+/// their noise (the coverage suite's `users`: a's interval covered 89.5%). Elsewhere its
+/// direction is zero, and the fit leaves it out as undetermined.
+constexpr int kMinSwitchCorrectionSegments = 16;
 
 /// Per segment of `problem` (in order), the residual directions of the nuisances:
 /// rows x (kMismatchNuisances * num_logs), in the units of the row-loss residuals
 /// (Information's `extra`), nonzero only in the segment's own log's columns. A segment
-/// whose alternative residuals cannot be computed (a step fails) gets zeros there.
+/// whose alternative residuals cannot be computed (a step fails) gets zeros there, and so
+/// does the switch column of a log of fewer than kMinSwitchCorrectionSegments segments.
 std::vector<Eigen::MatrixXd> MismatchDirections(const TrajectoryProblem& problem);
 
 }  // namespace slideid
