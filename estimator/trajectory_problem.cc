@@ -101,7 +101,13 @@ struct SegmentShare {
 
 }  // namespace
 
-int TrajectorySegmentSteps(int rows, double interval_s, const TrajectoryOptions& options) {
+bool IsFreeSlide(const Trajectory& log) {
+  return std::all_of(log.samples.begin(), log.samples.end(),
+                     [](const TrajectorySample& s) { return s.applied.IsZero(); });
+}
+
+int TrajectorySegmentSteps(int rows, double interval_s, const TrajectoryOptions& options,
+                           bool free_slide) {
   if (options.segment_steps > 0) return options.segment_steps;
   // A log without a usable interval (one row, or equal times) is cut as a 100 Hz one.
   const double interval = interval_s > 0 && std::isfinite(interval_s) ? interval_s : 0.01;
@@ -110,6 +116,7 @@ int TrajectorySegmentSteps(int rows, double interval_s, const TrajectoryOptions&
   };
   const int steps = std::clamp(rows / kTargetSegments, intervals_in(kMinAutoSegment_s),
                                intervals_in(kMaxAutoSegment_s));
+  if (free_slide) return steps;
   // A segment of s intervals holds s + 1 rows (CutSegments).
   const int for_robust = rows / kMinRobustSegments - 1;
   return steps <= for_robust ? steps : std::max(kMinShortSegmentSteps, for_robust);
@@ -144,8 +151,8 @@ TrajectoryProblem::TrajectoryProblem(const std::vector<const Trajectory*>& logs,
   }
   for (int k = 0; k < n; ++k) {
     const Trajectory& log = *logs[k];
-    const int steps =
-        TrajectorySegmentSteps(static_cast<int>(log.samples.size()), MedianInterval(log), t);
+    const int steps = TrajectorySegmentSteps(static_cast<int>(log.samples.size()),
+                                             MedianInterval(log), t, IsFreeSlide(log));
     // No segment spans a gap: each run (forward_model/trajectory.h) is cut on its own.
     for (const auto& [run_first, run_last] : Runs(log)) {
       for (auto [first, last] : CutSegments(run_last - run_first + 1, steps)) {

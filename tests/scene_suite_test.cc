@@ -12,10 +12,13 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <string>
+#include <vector>
 
 #include "datasets/sensor_model.h"
+#include "estimator/robust_statistics.h"
 #include "fixtures/suite_check.h"
 #include "forward_model/simulator.h"
 #include "io/push_log.h"
@@ -148,10 +151,11 @@ Trajectory HoldOutLog(const std::string& scene_file, ReducedFriction* truth) {
 
 // The two hold-out-like logs of issue 17, made from settings chosen before any fit looked
 // at them. Asked of both: every parameter identified, its 95% interval holding the truth;
-// of the pushed one also the issue's goal, every estimate within 1.5% (+0.75% / -0.39% /
-// -1.43% since its segments are 0.35 s, not 35 rows, long; +3.5% / -3.4% / -4.1% before).
-// The free slide of a disk, cut into 5 segments of 19 intervals, comes out -1.8% / -2.6% /
-// +0.3%: within its intervals, not within 1.5% (docs/scene-suite.md).
+// and the issue's goal, every estimate within 1.5%. The pushed one: +0.75% / -0.39% /
+// -1.43% since its segments are 0.35 s, not 35 rows, long (+3.5% / -3.4% / -4.1% before).
+// The free slide of a disk: -0.56% / +0.23% / +0.32% in 3 segments of 35 intervals with the
+// discretization allowance (-1.8% / -2.6% / +0.3% in 5 segments of 19 before; over noise
+// seeds 6-12 of its scene, every estimate within 1.54%).
 void ExpectHonestIntervals(const std::string& scene_file, double within = 0) {
   ReducedFriction truth;
   const Trajectory log = HoldOutLog(scene_file, &truth);
@@ -170,8 +174,57 @@ void ExpectHonestIntervals(const std::string& scene_file, double within = 0) {
   }
 }
 
-TEST(SceneSuite, HoldOutLikeFreeSlideGetsIntervalsThatHoldTheTruth) {
-  ExpectHonestIntervals("holdout_free_disk.ini");
+TEST(SceneSuite, HoldOutLikeFreeSlideComesOutWithinItsIntervalsAndOnePointFivePercent) {
+  ExpectHonestIntervals("holdout_free_disk.ini", 0.015);
+}
+
+// The free disk over 30 noise seeds, against the segments it had before free slides were
+// left long (5 of 19 intervals; TrajectorySegmentSteps): the estimate is reported "ok" with
+// its interval widened for the time step (the fit with 2 substeps is the one reported), the
+// median error is at most half the short segments', and the intervals hold the truth about
+// as often as the scene suite's free slides' (86-99%). Measured when written: medians 0.39 /
+// 0.53 / 0.42% against 1.44 / 1.22 / 1.86%; 1 of 90 estimates beyond 3 standard errors
+// (b, 3.02), 85 of 90 intervals holding the truth.
+TEST(SceneSuite, AFreeSlideInLongSegmentsIsMorePreciseAndItsIntervalsStillHold) {
+  LoggedScene scene =
+      LoadScene(std::string(SLIDEID_SOURCE_DIR) + "/datasets/scenes/holdout_free_disk.ini");
+  const ReducedFriction t = ReducedFriction::From(scene.friction);
+  const double truth[3] = {t.a, t.b, t.c};
+  const SimulationResult sim = Simulate(scene);
+  ASSERT_TRUE(sim.summary.ok()) << sim.summary.message;
+  IdentifyOptions short_segments;
+  short_segments.trajectory.segment_steps = 19;
+  std::array<std::vector<double>, 3> long_error, short_error;
+  int estimates = 0, covered = 0, beyond3 = 0;
+  for (int seed = 100; seed < 130; ++seed) {
+    scene.log.noise.seed = seed;
+    const Trajectory log = MakeLog(sim.trajectory, scene.log);
+    const EstimateResult r = Identify(log, IdentifyOptions{});
+    const EstimateResult before = Identify(log, short_segments);
+    for (int i = 0; i < 3; ++i) {
+      const ParameterEstimate& p = r.parameters[i];
+      ASSERT_TRUE(p.identifiable) << ParameterName(i) << ": " << p.reason;
+      EXPECT_EQ(p.verdict, Verdict::kOk) << ParameterName(i) << ": " << p.reason;
+      EXPECT_NE(p.note.find("for the time step's own error"), std::string::npos) << p.note;
+      ++estimates;
+      covered += p.ci95_lo <= truth[i] && truth[i] <= p.ci95_hi;
+      beyond3 += std::abs(p.value - truth[i]) > 3 * p.stderr_value;
+      long_error[i].push_back(std::abs(p.value / truth[i] - 1));
+      if (before.parameters[i].identifiable) {
+        short_error[i].push_back(std::abs(before.parameters[i].value / truth[i] - 1));
+      }
+    }
+  }
+  std::printf("%d of %d intervals hold the truth; %d estimates beyond 3 standard errors\n", covered,
+              estimates, beyond3);
+  EXPECT_GE(covered, estimates * 8 / 10);
+  EXPECT_LE(beyond3, 2);
+  for (int i = 0; i < 3; ++i) {
+    const double ours = Median(long_error[i]), theirs = Median(short_error[i]);
+    std::printf("%s: median error %.2f%% in long segments, %.2f%% in 19-interval ones\n",
+                ParameterName(i), 100 * ours, 100 * theirs);
+    EXPECT_LE(ours, theirs / 2) << ParameterName(i);
+  }
 }
 
 TEST(SceneSuite, HoldOutLikePushAt250HzComesOutWithinItsIntervalsAndOnePointFivePercent) {

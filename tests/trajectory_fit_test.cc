@@ -61,6 +61,20 @@ TEST(TrajectoryFit, RecoversFromAVelocityOnlyLog) {
   ExpectRecovers(scene, log, Options(25));
 }
 
+// A short pushed log is cut into kMinRobustSegments segments for a cluster-robust
+// interval; a free slide keeps segments of kMinAutoSegment_s (TrajectorySegmentSteps).
+TEST(TrajectoryFit, AShortFreeSlideIsNotCutIntoShortSegments) {
+  const TrajectoryOptions defaults;
+  EXPECT_EQ(TrajectorySegmentSteps(100, 0.01, defaults, /*free_slide=*/false), 19);
+  EXPECT_EQ(TrajectorySegmentSteps(100, 0.01, defaults, /*free_slide=*/true), 35);
+  EXPECT_EQ(TrajectorySegmentSteps(4000, 0.01, defaults, /*free_slide=*/true),
+            TrajectorySegmentSteps(4000, 0.01, defaults, /*free_slide=*/false));
+  Trajectory log = SimulateOrFail(testing::FreeSlideWithSpin());
+  EXPECT_TRUE(IsFreeSlide(log));
+  log.samples[3].applied.fx = 0.1;
+  EXPECT_FALSE(IsFreeSlide(log));
+}
+
 TEST(TrajectoryFit, RecoversWithSubstepsFromACoarselySampledLog) {
   // Simulated at 2 ms, logged every 5th step: 10 ms rows; 5 substeps reproduce the model.
   Scene scene = testing::FreeSlideWithSpin();
