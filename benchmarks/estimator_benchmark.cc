@@ -48,7 +48,7 @@ double ForwardPassSeconds(const Trajectory& log, bool with_derivatives) {
   std::vector<std::unique_ptr<ceres::CostFunction>> costs;
   std::vector<std::array<double, 6>> states;
   for (int first = 0; first + steps < rows; first += steps + 1) {
-    costs.emplace_back(NewSegmentCost(log, first, first + steps, 1, log.columns.pose));
+    costs.emplace_back(NewSegmentCost(log, first, first + steps, 1, log.measured.pose));
     const PlanarState& s = log.samples[first].state;
     states.push_back({s.x, s.y, s.theta, s.vx, s.vy, s.wz});
   }

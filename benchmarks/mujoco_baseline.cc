@@ -54,7 +54,7 @@ std::string Num(double v) { return ExactNumber(v); }
 /// The MJCF of one push: the slider resting at the origin of its own frame.
 std::string Model(const Trajectory& log, const ReducedFriction& f, double mu_p, double tip_radius,
                   double timestep) {
-  const ContactPatch patch = ContactPatch::Parse(log.patch_spec);
+  const ContactPatch& patch = log.patch.value();
   Eigen::Vector2d lo(1e9, 1e9), hi(-1e9, -1e9);
   for (const Eigen::Vector2d& p : patch.Outline()) {
     lo = lo.cwiseMin(p);

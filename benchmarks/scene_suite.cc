@@ -30,6 +30,7 @@
 #include "benchmarks/table_tool.h"
 #include "fixtures/suite_check.h"
 #include "io/push_log.h"
+#include "io/simulated_log.h"
 
 namespace slideid {
 namespace {
@@ -191,7 +192,8 @@ int Main(int argc, char** argv) {
         const SuiteLog made = MakeSuiteLog(row.index, kSceneSuiteSeed, limits);
         row.what = made.Describe();
         if (!c.dump_dir.empty()) {
-          WritePushLog(made.log, c.dump_dir + "/suite_" + std::to_string(row.index) + ".csv");
+          WritePushLog(SimulatedLogFile(made.scene, made.log),
+                       c.dump_dir + "/suite_" + std::to_string(row.index) + ".csv");
         }
         row.o = suite::Judge(made, c.choices);
       } catch (const std::exception& e) {

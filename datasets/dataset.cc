@@ -270,9 +270,6 @@ DatasetEntry DrawDatasetLog(const DatasetSpec& spec, int index, Trajectory* log)
     }
     entry.scene = scene;
     *log = MakeLog(sim.trajectory, scene.log);
-    log->extra_metadata.emplace_back("dataset_seed", std::to_string(spec.seed));
-    log->extra_metadata.emplace_back("dataset_index", std::to_string(index));
-    log->extra_metadata.emplace_back("redraws", std::to_string(entry.redraw_reasons.size()));
     entry.rows = static_cast<int>(log->samples.size());
     return entry;
   }

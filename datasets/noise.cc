@@ -36,7 +36,8 @@ void ApplyNoise(Trajectory* log, const NoiseSpec& noise) {
   std::string why;
   if (!noise.IsValid(&why)) throw std::invalid_argument("ApplyNoise: " + why);
   const bool force_noise = noise.force_relative != 0 || noise.force_n != 0;
-  const bool pose_moves_r = log->columns.pose && (noise.pose_m != 0 || noise.outlier_fraction != 0);
+  const bool pose_moves_r =
+      log->measured.pose && (noise.pose_m != 0 || noise.outlier_fraction != 0);
   const bool point_moves = noise.push_point_m != 0;
   const double com_height = log->slider.com_height_m;
   std::mt19937_64 rng(noise.seed);
@@ -80,7 +81,7 @@ void ApplyNoise(Trajectory* log, const NoiseSpec& noise) {
       const Eigen::Vector3d p = *s.push_point_world;
       const AppliedWrench at_truth = WrenchFromForceAt(
           f_true.fx, f_true.fy, f_true.fz, p.x() - truth.x, p.y() - truth.y, p.z() - com_height);
-      const PlanarState& q = log->columns.pose ? s.state : truth;
+      const PlanarState& q = log->measured.pose ? s.state : truth;
       Eigen::Vector3d& reported = *s.push_point_world;
       reported.x() += noise.push_point_m * point_noise[0];
       reported.y() += noise.push_point_m * point_noise[1];
@@ -106,8 +107,7 @@ void ApplyNoise(Trajectory* log, const NoiseSpec& noise) {
 Trajectory AddNoise(const Trajectory& log, const NoiseSpec& noise) {
   Trajectory out = log;
   ApplyNoise(&out, noise);
-  out.columns.step_info = false;
-  for (const auto& entry : noise.Metadata()) out.extra_metadata.push_back(entry);
+  out.measured.step_info = false;
   for (TrajectorySample& s : out.samples) {
     s.pt = s.po = s.pr = s.sigma = 0;
     s.ecp_world.setZero();

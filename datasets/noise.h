@@ -8,12 +8,12 @@
 
 namespace slideid {
 
-/// A copy of `log` with noise added to what its columns carry; step_info columns
-/// (ECP, impulses, mode) are dropped, since a sensor does not measure them. The noise
-/// description is appended to extra_metadata. Throws std::invalid_argument for invalid noise.
+/// A copy of `log` with noise added to what it carries (log.measured); the step info (ECP,
+/// impulses, mode) is dropped, since a sensor does not measure it. (A file says which noise
+/// by noise.Metadata().) Throws std::invalid_argument for invalid noise.
 Trajectory AddNoise(const Trajectory& log, const NoiseSpec& noise);
 
-/// Adds the noise to `log` in place, nothing else (columns, metadata, step info kept).
+/// Adds the noise to `log` in place, nothing else (measurements and step info kept).
 ///
 /// Per row, in this order from one seed: pose (x, y += pose_m N(0,1); theta += angle_rad
 /// N(0,1), on the unwrapped angle), velocity (vx, vy, wz), force (fx, fy += force_relative

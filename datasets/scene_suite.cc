@@ -126,7 +126,7 @@ const char* ToString(SuiteMotion motion) {
 
 std::string SuiteLog::Describe() const {
   return Printf("%s; %s; %zu rows at %.0f Hz; %s%s", slider, ToString(motion), log.samples.size(),
-                rate_hz, log.columns.velocity ? "poses+velocities" : "poses",
+                rate_hz, log.measured.velocity ? "poses+velocities" : "poses",
                 outliers ? "; outliers" : "");
 }
 
@@ -192,6 +192,7 @@ SuiteLog MakeSuiteLog(int index, std::uint64_t seed, const SceneSuiteLimits& lim
       continue;
     }
     made.log = MakeLog(sim.trajectory, scene.log);
+    made.scene = scene;
     if (static_cast<int>(made.log.samples.size()) < rows) {
       reasons += "\n  attempt " + std::to_string(attempt) + ": too few rows";
       continue;

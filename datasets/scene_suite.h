@@ -18,6 +18,7 @@
 #include <cstdint>
 #include <string>
 
+#include "datasets/logged_scene.h"
 #include "forward_model/trajectory.h"
 
 namespace slideid {
@@ -41,6 +42,7 @@ const char* ToString(SuiteMotion motion);  ///< "free slide", "pushes+rests", "p
 /// One suite log and what it was made from.
 struct SuiteLog {
   Trajectory log;
+  LoggedScene scene;  ///< what `log` was made from (its file's metadata: io/simulated_log.h)
   std::array<double, 3> truth{};  ///< (a, b, c [m])
   SuiteMotion motion = SuiteMotion::kPushesWithRests;
   std::string slider;     ///< "box", "disk", "ring", "tall box", "flat box"

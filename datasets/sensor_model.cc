@@ -5,7 +5,6 @@
 
 #include "datasets/noise.h"
 #include "forward_model/constants.h"
-#include "forward_model/number_format.h"
 
 namespace slideid {
 namespace {
@@ -129,17 +128,11 @@ Trajectory MakeLog(const Trajectory& simulated, const LogSpec& spec) {
   if (spec.noise.force_delay_s != 0.0) DelayPushStream(&log, spec.noise.force_delay_s);
   if (spec.log_every > 1) {
     log.samples = Decimate(log.samples, spec.log_every);
-    log.extra_metadata.emplace_back("log_every", std::to_string(spec.log_every));
-    if (log.samples.size() >= 2) {
-      log.extra_metadata.emplace_back("log_dt",
-                                      ExactNumber(log.samples[1].t_s - log.samples[0].t_s));
-    }
   }
   if (spec.wrench == LogWrench::kIntervalMean) {
     SetIntervalMeanWrench(simulated.samples, spec.log_every, &log.samples);
-    log.extra_metadata.emplace_back("log_wrench", ToString(spec.wrench));
   }
-  LogColumns& c = log.columns;
+  Measurements& c = log.measured;
   c.pose = spec.motion != LogMotion::kVelocities;
   c.velocity = spec.motion != LogMotion::kPoses;
   const bool pushed = AnyForce(log);
@@ -151,9 +144,6 @@ Trajectory MakeLog(const Trajectory& simulated, const LogSpec& spec) {
   if (spec.noise.force_bias_x_n != 0.0 || spec.noise.force_bias_y_n != 0.0) {
     AddForceBias(&log, spec.noise.force_bias_x_n, spec.noise.force_bias_y_n);
     c.force = true;
-  }
-  if (!spec.noise.IsZero() || spec.noise.HasDefects()) {
-    for (const auto& entry : spec.noise.Metadata()) log.extra_metadata.push_back(entry);
   }
   if (!c.step_info) {
     for (TrajectorySample& s : log.samples) {

@@ -18,16 +18,15 @@ namespace slideid {
 ///   the interval, an approximation when it varies within it, as in real logs), or the mean
 ///   over that interval (interval-mean: the logged impulse is the applied one; the rows then
 ///   carry no push point, and the last row keeps its own wrench);
-/// - sets the columns: poses / velocities / both; push point or total moments; step info
-///   (spec.step_info, by default only for a noiseless log);
+/// - sets what the log measures: poses / velocities / both; push point or total moments;
+///   step info (spec.step_info, by default only for a noiseless log);
 /// - adds the noise (ApplyNoise), then the force offset spec.noise.force_bias_* to every
-///   row (at its push point, lever from the noisy pose, as a reader computes it), and their
-///   metadata (`noise_*`), `log_every` and `log_dt` when k > 1, and
-///   `log_wrench = interval-mean` for the interval mean;
+///   row (at its push point, lever from the noisy pose, as a reader computes it);
 /// - for a poses-only log, sets the velocities from the poses as a reader would, so that the
 ///   returned trajectory equals the written-and-read-back one;
 /// - wraps theta to (-pi, pi] when asked (after the noise).
-/// Throws std::invalid_argument for an invalid spec.
+/// What it did, as its file's metadata: io/simulated_log.h. Throws std::invalid_argument for
+/// an invalid spec.
 Trajectory MakeLog(const Trajectory& simulated, const LogSpec& spec);
 
 }  // namespace slideid

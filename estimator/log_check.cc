@@ -72,11 +72,11 @@ Eigen::Vector2d ToBody(double x, double y, double theta) {
 void CheckSampling(const Trajectory& log, LogCheck* c) {
   const int n = static_cast<int>(log.samples.size());
   c->rows = n;
-  c->has_pose = log.columns.pose;
-  c->has_velocity = log.columns.velocity;
-  c->has_force = log.columns.force;
-  c->has_push_point = log.columns.push_point;
-  c->has_tip = log.columns.tip;
+  c->has_pose = log.measured.pose;
+  c->has_velocity = log.measured.velocity;
+  c->has_force = log.measured.force;
+  c->has_push_point = log.measured.push_point;
+  c->has_tip = log.measured.tip;
   if (n < 2) return;
   c->duration_s = log.samples.back().t_s - log.samples.front().t_s;
   const double h = MedianInterval(log);
@@ -106,7 +106,7 @@ Motion ReadMotion(const Trajectory& log, const LogDiagnostics& d) {
   for (int u = 0; u < n; ++u) {
     const TrajectorySample& s = log.samples[u];
     double dx = 0, dy = 0, moved = 0, limit = 0;
-    if (log.columns.pose) {
+    if (log.measured.pose) {
       int lo = u, hi = u;
       while (lo > 0 && u - lo < kMotionHalfWindow && run_of[lo - 1] == run_of[u]) --lo;
       while (hi + 1 < n && hi - u < kMotionHalfWindow && run_of[hi + 1] == run_of[u]) ++hi;
@@ -119,7 +119,7 @@ Motion ReadMotion(const Trajectory& log, const LogDiagnostics& d) {
       const double sp = std::isfinite(d.pose_noise_m) ? d.pose_noise_m : 0.0;
       const double sa = std::isfinite(d.angle_noise_rad) ? length_m * d.angle_noise_rad : 0.0;
       limit = kMotionSigmas * std::sqrt(2.0 * (2 * sp * sp + sa * sa)) + kMotionFloorM;
-    } else if (log.columns.velocity) {
+    } else if (log.measured.velocity) {
       dx = s.state.vx;
       dy = s.state.vy;
       moved = std::sqrt(dx * dx + dy * dy + std::pow(length_m * s.state.wz, 2));
@@ -144,7 +144,7 @@ void CheckExcitation(const Trajectory& log, const LogDiagnostics& d, LogCheck* c
   c->max_push_n = d.max_push_n;
   if (d.dead_force_channel) c->dead_channels.push_back(*d.dead_force_channel);
   if (n < 2) return;
-  if (log.columns.pose) {
+  if (log.measured.pose) {
     const std::vector<double> theta = Unwrapped(log);
     const auto [lo, hi] = std::minmax_element(theta.begin(), theta.end());
     c->rotation_range_rad = *hi - *lo;
@@ -158,7 +158,7 @@ void CheckExcitation(const Trajectory& log, const LogDiagnostics& d, LogCheck* c
     if (motion.moving[u] && std::isfinite(motion.body_direction[u])) {
       slide_dirs.push_back(motion.body_direction[u]);
     }
-    if (!motion.moving[u] && log.columns.force) {
+    if (!motion.moving[u] && log.measured.force) {
       rest_fx.push_back(s.applied.fx);
       rest_fy.push_back(s.applied.fy);
     }
@@ -173,7 +173,7 @@ void CheckExcitation(const Trajectory& log, const LogDiagnostics& d, LogCheck* c
   }
   // A tracker whose positions carry noise but whose heading never changes by a bit has lost
   // the heading (a noise-free simulated translation keeps both exact).
-  if (log.columns.pose && c->rotation_range_rad == 0 && c->sliding_share > 0 &&
+  if (log.measured.pose && c->rotation_range_rad == 0 && c->sliding_share > 0 &&
       d.pose_noise_m > 0) {
     c->dead_channels.push_back(
         "theta constant on every row while the object moves (dead tracker?)");

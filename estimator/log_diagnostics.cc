@@ -40,7 +40,7 @@ std::vector<double> Channel(const Trajectory& log, double PlanarState::*field) {
 }
 
 std::optional<std::string> DeadForceChannel(const Trajectory& log) {
-  if (!log.columns.force || log.samples.size() < 2) return std::nullopt;
+  if (!log.measured.force || log.samples.size() < 2) return std::nullopt;
   const AppliedWrench& first = log.samples.front().applied;
   bool constant = true, moved = false;
   for (const TrajectorySample& s : log.samples) {
@@ -49,9 +49,9 @@ std::optional<std::string> DeadForceChannel(const Trajectory& log) {
     moved = moved || std::hypot(s.state.x - log.samples.front().state.x,
                                 s.state.y - log.samples.front().state.y) > kMovedM;
   }
-  if (!constant || !log.columns.pose || !moved) return std::nullopt;
+  if (!constant || !log.measured.pose || !moved) return std::nullopt;
   const PlanarState& s0 = log.samples.front().state;
-  const bool starts_at_rest = !log.columns.velocity || (s0.vx == 0 && s0.vy == 0 && s0.wz == 0);
+  const bool starts_at_rest = !log.measured.velocity || (s0.vx == 0 && s0.vy == 0 && s0.wz == 0);
   const bool nonzero = std::hypot(first.fx, first.fy) > kSameForceN;
   // A free slide may log a force of zero throughout; a push that never changes, or an
   // object that leaves rest with nothing pushing it, cannot be right.
@@ -65,13 +65,13 @@ std::optional<std::string> DeadForceChannel(const Trajectory& log) {
 LogDiagnostics DiagnoseLog(const Trajectory& log) {
   LogDiagnostics d;
   d.pose_noise_m = d.angle_noise_rad = d.velocity_noise_mps = d.spin_noise_radps = kNaN;
-  if (log.columns.pose) {
+  if (log.measured.pose) {
     const double sx = NoiseFromDifferences(Channel(log, &PlanarState::x), 3);
     const double sy = NoiseFromDifferences(Channel(log, &PlanarState::y), 3);
     d.pose_noise_m = std::sqrt(0.5 * (sx * sx + sy * sy));
     d.angle_noise_rad = NoiseFromDifferences(Channel(log, &PlanarState::theta), 3);
   }
-  if (log.columns.velocity) {
+  if (log.measured.velocity) {
     const double sx = NoiseFromDifferences(Channel(log, &PlanarState::vx), 2);
     const double sy = NoiseFromDifferences(Channel(log, &PlanarState::vy), 2);
     d.velocity_noise_mps = std::sqrt(0.5 * (sx * sx + sy * sy));

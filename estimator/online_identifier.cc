@@ -773,7 +773,7 @@ OnlineIdentifier::OnlineIdentifier(const Trajectory& metadata, const OnlineOptio
         "its com_height finite and >= 0 (mass = " +
         ShortNumber(s.mass_kg) + ", inertia = " + ShortNumber(s.inertia_kgm2) + ")");
   }
-  if (!metadata.columns.pose) {
+  if (!metadata.measured.pose) {
     // Its update is with the logged pose; a log of velocities alone would read as a slider
     // resting at the origin.
     throw std::invalid_argument(

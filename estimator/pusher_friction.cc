@@ -25,8 +25,7 @@ struct ContactRow {
 };
 
 bool HasTip(const Trajectory& log) {
-  return log.columns.tip && log.tip_radius_m && !log.patch_spec.empty() &&
-         log.samples.size() >= 2 &&
+  return log.measured.tip && log.tip_radius_m && log.patch.has_value() && log.samples.size() >= 2 &&
          std::all_of(log.samples.begin(), log.samples.end(),
                      [](const TrajectorySample& s) { return s.tip_world.has_value(); });
 }
@@ -74,7 +73,7 @@ std::optional<ContactRow> ClassifyContact(const ContactPatch& patch, double tip_
 /// The contact rows of one log, in order, each with its slip over rows u - k .. u + k.
 std::vector<ContactRow> ContactRows(const Trajectory& log, double min_force_n,
                                     const PusherFrictionOptions& o) {
-  const ContactPatch patch = ContactPatch::Parse(log.patch_spec);
+  const ContactPatch& patch = *log.patch;
   const LogDiagnostics noise = DiagnoseLog(log);
   const double pose_noise = std::isfinite(noise.pose_noise_m) ? noise.pose_noise_m : 0.0;
   const double angle_noise = std::isfinite(noise.angle_noise_rad) ? noise.angle_noise_rad : 0.0;
@@ -218,7 +217,7 @@ std::optional<PusherFrictionResult> EstimatePusherFriction(
 }
 
 bool PusherFrictionStream::Applies(const Trajectory& metadata) {
-  return metadata.columns.tip && metadata.tip_radius_m && !metadata.patch_spec.empty();
+  return metadata.measured.tip && metadata.tip_radius_m && metadata.patch.has_value();
 }
 
 namespace {
@@ -237,7 +236,7 @@ const Trajectory& Checked(const Trajectory& metadata, const PusherFrictionOption
 PusherFrictionStream::PusherFrictionStream(const Trajectory& metadata,
                                            const PusherFrictionOptions& options)
     : options_(options),
-      patch_(ContactPatch::Parse(Checked(metadata, options).patch_spec)),
+      patch_(*Checked(metadata, options).patch),
       tip_radius_m_(*metadata.tip_radius_m) {
   result_ = FromContactRows({}, {}, options_);
 }

@@ -21,7 +21,7 @@ Trajectory Noisier(const Trajectory& log, std::mt19937_64* rng) {
   const LogDiagnostics d = DiagnoseLog(log);
   Trajectory out = log;
   std::normal_distribution<double> normal(0.0, 1.0);
-  if (log.columns.velocity) {
+  if (log.measured.velocity) {
     const double v = ZeroIfNaN(d.velocity_noise_mps), w = ZeroIfNaN(d.spin_noise_radps);
     for (TrajectorySample& s : out.samples) {
       s.state.vx += v * normal(*rng);

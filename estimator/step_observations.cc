@@ -23,11 +23,11 @@ double Speed(const PlanarState& s, double radius_m) {
 std::vector<StepObservation> ExtractStepObservations(const Trajectory& logged) {
   // A poses-only log means kinematic-map velocities, whatever the samples carry.
   Trajectory derived;
-  if (!logged.columns.velocity) {
+  if (!logged.measured.velocity) {
     derived = logged;
     SetVelocitiesFromPoses(&derived);
   }
-  const Trajectory& log = logged.columns.velocity ? logged : derived;
+  const Trajectory& log = logged.measured.velocity ? logged : derived;
   const SliderProperties& s = log.slider;
   if (!(s.mass_kg > 0 && s.inertia_kgm2 > 0 && s.com_height_m >= 0 && s.gravity_mps2 > 0)) {
     throw std::invalid_argument("ExtractStepObservations: slider properties not set");
@@ -45,7 +45,7 @@ std::vector<StepObservation> ExtractStepObservations(const Trajectory& logged) {
     return std::hypot(b.fx - a.fx, b.fy - a.fy) > kForceSwitchFraction * max_push;
   };
   steps.reserve(log.samples.size() - 1);
-  const bool has_mode = log.columns.step_info || log.columns.mode;
+  const bool has_mode = log.measured.step_info || log.measured.mode;
   for (size_t u = 0; u + 1 < log.samples.size(); ++u) {
     const TrajectorySample& a = log.samples[u];
     const TrajectorySample& b = log.samples[u + 1];
@@ -55,10 +55,10 @@ std::vector<StepObservation> ExtractStepObservations(const Trajectory& logged) {
     o.start = a.state;
     o.end = b.state;
     o.applied = a.applied;
-    o.start_velocity_known = log.columns.velocity || !StartsRun(log, u);
+    o.start_velocity_known = log.measured.velocity || !StartsRun(log, u);
     o.across_gap = StartsRun(log, u + 1);
     o.near_force_switch =
-        !logged.columns.velocity && ((u > 0 && switches(u - 1, u)) || switches(u, u + 1));
+        !logged.measured.velocity && ((u > 0 && switches(u - 1, u)) || switches(u, u + 1));
     const double h = o.h_s;
     o.pn = h * (s.mass_kg * s.gravity_mps2 - a.applied.fz);
     // Appendix A, corrected: friction impulses from Newton-Euler with the coupling term (*).
@@ -81,7 +81,7 @@ std::vector<StepObservation> ExtractStepObservations(const Trajectory& logged) {
 StepNoise ReadStepNoise(const Trajectory& log) {
   const LogDiagnostics d = DiagnoseLog(log);
   StepNoise n;
-  n.differentiated = !log.columns.velocity;
+  n.differentiated = !log.measured.velocity;
   if (!n.differentiated) {
     n.velocity_mps = ZeroIfNaN(d.velocity_noise_mps);
     n.spin_radps = ZeroIfNaN(d.spin_noise_radps);

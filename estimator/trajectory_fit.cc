@@ -85,7 +85,7 @@ SeedCandidates CandidateSeeds(const Trajectory& log, const IdentifyOptions& opti
   };
   const EstimateResult closed_form = ClosedFormCore({&log}, options);
   take(closed_form, true);
-  if (log.columns.velocity) take(EquationErrorCore({&log}, options, closed_form), false);
+  if (log.measured.velocity) take(EquationErrorCore({&log}, options, closed_form), false);
   return seeds;
 }
 
@@ -863,7 +863,7 @@ struct FitStages {
 void DiagnoseLogs(FitStages* f, EstimateResult* result) {
   for (const Trajectory* log : f->logs) {
     f->diagnostics.push_back(DiagnoseLog(*log));
-    f->row_noise.push_back(RowNoise(f->diagnostics.back(), log->columns.pose,
+    f->row_noise.push_back(RowNoise(f->diagnostics.back(), log->measured.pose,
                                     std::sqrt(log->slider.inertia_kgm2 / log->slider.mass_kg)));
     result->steps_total += std::max(0, static_cast<int>(log->samples.size()) - 1);
   }
@@ -1568,7 +1568,7 @@ SeedInformation TrajectoryInformationAtSeed(const Trajectory& log, const Identif
   // here: the log's own noise guesses it from below where the model misses the log, the
   // residuals at the seed from above where the seed is off.
   const double length_m = std::sqrt(log.slider.inertia_kgm2 / log.slider.mass_kg);
-  const double noise = RowNoise(diagnostics, log.columns.pose, length_m);
+  const double noise = RowNoise(diagnostics, log.measured.pose, length_m);
   const int dof = info.residuals - problem->StateParameters() - G;
   const double at_seed = dof > 0 ? info.sum_squares / dof : kNaN;
   const double from_noise = noise * noise / 3.0;  // RowNoise is the norm of 3 channels

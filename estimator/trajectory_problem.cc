@@ -69,7 +69,7 @@ Vector6 SeedState(const Trajectory& log, int row, int last_row) {
   const TrajectorySample& a = log.samples[row];
   Vector6 s;
   s << a.state.x, a.state.y, a.state.theta, a.state.vx, a.state.vy, a.state.wz;
-  if (log.columns.velocity) return s;
+  if (log.measured.velocity) return s;
   // Slope of a least-squares line through the first rows' poses.
   const int n = std::min(kVelocitySeedRows, last_row - row + 1);
   double t_mean = 0;

@@ -38,24 +38,14 @@ AppliedWrench PushWrench(const Scene& scene, double t, const PlanarState& pose,
 Trajectory EmptyTrajectory(const Scene& scene) {
   Trajectory traj;
   traj.slider = scene.slider;
-  traj.patch_spec = scene.patch.Spec();
+  traj.patch = scene.patch;
   traj.true_friction = scene.friction;
-  const ReducedFriction reduced = ReducedFriction::From(scene.friction);
-  auto add = [&](const char* key, double v) {
-    traj.extra_metadata.emplace_back(key, ExactNumber(v));
-  };
-  add("e_t_mu", reduced.a);
-  add("e_o_over_e_t", reduced.b);
-  add("e_r_over_e_t", reduced.c);
-  add("dt", scene.dt_s);
-  if (!scene.source.empty()) traj.extra_metadata.emplace_back("scene", scene.source);
   const bool pushed = !scene.pushes.empty() || scene.pusher.has_value();
-  traj.columns.push_point = pushed;
-  traj.columns.force = pushed;
+  traj.measured.push_point = pushed;
+  traj.measured.force = pushed;
   if (scene.pusher) {
-    traj.columns.tip = true;
+    traj.measured.tip = true;
     traj.tip_radius_m = scene.pusher->tip_radius_m;
-    add("mu_p", scene.pusher->mu);
   }
   return traj;
 }
@@ -194,7 +184,7 @@ SimulationResult Simulate(const Scene& scene, const SimulationOptions& options) 
 
 PlanarState ReplayStart(const Trajectory& log) {
   PlanarState s = log.samples[0].state;
-  if (log.columns.velocity) return s;
+  if (log.measured.velocity) return s;
   const PlanarState& b = log.samples[1].state;
   const double dt = log.samples[1].t_s - log.samples[0].t_s;
   s.vx = (b.x - s.x) / dt;
@@ -212,10 +202,10 @@ SimulationResult ReplayLog(const Trajectory& log, const FrictionParameters& fric
   SimulationResult result;
   Trajectory& traj = result.trajectory;
   traj.slider = log.slider;
-  traj.patch_spec = log.patch_spec;
+  traj.patch = log.patch;
   traj.true_friction = friction;
-  traj.columns = log.columns;
-  traj.columns.pose = traj.columns.velocity = traj.columns.step_info = true;
+  traj.measured = log.measured;
+  traj.measured.pose = traj.measured.velocity = traj.measured.step_info = true;
   TrajectorySample first = log.samples.front();
   first.state = ReplayStart(log);
   first.mode = SampleMode::kStart;

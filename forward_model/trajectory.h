@@ -1,6 +1,7 @@
 #pragma once
 // The one data type that flows end to end: simulate makes it, the push-log CSV writer and
-// reader round-trip it (io/push_log.h; docs/log-format.md), identify reads it.
+// reader round-trip it (io/push_log.h; docs/log-format.md), identify reads it. Physics only:
+// what a log file says beyond it stays in io/ (PushLogFile).
 
 #include <Eigen/Core>
 #include <optional>
@@ -8,6 +9,7 @@
 #include <utility>
 #include <vector>
 
+#include "forward_model/contact_patch.h"
 #include "forward_model/planar_state.h"
 #include "forward_model/slider.h"
 
@@ -37,33 +39,34 @@ struct TrajectorySample {
   SampleMode mode = SampleMode::kSlide;  ///< the simulator and the readers set kStart on row 0
 };
 
-/// Which column groups a log has (read) or should have (write).
-struct LogColumns {
+/// Which quantities the samples carry, measured or simulated; the others are left 0 or
+/// absent. The fits, the replays and the plots use only what is there. (The push-log reader
+/// sets these from a log's columns and the writer writes the columns they name: io/push_log.h.)
+struct Measurements {
   bool pose = true;         ///< x, y, theta
   bool velocity = true;     ///< vx, vy, wz
-  bool force = true;        ///< fx, fy (written when any is non-zero, or always if set)
+  bool force = true;        ///< fx, fy
   bool fz = false;          ///< fz
-  bool moments = false;     ///< tx, ty, tz (residual moments when push points are written)
-  bool push_point = false;  ///< px, py, pz
-  bool step_info = true;    ///< ax, ay, pt, po, pr, sigma, mode
-  /// The mode column alone (a log whose rows are split into runs by gaps); written whenever
-  /// a row after the first starts a run, whatever this says.
+  bool moments = false;     ///< tx, ty, tz of their own, beyond r x f of a push point
+  bool push_point = false;  ///< where the force acts (push_point_world)
+  /// The simulator's step quantities: ECP, impulses, sigma and each row's mode.
+  bool step_info = true;
+  /// Each row's mode alone (a log whose rows are split into runs by gaps).
   bool mode = false;
-  bool tip = false;  ///< tip_x, tip_y (the pusher's tip centre)
+  bool tip = false;  ///< the pusher's tip centre (tip_world)
 };
 
-/// A push log: known slider properties (metadata), optional truth, and samples.
+/// A push log: known slider properties, optional truth, and samples. What a file says beyond
+/// the physics (its other metadata, the patch's text) is io's (PushLogFile, io/push_log.h).
 struct Trajectory {
   /// Where it came from (a file name), for messages and pooled results; may be empty.
   std::string source;
   SliderProperties slider;
-  std::string patch_spec;  ///< "rectangle W L" etc. (log-format.md), empty when unknown
-  /// The pusher tip's radius [m] (`# tip_radius`), when the log has the tip's path.
+  std::optional<ContactPatch> patch;  ///< the support's contact patch, when known
+  /// The pusher tip's radius [m], when the log has the tip's path.
   std::optional<double> tip_radius_m;
   std::optional<FrictionParameters> true_friction;  ///< simulated logs only
-  /// Further `# key = value` metadata, in order (noise description, scene name, ...).
-  std::vector<std::pair<std::string, std::string>> extra_metadata;
-  LogColumns columns;
+  Measurements measured;
   std::vector<TrajectorySample> samples;
 };
 

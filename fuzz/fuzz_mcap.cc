@@ -61,14 +61,14 @@ void Import(const slideid::MitPushRecording& r) {
   options.patch_spec = "rectangle 0.09 0.09";
   const slideid::MitImportResult result = slideid::ImportMitPush(r, "fuzz.mcap", options);
   const bool accepted = result.report.verdict == slideid::ImportVerdict::kAccepted;
-  Require(accepted == !result.log.samples.empty(), "a log exactly when accepted");
-  for (std::size_t u = 0; u < result.log.samples.size(); ++u) {
-    const slideid::TrajectorySample& s = result.log.samples[u];
+  Require(accepted == !result.file.log.samples.empty(), "a log exactly when accepted");
+  for (std::size_t u = 0; u < result.file.log.samples.size(); ++u) {
+    const slideid::TrajectorySample& s = result.file.log.samples[u];
     for (double v :
          {s.t_s, s.state.x, s.state.y, s.state.theta, s.applied.fx, s.applied.fy, s.applied.tz}) {
       Require(std::isfinite(v), "every imported number is finite");
     }
-    if (u > 0) Require(s.t_s > result.log.samples[u - 1].t_s, "imported t strictly increases");
+    if (u > 0) Require(s.t_s > result.file.log.samples[u - 1].t_s, "imported t strictly increases");
   }
 }
 

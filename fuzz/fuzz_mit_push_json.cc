@@ -43,10 +43,10 @@ void CheckImport(const slideid::MitPushRecording& r) {
   options.patch_spec = "rectangle 0.09 0.09";
   const slideid::MitImportResult result = slideid::ImportMitPush(r, "fuzz.json", options);
   const bool accepted = result.report.verdict == slideid::ImportVerdict::kAccepted;
-  Require(accepted == !result.log.samples.empty(), "a log exactly when accepted");
+  Require(accepted == !result.file.log.samples.empty(), "a log exactly when accepted");
   Require(accepted == result.report.reason.empty(), "a reason exactly when rejected");
-  for (std::size_t u = 0; u < result.log.samples.size(); ++u) {
-    const slideid::TrajectorySample& s = result.log.samples[u];
+  for (std::size_t u = 0; u < result.file.log.samples.size(); ++u) {
+    const slideid::TrajectorySample& s = result.file.log.samples[u];
     const double values[] = {s.t_s,
                              s.state.x,
                              s.state.y,
@@ -57,7 +57,7 @@ void CheckImport(const slideid::MitPushRecording& r) {
                              s.push_point_world->x(),
                              s.push_point_world->y()};
     for (double v : values) Require(std::isfinite(v), "every imported number is finite");
-    if (u > 0) Require(s.t_s > result.log.samples[u - 1].t_s, "imported t strictly increases");
+    if (u > 0) Require(s.t_s > result.file.log.samples[u - 1].t_s, "imported t strictly increases");
   }
 }
 

@@ -52,15 +52,16 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   slideid::LogReadOptions options;
   // Half the inputs without the slider-properties requirement, to reach the rows more often.
   options.require_slider_properties = size % 2 == 0;
-  slideid::Trajectory log;
+  slideid::PushLogFile file;
   try {
     slideid::LogReadReport report;
-    log = slideid::ParsePushLog(text, "fuzz.csv", options, &report);
+    file = slideid::ParsePushLogFile(text, "fuzz.csv", options, &report);
   } catch (const slideid::LogError&) {
     return 0;
   } catch (const std::invalid_argument&) {
     return 0;
   }
+  const slideid::Trajectory& log = file.log;
   CheckAccepted(log);
   // Round trip only when the slider is known: the writer always writes mass, inertia and
   // com_height, so an unknown mass would come back as SliderProperties' default.
@@ -68,7 +69,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
 
   std::ostringstream out;
   try {
-    slideid::WritePushLog(log, out);
+    slideid::WritePushLog(file, out);
   } catch (const std::invalid_argument&) {
     return 0;  // metadata the writer refuses (documented), not a reader bug
   }

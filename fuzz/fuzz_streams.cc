@@ -85,9 +85,9 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   options.patch_spec = "rectangle 0.09 0.09";
   const slideid::MitImportResult result = slideid::ImportMitPush(r, "fuzz.csv", options);
   const bool accepted = result.report.verdict == slideid::ImportVerdict::kAccepted;
-  Require(accepted == !result.log.samples.empty(), "a log exactly when accepted");
-  for (std::size_t u = 1; u < result.log.samples.size(); ++u) {
-    Require(result.log.samples[u].t_s > result.log.samples[u - 1].t_s,
+  Require(accepted == !result.file.log.samples.empty(), "a log exactly when accepted");
+  for (std::size_t u = 1; u < result.file.log.samples.size(); ++u) {
+    Require(result.file.log.samples[u].t_s > result.file.log.samples[u - 1].t_s,
             "imported t strictly increases");
   }
   return 0;

@@ -28,14 +28,14 @@ inline void CheckImport(const MitPushRecording& recording, const std::string& so
   options.patch_spec = "rectangle 0.09 0.09";
   const MitImportResult result = ImportMitPush(recording, source, options);
   const bool accepted = result.report.verdict == ImportVerdict::kAccepted;
-  Require(accepted == !result.log.samples.empty(), target, "a log exactly when accepted");
-  for (std::size_t u = 0; u < result.log.samples.size(); ++u) {
-    const TrajectorySample& s = result.log.samples[u];
+  Require(accepted == !result.file.log.samples.empty(), target, "a log exactly when accepted");
+  for (std::size_t u = 0; u < result.file.log.samples.size(); ++u) {
+    const TrajectorySample& s = result.file.log.samples[u];
     for (double v : {s.t_s, s.state.x, s.state.y, s.state.theta, s.applied.fx, s.applied.fy}) {
       Require(std::isfinite(v), target, "every imported number is finite");
     }
     if (u > 0) {
-      Require(s.t_s > result.log.samples[u - 1].t_s, target, "imported t strictly increases");
+      Require(s.t_s > result.file.log.samples[u - 1].t_s, target, "imported t strictly increases");
     }
   }
 }

@@ -5,10 +5,12 @@
 #include <fstream>
 #include <stdexcept>
 #include <system_error>
+#include <utility>
 
 #include "forward_model/number_format.h"
 #include "io/atomic_file.h"
 #include "io/push_log.h"
+#include "io/simulated_log.h"
 
 namespace slideid {
 std::string TruthCsvHeader() {
@@ -30,6 +32,15 @@ std::string TruthCsvRow(const DatasetEntry& e) {
          (e.scene.pusher ? ExactNumber(e.scene.pusher->mu) : std::string());
 }
 
+PushLogFile DatasetLogFile(const DatasetSpec& spec, int index, const DatasetEntry& entry,
+                           Trajectory log) {
+  PushLogFile file = SimulatedLogFile(entry.scene, std::move(log));
+  file.extra_metadata.emplace_back("dataset_seed", std::to_string(spec.seed));
+  file.extra_metadata.emplace_back("dataset_index", std::to_string(index));
+  file.extra_metadata.emplace_back("redraws", std::to_string(entry.redraw_reasons.size()));
+  return file;
+}
+
 DatasetSummary MakeDataset(const DatasetSpec& spec, const std::string& directory) {
   std::string why;
   if (!spec.IsValid(&why)) throw std::invalid_argument("dataset: " + why);
@@ -45,7 +56,7 @@ DatasetSummary MakeDataset(const DatasetSpec& spec, const std::string& directory
   for (int i = 0; i < spec.count; ++i) {
     Trajectory log;
     DatasetEntry entry = DrawDatasetLog(spec, i, &log);
-    WritePushLog(log, directory + "/" + entry.file);
+    WritePushLog(DatasetLogFile(spec, i, entry, std::move(log)), directory + "/" + entry.file);
     truth += TruthCsvRow(entry) + "\n";
     summary.redraws += static_cast<int>(entry.redraw_reasons.size());
     summary.entries.push_back(std::move(entry));

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "datasets/dataset.h"
+#include "io/push_log.h"
 
 namespace slideid {
 
@@ -21,6 +22,11 @@ struct DatasetSummary {
 /// truth.csv. Throws std::runtime_error naming a path that cannot be written (or, with "no
 /// valid draw", a log that could not be drawn), std::invalid_argument for an invalid spec.
 DatasetSummary MakeDataset(const DatasetSpec& spec, const std::string& directory);
+
+/// Log `index` of the dataset, drawn by DrawDatasetLog, as its file: the simulated log's
+/// metadata (io/simulated_log.h), then dataset_seed, dataset_index and redraws.
+PushLogFile DatasetLogFile(const DatasetSpec& spec, int index, const DatasetEntry& entry,
+                           Trajectory log);
 
 /// The header of truth.csv, and one of its rows (no line break).
 std::string TruthCsvHeader();

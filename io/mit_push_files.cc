@@ -107,7 +107,7 @@ MitImportReport ImportRecordingFile(const std::string& path, const RecordingRead
   if (result.report.verdict == ImportVerdict::kAccepted) {
     const std::string name = UniqueName(Stem(path), used_names);
     const std::string out = out_dir.empty() ? name : out_dir + "/" + name;
-    WritePushLog(result.log, out);
+    WritePushLog(result.file, out);
     result.report.output = out;
   }
   return result.report;

@@ -673,14 +673,14 @@ Trajectory BuildLog(const Streams& s, const Offset& offset, double start, double
   r->window_end_s = (rows - 1) * dt;
   Trajectory log;
   log.slider = o.slider;
-  log.patch_spec = ContactPatch::Parse(o.patch_spec).Spec();
-  log.columns.pose = true;
-  log.columns.velocity = false;
-  log.columns.force = true;
-  log.columns.push_point = true;
-  log.columns.step_info = false;
-  log.columns.mode = !pose_gaps.empty();
-  log.columns.tip = true;  // the pusher's path: what `predict --drive pusher` replays
+  log.patch = ContactPatch::Parse(o.patch_spec);
+  log.measured.pose = true;
+  log.measured.velocity = false;
+  log.measured.force = true;
+  log.measured.push_point = true;
+  log.measured.step_info = false;
+  log.measured.mode = !pose_gaps.empty();
+  log.measured.tip = true;  // the pusher's path: what `predict --drive pusher` replays
   log.tip_radius_m = o.tip_radius_m;
   std::vector<double> gaps;
   int out_of_contact = 0;
@@ -737,14 +737,14 @@ Trajectory BuildLog(const Streams& s, const Offset& offset, double start, double
 MitImportResult Reject(MitImportResult result, const std::string& reason) {
   result.report.verdict = ImportVerdict::kRejected;
   result.report.reason = reason;
-  result.log.samples.clear();
+  result.file.log.samples.clear();
   return result;
 }
 
 void AddMetadata(const MitImportReport& r, const MitImportOptions& o, const std::string& source,
-                 Trajectory* log) {
+                 PushLogFile* file) {
   auto add = [&](const std::string& key, const std::string& value) {
-    log->extra_metadata.emplace_back(key, value);
+    file->extra_metadata.emplace_back(key, value);
   };
   add("source", source);
   add("import_format", "mit-push");
@@ -830,7 +830,7 @@ MitImportResult ImportMitPush(const MitPushRecording& recording, const std::stri
   if (Rejection no = ChooseWindow(s, push, frozen, o, &start, &end, &pose_gaps, &r)) {
     return Reject(result, *no);
   }
-  result.log = BuildLog(s, push.offset, start, end, pose_gaps, o, &r);
+  result.file.log = BuildLog(s, push.offset, start, end, pose_gaps, o, &r);
   if (r.theta_jumps_unrepaired > 0) {
     r.notes.push_back(std::to_string(r.theta_jumps_unrepaired) +
                       " theta step(s) above the jump threshold not near a multiple of pi/2: "
@@ -841,7 +841,7 @@ MitImportResult ImportMitPush(const MitPushRecording& recording, const std::stri
                       " frozen force samples (a repeated reading) dropped outside the push");
   }
   r.verdict = ImportVerdict::kAccepted;
-  AddMetadata(r, o, source, &result.log);
+  AddMetadata(r, o, source, &result.file);
   return result;
 }
 

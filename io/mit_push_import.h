@@ -36,6 +36,7 @@
 #include "forward_model/trajectory.h"
 #include "io/mit_push_json.h"
 #include "io/mit_push_recording.h"
+#include "io/push_log.h"
 
 namespace slideid {
 
@@ -151,9 +152,9 @@ struct MitImportReport {
   std::vector<std::string> notes;               ///< further facts (offsets not available, ...)
 };
 
-/// A push log (empty samples when rejected) and its report.
+/// A push log file (empty samples when rejected) and its report.
 struct MitImportResult {
-  Trajectory log;
+  PushLogFile file;
   MitImportReport report;
 };
 

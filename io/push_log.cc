@@ -26,6 +26,9 @@ namespace slideid {
 
 namespace {
 
+/// A log's column groups: one per kind of quantity a Trajectory can carry (log-format.md).
+using LogColumns = Measurements;
+
 constexpr double kTwoPi = 2.0 * kPi;
 constexpr double kDefaultGravity = 9.81;  // log-format.md: gravity defaults to 9.81 m/s^2
 // Writer: the residual moment is nudged by at most this many ulps so that the reader's sum
@@ -544,7 +547,7 @@ void ReadSamples(const ReadContext& ctx, TextLines& in, const Header& h, Traject
 /// object on a table spins (a disk thrown hard: 20-30 rad/s), and the log is warned of.
 void WarnThetaInDegrees(const ReadContext& ctx, const Trajectory& tr,
                         const std::vector<int>& lines) {
-  if (!tr.columns.pose) return;
+  if (!tr.measured.pose) return;
   int turning = 0, fast = 0, first_fast = 0;
   for (size_t u = 1; u < tr.samples.size(); ++u) {
     if (StartsRun(tr, u)) continue;  // the turn over a gap is not a rate
@@ -723,11 +726,11 @@ SliderProperties ResolveSlider(const ReadContext& ctx, const Metadata& meta,
 }
 
 /// True friction when all four keys are present; partial truth is kept as extra metadata.
-void ResolveTruth(const ReadContext& ctx, const Metadata& meta, Trajectory& trajectory) {
+void ResolveTruth(const ReadContext& ctx, const Metadata& meta, PushLogFile& file) {
   std::size_t present = 0;
   for (const char* key : kTruthKeys) present += meta.numbers.count(key);
   if (present == kTruthKeys.size()) {
-    trajectory.true_friction =
+    file.log.true_friction =
         FrictionParameters{meta.numbers.at("mu").first, meta.numbers.at("e_t").first,
                            meta.numbers.at("e_o").first, meta.numbers.at("e_r").first};
     return;
@@ -735,7 +738,7 @@ void ResolveTruth(const ReadContext& ctx, const Metadata& meta, Trajectory& traj
   for (const char* key : kTruthKeys) {
     const auto it = meta.numbers.find(key);
     if (it != meta.numbers.end()) {
-      trajectory.extra_metadata.emplace_back(key, ExactNumber(it->second.first));
+      file.extra_metadata.emplace_back(key, ExactNumber(it->second.first));
     }
   }
   if (present > 0) {
@@ -786,14 +789,14 @@ void WarnAbsurdSlider(const ReadContext& ctx, const Metadata& meta, const Slider
 }
 
 /// The patch metadata, checked: a spec ContactPatch::Parse reads, or empty.
-std::string CheckedPatch(const ReadContext& ctx, const Metadata& meta) {
-  if (!meta.patch) return "";
+std::optional<ContactPatch> CheckedPatch(const ReadContext& ctx, const Metadata& meta) {
+  if (!meta.patch) return std::nullopt;
   try {
-    ContactPatch::Parse(*meta.patch);
+    return ContactPatch::Parse(*meta.patch);
   } catch (const std::invalid_argument& e) {
     ctx.Fail(meta.patch_line, "", std::string("metadata 'patch': ") + e.what());
   }
-  return *meta.patch;
+  return std::nullopt;  // Fail throws
 }
 
 LogColumns PresentColumns(const Header& h) {
@@ -817,13 +820,14 @@ void NoteUnknownColumns(const ReadContext& ctx) {
   ctx.report.notes.push_back(note);
 }
 
-Trajectory ReadFromLines(const ReadContext& ctx, TextLines& in) {
+PushLogFile ReadFromLines(const ReadContext& ctx, TextLines& in) {
   Metadata meta;
   int header_line = 0;
   const std::string header_text = ReadPreamble(ctx, in, meta, header_line);
   const Header header = ParseHeader(ctx, header_text, header_line);
 
-  Trajectory trajectory;
+  PushLogFile file;
+  Trajectory& trajectory = file.log;
   std::array<bool, 4> known{};  // mass, inertia, com_height, gravity (kPropertySpecs order)
   trajectory.slider = ResolveSlider(ctx, meta, known);
   if (header.Has(kPx) && !known[2]) {
@@ -835,11 +839,12 @@ Trajectory ReadFromLines(const ReadContext& ctx, TextLines& in) {
   if (!known[0] && header.Has(kFz)) {
     ctx.report.notes.push_back("fz not checked against m g: mass unknown");
   }
-  trajectory.patch_spec = CheckedPatch(ctx, meta);
+  trajectory.patch = CheckedPatch(ctx, meta);
+  if (meta.patch) file.patch_spec = *meta.patch;
   if (meta.tip_radius) trajectory.tip_radius_m = meta.tip_radius->first;
-  trajectory.extra_metadata = meta.extra;
-  ResolveTruth(ctx, meta, trajectory);
-  trajectory.columns = PresentColumns(header);
+  file.extra_metadata = meta.extra;
+  ResolveTruth(ctx, meta, file);
+  trajectory.measured = PresentColumns(header);
 
   std::vector<int> lines;  // the file line of each sample, for messages
   ReadSamples(ctx, in, header, trajectory, lines, known[0]);
@@ -848,7 +853,7 @@ Trajectory ReadFromLines(const ReadContext& ctx, TextLines& in) {
   WarnThetaInDegrees(ctx, trajectory, lines);
   if (!header.Has(kVx)) VelocitiesFromPoses(ctx, trajectory, lines);
   NoteUnknownColumns(ctx);
-  return trajectory;
+  return file;
 }
 // ---------------------------------------------------------------------------------------
 // Writer
@@ -883,7 +888,7 @@ Eigen::Vector3d WrittenMoments(const TrajectorySample& s, bool push_point, doubl
 /// The groups actually written: the requested ones, plus any whose data would otherwise be
 /// lost (non-zero forces or moments), plus poses when push points need them.
 LogColumns WrittenColumns(const Trajectory& tr) {
-  LogColumns c = tr.columns;
+  LogColumns c = tr.measured;
   c.mode = c.mode || c.step_info || HasGaps(tr);
   // The tip columns only when every row knows the tip (a log carries no missing values).
   c.tip = c.tip && std::all_of(tr.samples.begin(), tr.samples.end(),
@@ -901,7 +906,7 @@ LogColumns WrittenColumns(const Trajectory& tr) {
 }
 
 void CheckMetadataEntry(const Trajectory& tr, const std::string& key, const std::string& value) {
-  const bool reserved = Contains(kSliderKeys, key) || (key == "patch" && !tr.patch_spec.empty()) ||
+  const bool reserved = Contains(kSliderKeys, key) || (key == "patch" && tr.patch.has_value()) ||
                         (key == "tip_radius" && tr.tip_radius_m.has_value()) ||
                         (Contains(kTruthKeys, key) && tr.true_friction.has_value());
   if (!IsIdentifier(key) || reserved || value.find('\n') != std::string::npos) {
@@ -911,19 +916,44 @@ void CheckMetadataEntry(const Trajectory& tr, const std::string& key, const std:
   }
 }
 
-void WriteMetadata(const Trajectory& tr, std::ostream& out) {
+/// Whether `text` parses to the patch whose Spec() is `spec`.
+bool Describes(const std::string& text, const std::string& spec) {
+  try {
+    return ContactPatch::Parse(text).Spec() == spec;
+  } catch (const std::invalid_argument&) {
+    return false;
+  }
+}
+
+/// The file's own patch text while it still describes the patch (a log written back is the
+/// log read), else the patch as it now is.
+std::string PatchText(const Trajectory& tr, const std::string& patch_spec) {
+  if (!tr.patch) return "";
+  const std::string spec = tr.patch->Spec();
+  return !patch_spec.empty() && Describes(patch_spec, spec) ? patch_spec : spec;
+}
+
+/// The writer's view of a PushLogFile, so that a Trajectory alone is written uncopied.
+struct FileView {
+  const Trajectory& log;
+  const std::string& patch_spec;
+  const std::vector<std::pair<std::string, std::string>>& extra_metadata;
+};
+
+void WriteMetadata(const FileView& file, std::ostream& out) {
+  const Trajectory& tr = file.log;
   const SliderProperties& s = tr.slider;
   out << "# mass = " << ExactNumber(s.mass_kg) << "\n# inertia = " << ExactNumber(s.inertia_kgm2)
       << "\n# com_height = " << ExactNumber(s.com_height_m)
       << "\n# gravity = " << ExactNumber(s.gravity_mps2) << "\n";
-  if (!tr.patch_spec.empty()) out << "# patch = " << tr.patch_spec << "\n";
+  if (tr.patch) out << "# patch = " << PatchText(tr, file.patch_spec) << "\n";
   if (tr.tip_radius_m) out << "# tip_radius = " << ExactNumber(*tr.tip_radius_m) << "\n";
   if (tr.true_friction) {
     const FrictionParameters& f = *tr.true_friction;
     out << "# mu = " << ExactNumber(f.mu) << "\n# e_t = " << ExactNumber(f.e_t)
         << "\n# e_o = " << ExactNumber(f.e_o) << "\n# e_r = " << ExactNumber(f.e_r) << "\n";
   }
-  for (const auto& [key, value] : tr.extra_metadata) {
+  for (const auto& [key, value] : file.extra_metadata) {
     out << "# " << key << " = " << value << "\n";
   }
 }
@@ -978,9 +1008,10 @@ void RowValues(const TrajectorySample& s, const LogColumns& c, double com_height
 }
 
 /// Writes without checking the stream; callers check and name their target.
-void WriteUnchecked(const Trajectory& tr, std::ostream& out) {
-  for (const auto& [key, value] : tr.extra_metadata) CheckMetadataEntry(tr, key, value);
-  WriteMetadata(tr, out);
+void WriteUnchecked(const FileView& file, std::ostream& out) {
+  const Trajectory& tr = file.log;
+  for (const auto& [key, value] : file.extra_metadata) CheckMetadataEntry(tr, key, value);
+  WriteMetadata(file, out);
   const LogColumns columns = WrittenColumns(tr);
   out << HeaderLine(columns) << '\n';
   std::vector<double> values;
@@ -1022,8 +1053,8 @@ void NoteMissingFinalLineBreak(const ReadContext& ctx, bool empty, bool ends_wit
 
 }  // namespace
 
-Trajectory ReadPushLog(const std::string& path, const LogReadOptions& options,
-                       LogReadReport* report) {
+PushLogFile ReadPushLogFile(const std::string& path, const LogReadOptions& options,
+                            LogReadReport* report) {
   std::error_code ec;
   if (std::filesystem::is_directory(path, ec)) {
     throw LogError(path, 0, "", "cannot read: it is a directory, not a log file");
@@ -1031,30 +1062,64 @@ Trajectory ReadPushLog(const std::string& path, const LogReadOptions& options,
   LogReadReport local_report;
   const ReadContext ctx{path, options, report ? *report : local_report};
   const std::unique_ptr<TextLines> lines = TextLines::OpenFile(path);
-  Trajectory trajectory = ReadFromLines(ctx, *lines);
+  PushLogFile file = ReadFromLines(ctx, *lines);
   NoteMissingFinalLineBreak(ctx, lines->Empty(), lines->EndsWithLineBreak());
-  return trajectory;
+  return file;
+}
+
+PushLogFile ParsePushLogFile(std::string_view text, const std::string& source,
+                             const LogReadOptions& options, LogReadReport* report) {
+  LogReadReport local_report;
+  const ReadContext ctx{source, options, report ? *report : local_report};
+  const std::unique_ptr<TextLines> lines = TextLines::FromMemory(text, source);
+  PushLogFile file = ReadFromLines(ctx, *lines);
+  NoteMissingFinalLineBreak(ctx, lines->Empty(), lines->EndsWithLineBreak());
+  return file;
+}
+
+Trajectory ReadPushLog(const std::string& path, const LogReadOptions& options,
+                       LogReadReport* report) {
+  return ReadPushLogFile(path, options, report).log;
 }
 
 Trajectory ParsePushLog(std::string_view text, const std::string& source,
                         const LogReadOptions& options, LogReadReport* report) {
-  LogReadReport local_report;
-  const ReadContext ctx{source, options, report ? *report : local_report};
-  const std::unique_ptr<TextLines> lines = TextLines::FromMemory(text, source);
-  Trajectory trajectory = ReadFromLines(ctx, *lines);
-  NoteMissingFinalLineBreak(ctx, lines->Empty(), lines->EndsWithLineBreak());
-  return trajectory;
+  return ParsePushLogFile(text, source, options, report).log;
 }
 
-void WritePushLog(const Trajectory& trajectory, std::ostream& out) {
-  WriteUnchecked(trajectory, out);
+std::string PatchText(const PushLogFile& file) { return PatchText(file.log, file.patch_spec); }
+
+namespace {
+
+const std::string kNoPatchText;
+const std::vector<std::pair<std::string, std::string>> kNoMetadata;
+
+void WriteToStream(const FileView& file, std::ostream& out) {
+  WriteUnchecked(file, out);
   out.flush();
   if (!out) throw std::runtime_error("writing the push log to a stream failed");
 }
 
+void WriteToPath(const FileView& file, const std::string& path) {
+  WriteFileAtomically(path, "push log", [&](std::ostream& out) { WriteUnchecked(file, out); });
+}
+
+}  // namespace
+
+void WritePushLog(const PushLogFile& file, std::ostream& out) {
+  WriteToStream({file.log, file.patch_spec, file.extra_metadata}, out);
+}
+
+void WritePushLog(const PushLogFile& file, const std::string& path) {
+  WriteToPath({file.log, file.patch_spec, file.extra_metadata}, path);
+}
+
+void WritePushLog(const Trajectory& trajectory, std::ostream& out) {
+  WriteToStream({trajectory, kNoPatchText, kNoMetadata}, out);
+}
+
 void WritePushLog(const Trajectory& trajectory, const std::string& path) {
-  WriteFileAtomically(path, "push log",
-                      [&](std::ostream& out) { WriteUnchecked(trajectory, out); });
+  WriteToPath({trajectory, kNoPatchText, kNoMetadata}, path);
 }
 
 PushLogColumns ColumnsOf(const Trajectory& trajectory) {
@@ -1139,11 +1204,11 @@ std::string ColumnsText(const PushLogColumns& columns,
 
 }  // namespace
 
-Trajectory ParsePushLogColumns(const PushLogColumns& columns,
-                               const std::vector<std::pair<std::string, std::string>>& metadata,
-                               const std::string& source, const LogReadOptions& options,
-                               LogReadReport* report) {
-  return ParsePushLog(ColumnsText(columns, metadata, source), source, options, report);
+PushLogFile ParsePushLogColumns(const PushLogColumns& columns,
+                                const std::vector<std::pair<std::string, std::string>>& metadata,
+                                const std::string& source, const LogReadOptions& options,
+                                LogReadReport* report) {
+  return ParsePushLogFile(ColumnsText(columns, metadata, source), source, options, report);
 }
 
 }  // namespace slideid

@@ -56,19 +56,44 @@ struct LogReadReport {
   bool velocities_from_poses = false;  ///< velocities came from the kinematic map
 };
 
+/// A push log file: the trajectory and what the file says beyond the physics, kept so that
+/// writing back a log read in gives the same text.
+struct PushLogFile {
+  Trajectory log;
+  /// The `# patch` text as the file has it ("rectangle 0.090 0.09"): written while it still
+  /// describes log.patch, else log.patch's own Spec(). Empty: Spec().
+  std::string patch_spec;
+  /// Further `# key = value` metadata, in order (noise description, scene name, ...).
+  std::vector<std::pair<std::string, std::string>> extra_metadata;
+};
+
 /// Reads a log. Velocities: as given when present, else from poses by the backward-Euler
 /// kinematic map (first row's velocity: 0, flagged by mode kStart). Applied moments: tx, ty,
-/// tz plus r x f when px, py, pz are present. theta is unwrapped. Throws LogError.
+/// tz plus r x f when px, py, pz are present. theta is unwrapped. log.measured names the
+/// columns present. Throws LogError.
+PushLogFile ReadPushLogFile(const std::string& path, const LogReadOptions& options = {},
+                            LogReadReport* report = nullptr);
+/// Same, from the text of a log in memory; `source` names it in messages (fuzzing, tests).
+PushLogFile ParsePushLogFile(std::string_view text, const std::string& source,
+                             const LogReadOptions& options = {}, LogReadReport* report = nullptr);
+/// The trajectory alone of ReadPushLogFile and ParsePushLogFile, for those that only fit it.
 Trajectory ReadPushLog(const std::string& path, const LogReadOptions& options = {},
                        LogReadReport* report = nullptr);
-/// Same, from the text of a log in memory; `source` names it in messages (fuzzing, tests).
 Trajectory ParsePushLog(std::string_view text, const std::string& source,
                         const LogReadOptions& options = {}, LogReadReport* report = nullptr);
 
-/// Writes `trajectory` with the metadata comments (slider, patch, truth, extra) and the
-/// column groups in trajectory.columns. Numbers at full precision (ExactNumber). Throws
-/// std::runtime_error if the file cannot be written. Writes to a temporary file and renames,
-/// so a failed write never leaves a complete-looking file.
+/// The `# patch` text that WritePushLog writes for `file`; empty without a patch.
+std::string PatchText(const PushLogFile& file);
+
+/// Writes `file` with the metadata comments (slider, patch, truth, extra) and the column
+/// groups of file.log.measured, plus those whose data would otherwise be lost (non-zero
+/// forces, fz or moments) and the mode column whenever a row after the first starts a run.
+/// Numbers at full precision (ExactNumber). Throws std::invalid_argument for metadata a file
+/// cannot hold, std::runtime_error if the file cannot be written. Writes to a temporary file
+/// and renames, so a failed write never leaves a complete-looking file.
+void WritePushLog(const PushLogFile& file, const std::string& path);
+void WritePushLog(const PushLogFile& file, std::ostream& out);
+/// A trajectory alone: no metadata beyond the physics, the patch as its Spec().
 void WritePushLog(const Trajectory& trajectory, const std::string& path);
 void WritePushLog(const Trajectory& trajectory, std::ostream& out);
 
@@ -88,9 +113,9 @@ PushLogColumns ColumnsOf(const Trajectory& trajectory);
 /// the file they make (same checks, same messages): `source` names it, the metadata are lines
 /// 1 to N, the header line N + 1 and row i (from 0) line N + 2 + i. Throws LogError, also for
 /// columns of unequal length and for names or text that the file could not hold.
-Trajectory ParsePushLogColumns(const PushLogColumns& columns,
-                               const std::vector<std::pair<std::string, std::string>>& metadata,
-                               const std::string& source, const LogReadOptions& options = {},
-                               LogReadReport* report = nullptr);
+PushLogFile ParsePushLogColumns(const PushLogColumns& columns,
+                                const std::vector<std::pair<std::string, std::string>>& metadata,
+                                const std::string& source, const LogReadOptions& options = {},
+                                LogReadReport* report = nullptr);
 
 }  // namespace slideid

@@ -78,7 +78,7 @@ FollowSummary FollowLog(std::istream& in, const std::string& source, const Follo
     }
     TrajectorySample row = one.samples.front();
     // A lone row reads as a run's first; only the mode column can say so here.
-    if (!one.columns.mode) row.mode = SampleMode::kSlide;
+    if (!one.measured.mode) row.mode = SampleMode::kSlide;
     if (previous_theta) row.state.theta = Unwrapped(row.state.theta, *previous_theta);
     previous_theta = row.state.theta;
     if (!identifier) {

@@ -104,7 +104,7 @@ PredictRequest ReadPredictOptions(const po::variables_map& vm) {
 
 PredictionDrive DriveFor(const PredictRequest& request, const Trajectory& log) {
   if (request.drive) return *request.drive;
-  return log.columns.tip ? PredictionDrive::kPusher : PredictionDrive::kForce;
+  return log.measured.tip ? PredictionDrive::kPusher : PredictionDrive::kForce;
 }
 
 std::string PredictionJson(const Prediction& p, const ReducedFriction& friction) {

@@ -28,15 +28,6 @@ constexpr double kArrowPatchSizes = 1.0;
 constexpr double kSamePlaceFraction = 0.05;
 constexpr double kSameAngle_rad = 0.05;
 
-std::optional<ContactPatch> PatchOf(const Trajectory& log) {
-  if (log.patch_spec.empty()) return std::nullopt;
-  try {
-    return ContactPatch::Parse(log.patch_spec);
-  } catch (const std::invalid_argument&) {
-    return std::nullopt;  // the plot goes without outlines
-  }
-}
-
 int SnapshotEvery(const Trajectory& log, const PlotOptions& o) {
   if (o.snapshot_every > 0) return o.snapshot_every;
   return std::max<int>(1, static_cast<int>(log.samples.size()) / kDefaultSnapshots);
@@ -65,7 +56,7 @@ void WriteMotion(std::ostream& out, const Trajectory& t, const std::vector<Plana
 }
 
 bool HasEcp(const Trajectory& log) {
-  if (!log.columns.step_info) return false;
+  if (!log.measured.step_info) return false;
   for (size_t u = 1; u < log.samples.size(); ++u) {
     if (!log.samples[u].ecp_world.isZero(0.0)) return true;
   }
@@ -97,7 +88,7 @@ void WritePlotData(const Trajectory& log, const Trajectory* fit, const PlotOptio
   WriteMotion(path, log, poses);
 
   const int every = SnapshotEvery(log, options);
-  const std::optional<ContactPatch> shape = PatchOf(log);
+  const std::optional<ContactPatch>& shape = log.patch;
   double max_force = 0.0;
   for (const TrajectorySample& s : log.samples) {
     max_force = std::max(max_force, std::hypot(s.applied.fx, s.applied.fy));
@@ -158,7 +149,7 @@ void WritePlotData(const Trajectory& log, const Trajectory* fit, const PlotOptio
 std::string PlotScript(const Trajectory& log, const Trajectory* fit, const PlotOptions& o,
                        const std::string& dir, const std::string& fit_label) {
   const auto file = [&](const char* name) { return GnuplotSingleQuoted(dir + "/" + name); };
-  const bool has_patch = PatchOf(log).has_value();
+  const bool has_patch = log.patch.has_value();
   const bool has_push = [&] {
     for (const TrajectorySample& s : log.samples) {
       if (s.applied.fx != 0.0 || s.applied.fy != 0.0) return true;
@@ -182,7 +173,7 @@ std::string PlotScript(const Trajectory& log, const Trajectory* fit, const PlotO
   // Left: the path, equal axes.
   s << "set origin 0,0\nset size 0.56,0.95\nset size ratio -1\n"
     << "set xlabel 'x [m]'\nset ylabel 'y [m]'\n"
-    << "set title 'CM path" << (log.columns.pose ? "" : " (integrated from the velocities)")
+    << "set title 'CM path" << (log.measured.pose ? "" : " (integrated from the velocities)")
     << (has_patch ? ", patch every " + std::to_string(SnapshotEvery(log, o)) + " rows" : "")
     << "'\n";
   std::vector<std::string> plots;
@@ -226,7 +217,7 @@ std::string PlotScript(const Trajectory& log, const Trajectory* fit, const PlotO
       << "set xlabel " << (k == 2 ? "'t [s]'" : "''") << "\nset ylabel '" << names[k] << "'\n"
       << "plot " << file("path.dat") << " using 1:" << 5 + k
       << " with lines lc rgb '#1f4e9a' lw 1 title '"
-      << (log.columns.velocity ? "log" : "log (from poses)") << "'";
+      << (log.measured.velocity ? "log" : "log (from poses)") << "'";
     if (fit) {
       s << ", " << file("fit.dat") << " using 1:" << 5 + k
         << " with lines dt 2 lc rgb '#ff7f0e' lw 2 title '" << o.overlay_name << "'";

@@ -28,7 +28,7 @@ Pusher LoggedPusher(const Trajectory& log, double mu_pusher) {
   const bool every_row =
       std::all_of(log.samples.begin(), log.samples.end(),
                   [](const TrajectorySample& s) { return s.tip_world.has_value(); });
-  if (!log.columns.tip || !every_row) {
+  if (!log.measured.tip || !every_row) {
     throw std::invalid_argument(Named(log) +
                                 ": the pusher drive needs the tip's path (columns "
                                 "tip_x, tip_y); use the force drive, or add them");
@@ -38,7 +38,7 @@ Pusher LoggedPusher(const Trajectory& log, double mu_pusher) {
                                 ": the pusher drive needs the tip's radius "
                                 "(metadata '# tip_radius = ...' [m])");
   }
-  if (log.patch_spec.empty()) {
+  if (!log.patch) {
     throw std::invalid_argument(Named(log) +
                                 ": the pusher drive needs the outline the tip "
                                 "touches (metadata '# patch = ...')");
@@ -84,11 +84,11 @@ Trajectory PredictionShell(const Trajectory& log, const PlanarState& start) {
   Trajectory out;
   out.source = log.source;
   out.slider = log.slider;
-  out.patch_spec = log.patch_spec;
+  out.patch = log.patch;
   out.tip_radius_m = log.tip_radius_m;
-  out.columns = LogColumns{};
-  out.columns.force = out.columns.step_info = false;
-  out.columns.tip = true;
+  out.measured = Measurements{};
+  out.measured.force = out.measured.step_info = false;
+  out.measured.tip = true;
   TrajectorySample row;
   row.t_s = log.samples[0].t_s;
   row.state = start;
@@ -110,12 +110,12 @@ void Count(const PusherStepResult& r, SimulationSummary* summary) {
 /// The log replayed by its pusher: each interval in `substeps` steps, rows at its times.
 SimulationResult ReplayPusher(const Trajectory& log, const ReducedFriction& friction,
                               const Pusher& pusher, const PredictionOptions& options) {
-  const ContactPatch patch = ContactPatch::Parse(log.patch_spec);
+  const ContactPatch& patch = *log.patch;
   SimulationResult result;
   Trajectory& out = result.trajectory;
   out = PredictionShell(log, ReplayStart(log));
   out.true_friction = friction.ToFrictionParameters();
-  out.columns.force = out.columns.push_point = true;
+  out.measured.force = out.measured.push_point = true;
   const double median = MedianInterval(log);
   for (size_t u = 0; u + 1 < log.samples.size(); ++u) {
     const double t0 = log.samples[u].t_s;
@@ -198,7 +198,7 @@ Eigen::Vector3d QuasiStaticTwist(const ReducedFriction& f, const TipContact& con
 /// The log replayed by its pusher through the quasi-static model, stepped as ReplayPusher.
 SimulationResult ReplayQuasiStatic(const Trajectory& log, const ReducedFriction& friction,
                                    const Pusher& pusher, const PredictionOptions& options) {
-  const ContactPatch patch = ContactPatch::Parse(log.patch_spec);
+  const ContactPatch& patch = *log.patch;
   SimulationResult result;
   Trajectory& out = result.trajectory;
   PlanarState start = log.samples[0].state;
@@ -250,10 +250,10 @@ std::pair<double, std::string> Travel(const Trajectory& log, size_t rows) {
     }
     return length;
   };
-  if (log.columns.tip) {
+  if (log.measured.tip) {
     return {path_length([](const TrajectorySample& s) { return s.tip_world; }), "tip"};
   }
-  if (log.columns.push_point) {
+  if (log.measured.push_point) {
     return {path_length([](const TrajectorySample& s) -> std::optional<Eigen::Vector2d> {
               if (!s.push_point_world) return std::nullopt;
               return s.push_point_world->head<2>().eval();
@@ -270,7 +270,7 @@ std::pair<double, std::string> Travel(const Trajectory& log, size_t rows) {
 
 double RegisteredTipRadius(const Trajectory& log) {
   LoggedPusher(log, 0.0);  // throws, naming what is missing
-  return RegisteredRadius(log, ContactPatch::Parse(log.patch_spec));
+  return RegisteredRadius(log, *log.patch);
 }
 
 bool PredictionOptions::IsValid(std::string* why) const {
@@ -334,7 +334,7 @@ Prediction PredictPush(const Trajectory& log, const ReducedFriction& friction,
     p.mu_pusher = *mu_pusher;
     Pusher pusher = LoggedPusher(log, *mu_pusher);
     if (options.register_tip) {
-      pusher.tip_radius_m = RegisteredRadius(log, ContactPatch::Parse(log.patch_spec));
+      pusher.tip_radius_m = RegisteredRadius(log, *log.patch);
     }
     p.tip_radius_m = pusher.tip_radius_m;
     const SimulationResult r = options.drive == PredictionDrive::kPusher

@@ -264,12 +264,12 @@ ValidationResult Validate(const std::vector<Trajectory>& logs, const ValidationO
     textbook.method = "textbook";
     textbook.pushes.resize(n);
     ParallelFor(n, options.threads, [&](int i) {
-      if (logs[i].patch_spec.empty()) {
+      if (!logs[i].patch) {
         textbook.pushes[i] =
             Unpredicted(result.logs[i], -1, "no patch: the textbook c needs the outline");
         return;
       }
-      const ReducedFriction f = TextbookFriction(ContactPatch::Parse(logs[i].patch_spec));
+      const ReducedFriction f = TextbookFriction(*logs[i].patch);
       textbook.pushes[i] = Predict(logs[i], i, -1, f, options.mu_pusher.value_or(kTextbookMuPusher),
                                    options.prediction);
     });

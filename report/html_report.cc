@@ -87,15 +87,6 @@ std::string EstimateRow(const std::string& name, const ParameterEstimate& p,
 
 // ---- geometry of the path figures ---------------------------------------------------------
 
-std::optional<ContactPatch> PatchOf(const Trajectory& log) {
-  if (log.patch_spec.empty()) return std::nullopt;
-  try {
-    return ContactPatch::Parse(log.patch_spec);
-  } catch (const std::invalid_argument&) {
-    return std::nullopt;  // the figure goes without outlines
-  }
-}
-
 void AddPath(const std::vector<PlanarState>& poses, const SvgStyle& style,
              const std::string& legend, SvgPlot* plot) {
   std::vector<double> x, y;
@@ -148,7 +139,7 @@ std::string PathFigure(const Trajectory& log, const Trajectory* other,
   const std::vector<PlanarState> poses = LoggedOrIntegratedPoses(log);
   const std::vector<size_t> rows = SnapshotRows(poses.size());
   const std::vector<std::string>& colors = SeriesColors();
-  if (const std::optional<ContactPatch> patch = PatchOf(log)) {
+  if (const std::optional<ContactPatch>& patch = log.patch) {
     AddOutlines(*patch, poses, rows, {colors[0], 0.8, false, 0.6}, &plot);
     if (other)
       AddOutlines(*patch, other->samples.empty() ? poses : LoggedOrIntegratedPoses(*other), rows,
@@ -156,7 +147,7 @@ std::string PathFigure(const Trajectory& log, const Trajectory* other,
   }
   AddPath(poses, {colors[0], 2.0}, "logged", &plot);
   if (other) AddPath(LoggedOrIntegratedPoses(*other), {colors[1], 1.6, true}, other_name, &plot);
-  if (log.columns.tip) {
+  if (log.measured.tip) {
     std::vector<double> x, y;
     for (const TrajectorySample& s : log.samples) {
       x.push_back(s.tip_world ? s.tip_world->x() * 1e3 : std::nan(""));
@@ -588,7 +579,7 @@ std::string LogArticle(const ReportInputs& in, const ReportLog& l) {
   if (in.validation) {
     s << Figure(PathFigure(l.log, l.prediction ? &*l.prediction : nullptr, "predicted"),
                 "Solid: the log; dashed: its fold's prediction from the first row" +
-                    std::string(l.log.columns.tip ? "; green: the pusher tip" : "") + "." +
+                    std::string(l.log.measured.tip ? "; green: the pusher tip" : "") + "." +
                     (l.prediction_note.empty() ? "" : " " + l.prediction_note));
     if (l.prediction)
       s << Figure(PredictionErrorFigure(l.log, *l.prediction),
@@ -597,7 +588,7 @@ std::string LogArticle(const ReportInputs& in, const ReportLog& l) {
     s << Figure(PathFigure(l.log, l.replay ? &*l.replay : nullptr, "replayed"),
                 "Solid: the log; dashed: replayed from its first row under the logged forces with "
                 "the estimates (held values where not identifiable)" +
-                    std::string(l.log.columns.tip ? "; green: the pusher tip" : "") + "." +
+                    std::string(l.log.measured.tip ? "; green: the pusher tip" : "") + "." +
                     (l.replay_note.empty() ? "" : " " + l.replay_note));
     if (in.result && l.fit_index >= 0) {
       s << Figure(ResidualFigure(*in.result, l.fit_index),

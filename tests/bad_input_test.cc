@@ -519,7 +519,7 @@ std::string NoisyVelocityLog(const std::string& name) {
     s.state.vy += 2e-3 * noise(rng);
     s.state.wz += 2e-2 * noise(rng);
   }
-  log.columns.step_info = false;
+  log.measured.step_info = false;
   const std::string path = testing::TempDirectory() + "/" + name;
   WritePushLog(log, path);
   return path;

@@ -89,7 +89,7 @@ TEST(CheapMethods, NoisyMotionCaptureIsNotIdentifiableWithTheReason) {
   spec.log.noise.angle_rad = 3e-3;
   Trajectory log;
   DrawDatasetLog(spec, 0, &log);
-  ASSERT_FALSE(log.columns.velocity);
+  ASSERT_FALSE(log.measured.velocity);
   const EstimateResult cf = EstimateClosedForm(log, {});
   const EstimateResult ee = EstimateEquationError(log, {});
   for (const EstimateResult* r : {&cf, &ee}) {

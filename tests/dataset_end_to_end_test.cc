@@ -155,14 +155,14 @@ TEST(DatasetEndToEnd, BundledDefaultLogIsWhatItsSceneMakes) {
     ASSERT_NEAR(m.applied.fx, b.applied.fx, kRegenerationTolerance) << u << " " << regenerate;
     ASSERT_NEAR(m.applied.tz, b.applied.tz, kRegenerationTolerance) << u << " " << regenerate;
   }
-  EXPECT_EQ(bundled.columns.pose, made.columns.pose);
-  EXPECT_EQ(bundled.columns.push_point, made.columns.push_point);
+  EXPECT_EQ(bundled.measured.pose, made.measured.pose);
+  EXPECT_EQ(bundled.measured.push_point, made.measured.push_point);
 }
 
 TEST(DatasetEndToEnd, BundledDefaultLogIsIdentifiedWithinAFewPercent) {
   const Trajectory log = ReadPushLog(Source("datasets/logs/default_push.csv"));
   ASSERT_TRUE(log.true_friction.has_value());
-  EXPECT_FALSE(log.columns.velocity);  // poses only, as motion capture gives
+  EXPECT_FALSE(log.measured.velocity);  // poses only, as motion capture gives
   const EstimateResult r = Identify(log, Options(1));
   for (int i = 0; i < 3; ++i) {
     ExpectRecovered(r, *log.true_friction, i, kTolDefaultLog, "default_push.csv");

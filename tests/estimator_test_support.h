@@ -96,7 +96,7 @@ inline ToolRun RunTool(const std::string& tool, const std::string& args) {
 /// the poses, as it does for a motion-capture log.
 inline Trajectory PosesOnly(const Trajectory& log, const std::string& name) {
   Trajectory poses = log;
-  poses.columns.velocity = false;
+  poses.measured.velocity = false;
   const std::string path = TempPath(name);
   WritePushLog(poses, path);
   LogReadReport report;

@@ -147,7 +147,7 @@ ReportInputs MadeUpInputs() {
     l.name = name;
     l.path = std::string("dir/") + name;
     l.fit_index = static_cast<int>(in.logs.size());
-    l.log.patch_spec = "rectangle 0.1 0.08";
+    l.log.patch = ContactPatch::Rectangle(0.1, 0.08);
     for (int k = 0; k < 10; ++k) {
       TrajectorySample s;
       s.t_s = 0.1 * k;

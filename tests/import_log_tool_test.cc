@@ -127,8 +127,8 @@ TEST(ImportLogTool, ImportsEachFileOnItsOwnAndReportsEveryOne) {
   const std::string log_path =
       out + "/" + std::string(kGood).substr(0, std::string(kGood).size() - 5) + ".csv";
   EXPECT_EQ(Cell(header, report[1], "output"), log_path);
-  const Trajectory log = ReadPushLog(log_path);
-  EXPECT_EQ(log.slider.mass_kg, 0.835);
+  const PushLogFile log = ReadPushLogFile(log_path);
+  EXPECT_EQ(log.log.slider.mass_kg, 0.835);
   bool sourced = false;
   for (const auto& [key, value] : log.extra_metadata) {
     sourced |= key == "object_source" && value == "synthetic, as simulated";

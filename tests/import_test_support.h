@@ -83,9 +83,9 @@ inline void ExpectSameImport(const MitImportResult& a, const MitImportResult& b)
   EXPECT_EQ(a.report.reason, b.report.reason);
   EXPECT_EQ(a.report.theta_jumps_repaired, b.report.theta_jumps_repaired);
   EXPECT_EQ(a.report.force_flipped, b.report.force_flipped);
-  ASSERT_EQ(a.log.samples.size(), b.log.samples.size());
-  for (std::size_t u = 0; u < a.log.samples.size(); ++u) {
-    const TrajectorySample &p = a.log.samples[u], &q = b.log.samples[u];
+  ASSERT_EQ(a.file.log.samples.size(), b.file.log.samples.size());
+  for (std::size_t u = 0; u < a.file.log.samples.size(); ++u) {
+    const TrajectorySample &p = a.file.log.samples[u], &q = b.file.log.samples[u];
     ASSERT_EQ(p.t_s, q.t_s) << u;
     ASSERT_NEAR(p.state.x, q.state.x, kSameLogTol) << u;
     ASSERT_NEAR(p.state.y, q.state.y, kSameLogTol) << u;

@@ -37,8 +37,8 @@ std::vector<std::pair<std::string, std::string>> Metadata(const std::string& tex
 
 Trajectory PushedLog() {
   Trajectory log = Simulate(testing::TiltingPush()).trajectory;
-  log.columns.push_point = true;
-  log.columns.fz = true;
+  log.measured.push_point = true;
+  log.measured.fz = true;
   log.source = "pushed.csv";
   return log;
 }
@@ -50,7 +50,7 @@ TEST(LogColumns, ColumnsReadBackIntoTheLogTheFileHolds) {
   ASSERT_EQ(columns.mode.size(), log.samples.size());
   for (const auto& values : columns.values) ASSERT_EQ(values.size(), log.samples.size());
   const std::string text = Text(log);
-  const Trajectory back = ParsePushLogColumns(columns, Metadata(text), "pushed.csv");
+  const Trajectory back = ParsePushLogColumns(columns, Metadata(text), "pushed.csv").log;
   EXPECT_EQ(Text(back), text);  // every value, bit for bit
 }
 

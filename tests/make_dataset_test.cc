@@ -75,7 +75,7 @@ TEST(Dataset, APusherDrivenDatasetLogsTheTipAndKeepsTheOtherDraws) {
     EXPECT_TRUE(p.scene.pushes.empty());
     EXPECT_GE(p.scene.pusher->mu, 0.1);
     EXPECT_LE(p.scene.pusher->mu, 0.6);
-    EXPECT_TRUE(by_pusher.columns.tip);
+    EXPECT_TRUE(by_pusher.measured.tip);
     ASSERT_TRUE(by_pusher.tip_radius_m.has_value());
     int pushing = 0;
     for (const TrajectorySample& s : by_pusher.samples)
@@ -120,7 +120,8 @@ TEST(Dataset, DrawsStayInTheirRangesAndInertiaFollowsThePatch) {
     ASSERT_TRUE(log.true_friction.has_value());
     EXPECT_EQ(log.true_friction->e_o, s.friction.e_o);
     EXPECT_EQ(log.slider.mass_kg, s.slider.mass_kg);
-    EXPECT_EQ(log.patch_spec, s.patch.Spec());
+    ASSERT_TRUE(log.patch.has_value());
+    EXPECT_EQ(log.patch->Spec(), s.patch.Spec());
     EXPECT_EQ(e.rows, static_cast<int>(log.samples.size()));
   }
 }
@@ -192,9 +193,10 @@ TEST(Dataset, MakeDatasetWritesTheLogsAndATruthManifest) {
     EXPECT_EQ(std::stod(f[9]), r.b);
     EXPECT_EQ(std::stod(f[10]), r.c);
     EXPECT_NE(f[11].find("pose_m=0.00029999999999999997"), std::string::npos) << f[11];
-    EXPECT_EQ(f[12], log.patch_spec);
+    ASSERT_TRUE(log.patch.has_value());
+    EXPECT_EQ(f[12], log.patch->Spec());
     EXPECT_EQ(std::stoi(f[13]), static_cast<int>(log.samples.size()));
-    EXPECT_FALSE(log.columns.velocity);  // poses only, as motion capture gives
+    EXPECT_FALSE(log.measured.velocity);  // poses only, as motion capture gives
   }
   EXPECT_FALSE(std::getline(truth, line));
 }
@@ -311,8 +313,8 @@ TEST(SimulateLogOptions, SamplingAndColumnsFollowTheOptions) {
   const Trajectory poses = ReadPushLog(dir + "/poses.csv");
   EXPECT_EQ(poses.samples.size(), 301u);  // 3 s at 100 Hz from a 1 ms simulation
   EXPECT_NEAR(poses.samples[1].t_s, 0.01, 1e-15);
-  EXPECT_FALSE(poses.columns.velocity);
-  EXPECT_TRUE(poses.columns.push_point);
+  EXPECT_FALSE(poses.measured.velocity);
+  EXPECT_TRUE(poses.measured.push_point);
   ASSERT_EQ(RunTool("simulate", "--scene " + Scene("example3_pushed_square.ini") +
                                     " --write velocities --push-columns moments --out " + dir +
                                     "/moments.csv"),

@@ -41,7 +41,7 @@ MitImportResult ImportAccepted(const MitSynthSpec& spec) {
 void ExpectRejected(const MitImportResult& r, const std::string& reason) {
   EXPECT_EQ(r.report.verdict, ImportVerdict::kRejected);
   EXPECT_NE(r.report.reason.find(reason), std::string::npos) << r.report.reason;
-  EXPECT_TRUE(r.log.samples.empty());
+  EXPECT_TRUE(r.file.log.samples.empty());
 }
 
 /// The same rows, times and numbers to `tolerance`.
@@ -65,8 +65,8 @@ double WorstRowForceError(const MitSynthSpec& spec, const MitSynthResult& truth,
   const double row_dt = 1.0 / 100.0, sim_dt = truth.scene.dt_s;
   const double start = spec.rest_before_s, stop = spec.rest_before_s + spec.push_s;
   double worst = 0;
-  for (std::size_t u = 0; u + 1 < imported.log.samples.size(); ++u) {
-    const TrajectorySample& row = imported.log.samples[u];
+  for (std::size_t u = 0; u + 1 < imported.file.log.samples.size(); ++u) {
+    const TrajectorySample& row = imported.file.log.samples[u];
     const double t0 = imported.report.time_origin_s + row.t_s - spec.t_epoch_s;
     if (std::abs(t0 - start) < row_dt + 0.01 || std::abs(t0 - stop) < row_dt + 0.01) continue;
     Eigen::Vector2d sum = Eigen::Vector2d::Zero();
@@ -103,10 +103,10 @@ TEST(MitPushImport, CleanPushIsImportedWithTheReactionFlipped) {
   EXPECT_NEAR(r.report.ft_wrench.median_rate_hz, 250.0, 5.0);
   // The window: the push (0.9 s) plus the margins.
   EXPECT_NEAR(r.report.window_end_s, spec.push_s + 2 * 0.05, 0.05);
-  EXPECT_EQ(r.log.slider.mass_kg, spec.slider.mass_kg);
-  EXPECT_EQ(r.log.patch_spec, ContactPatch::Rectangle(0.09, 0.09).Spec());
+  EXPECT_EQ(r.file.log.slider.mass_kg, spec.slider.mass_kg);
+  EXPECT_EQ(PatchText(r.file), ContactPatch::Rectangle(0.09, 0.09).Spec());
   EXPECT_LT(WorstRowForceError(spec, truth, r), kRowForceTolN);
-  for (const TrajectorySample& s : r.log.samples) {
+  for (const TrajectorySample& s : r.file.log.samples) {
     ASSERT_TRUE(s.push_point_world.has_value());
     EXPECT_EQ(s.push_point_world->z(), spec.slider.com_height_m);  // pz = com_height
   }
@@ -135,7 +135,7 @@ TEST(MitPushImport, UnsortedAndRepeatedStampsAreRepairedAndCounted) {
   EXPECT_EQ(r.report.object_pose.cleanup.duplicates_dropped, 7);
   EXPECT_EQ(r.report.tip_pose.cleanup.duplicates_dropped, 7);
   EXPECT_EQ(r.report.object_pose.cleanup.conflicting_duplicates, 0);
-  ExpectSameLog(clean.log, r.log, 0.0);
+  ExpectSameLog(clean.file.log, r.file.log, 0.0);
 }
 
 TEST(MitPushImport, QuarterTurnJumpsAreRepairedAndThetaUnwrapped) {
@@ -148,7 +148,7 @@ TEST(MitPushImport, QuarterTurnJumpsAreRepairedAndThetaUnwrapped) {
   EXPECT_EQ(r.report.theta_jumps_repaired, 3);  // +1, -3 and +2 quarter turns
   EXPECT_EQ(r.report.theta_jumps_unrepaired, 0);
   EXPECT_LT(r.report.largest_theta_step_rad, 0.05);
-  ExpectSameLog(clean.log, r.log, 1e-12);  // only rounding of the repaired steps
+  ExpectSameLog(clean.file.log, r.file.log, 1e-12);  // only rounding of the repaired steps
 }
 
 TEST(MitPushImport, OffsetsBeforeAndAfterAreEstimatedAndRemoved) {
@@ -170,10 +170,10 @@ TEST(MitPushImport, OffsetsBeforeAndAfterAreEstimatedAndRemoved) {
   EXPECT_NEAR(r.report.force_noise_n, 0.05, 0.01);
   // The linear drift is removed: the same forces as without offsets, within the estimates'
   // error (0.02 N) on both sides.
-  ASSERT_EQ(r.log.samples.size(), zero.log.samples.size());
-  for (std::size_t u = 0; u < r.log.samples.size(); ++u) {
-    EXPECT_NEAR(r.log.samples[u].applied.fx, zero.log.samples[u].applied.fx, 0.04) << u;
-    EXPECT_NEAR(r.log.samples[u].applied.fy, zero.log.samples[u].applied.fy, 0.04) << u;
+  ASSERT_EQ(r.file.log.samples.size(), zero.file.log.samples.size());
+  for (std::size_t u = 0; u < r.file.log.samples.size(); ++u) {
+    EXPECT_NEAR(r.file.log.samples[u].applied.fx, zero.file.log.samples[u].applied.fx, 0.04) << u;
+    EXPECT_NEAR(r.file.log.samples[u].applied.fy, zero.file.log.samples[u].applied.fy, 0.04) << u;
   }
 }
 
@@ -235,9 +235,9 @@ TEST(MitPushImport, IsolatedPoseGlitchesAreDroppedAndTooManyRejected) {
   const MitImportResult r = ImportAccepted(spec);
   const int poses = static_cast<int>(MakeMitPushRecording(spec).recording.object_pose.size());
   EXPECT_NEAR(r.report.pose_glitches, poses / 7, 1);
-  ASSERT_EQ(r.log.samples.size(), clean.log.samples.size());
-  const EstimateResult fit = Identify(r.log, IdentifyOptions{});
-  const EstimateResult fit_clean = Identify(clean.log, IdentifyOptions{});
+  ASSERT_EQ(r.file.log.samples.size(), clean.file.log.samples.size());
+  const EstimateResult fit = Identify(r.file.log, IdentifyOptions{});
+  const EstimateResult fit_clean = Identify(clean.file.log, IdentifyOptions{});
   ASSERT_TRUE(fit.converged) << fit.message;
   for (int i = 0; i < 3; ++i) {
     ASSERT_TRUE(fit.parameters[i].identifiable)
@@ -295,7 +295,7 @@ TEST(MitPushImport, PoseGapOutsideThePushIsReportedAndLeavesTheLogWhole) {
   EXPECT_GT(r.report.object_pose.largest_gap_s, 0.09);
   EXPECT_LT(r.report.largest_pose_gap_in_window_s, 0.01);
   EXPECT_EQ(r.report.pose_gaps_split, 0);
-  EXPECT_FALSE(HasGaps(r.log));
+  EXPECT_FALSE(HasGaps(r.file.log));
 }
 
 TEST(MitPushImport, PoseGapsThatLeaveTooLittleOfThePushAreRejectedNamingThem) {
@@ -341,7 +341,8 @@ TEST(MitPushImport, MetadataRecordsTheProvenance) {
   o.extra_metadata = {{"object_source", "estimate"}};
   const MitImportResult r = ImportMitPush(MakeMitPushRecording(MitSynthSpec{}).recording,
                                           "dir/shape=rect1_v=100.json", o);
-  std::map<std::string, std::string> meta(r.log.extra_metadata.begin(), r.log.extra_metadata.end());
+  std::map<std::string, std::string> meta(r.file.extra_metadata.begin(),
+                                          r.file.extra_metadata.end());
   EXPECT_EQ(meta["source"], "dir/shape=rect1_v=100.json");
   EXPECT_EQ(meta["object"], "rect1");
   EXPECT_EQ(meta["object_source"], "estimate");
@@ -421,7 +422,7 @@ TEST(MitPushImport, IdentifyRecoversTheTruthFromImportedLogsAsFromNativeOnes) {
     const ReducedFriction friction = ReducedFriction::From(spec.friction);
     const MitImportResult imported = ImportMitPush(truth.recording, "s.json", Options(spec));
     ASSERT_EQ(imported.report.verdict, ImportVerdict::kAccepted) << imported.report.reason;
-    const EstimateResult fit = Identify(imported.log, estimator);
+    const EstimateResult fit = Identify(imported.file.log, estimator);
     EXPECT_TRUE(fit.converged) << fit.message;
     EXPECT_NEAR(RelativeError(fit, kA, friction), 0.0, kTolImportedA) << "seed " << seed;
     EXPECT_NEAR(RelativeError(fit, kB, friction), 0.0, kTolImportedB) << "seed " << seed;
@@ -461,14 +462,15 @@ TEST(MitPushImport, PoseGapsInsideThePushSplitTheLogAndTheFitGoesOnAcrossThem) {
     // 100 Hz rows strictly inside the measured gap (the poses either side of it, up to one
     // 5 ms pose interval outside the dropped span).
     EXPECT_NEAR(r.report.rows_dropped_in_pose_gaps, 100 * (gap.second - gap.first), 2);
-    const std::vector<std::pair<int, int>> runs = Runs(r.log);
+    const std::vector<std::pair<int, int>> runs = Runs(r.file.log);
     ASSERT_EQ(runs.size(), 2u);
-    const double jump = r.log.samples[runs[1].first].t_s - r.log.samples[runs[0].second].t_s;
+    const double jump =
+        r.file.log.samples[runs[1].first].t_s - r.file.log.samples[runs[0].second].t_s;
     // The rows either side are the last before the gap's last pose and the first after its
     // next one: the jump is the measured gap plus less than two 10 ms rows.
     EXPECT_GE(jump, r.report.largest_pose_gap_in_window_s - 1e-9);
     EXPECT_LT(jump, r.report.largest_pose_gap_in_window_s + 0.02);
-    const EstimateResult fit = Identify(r.log, estimator);
+    const EstimateResult fit = Identify(r.file.log, estimator);
     ASSERT_TRUE(fit.converged) << fit.message;
     EXPECT_NEAR(RelativeError(fit, kA, truth), 0.0, kTolImportedA);
     EXPECT_NEAR(RelativeError(fit, kB, truth), 0.0, kTolImportedB);

@@ -13,6 +13,7 @@
 #include "datasets/sensor_model.h"
 #include "forward_model/constants.h"
 #include "io/push_log.h"
+#include "io/simulated_log.h"
 #include "tests/estimator_test_support.h"
 
 namespace slideid {
@@ -28,7 +29,7 @@ constexpr double kSigmas = 5.0;
 Trajectory StillLog(bool push_point) {
   Trajectory t;
   t.slider = {1.0, 1e-3, 0.05, 9.81};
-  t.columns.push_point = push_point;
+  t.measured.push_point = push_point;
   for (int u = 0; u < kRows; ++u) {
     TrajectorySample s;
     s.t_s = 0.01 * u;
@@ -59,10 +60,20 @@ void ExpectGaussian(const Moments& m, double mean, double sigma, const char* wha
   EXPECT_NEAR(m.std, sigma, kSigmas * sigma / std::sqrt(2 * n)) << what;
 }
 
-std::string Written(const Trajectory& t) {
+std::string Written(const PushLogFile& file) {
   std::ostringstream out;
-  WritePushLog(t, out);
+  WritePushLog(file, out);
   return out.str();
+}
+
+std::string Written(const Trajectory& t) { return Written(PushLogFile{t, "", {}}); }
+
+/// `log`, made by MakeLog with `spec`, as simulate writes it: its file says how it was made
+/// (io/simulated_log.h).
+std::string WrittenAs(const Trajectory& log, const LogSpec& spec) {
+  LoggedScene scene;
+  scene.log = spec;
+  return Written(SimulatedLogFile(scene, log));
 }
 
 TEST(Noise, PoseVelocityAndAngleNoiseHaveTheSpecifiedMeanAndStd) {
@@ -161,9 +172,9 @@ TEST(Noise, AddNoiseKeepsTheFirstVersionsStreamForPoseAngleAndVelocity) {
     EXPECT_EQ(q.vy, c.vy + n.velocity_mps * z[4]) << u;
     EXPECT_EQ(q.wz, c.wz + n.spin_radps * z[5]) << u;
   }
-  EXPECT_FALSE(noisy.columns.step_info);
-  EXPECT_EQ(noisy.extra_metadata.back(),
-            std::make_pair(std::string("noise_seed"), std::string("5")));
+  EXPECT_FALSE(noisy.measured.step_info);
+  // What a file says of the noise (io/simulated_log.h writes it).
+  EXPECT_EQ(n.Metadata().back(), std::make_pair(std::string("noise_seed"), std::string("5")));
 }
 
 TEST(Noise, PushPointMomentsFollowTheNoisyForceAndKeepTheResidualMoment) {
@@ -222,7 +233,7 @@ TEST(Noise, PushPointNoiseHasTheSpecifiedStdAndTheMomentFollowsTheReportedPoint)
     ASSERT_EQ(s.applied.fx, 3.0);              // the force itself is untouched
   }
   bool listed = false;
-  for (const auto& [key, value] : noisy.extra_metadata) {
+  for (const auto& [key, value] : n.Metadata()) {
     listed = listed || (key == "noise_push_point_m" && std::stod(value) == n.push_point_m);
   }
   EXPECT_TRUE(listed);
@@ -288,7 +299,7 @@ TEST(SensorModel, DecimationKeepsEveryKthRowWithTheForceAtItsTime) {
     for (size_t i = 10 * j - 9; i <= 10 * j; ++i) pt += fine.samples[i].pt;
     EXPECT_NEAR(a.pt, pt, 1e-15);
   }
-  EXPECT_TRUE(log.columns.step_info);  // noiseless: the truth columns stay
+  EXPECT_TRUE(log.measured.step_info);  // noiseless: the truth columns stay
 }
 
 // Sums of about a thousand doubles of one sign: rounding stays far below this, relative.
@@ -340,10 +351,12 @@ TEST(SensorModel, IntervalMeanWrenchCarriesTheAppliedImpulseOfEachInterval) {
   EXPECT_NEAR(logged_tz, applied_tz, kSumRounding * scale_tz);
   // The last row starts no interval: it keeps its own wrench.
   EXPECT_EQ(log.samples.back().applied.fx, fine.samples.back().applied.fx);
-  EXPECT_TRUE(log.columns.moments);
-  EXPECT_FALSE(log.columns.push_point);
-  EXPECT_NE(Written(log).find("# log_wrench = interval-mean\n"), std::string::npos);
-  EXPECT_EQ(Written(at_row).find("log_wrench"), std::string::npos);
+  EXPECT_TRUE(log.measured.moments);
+  EXPECT_FALSE(log.measured.push_point);
+  EXPECT_NE(WrittenAs(log, spec).find("# log_wrench = interval-mean\n"), std::string::npos);
+  spec.wrench = LogWrench::kAtRowTime;
+  EXPECT_EQ(WrittenAs(at_row, spec).find("log_wrench"), std::string::npos);
+  spec.wrench = LogWrench::kIntervalMean;
 
   // Logged every step, the mean is the simulated wrench itself.
   spec.log_every = 1;
@@ -369,15 +382,15 @@ TEST(SensorModel, ColumnsFollowTheSpec) {
   spec.motion = LogMotion::kPoses;
   spec.noise.pose_m = 1e-4;
   Trajectory log = MakeLog(fine, spec);
-  EXPECT_TRUE(log.columns.pose);
-  EXPECT_FALSE(log.columns.velocity);
-  EXPECT_TRUE(log.columns.push_point);
-  EXPECT_FALSE(log.columns.step_info);  // noisy: a sensor does not see the ECP
+  EXPECT_TRUE(log.measured.pose);
+  EXPECT_FALSE(log.measured.velocity);
+  EXPECT_TRUE(log.measured.push_point);
+  EXPECT_FALSE(log.measured.step_info);  // noisy: a sensor does not see the ECP
   // Poses only: the velocities are those a reader derives.
   Trajectory derived = log;
   SetVelocitiesFromPoses(&derived);
   EXPECT_EQ(log.samples[7].state.vx, derived.samples[7].state.vx);
-  std::string text = Written(log);
+  std::string text = WrittenAs(log, spec);
   EXPECT_NE(text.find("t,x,y,theta,fx,fy,px,py,pz\n"), std::string::npos);
   EXPECT_NE(text.find("# noise_pose_m = 0.0001"), std::string::npos);
 
@@ -429,6 +442,7 @@ TEST(SensorModel, ForceBiasIsAddedToEveryRowWithItsMomentAtThePushPoint) {
   spec.noise.pose_m = 1e-4;
   spec.noise.force_n = 0.05;
   const Trajectory clean = MakeLog(fine, spec);
+  const LogSpec clean_spec = spec;
   spec.noise.force_bias_x_n = 0.3;
   spec.noise.force_bias_y_n = -0.2;
   const Trajectory biased = MakeLog(fine, spec);
@@ -459,11 +473,11 @@ TEST(SensorModel, ForceBiasIsAddedToEveryRowWithItsMomentAtThePushPoint) {
     EXPECT_NEAR(back.samples[u].applied.fx, biased.samples[u].applied.fx, 1e-12) << u;
     EXPECT_NEAR(back.samples[u].applied.tz, biased.samples[u].applied.tz, 1e-12) << u;
   }
-  const std::string text = Written(biased);
+  const std::string text = WrittenAs(biased, spec);
   EXPECT_NE(text.find("# noise_force_bias_x_n = 0.29999999999999999\n"), std::string::npos);
   EXPECT_NE(text.find("# noise_force_bias_y_n = -0.20000000000000001\n"), std::string::npos);
   EXPECT_EQ(text.find("noise_force_delay_s"), std::string::npos);  // not set, not written
-  EXPECT_EQ(Written(clean).find("force_bias"), std::string::npos);
+  EXPECT_EQ(WrittenAs(clean, clean_spec).find("force_bias"), std::string::npos);
 }
 
 TEST(SensorModel, DelayShiftsThePushStreamAgainstThePoses) {
@@ -489,7 +503,7 @@ TEST(SensorModel, DelayShiftsThePushStreamAgainstThePoses) {
       EXPECT_EQ(delayed.samples[u].push_point_world, source.push_point_world) << u;
       EXPECT_EQ(delayed.samples[u].state.x, plain.samples[u].state.x) << u;  // poses as they were
     }
-    EXPECT_NE(Written(delayed).find("# noise_force_delay_s = "), std::string::npos);
+    EXPECT_NE(WrittenAs(delayed, spec).find("# noise_force_delay_s = "), std::string::npos);
   }
   // A whole number of log intervals: row u logs what row u - 2 logged without the delay.
   spec.noise.force_delay_s = 0.02;

@@ -41,7 +41,7 @@ TEST(OnlineOptions, RejectsInvalidValuesNamingThem) {
   EXPECT_NE(why.find("change_window_rows"), std::string::npos);
   EXPECT_THROW(OnlineIdentifier(Trajectory{}, o), std::invalid_argument);
   Trajectory velocities_only;
-  velocities_only.columns.pose = false;
+  velocities_only.measured.pose = false;
   try {
     OnlineIdentifier id(velocities_only);
     FAIL() << "a log without poses was taken";

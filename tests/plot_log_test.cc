@@ -86,7 +86,7 @@ TEST(PlotLog, PatchSnapshotsArePlacedAtThePose) {
   Trajectory log = PushedLog();
   log.samples.resize(3);
   log.samples[2].state = {1.0, 2.0, 1.5707963267948966, 0, 0, 0};
-  log.patch_spec = "rectangle 0.2 0.1";
+  log.patch = ContactPatch::Rectangle(0.2, 0.1);
   PlotOptions o;
   o.out_png = "x.png";
   o.snapshot_every = 2;

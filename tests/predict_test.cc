@@ -39,7 +39,7 @@ TEST(Predict, TheTruthReproducesItsOwnLogByEitherDrive) {
   const Scene scene = PushedSquare();
   const ReducedFriction truth = ReducedFriction::From(scene.friction);
   Trajectory log = testing::SimulateOrFail(scene);
-  log.columns.velocity = true;  // the simulator's own start velocity (0)
+  log.measured.velocity = true;  // the simulator's own start velocity (0)
   PredictionOptions options;
   options.register_tip = false;  // the geometry that made the log, to the last bit
   const Prediction pusher = PredictPush(log, truth, 0.25, options);
@@ -148,7 +148,7 @@ TEST(Predict, TheQuasiStaticModelIsTheSlowLimitOfTheDynamicOne) {
 // The errors against a trajectory shifted by a known amount from some row on.
 TEST(Predict, ErrorsAreTheDistancesAtTheRowsAndTheFirstRowPastAThreshold) {
   Trajectory log;
-  log.columns.tip = true;
+  log.measured.tip = true;
   for (int u = 0; u <= 10; ++u) {
     TrajectorySample s;
     s.t_s = 0.1 * u;
@@ -191,7 +191,7 @@ TEST(Predict, ALogThatCannotBeDrivenThatWaySaysWhatIsMissing) {
   };
   EXPECT_NE(message(log, std::nullopt, PredictionDrive::kPusher).find("mu_p"), std::string::npos);
   Trajectory no_tip = log;
-  no_tip.columns.tip = false;
+  no_tip.measured.tip = false;
   EXPECT_NE(message(no_tip, 0.25, PredictionDrive::kPusher)
                 .find("push.csv: the pusher drive needs "
                       "the tip's path"),
@@ -201,7 +201,7 @@ TEST(Predict, ALogThatCannotBeDrivenThatWaySaysWhatIsMissing) {
   EXPECT_NE(message(no_radius, 0.25, PredictionDrive::kPusher).find("tip_radius"),
             std::string::npos);
   Trajectory no_patch = log;
-  no_patch.patch_spec.clear();
+  no_patch.patch.reset();
   EXPECT_NE(message(no_patch, 0.25, PredictionDrive::kPusher).find("patch"), std::string::npos);
   Trajectory no_force = log;
   for (TrajectorySample& s : no_force.samples) s.applied = AppliedWrench{};

@@ -56,10 +56,9 @@ void ExpectLogError(const std::string& name, const std::string& content, int lin
 Trajectory FullTrajectory() {
   Trajectory tr;
   tr.slider = {0.5 + 1.0 / 3.0, 2.0833333333333332e-4, 0.08 + 1e-17, 9.8 + 1.0 / 7.0};
-  tr.patch_spec = "rectangle 0.05 0.05";
+  tr.patch = ContactPatch::Rectangle(0.05, 0.05);
   tr.true_friction = FrictionParameters{0.31, 1.0 / 3.0, 1.1, 0.0123456789};
-  tr.extra_metadata = {{"noise", "pose 1e-4"}, {"scene", "example1"}};
-  tr.columns = {true, true, true, true, true, true, true};
+  tr.measured = {true, true, true, true, true, true, true};
   for (int u = 0; u < 6; ++u) {
     TrajectorySample s;
     s.t_s = 0.01 * u + 1e-19 * u;
@@ -84,24 +83,32 @@ Trajectory FullTrajectory() {
   return tr;
 }
 
+/// FullTrajectory as a file, with further metadata.
+PushLogFile FullLogFile() {
+  return PushLogFile{FullTrajectory(), "", {{"noise", "pose 1e-4"}, {"scene", "example1"}}};
+}
+
 TEST(PushLog, RoundTripReproducesEveryColumnBitExactly) {
-  const Trajectory in = FullTrajectory();
+  const PushLogFile in_file = FullLogFile();
+  const Trajectory& in = in_file.log;
   const std::string path = TempDirectory() + "/round_trip.csv";
-  WritePushLog(in, path);
+  WritePushLog(in_file, path);
   EXPECT_FALSE(FileExists(path + ".tmp"));
-  const Trajectory out = ReadPushLog(path);
+  const PushLogFile out_file = ReadPushLogFile(path);
+  const Trajectory& out = out_file.log;
 
   EXPECT_EQ(out.slider.mass_kg, in.slider.mass_kg);
   EXPECT_EQ(out.slider.inertia_kgm2, in.slider.inertia_kgm2);
   EXPECT_EQ(out.slider.com_height_m, in.slider.com_height_m);
   EXPECT_EQ(out.slider.gravity_mps2, in.slider.gravity_mps2);
-  EXPECT_EQ(out.patch_spec, in.patch_spec);
+  ASSERT_TRUE(out.patch.has_value());
+  EXPECT_EQ(out.patch->Spec(), in.patch->Spec());
   ASSERT_TRUE(out.true_friction.has_value());
   EXPECT_EQ(out.true_friction->mu, in.true_friction->mu);
   EXPECT_EQ(out.true_friction->e_t, in.true_friction->e_t);
   EXPECT_EQ(out.true_friction->e_o, in.true_friction->e_o);
   EXPECT_EQ(out.true_friction->e_r, in.true_friction->e_r);
-  EXPECT_EQ(out.extra_metadata, in.extra_metadata);
+  EXPECT_EQ(out_file.extra_metadata, in_file.extra_metadata);
   ASSERT_EQ(out.samples.size(), in.samples.size());
   for (std::size_t u = 0; u < in.samples.size(); ++u) {
     const TrajectorySample& a = in.samples[u];
@@ -131,8 +138,8 @@ TEST(PushLog, RoundTripReproducesEveryColumnBitExactly) {
   }
   // Writing what was read gives the same file again.
   std::ostringstream first, second;
-  WritePushLog(in, first);
-  WritePushLog(out, second);
+  WritePushLog(in_file, first);
+  WritePushLog(out_file, second);
   EXPECT_EQ(first.str(), second.str());
   EXPECT_EQ(first.str(), ReadText(path));
 }
@@ -175,8 +182,9 @@ TEST(PushLog, GoldenExampleReadsRowsMetadataAndTruth) {
   EXPECT_EQ(tr.samples[0].state.wz, 10.0);
   EXPECT_EQ(tr.samples[1].state.x, 0.006869995041976629);
   EXPECT_EQ(tr.samples[1].mode, SampleMode::kSlide);
-  EXPECT_TRUE(tr.columns.pose && tr.columns.velocity && tr.columns.force && tr.columns.step_info);
-  EXPECT_FALSE(tr.columns.push_point || tr.columns.moments || tr.columns.fz);
+  EXPECT_TRUE(tr.measured.pose && tr.measured.velocity && tr.measured.force &&
+              tr.measured.step_info);
+  EXPECT_FALSE(tr.measured.push_point || tr.measured.moments || tr.measured.fz);
 }
 
 TEST(PushLog, ColumnsInShuffledOrderAreFoundByName) {
@@ -215,9 +223,9 @@ TEST(PushLog, AbsentOptionalColumnsReadAsZeroAndModesDefault) {
   }
   EXPECT_EQ(tr.samples[0].mode, SampleMode::kStart);
   EXPECT_EQ(tr.samples[1].mode, SampleMode::kSlide);
-  EXPECT_FALSE(tr.columns.pose);
-  EXPECT_FALSE(tr.columns.force);
-  EXPECT_FALSE(tr.columns.step_info);
+  EXPECT_FALSE(tr.measured.pose);
+  EXPECT_FALSE(tr.measured.force);
+  EXPECT_FALSE(tr.measured.step_info);
   EXPECT_EQ(tr.slider.gravity_mps2, 9.81);
   EXPECT_FALSE(tr.true_friction.has_value());
 }
@@ -229,7 +237,7 @@ TEST(PushLog, PosesOnlyGiveBackwardEulerVelocities) {
   LogReadReport report;
   const Trajectory tr = ReadPushLog(path, {}, &report);
   EXPECT_TRUE(report.velocities_from_poses);
-  EXPECT_FALSE(tr.columns.velocity);
+  EXPECT_FALSE(tr.measured.velocity);
   ASSERT_EQ(tr.samples.size(), 3u);
   EXPECT_EQ(tr.samples[0].state.vx, 0.0);
   EXPECT_EQ(tr.samples[0].state.wz, 0.0);
@@ -255,8 +263,8 @@ TEST(PushLog, RowsMarkedStartAfterAGapSplitTheLogIntoRuns) {
   for (int u = 0; std::getline(lines, line); ++u) marked += line + "," + modes[u] + "\n";
   LogReadReport report;
   const Trajectory tr = ReadPushLog(WriteFile("runs.csv", marked), {}, &report);
-  EXPECT_TRUE(tr.columns.mode);
-  EXPECT_FALSE(tr.columns.step_info);  // the mode column alone carries no ECP or impulses
+  EXPECT_TRUE(tr.measured.mode);
+  EXPECT_FALSE(tr.measured.step_info);  // the mode column alone carries no ECP or impulses
   const std::vector<std::pair<int, int>> runs = {{0, 3}, {4, 6}};
   EXPECT_EQ(Runs(tr), runs);
   EXPECT_EQ(tr.samples[4].state.vx, 0.0);  // unknown: no step joins rows 3 and 4
@@ -272,7 +280,7 @@ TEST(PushLog, RowsMarkedStartAfterAGapSplitTheLogIntoRuns) {
   WritePushLog(tr, back_path);
   const Trajectory back = ReadPushLog(back_path);
   EXPECT_EQ(Runs(back), runs);
-  EXPECT_FALSE(back.columns.step_info);
+  EXPECT_FALSE(back.measured.step_info);
 
   // Unmarked, the same hole is an error that says how to mark it.
   ExpectLogError("unmarked_gap.csv", std::string(kSliderMeta) + "t,x,y,theta\n" + rows, 9, "t");
@@ -379,12 +387,35 @@ TEST(PushLog, CommentsAndExtraMetadataArePreservedInOrder) {
       "extra.csv", std::string("# A prose comment, with x = y inside it.\n") + kSliderMeta +
                        "# scene = push_1\n# noise = 1e-4\n# patch = disk 0.03\nt,x,y,theta\n"
                        "0,0,0,0\n# a comment between rows\n0.1,0,0,0\n");
-  const Trajectory tr = ReadPushLog(path);
+  const PushLogFile file = ReadPushLogFile(path);
   const std::vector<std::pair<std::string, std::string>> expected = {{"scene", "push_1"},
                                                                      {"noise", "1e-4"}};
-  EXPECT_EQ(tr.extra_metadata, expected);
-  EXPECT_EQ(tr.patch_spec, "disk 0.03");
-  EXPECT_EQ(tr.samples.size(), 2u);
+  EXPECT_EQ(file.extra_metadata, expected);
+  EXPECT_EQ(file.patch_spec, "disk 0.03");
+  ASSERT_TRUE(file.log.patch.has_value());
+  EXPECT_EQ(file.log.patch->Spec(), ContactPatch::Disk(0.03).Spec());
+  EXPECT_EQ(file.log.samples.size(), 2u);
+}
+
+// The patch is written as the file had it while it still describes the log's patch (a log
+// written back is the log read), and as the patch now is once it changed.
+TEST(PushLog, PatchTextIsKeptWhileItDescribesThePatch) {
+  const std::string text = std::string(kSliderMeta) + "# patch = rectangle 0.050  5e-2\n" +
+                           "# scene = push_1\nt,x,y,theta\n0,0,0,0\n0.1,0,0,0\n";
+  PushLogFile file = ParsePushLogFile(text, "patch.csv");
+  std::ostringstream again;
+  WritePushLog(file, again);
+  EXPECT_NE(again.str().find("# patch = rectangle 0.050  5e-2\n"), std::string::npos);
+  std::ostringstream twice;
+  WritePushLog(ParsePushLogFile(again.str(), "again.csv"), twice);
+  EXPECT_EQ(twice.str(), again.str());  // a log written back is the log read, byte for byte
+  file.log.patch = ContactPatch::Disk(0.03);
+  std::ostringstream changed;
+  WritePushLog(file, changed);
+  EXPECT_NE(changed.str().find("# patch = " + ContactPatch::Disk(0.03).Spec() + "\n"),
+            std::string::npos);
+  file.log.patch.reset();
+  EXPECT_EQ(PatchText(file), "");
 }
 
 TEST(PushLog, EveryMalformedLogRaisesLogErrorNamingFileLineAndColumn) {
@@ -460,12 +491,12 @@ TEST(PushLog, FailedWriteThrowsNamingThePathAndLeavesNoFile) {
 
 TEST(PushLog, WriterKeepsNonZeroForcesEvenWhenTheirGroupIsOff) {
   Trajectory tr = FullTrajectory();
-  tr.columns = {true, false, false, false, false, false, false};
+  tr.measured = {true, false, false, false, false, false, false};
   std::ostringstream out;
   WritePushLog(tr, out);
   const Trajectory back = ReadPushLog(WriteFile("forced_groups.csv", out.str()));
-  EXPECT_TRUE(back.columns.force && back.columns.fz && back.columns.moments);
-  EXPECT_FALSE(back.columns.push_point || back.columns.velocity || back.columns.step_info);
+  EXPECT_TRUE(back.measured.force && back.measured.fz && back.measured.moments);
+  EXPECT_FALSE(back.measured.push_point || back.measured.velocity || back.measured.step_info);
   for (std::size_t u = 0; u < tr.samples.size(); ++u) {
     EXPECT_EQ(back.samples[u].applied.fz, tr.samples[u].applied.fz);
     EXPECT_EQ(back.samples[u].applied.ty, tr.samples[u].applied.ty);
@@ -473,12 +504,12 @@ TEST(PushLog, WriterKeepsNonZeroForcesEvenWhenTheirGroupIsOff) {
 }
 
 TEST(PushLog, WriterRejectsMetadataThatWouldNotReadBack) {
-  Trajectory tr = FullTrajectory();
-  tr.extra_metadata.emplace_back("mass", "2");
+  PushLogFile file = FullLogFile();
+  file.extra_metadata.emplace_back("mass", "2");
   std::ostringstream out;
-  EXPECT_THROW(WritePushLog(tr, out), std::invalid_argument);
-  tr.extra_metadata.back() = {"two words", "x"};
-  EXPECT_THROW(WritePushLog(tr, out), std::invalid_argument);
+  EXPECT_THROW(WritePushLog(file, out), std::invalid_argument);
+  file.extra_metadata.back() = {"two words", "x"};
+  EXPECT_THROW(WritePushLog(file, out), std::invalid_argument);
 }
 
 }  // namespace

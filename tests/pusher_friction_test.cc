@@ -106,7 +106,7 @@ TEST(PusherFriction, IdentifyReportsItOnlyForLogsWithTheTip) {
   EXPECT_EQ(back.mu_pusher.ci95_hi, fit.mu_pusher.ci95_hi);
 
   Trajectory no_tip = log;
-  no_tip.columns.tip = false;
+  no_tip.measured.tip = false;
   const EstimateResult plain = Identify(no_tip, IdentifyOptions{});
   EXPECT_FALSE(plain.mu_pusher_examined);
   EXPECT_NE(FormatJson(plain).find("\"mu_pusher\": null"), std::string::npos);
@@ -165,7 +165,7 @@ TEST(OnlinePusherFriction, ATipThatNeverSlidesIsNotIdentifiable) {
 // A log without the tip's path: mu_p is not examined, and the JSON line has no mu_pusher.
 TEST(OnlinePusherFriction, ALogWithoutTheTipDoesNotExamineIt) {
   Trajectory log = NoisyLog(PushAt(60 * kPi / 180, 0.3, -0.02), 3);
-  log.columns.tip = false;
+  log.measured.tip = false;
   const OnlineResult end = RunOnline(log, OnlineOptions{}).back();
   EXPECT_FALSE(end.mu_pusher_examined);
   EXPECT_FALSE(end.mu_pusher.identifiable);

@@ -12,6 +12,7 @@
 #include "forward_model/quasi_static.h"
 #include "forward_model/simulator.h"
 #include "io/push_log.h"
+#include "io/simulated_log.h"
 #include "tests/estimator_test_support.h"
 
 namespace slideid {
@@ -283,12 +284,15 @@ TEST(Pusher, BadPathsAndPushersAreRejectedNamingWhat) {
 // The log of a pusher-driven scene carries the tip's path (tip_x, tip_y) and radius, and
 // reads back bit for bit.
 TEST(Pusher, TheLogCarriesTheTipsPathAndRadius) {
-  const SimulationResult r =
-      RunPush(SquareScene(), StraightPusher(0.01, Eigen::Vector2d::UnitX(), 0.05, 1.0, 0.3), 0.3);
+  LoggedScene scene;
+  static_cast<Scene&>(scene) = SquareScene();
+  scene.pusher = StraightPusher(0.01, Eigen::Vector2d::UnitX(), 0.05, 1.0, 0.3);
+  const SimulationResult r = RunPush(scene, *scene.pusher, 0.3);
   const std::string path = testing::TempPath("pusher_log.csv");
-  WritePushLog(r.trajectory, path);
-  const Trajectory back = ReadPushLog(path);
-  EXPECT_TRUE(back.columns.tip);
+  WritePushLog(SimulatedLogFile(scene, r.trajectory), path);
+  const PushLogFile file = ReadPushLogFile(path);
+  const Trajectory& back = file.log;
+  EXPECT_TRUE(back.measured.tip);
   ASSERT_TRUE(back.tip_radius_m.has_value());
   EXPECT_EQ(*back.tip_radius_m, kTip);
   ASSERT_EQ(back.samples.size(), r.trajectory.samples.size());
@@ -297,7 +301,7 @@ TEST(Pusher, TheLogCarriesTheTipsPathAndRadius) {
     EXPECT_EQ(*back.samples[u].tip_world, *r.trajectory.samples[u].tip_world);
   }
   bool mu_p = false;
-  for (const auto& [key, value] : back.extra_metadata)
+  for (const auto& [key, value] : file.extra_metadata)
     mu_p = mu_p || (key == "mu_p" && std::stod(value) == 0.3);
   EXPECT_TRUE(mu_p);
 }

@@ -156,7 +156,7 @@ TEST(SimulateTool, WritesALogThatReadsBackAndExitsZero) {
       RunSimulate("--scene " + Source("datasets/scenes/example1_square.ini") + " --out " + out), 0);
   const Trajectory t = ReadPushLog(out);
   EXPECT_EQ(t.samples.size(), 46u);
-  EXPECT_TRUE(t.columns.step_info);
+  EXPECT_TRUE(t.measured.step_info);
 }
 
 TEST(SimulateTool, OverridesDurationAndStep) {

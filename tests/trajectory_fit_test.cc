@@ -57,7 +57,7 @@ TEST(TrajectoryFit, RecoversEveryParameterFromNoiselessLogsOfEveryScene) {
 TEST(TrajectoryFit, RecoversFromAVelocityOnlyLog) {
   const Scene scene = testing::TiltingPush();
   Trajectory log = SimulateOrFail(scene);
-  log.columns.pose = false;
+  log.measured.pose = false;
   ExpectRecovers(scene, log, Options(25));
 }
 
@@ -94,7 +94,7 @@ Trajectory WithHole(const Trajectory& log, int first, int count, bool mark) {
   Trajectory out = log;
   out.samples.erase(out.samples.begin() + first, out.samples.begin() + first + count);
   if (mark) out.samples[first].mode = SampleMode::kStart;
-  out.columns.mode = mark;
+  out.measured.mode = mark;
   return out;
 }
 
@@ -165,7 +165,7 @@ NoiseSpec MotionCapture(std::uint64_t seed) {
 
 Trajectory NoisyPosesOnly(const Trajectory& clean, std::uint64_t seed) {
   Trajectory noisy = AddNoise(clean, MotionCapture(seed));
-  noisy.columns.velocity = false;
+  noisy.measured.velocity = false;
   return noisy;
 }
 

@@ -79,13 +79,15 @@ int main(int argc, char** argv) {
     if (!vm.count("log")) throw po::error("the option '--log' is required");
     const cli::PredictRequest request = cli::ReadPredictOptions(vm);
     const std::string log_path = vm["log"].as<std::string>();
-    const Trajectory log = ReadPushLog(log_path);
+    const PushLogFile file = ReadPushLogFile(log_path);
+    const Trajectory& log = file.log;
     PredictionOptions options = request.options;
     options.drive = cli::DriveFor(request, log);
     const Prediction p = PredictPush(log, request.friction, request.mu_pusher, options);
     if (vm.count("out")) {
       try {
-        WritePushLog(p.predicted, vm["out"].as<std::string>());
+        // The log's patch text goes with it: a patch written as it was read.
+        WritePushLog(PushLogFile{p.predicted, file.patch_spec, {}}, vm["out"].as<std::string>());
       } catch (const std::exception& e) {
         std::cerr << "predict: error: " << e.what() << "\n";
         return tools::kExitIo;

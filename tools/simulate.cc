@@ -9,6 +9,7 @@
 #include "forward_model/simulator.h"
 #include "io/push_log.h"
 #include "io/scene_file.h"
+#include "io/simulated_log.h"
 #include "pipeline/log_cli_options.h"
 #include "tools/tool_support.h"
 
@@ -109,7 +110,7 @@ int main(int argc, char** argv) {
                       ? "none"
                       : scene.log.noise.Describe().c_str());
       try {
-        WritePushLog(log, vm["out"].as<std::string>());
+        WritePushLog(SimulatedLogFile(scene, log), vm["out"].as<std::string>());
       } catch (const std::exception& e) {
         std::cerr << "simulate: " << e.what() << "\n";
         return tools::kExitIo;

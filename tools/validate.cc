@@ -96,7 +96,7 @@ int main(int argc, char** argv) {
       }
     }
     const bool all_tip =
-        std::all_of(logs.begin(), logs.end(), [](const Trajectory& l) { return l.columns.tip; });
+        std::all_of(logs.begin(), logs.end(), [](const Trajectory& l) { return l.measured.tip; });
     const ValidationOptions options = cli::ReadValidateOptions(vm, all_tip);
     const ValidationResult r = Validate(logs, options);
 

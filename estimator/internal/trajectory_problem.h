@@ -162,7 +162,7 @@ class TrajectoryProblem {
   std::vector<TrajectorySegment>& segments() { return segments_; }
   const std::vector<TrajectorySegment>& segments() const { return segments_; }
   const Trajectory& log(int k) const { return *logs_[k]; }
-  bool use_pose(int k) const { return logs_[k]->columns.pose; }
+  bool use_pose(int k) const { return logs_[k]->measured.pose; }
   int substeps() const { return options_.trajectory.substeps; }
   int Rows() const;  ///< rows inside segments, over all logs
 

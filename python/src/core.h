@@ -12,7 +12,7 @@
 #include <string>
 #include <vector>
 
-#include "forward_model/trajectory.h"
+#include "io/push_log.h"
 
 namespace slideid::python {
 
@@ -33,7 +33,7 @@ class WriteFailure : public std::runtime_error {
 
 /// A push log in memory and what its reader said: the object behind slideid.Log.
 struct LogHandle {
-  Trajectory log;
+  PushLogFile file;  ///< the log and what its file says beyond it (metadata, patch text)
   std::vector<std::string> warnings;  ///< likely mistakes, each naming its file and line
   std::vector<std::string> notes;     ///< plain facts
 };

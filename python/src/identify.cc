@@ -34,9 +34,10 @@ bool ChangesReading(const po::variables_map& vm) {
 
 /// `log` read again from its text with `options` (slider overrides, largest gap), as the
 /// file it makes would be read with them.
-Trajectory Reread(const Trajectory& log, const LogReadOptions& options, FileIdentifyResult* run) {
+Trajectory Reread(const PushLogFile& file, const LogReadOptions& options, FileIdentifyResult* run) {
+  const Trajectory& log = file.log;
   std::ostringstream text;
-  WritePushLog(log, text);
+  WritePushLog(file, text);
   LogReadReport report;
   Trajectory again = ParsePushLog(text.str(), log.source, options, &report);
   again.source = log.source;
@@ -137,15 +138,15 @@ py::dict IdentifyInputs(const py::list& inputs, const py::kwargs& keywords) {
     for (const LogPtr& h : handles) {
       if (reread) {
         FileIdentifyResult reading;
-        logs.push_back(Reread(h->log, options.read, &reading));
+        logs.push_back(Reread(h->file, options.read, &reading));
         fresh_warnings.insert(fresh_warnings.end(), reading.warnings.begin(),
                               reading.warnings.end());
         notes.insert(notes.end(), reading.notes.begin(), reading.notes.end());
         continue;
       }
-      logs.push_back(h->log);
+      logs.push_back(h->file.log);
       warnings.insert(warnings.end(), h->warnings.begin(), h->warnings.end());
-      for (const std::string& n : h->notes) notes.push_back(h->log.source + ": " + n);
+      for (const std::string& n : h->notes) notes.push_back(h->file.log.source + ": " + n);
     }
     warnings.insert(warnings.end(), fresh_warnings.begin(), fresh_warnings.end());
     what = logs.size() == 1 ? (logs[0].source.empty() ? "the log" : logs[0].source)
@@ -191,7 +192,7 @@ py::dict CheckInputs(const py::list& inputs, const py::kwargs& keywords) {
   std::vector<Trajectory> logs;
   for (py::handle item : inputs) {
     if (py::isinstance<LogHandle>(item)) {
-      logs.push_back(item.cast<LogPtr>()->log);
+      logs.push_back(item.cast<LogPtr>()->file.log);
     } else {
       paths.push_back(item.cast<std::string>());
     }

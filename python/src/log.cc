@@ -33,9 +33,9 @@ LogReadOptions ReadOptionsFromKeywords(const std::string& function, const py::di
   return cli::ReadFileIdentifyOptions(ParseKeywords(function, general, keywords)).read;
 }
 
-std::string LogText(const Trajectory& log) {
+std::string LogText(const PushLogFile& file) {
   std::ostringstream out;
-  WritePushLog(log, out);
+  WritePushLog(file, out);
   return out.str();
 }
 
@@ -48,7 +48,7 @@ LogReadOptions AnyLog() {
 }
 
 py::dict Columns(const LogHandle& h) {
-  const PushLogColumns columns = ColumnsOf(h.log);
+  const PushLogColumns columns = ColumnsOf(h.file.log);
   py::dict out;
   for (size_t c = 0; c < columns.names.size(); ++c) {
     const std::vector<double>& v = columns.values[c];
@@ -60,15 +60,15 @@ py::dict Columns(const LogHandle& h) {
 }
 
 py::dict Metadata(const LogHandle& h) {
-  const Trajectory& log = h.log;
+  const Trajectory& log = h.file.log;
   py::dict m;
   m["source"] = log.source;
   m["mass"] = log.slider.mass_kg;
   m["inertia"] = log.slider.inertia_kgm2;
   m["com_height"] = log.slider.com_height_m;
   m["gravity"] = log.slider.gravity_mps2;
-  m["patch"] =
-      log.patch_spec.empty() ? py::object(py::none()) : py::object(py::str(log.patch_spec));
+  const std::string patch = PatchText(h.file);
+  m["patch"] = patch.empty() ? py::object(py::none()) : py::object(py::str(patch));
   m["tip_radius"] =
       log.tip_radius_m ? py::object(py::float_(*log.tip_radius_m)) : py::object(py::none());
   if (log.true_friction) {
@@ -83,7 +83,7 @@ py::dict Metadata(const LogHandle& h) {
     m["truth"] = py::none();
   }
   py::dict extra;
-  for (const auto& [key, value] : log.extra_metadata) extra[py::str(key)] = value;
+  for (const auto& [key, value] : h.file.extra_metadata) extra[py::str(key)] = value;
   m["extra"] = extra;
   return m;
 }
@@ -94,9 +94,9 @@ LogPtr ReadLog(const std::string& path, const py::kwargs& keywords) {
   LogReadReport report;
   {
     py::gil_scoped_release release;
-    handle->log = ReadPushLog(path, options, &report);
+    handle->file = ReadPushLogFile(path, options, &report);
   }
-  handle->log.source = std::filesystem::path(path).filename().string();
+  handle->file.log.source = std::filesystem::path(path).filename().string();
   handle->warnings = report.warnings;
   handle->notes = report.notes;
   return handle;
@@ -120,8 +120,8 @@ LogPtr MakeLog(const py::dict& columns, const std::optional<std::vector<std::str
   if (mode) table.mode = *mode;
   auto handle = std::make_shared<LogHandle>();
   LogReadReport report;
-  handle->log = ParsePushLogColumns(table, metadata, source, options, &report);
-  handle->log.source = source;
+  handle->file = ParsePushLogColumns(table, metadata, source, options, &report);
+  handle->file.log.source = source;
   handle->warnings = report.warnings;
   handle->notes = report.notes;
   return handle;
@@ -130,7 +130,7 @@ LogPtr MakeLog(const py::dict& columns, const std::optional<std::vector<std::str
 void WriteLog(const LogHandle& handle, const std::string& path) {
   py::gil_scoped_release release;
   try {
-    WritePushLog(handle.log, path);
+    WritePushLog(handle.file, path);
   } catch (const std::invalid_argument&) {
     throw;  // metadata a file cannot hold: bad input
   } catch (const std::runtime_error& e) {
@@ -143,23 +143,23 @@ void WriteLog(const LogHandle& handle, const std::string& path) {
 void BindLog(py::module_& m) {
   py::class_<LogHandle, LogPtr>(m, "LogHandle",
                                 "A push log in memory (use slideid.Log, which wraps it).")
-      .def_property_readonly("source", [](const LogHandle& h) { return h.log.source; })
-      .def_property_readonly("rows", [](const LogHandle& h) { return h.log.samples.size(); })
+      .def_property_readonly("source", [](const LogHandle& h) { return h.file.log.source; })
+      .def_property_readonly("rows", [](const LogHandle& h) { return h.file.log.samples.size(); })
       .def_readonly("warnings", &LogHandle::warnings)
       .def_readonly("notes", &LogHandle::notes)
       .def("columns", &Columns, "the columns write_log writes, as numpy arrays")
       .def("metadata", &Metadata, "slider properties, patch, truth and further metadata")
       .def(
-          "text", [](const LogHandle& h) { return LogText(h.log); }, "the log as CSV text")
+          "text", [](const LogHandle& h) { return LogText(h.file); }, "the log as CSV text")
       .def(py::pickle(
           [](const LogHandle& h) {
-            return py::make_tuple(LogText(h.log), h.log.source, h.warnings, h.notes);
+            return py::make_tuple(LogText(h.file), h.file.log.source, h.warnings, h.notes);
           },
           [](const py::tuple& state) {
             auto h = std::make_shared<LogHandle>();
             const auto source = state[1].cast<std::string>();
-            h->log = ParsePushLog(state[0].cast<std::string>(), source, AnyLog());
-            h->log.source = source;
+            h->file = ParsePushLogFile(state[0].cast<std::string>(), source, AnyLog());
+            h->file.log.source = source;
             h->warnings = state[2].cast<std::vector<std::string>>();
             h->notes = state[3].cast<std::vector<std::string>>();
             return h;

@@ -29,7 +29,7 @@ class OnlineCore {
     table.names = columns_;
     table.values.assign(columns_.size(), std::vector<double>{0.0});
     identifier_ = std::make_unique<OnlineIdentifier>(
-        ParsePushLogColumns(table, metadata_, kSource, ReadOptions()));
+        ParsePushLogColumns(table, metadata_, kSource, ReadOptions()).log);
   }
 
   /// Rows (n x columns), in order: one JSON line per row.
@@ -48,7 +48,7 @@ class OnlineCore {
     out.reserve(rows.shape(0));
     py::gil_scoped_release release;
     if (rows.shape(0) == 0) return out;
-    const Trajectory chunk = ParsePushLogColumns(table, metadata_, kSource, ReadOptions());
+    const Trajectory chunk = ParsePushLogColumns(table, metadata_, kSource, ReadOptions()).log;
     for (const TrajectorySample& read : chunk.samples) {
       TrajectorySample row = read;
       // A chunk's first row reads as a run's first; after the first chunk it is not.

@@ -14,12 +14,12 @@ namespace po = boost::program_options;
 
 namespace {
 
-Trajectory LogOf(py::handle item) {
-  if (py::isinstance<LogHandle>(item)) return item.cast<LogPtr>()->log;
+PushLogFile LogOf(py::handle item) {
+  if (py::isinstance<LogHandle>(item)) return item.cast<LogPtr>()->file;
   const std::string path = item.cast<std::string>();
-  Trajectory log = ReadPushLog(path);
-  if (log.source.empty()) log.source = path;
-  return log;
+  PushLogFile file = ReadPushLogFile(path);
+  if (file.log.source.empty()) file.log.source = path;
+  return file;
 }
 
 /// predict: {"json": what predict --json prints, "predicted": the predicted log}.
@@ -29,7 +29,8 @@ py::dict PredictLog(py::object log, const py::kwargs& keywords) {
   options.add_options()("out", po::value<std::string>());
   const po::variables_map vm = ParseKeywords("predict", options, keywords);
   const cli::PredictRequest request = cli::ReadPredictOptions(vm);
-  const Trajectory trajectory = LogOf(log);
+  const PushLogFile file = LogOf(log);
+  const Trajectory& trajectory = file.log;
   PredictionOptions prediction = request.options;
   prediction.drive = cli::DriveFor(request, trajectory);
   auto predicted = std::make_shared<LogHandle>();
@@ -38,11 +39,12 @@ py::dict PredictLog(py::object log, const py::kwargs& keywords) {
     py::gil_scoped_release release;
     const Prediction p = PredictPush(trajectory, request.friction, request.mu_pusher, prediction);
     json = cli::PredictionJson(p, request.friction);
-    predicted->log = p.predicted;
+    // The source's patch text goes with it: a patch written as it was read.
+    predicted->file = PushLogFile{p.predicted, file.patch_spec, {}};
   }
   if (vm.count("out")) {
     try {
-      WritePushLog(predicted->log, vm["out"].as<std::string>());
+      WritePushLog(predicted->file, vm["out"].as<std::string>());
     } catch (const std::exception& e) {
       throw WriteFailure(e.what());
     }
@@ -59,9 +61,9 @@ std::string ValidateLogs(const py::list& inputs, const py::kwargs& keywords) {
   cli::AddValidateOptions(&options);
   const po::variables_map vm = ParseKeywords("validate", options, keywords);
   std::vector<Trajectory> logs;
-  for (py::handle item : inputs) logs.push_back(LogOf(item));
+  for (py::handle item : inputs) logs.push_back(LogOf(item).log);
   bool all_tip = true;
-  for (const Trajectory& l : logs) all_tip = all_tip && l.columns.tip;
+  for (const Trajectory& l : logs) all_tip = all_tip && l.measured.tip;
   const ValidationOptions validation = cli::ReadValidateOptions(vm, all_tip);
   py::gil_scoped_release release;
   return cli::ValidationJson(Validate(logs, validation));

@@ -5,12 +5,14 @@
 
 #include <filesystem>
 #include <optional>
+#include <utility>
 
 #include "core.h"
 #include "datasets/sensor_model.h"
 #include "forward_model/simulator.h"
 #include "io/dataset_files.h"
 #include "io/scene_file.h"
+#include "io/simulated_log.h"
 #include "pipeline/log_cli_options.h"
 
 namespace slideid::python {
@@ -60,9 +62,10 @@ std::pair<LogPtr, py::dict> SimulateScene(const std::string& scene_text, bool is
     if (!summary.ok()) {
       throw NumericalError(std::string(ToString(summary.status)) + ": " + summary.message);
     }
-    handle->log = MakeLog(result.trajectory, scene.log);
+    handle->file = SimulatedLogFile(scene, MakeLog(result.trajectory, scene.log));
   }
-  handle->log.source = is_path ? std::filesystem::path(scene_text).filename().string() : source;
+  handle->file.log.source =
+      is_path ? std::filesystem::path(scene_text).filename().string() : source;
   return {handle, Summary(summary)};
 }
 
@@ -121,11 +124,13 @@ py::list MakeDatasetEntries(const py::kwargs& keywords) {
     DatasetEntry entry;
     try {
       py::gil_scoped_release release;
-      entry = DrawDatasetLog(spec, i, &handle->log);
+      Trajectory log;
+      entry = DrawDatasetLog(spec, i, &log);
+      handle->file = DatasetLogFile(spec, i, entry, std::move(log));
     } catch (const NoValidDraw& e) {
       throw NumericalError(e.what());
     }
-    handle->log.source = entry.file;
+    handle->file.log.source = entry.file;
     py::dict d = Entry(entry);
     d["log"] = handle;
     entries.append(d);
