@@ -25,9 +25,6 @@ namespace slideid {
 namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-// Residuals below this [m or m/s] are rounding, not noise: a log whose noise is below it
-// needs no robust loss (and a zero scale would make the loss degenerate).
-constexpr double kNoiseFloor = 1e-10;
 // The seed scan of a: log-spaced points over a factor kScanSpan either side of the
 // candidates' a, then the vertex of a parabola through the best point and its neighbours.
 // Each point is one forward pass without derivatives (about 2 ms at 10k rows). 5 points
@@ -41,10 +38,6 @@ constexpr int kScanPoints = 5;
 constexpr double kRefineFactor = 1.3;
 // Typical table-top friction, the default seed of a.
 constexpr double kDefaultA = 0.3;
-// The robust loss is scaled to the noise the log shows; residuals whose robust scale sits
-// above this many times that noise (model mismatch) are refitted at their own scale, so that
-// the loss does not treat most rows as outliers.
-constexpr double kRescaleRatio = 2.0;
 // A force offset whose standard error exceeds this fraction of the log's largest push (or
 // of a tenth of its weight, for a log barely pushed) is not determined by the log; a delay
 // whose standard error exceeds this fraction of the delay range neither.
@@ -918,10 +911,7 @@ void RobustStage(FitStages* f) {
   TrajectoryProblem& problem = *f->problem;
   std::vector<double> loss_noise = f->row_noise;
   for (size_t k = 0; k < f->logs.size(); ++k) {
-    if (f->residual_scale[k] > kRescaleRatio * f->row_noise[k] ||
-        !(f->row_noise[k] > kNoiseFloor)) {
-      loss_noise[k] = f->residual_scale[k];
-    }
+    loss_noise[k] = RowLossNoise(f->row_noise[k], f->residual_scale[k]);
   }
   // Huber equals least squares for rows inside its scale: when no row lies beyond it, the
   // least-squares solution is the robust one. (On estimator_benchmark's 10,000-row log no

@@ -77,6 +77,21 @@ constexpr int kMinRobustSegments = 5;
 /// A short log's segments are shortened to give it kMinRobustSegments, down to this.
 constexpr int kMinShortSegmentSteps = 10;
 
+/// Residuals below this [m or m/s] are rounding, not noise: a log whose noise is below it
+/// needs no robust loss (and a zero scale would make the loss degenerate).
+constexpr double kNoiseFloor = 1e-10;
+/// The robust loss is scaled to the noise the log shows; residuals whose robust scale sits
+/// above this many times that noise (model mismatch) are refitted at their own scale, so
+/// that the loss does not treat most rows as outliers.
+constexpr double kRescaleRatio = 2.0;
+/// The noise a log's robust row loss is scaled to (the robust stage of trajectory_fit.cc):
+/// its rows' noise `row_noise`, or its residuals' robust scale `residual_scale` where that
+/// sits above kRescaleRatio times the noise or the noise is below kNoiseFloor.
+inline double RowLossNoise(double row_noise, double residual_scale) {
+  const bool rescale = residual_scale > kRescaleRatio * row_noise || !(row_noise > kNoiseFloor);
+  return rescale ? residual_scale : row_noise;
+}
+
 /// One shooting segment: rows first_row..last_row of log `log`.
 struct TrajectorySegment {
   int log = 0;
