@@ -1280,7 +1280,7 @@ bool Consistent(const ParameterEstimate& p, const ParameterEstimate& q) {
 // logs) by how far the two fits differ: halving a step halves a first-order error, so what
 // is left in the finer fit is about the move. On the scene suite's 124 free slides
 // (datasets/scene_suite.h; simulated at 1-2 steps per log interval) no estimate lay beyond
-// 3 standard errors, and the intervals held the truth for 86% / 93% / 99% of a / b / c.
+// 3 standard errors, and the intervals held the truth for 87% / 93% / 98% of a / b / c.
 constexpr char kDiscretizationNote[] =
     "; widened by %.2g%% for the time step's own error: a fit with %d substeps per interval "
     "gives %.6g";

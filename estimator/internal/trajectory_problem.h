@@ -61,7 +61,7 @@ inline double ClampToSearchRange(int i, double value) {
 /// of 19 intervals, gave a to 6% (one standard error) and came out -1.8% / -2.6% / +0.3%;
 /// in 3 of 35 it gives 0.5% and -0.6% / +0.2% / +0.3% (the discretization allowance of
 /// trajectory_fit.cc then covers the step's own error). On the scene suite's 124 free
-/// slides the median error went from 0.41 / 0.50 / 0.74% to 0.15 / 0.16 / 0.30%.
+/// slides the median error went from 0.41 / 0.50 / 0.74% to 0.15 / 0.16 / 0.28%.
 int TrajectorySegmentSteps(int rows, double interval_s, const TrajectoryOptions& options,
                            bool free_slide = false);
 
