@@ -411,15 +411,75 @@ class SettledCallback final : public ceres::IterationCallback {
   int settled_ = 0;
 };
 
+// What Ceres sees of a segment: its n residuals r and n x m Jacobian J (m the parameters of
+// all its blocks) compressed by the thin QR J = Q R to m + 1 residuals [Q^T r; |r - Q Q^T r|]
+// with Jacobian [R; 0]. The cost (|r|^2), the gradient J^T r = R^T Q^T r, the Gauss-Newton
+// matrix J^T J = R^T R and so the model |r + J d|^2 of every step are those of the
+// segment's own residuals, for any subset of its blocks held constant: the same solve in
+// exact arithmetic (rounding aside), without the n x m Jacobian Ceres would keep for every
+// segment (3 residuals a row x 9 parameters: 216 bytes a row, 216 MB for a 1e6-row log) nor
+// its n-long residual vectors. An evaluation without derivatives returns the cost alone, as
+// (0, ..., 0, |r|): Ceres takes residuals and Jacobian from the same evaluation (a step's
+// model) and only the cost from the others. Segments with n <= m + 1 are not compressed.
+class CompressedSegmentCost final : public ceres::CostFunction {
+ public:
+  explicit CompressedSegmentCost(const SegmentCost* cost) : cost_(cost) {
+    *mutable_parameter_block_sizes() = cost->parameter_block_sizes();
+    for (const int32_t size : cost->parameter_block_sizes()) columns_ += size;
+    set_num_residuals(std::min(cost->num_residuals(), columns_ + 1));
+  }
+
+  bool Evaluate(double const* const* params, double* residuals, double** jacobians) const override {
+    const int n = cost_->num_residuals();
+    if (n == num_residuals()) return cost_->Evaluate(params, residuals, jacobians);
+    const std::vector<int32_t>& sizes = parameter_block_sizes();
+    Eigen::VectorXd r(n);
+    if (!jacobians) {
+      if (!cost_->Evaluate(params, r.data(), nullptr)) return false;
+      std::fill(residuals, residuals + num_residuals(), 0.0);
+      residuals[columns_] = r.norm();
+      return true;
+    }
+    // Every block's Jacobian, held ones too: Q must not depend on which blocks Ceres asks for.
+    std::vector<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>> block(
+        sizes.size());
+    std::vector<double*> all(sizes.size());
+    for (size_t b = 0; b < sizes.size(); ++b) {
+      block[b].resize(n, sizes[b]);
+      all[b] = block[b].data();
+    }
+    if (!cost_->Evaluate(params, r.data(), all.data())) return false;
+    Eigen::MatrixXd J(n, columns_);
+    for (size_t b = 0, col = 0; b < sizes.size(); col += sizes[b], ++b) {
+      J.middleCols(static_cast<Eigen::Index>(col), sizes[b]) = block[b];
+    }
+    const Eigen::HouseholderQR<Eigen::Ref<Eigen::MatrixXd>> qr(J);  // in place, in J
+    r.applyOnTheLeft(qr.householderQ().adjoint());                  // Q^T r (n, full Q)
+    for (int i = 0; i < columns_; ++i) residuals[i] = r(i);
+    residuals[columns_] = r.tail(n - columns_).norm();
+    const Eigen::MatrixXd R = J.topRows(columns_).triangularView<Eigen::Upper>();
+    for (size_t b = 0, col = 0; b < sizes.size(); col += sizes[b], ++b) {
+      if (!jacobians[b]) continue;
+      Eigen::Map<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>> out(
+          jacobians[b], num_residuals(), sizes[b]);
+      out.topRows(columns_) = R.middleCols(static_cast<Eigen::Index>(col), sizes[b]);
+      out.bottomRows<1>().setZero();
+    }
+    return true;
+  }
+
+ private:
+  const SegmentCost* cost_;
+  int columns_ = 0;
+};
+
 }  // namespace
 
 ceres::Solver::Summary TrajectoryProblem::Solve(const std::vector<bool>& free, bool stage) {
-  ceres::Problem::Options problem_options;
-  problem_options.cost_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
-  ceres::Problem problem(problem_options);
+  ceres::Problem problem;  // owns the CompressedSegmentCosts, not the segments' costs
   auto* ordering = new ceres::ParameterBlockOrdering;
   for (TrajectorySegment& seg : segments_) {
-    problem.AddResidualBlock(seg.cost.get(), nullptr, BlocksOf(seg));
+    problem.AddResidualBlock(new CompressedSegmentCost(seg.cost.get()), nullptr, BlocksOf(seg));
     ordering->AddElementToGroup(seg.state.data(), 0);
     if (!use_pose(seg.log)) {
       // Velocity residuals do not see the pose: only the velocity part is a parameter.
