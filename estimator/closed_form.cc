@@ -320,7 +320,8 @@ EstimateResult ClosedFormCore(const std::vector<const Trajectory*>& logs,
   result.residual_names = {{"a_step_rel", "b_step_rel", "c_step_rel"}};
   const double fraction = options.closed_form.divisor_fraction;
   std::vector<LogSteps> log_steps;
-  Collected c = CollectAll(logs, fraction, keep_residuals, &log_steps, &result);
+  Collected c =
+      CollectAll(logs, fraction, keep_residuals && options.keep_residuals, &log_steps, &result);
   const std::vector<int> lag_of_log = Lags(log_steps);
   result.steps_used = static_cast<int>(c.samples[kA].x.size());
   if (c.steps_with_a < kMinStepsPerParameter) {

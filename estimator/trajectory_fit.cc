@@ -817,9 +817,16 @@ double MaxStdErr(const TrajectoryProblem& problem, int i, const std::vector<LogD
   return kMaxOffsetStdErrFraction * std::max(d[k].max_push_n, 0.1 * weight);
 }
 
-void FillResiduals(const TrajectoryProblem& problem, EstimateResult* result) {
-  result->residuals.reserve(result->residuals.size() + problem.Rows());  // no growth by copies
+void FillResiduals(const TrajectoryProblem& problem, bool keep, EstimateResult* result) {
+  const bool pose = problem.use_pose(0);
+  result->residual_names = pose
+                               ? std::array<std::string, 3>{{"x_m", "y_m", "theta_times_L_m"}}
+                               : std::array<std::string, 3>{{"vx_mps", "vy_mps", "wz_times_L_mps"}};
+  // Evaluated even when not kept: the segments' caches (warm starts) are then left as a kept
+  // pass leaves them, and a pooled fit's refits from this problem do not depend on `keep`.
+  if (keep) result->residuals.reserve(result->residuals.size() + problem.Rows());
   problem.ForEachSegmentResiduals(true, [&](int k, const std::vector<double>& r) {
+    if (!keep) return;
     const TrajectorySegment& seg = problem.segments()[k];
     const Trajectory& log = problem.log(seg.log);
     size_t i = 0;
@@ -832,10 +839,6 @@ void FillResiduals(const TrajectoryProblem& problem, EstimateResult* result) {
       result->residuals.push_back(sr);
     }
   });
-  const bool pose = problem.use_pose(0);
-  result->residual_names = pose
-                               ? std::array<std::string, 3>{{"x_m", "y_m", "theta_times_L_m"}}
-                               : std::array<std::string, 3>{{"vx_mps", "vy_mps", "wz_times_L_mps"}};
 }
 
 // ---- the fit, stage by stage ---------------------------------------------------------------
@@ -1160,7 +1163,7 @@ void Conclude(const FitStages& f, EstimateResult* result) {
         "minimum (sum of squares %.4g against %.4g): kept",
         f.second.steps, f.second.cost_second, f.second.cost_first);
   }
-  FillResiduals(*f.problem, result);
+  FillResiduals(*f.problem, f.options.keep_residuals, result);
   // Usable is not converged: a solve cut off by the iteration limit is usable to Ceres.
   result->Conclude(f.summary.termination_type == ceres::CONVERGENCE ||
                    f.summary.termination_type == ceres::USER_SUCCESS);
