@@ -12,10 +12,10 @@
 
 namespace slideid {
 
-LogSteps ReadLogSteps(const Trajectory& log) {
+LogSteps ReadLogSteps(const Trajectory& log, bool with_steps) {
   LogSteps s;
   s.log = &log;
-  s.steps = ExtractStepObservations(log);
+  if (with_steps) s.steps = ExtractStepObservations(log);
   s.noise = ReadStepNoise(log);
   s.max_push_n = DiagnoseLog(log).max_push_n;
   s.radius_m = std::sqrt(log.slider.inertia_kgm2 / log.slider.mass_kg);
@@ -24,17 +24,21 @@ LogSteps ReadLogSteps(const Trajectory& log) {
 }
 
 double ImpulseSnr(const LogSteps& s, const std::vector<int>& used, bool rotation) {
-  if (used.empty()) return std::numeric_limits<double>::quiet_NaN();
+  std::vector<double> magnitudes;
+  magnitudes.reserve(used.size());
+  for (int k : used) magnitudes.push_back(ImpulseMagnitude(s.steps[k], rotation));
+  return ImpulseSnrOf(s, magnitudes, rotation);
+}
+
+double ImpulseSnrOf(const LogSteps& s, const std::vector<double>& magnitudes, bool rotation) {
+  if (magnitudes.empty()) return std::numeric_limits<double>::quiet_NaN();
   const SliderProperties& slider = s.log->slider;
   const double noise = rotation ? slider.inertia_kgm2 * s.noise.delta_spin_radps
                                 : slider.mass_kg * s.noise.delta_velocity_mps;
   if (!(noise > 0)) return std::numeric_limits<double>::infinity();
   std::vector<double> ratio;
-  ratio.reserve(used.size());
-  for (int k : used) {
-    const Eigen::Vector3d& p = s.steps[k].friction_impulse;
-    ratio.push_back((rotation ? std::abs(p(2)) : std::hypot(p(0), p(1))) / noise);
-  }
+  ratio.reserve(magnitudes.size());
+  for (const double m : magnitudes) ratio.push_back(m / noise);
   return Median(ratio);
 }
 

@@ -4,6 +4,7 @@
 // plausibility verdicts, and per-log results of a pooled estimate.
 
 #include <array>
+#include <cmath>
 #include <limits>
 #include <string>
 #include <vector>
@@ -25,14 +26,23 @@ struct LogSteps {
   double max_push_n = 0;  ///< largest applied horizontal force (LogDiagnostics)
 };
 
-/// Extracts the steps and reads the noise of `log`.
-LogSteps ReadLogSteps(const Trajectory& log);
+/// Extracts the steps (unless `with_steps` is false: a caller that streams them with
+/// ForEachStepObservation) and reads the noise of `log`.
+LogSteps ReadLogSteps(const Trajectory& log, bool with_steps = true);
 
 /// Friction impulse over its noise on the used steps `used` (indices into s.steps): the
 /// median of |(p_t, p_o)| / (m s_dv) (translation) or |p_r| / (I_z s_dw) (rotation),
 /// s_dv, s_dw the noise of v' - v, w' - w (StepNoise). Infinite on a log without noise,
 /// NaN without steps.
 double ImpulseSnr(const LogSteps& s, const std::vector<int>& used, bool rotation);
+/// The same from the used steps' impulse magnitudes: |(p_t, p_o)| (translation) or |p_r|
+/// (rotation), in the steps' order.
+double ImpulseSnrOf(const LogSteps& s, const std::vector<double>& magnitudes, bool rotation);
+/// The magnitude ImpulseSnr takes of a step's friction impulse.
+inline double ImpulseMagnitude(const StepObservation& o, bool rotation) {
+  const Eigen::Vector3d& p = o.friction_impulse;
+  return rotation ? std::abs(p(2)) : std::hypot(p(0), p(1));
+}
 
 /// The change of a step's friction impulse (p_t, p_o, p_r) if its force were the mean of
 /// its row's and the next row's (varying within the interval) instead of its row's held

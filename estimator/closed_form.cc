@@ -118,50 +118,80 @@ struct Collected {
   std::vector<StepResidual> residuals;    ///< value: the estimates themselves, for now
 };
 
-void CollectLog(const LogSteps& s, int k, double fraction, Collected* c, EstimateResult* result) {
-  std::vector<std::array<double, 3>> estimates(s.steps.size(), {{kNaN, kNaN, kNaN}});
-  std::array<std::vector<int>, 3> used;
-  std::vector<int> sliding;
-  for (size_t j = 0; j < s.steps.size(); ++j) {
-    if (!SlidingStep(s.steps[j], s.noise, s.radius_m, result)) continue;
-    sliding.push_back(static_cast<int>(j));
-    estimates[j] = StepEstimates(s.steps[j], s, fraction, result);
-    for (int i = 0; i < 3; ++i) {
-      if (!std::isnan(estimates[j][i])) used[i].push_back(static_cast<int>(j));
-    }
+/// One pass over the log's steps, streamed (ForEachStepObservation: a 1e6-row log's steps
+/// took 224 MB at once): each sliding step's estimates go into c's samples as they come,
+/// with the impulse magnitudes of the noise check, and a parameter the check leaves out is
+/// taken back out of the samples after the pass. `keep_residuals`: the per-step residuals
+/// (--residuals) too.
+void CollectLog(const LogSteps& s, int k, double fraction, bool keep_residuals, Collected* c,
+                EstimateResult* result) {
+  const size_t rows = s.log->samples.size();
+  const size_t steps = rows >= 2 ? rows - 1 : 0;
+  std::vector<std::array<double, 3>> estimates;  // per step, only for the residuals
+  std::vector<int> step_rows;
+  if (keep_residuals) {
+    estimates.reserve(steps);
+    step_rows.reserve(steps);
   }
-  c->steps_with_a += static_cast<int>(used[kA].size());
+  std::array<size_t, 3> before{}, used{};
+  for (int i = 0; i < 3; ++i) {
+    Samples& x = c->samples[i];
+    before[i] = x.x.size();
+    // Untouched capacity costs address space only; the samples no longer grow by copies.
+    for (auto* v : {&x.x, &x.x_force_varying, &x.x_mid_interval}) v->reserve(before[i] + steps);
+    for (auto* v : {&x.log, &x.row}) v->reserve(before[i] + steps);
+  }
+  std::vector<double> translation_impulse, rotation_impulse;  // of the sliding steps
+  ForEachStepObservation(*s.log, [&](const StepObservation& o) {
+    std::array<double, 3> estimate{{kNaN, kNaN, kNaN}};
+    if (SlidingStep(o, s.noise, s.radius_m, result)) {
+      translation_impulse.push_back(ImpulseMagnitude(o, false));
+      rotation_impulse.push_back(ImpulseMagnitude(o, true));
+      estimate = StepEstimates(o, s, fraction, result);
+      for (int i = 0; i < 3; ++i) {
+        if (std::isnan(estimate[i])) continue;
+        ++used[i];
+        const double x = std::log(estimate[i]);
+        StepObservation varying = o;
+        varying.friction_impulse += ForceHoldImpulseShift(s, o);
+        c->samples[i].x.push_back(x);
+        c->samples[i].x_force_varying.push_back(HalfLogOr(varying, i, x));
+        c->samples[i].x_mid_interval.push_back(HalfLogOr(MidInterval(o), i, x));
+        c->samples[i].log.push_back(k);
+        c->samples[i].row.push_back(o.row);
+      }
+    }
+    if (keep_residuals) {
+      estimates.push_back(estimate);
+      step_rows.push_back(o.row);
+    }
+  });
+  c->steps_with_a += static_cast<int>(used[kA]);
   // Every estimate divides translational impulses; c's also rotational ones. A log whose
   // sliding steps' impulses do not stand out of their noise gives biased estimates.
-  const double translation = ImpulseSnr(s, sliding, false);
-  const double rotation = ImpulseSnr(s, sliding, true);
+  const double translation = ImpulseSnrOf(s, translation_impulse, false);
+  const double rotation = ImpulseSnrOf(s, rotation_impulse, true);
   std::array<bool, 3> kept{};
   for (int i = 0; i < 3; ++i) {
     const bool low_translation = translation < kMinImpulseSnr;
     kept[i] = !low_translation && !(i == kC && rotation < kMinImpulseSnr);
     if (!kept[i]) {
       result->Exclude(std::string(kSymbol[i]) + ": impulse noise swamps the friction",
-                      static_cast<int>(used[i].size()));
+                      static_cast<int>(used[i]));
       c->snr_reason[i] = low_translation ? LowSnrReason(translation, s.noise.differentiated, false)
                                          : LowSnrReason(rotation, s.noise.differentiated, true);
-      continue;
-    }
-    for (int j : used[i]) {
-      const double x = std::log(estimates[j][i]);
-      StepObservation varying = s.steps[j];
-      varying.friction_impulse += ForceHoldImpulseShift(s, s.steps[j]);
-      c->samples[i].x.push_back(x);
-      c->samples[i].x_force_varying.push_back(HalfLogOr(varying, i, x));
-      c->samples[i].x_mid_interval.push_back(HalfLogOr(MidInterval(s.steps[j]), i, x));
-      c->samples[i].log.push_back(k);
-      c->samples[i].row.push_back(s.steps[j].row);
+      Samples& x = c->samples[i];
+      for (auto* v : {&x.x, &x.x_force_varying, &x.x_mid_interval}) v->resize(before[i]);
+      for (auto* v : {&x.log, &x.row}) v->resize(before[i]);
     }
   }
-  for (size_t j = 0; j < s.steps.size(); ++j) {
+  if (!keep_residuals) return;
+  c->residuals.reserve(c->residuals.size() + estimates.size());
+  for (size_t j = 0; j < estimates.size(); ++j) {
     StepResidual r;
     r.log = k;
-    r.row = s.steps[j].row;
-    r.t_s = s.log->samples[s.steps[j].row].t_s;
+    r.row = step_rows[j];
+    r.t_s = s.log->samples[step_rows[j]].t_s;
     for (int i = 0; i < 3; ++i) r.value[i] = kept[i] ? estimates[j][i] : kNaN;
     r.used = !std::isnan(r.value[kA]);
     c->residuals.push_back(r);
@@ -262,12 +292,14 @@ LogEstimate RobustMeanEstimate(const Samples& s, const std::vector<int>& lag_of_
 
 /// Every log's per-step estimates (exclusions counted in `result`).
 Collected CollectAll(const std::vector<const Trajectory*>& logs, double fraction,
-                     std::vector<LogSteps>* log_steps, EstimateResult* result) {
+                     bool keep_residuals, std::vector<LogSteps>* log_steps,
+                     EstimateResult* result) {
   Collected c;
   for (size_t k = 0; k < logs.size(); ++k) {
-    log_steps->push_back(ReadLogSteps(*logs[k]));
-    result->steps_total += static_cast<int>(log_steps->back().steps.size());
-    CollectLog(log_steps->back(), static_cast<int>(k), fraction, &c, result);
+    log_steps->push_back(ReadLogSteps(*logs[k], /*with_steps=*/false));
+    const size_t rows = logs[k]->samples.size();
+    result->steps_total += static_cast<int>(rows >= 2 ? rows - 1 : 0);
+    CollectLog(log_steps->back(), static_cast<int>(k), fraction, keep_residuals, &c, result);
   }
   return c;
 }
@@ -281,14 +313,15 @@ std::vector<int> Lags(const std::vector<LogSteps>& log_steps) {
 }  // namespace
 
 EstimateResult ClosedFormCore(const std::vector<const Trajectory*>& logs,
-                              const IdentifyOptions& options) {
+                              const IdentifyOptions& options, bool keep_residuals) {
   const auto start_time = std::chrono::steady_clock::now();
   EstimateResult result;
   result.method = EstimatorMethod::kClosedForm;
   result.residual_names = {{"a_step_rel", "b_step_rel", "c_step_rel"}};
   const double fraction = options.closed_form.divisor_fraction;
   std::vector<LogSteps> log_steps;
-  Collected c = CollectAll(logs, fraction, &log_steps, &result);
+  Collected c =
+      CollectAll(logs, fraction, keep_residuals && options.keep_residuals, &log_steps, &result);
   const std::vector<int> lag_of_log = Lags(log_steps);
   result.steps_used = static_cast<int>(c.samples[kA].x.size());
   if (c.steps_with_a < kMinStepsPerParameter) {

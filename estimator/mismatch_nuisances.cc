@@ -11,11 +11,6 @@ namespace {
 
 double HorizontalForce(const AppliedWrench& w) { return std::hypot(w.fx, w.fy); }
 
-AppliedWrench Mean(const AppliedWrench& a, const AppliedWrench& b) {
-  return {0.5 * (a.fx + b.fx), 0.5 * (a.fy + b.fy), 0.5 * (a.fz + b.fz),
-          0.5 * (a.tx + b.tx), 0.5 * (a.ty + b.ty), 0.5 * (a.tz + b.tz)};
-}
-
 // The directions X (raw, 3 rows per log row) as the row loss sees them: its linearisation
 // at the segment's raw residuals r, dr~ = g dX + 2 g'(s) r (r . dX) per row
 // (RowLossScalingAt, as SegmentCost::ApplyRowLoss for the Jacobian). Taking the difference
@@ -69,59 +64,52 @@ std::vector<RowForceChange> ClassifyForceChanges(const Trajectory& log) {
   return kind;
 }
 
-Trajectory HoldVariant(const Trajectory& log, const std::vector<RowForceChange>& kind,
-                       RowForceChange which) {
-  Trajectory out = log;
-  for (size_t u = 0; u + 1 < log.samples.size(); ++u) {
-    if (kind[u] == which)
-      out.samples[u].applied = Mean(log.samples[u].applied, log.samples[u + 1].applied);
-  }
-  return out;
+std::vector<char> HeldRows(const std::vector<RowForceChange>& kind, RowForceChange which) {
+  std::vector<char> held(kind.size(), 0);
+  // The last row has no next row to take a mean with (ClassifyForceChanges: kNone).
+  for (size_t u = 0; u + 1 < kind.size(); ++u) held[u] = kind[u] == which;
+  return held;
 }
 
-std::vector<Eigen::MatrixXd> MismatchDirections(const TrajectoryProblem& problem) {
+MismatchDirections::MismatchDirections(const TrajectoryProblem& problem)
+    : problem_(problem), segments_of_log_(problem.num_logs(), 0) {
   const int logs = problem.num_logs();
-  const std::vector<TrajectorySegment>& segments = problem.segments();
-  std::vector<int> segments_of_log(logs, 0);
-  for (const TrajectorySegment& seg : segments) ++segments_of_log[seg.log];
-  const auto switches = [&](int k) { return segments_of_log[k] >= kMinSwitchCorrectionSegments; };
-  // Logs without a switch direction keep their own wrenches in its pass (a zero direction,
-  // which the fit leaves out as undetermined); without any such log the pass is skipped.
-  std::vector<Trajectory> interpolated, switched;
-  interpolated.reserve(logs);
-  switched.reserve(logs);
-  std::vector<const Trajectory*> own, held, switch_held;
+  for (const TrajectorySegment& seg : problem.segments()) ++segments_of_log_[seg.log];
+  // Which rows each variant holds at the mean of theirs and the next row's wrench: a byte per
+  // row, where copies of the logs with their wrenches replaced took a whole log each. A log
+  // without a switch direction gets no switch pass (a zero direction, which the fit leaves
+  // out as undetermined).
+  smooth_.resize(logs);
+  jumps_.resize(logs);
   for (int k = 0; k < logs; ++k) {
-    const Trajectory& log = problem.log(k);
-    const std::vector<RowForceChange> kind = ClassifyForceChanges(log);
-    own.push_back(&log);
-    interpolated.push_back(HoldVariant(log, kind, RowForceChange::kSmooth));
-    held.push_back(&interpolated.back());
-    if (switches(k)) switched.push_back(HoldVariant(log, kind, RowForceChange::kJump));
-    switch_held.push_back(switches(k) ? &switched.back() : &log);
+    const std::vector<RowForceChange> kind = ClassifyForceChanges(problem.log(k));
+    smooth_[k] = HeldRows(kind, RowForceChange::kSmooth);
+    if (Switches(k)) jumps_[k] = HeldRows(kind, RowForceChange::kJump);
   }
-  const int substeps = problem.substeps();
-  const std::vector<Eigen::VectorXd> base = problem.SegmentResidualsWith(own, substeps);
-  const std::vector<Eigen::VectorXd> finer = problem.SegmentResidualsWith(own, 2 * substeps);
-  const std::vector<Eigen::VectorXd> hold = problem.SegmentResidualsWith(held, substeps);
-  const std::vector<Eigen::VectorXd> jump =
-      switched.empty() ? std::vector<Eigen::VectorXd>(segments.size())
-                       : problem.SegmentResidualsWith(switch_held, substeps);
+}
 
-  std::vector<Eigen::MatrixXd> directions;
-  for (size_t s = 0; s < segments.size(); ++s) {
-    const int n = 3 * (segments[s].last_row - segments[s].first_row + 1);
-    Eigen::MatrixXd X = Eigen::MatrixXd::Zero(n, kMismatchNuisances * logs);
-    const int column = kMismatchNuisances * segments[s].log;
-    if (base[s].size() == n) {
-      if (finer[s].size() == n) X.col(column) = finer[s] - base[s];
-      if (hold[s].size() == n) X.col(column + 1) = hold[s] - base[s];
-      if (switches(segments[s].log) && jump[s].size() == n) X.col(column + 2) = jump[s] - base[s];
-      ThroughRowLoss(segments[s].cost->row_loss(), base[s], &X);
-    }
-    directions.push_back(std::move(X));
+bool MismatchDirections::Switches(int log) const {
+  return segments_of_log_[log] >= kMinSwitchCorrectionSegments;
+}
+
+Eigen::MatrixXd MismatchDirections::operator()(int s) const {
+  const TrajectorySegment& seg = problem_.segments()[s];
+  const int substeps = problem_.substeps();
+  const int n = 3 * (seg.last_row - seg.first_row + 1);
+  Eigen::MatrixXd X = Eigen::MatrixXd::Zero(n, kMismatchNuisances * problem_.num_logs());
+  const int column = kMismatchNuisances * seg.log;
+  const Eigen::VectorXd base = problem_.SegmentResidualsWith(s, nullptr, substeps);
+  if (base.size() != n) return X;
+  const Eigen::VectorXd finer = problem_.SegmentResidualsWith(s, nullptr, 2 * substeps);
+  if (finer.size() == n) X.col(column) = finer - base;
+  const Eigen::VectorXd hold = problem_.SegmentResidualsWith(s, &smooth_[seg.log], substeps);
+  if (hold.size() == n) X.col(column + 1) = hold - base;
+  if (Switches(seg.log)) {
+    const Eigen::VectorXd jump = problem_.SegmentResidualsWith(s, &jumps_[seg.log], substeps);
+    if (jump.size() == n) X.col(column + 2) = jump - base;
   }
-  return directions;
+  ThroughRowLoss(seg.cost->row_loss(), base, &X);
+  return X;
 }
 
 }  // namespace slideid

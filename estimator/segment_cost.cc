@@ -129,6 +129,14 @@ void DelayedOffsetWrenchJacobian(const Trajectory& log, int row, double delay_s,
   DelayedMean(log, row, delay_s, along(false), d_wrench_d_oy, d2_wrench_d_oy_d_delay);
 }
 
+AppliedWrench SegmentCost::RowWrench(int row) const {
+  const AppliedWrench& a = log_.samples[row].applied;
+  if (!held_rows_ || !(*held_rows_)[row]) return a;
+  const AppliedWrench& b = log_.samples[row + 1].applied;
+  return {0.5 * (a.fx + b.fx), 0.5 * (a.fy + b.fy), 0.5 * (a.fz + b.fz),
+          0.5 * (a.tx + b.tx), 0.5 * (a.ty + b.ty), 0.5 * (a.tz + b.tz)};
+}
+
 SegmentCost::SegmentCost(const Trajectory& log, int first_row, int last_row, int substeps,
                          bool use_pose, SegmentNuisances nuisances)
     : log_(log),
@@ -261,11 +269,16 @@ bool SegmentCost::Simulate(double const* const* params, double* residuals, doubl
   residual(0);
   for (int row = first_; row < last_; ++row) {
     const double h = (log_.samples[row + 1].t_s - log_.samples[row].t_s) / substeps_;
-    AppliedWrench applied = log_.samples[row].applied;
+    AppliedWrench applied = RowWrench(row);
     Eigen::Matrix<double, 5, 3> dw_dnuis = Eigen::Matrix<double, 5, 3>::Zero();
     if (delay_block_ >= 0) {
       AppliedWrench d_delay;
-      DelayedWrench(log_, row, delay, &applied, &d_delay);
+      if (held_rows_) {
+        DelayedMean(
+            log_, row, delay, [&](int j) { return RowWrench(j); }, &applied, &d_delay);
+      } else {
+        DelayedWrench(log_, row, delay, &applied, &d_delay);
+      }
       dw_dnuis.col(2) = Components(d_delay);
     }
     if (offset_block_ >= 0) {

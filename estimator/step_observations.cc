@@ -20,20 +20,26 @@ double Speed(const PlanarState& s, double radius_m) {
 
 }  // namespace
 
-std::vector<StepObservation> ExtractStepObservations(const Trajectory& logged) {
-  // A poses-only log means kinematic-map velocities, whatever the samples carry.
-  Trajectory derived;
-  if (!logged.measured.velocity) {
-    derived = logged;
-    SetVelocitiesFromPoses(&derived);
-  }
-  const Trajectory& log = logged.measured.velocity ? logged : derived;
+std::vector<StepObservation> ExtractStepObservations(const Trajectory& log) {
+  std::vector<StepObservation> steps;
+  if (log.samples.size() >= 2) steps.reserve(log.samples.size() - 1);
+  ForEachStepObservation(log, [&](const StepObservation& o) { steps.push_back(o); });
+  return steps;
+}
+
+void ForEachStepObservation(const Trajectory& log,
+                            const std::function<void(const StepObservation&)>& f) {
+  // A poses-only log means kinematic-map velocities, whatever the samples carry: computed
+  // row by row (StateWithPoseVelocity), not in a copy of the log.
+  const bool from_poses = !log.measured.velocity;
+  const auto state = [&](size_t u) {
+    return from_poses ? StateWithPoseVelocity(log, u) : log.samples[u].state;
+  };
   const SliderProperties& s = log.slider;
   if (!(s.mass_kg > 0 && s.inertia_kgm2 > 0 && s.com_height_m >= 0 && s.gravity_mps2 > 0)) {
     throw std::invalid_argument("ExtractStepObservations: slider properties not set");
   }
-  std::vector<StepObservation> steps;
-  if (log.samples.size() < 2) return steps;
+  if (log.samples.size() < 2) return;
   double max_push = 0;
   for (const TrajectorySample& sample : log.samples) {
     max_push = std::max(max_push, std::hypot(sample.applied.fx, sample.applied.fy));
@@ -44,38 +50,37 @@ std::vector<StepObservation> ExtractStepObservations(const Trajectory& logged) {
     const AppliedWrench& b = log.samples[to].applied;
     return std::hypot(b.fx - a.fx, b.fy - a.fy) > kForceSwitchFraction * max_push;
   };
-  steps.reserve(log.samples.size() - 1);
   const bool has_mode = log.measured.step_info || log.measured.mode;
+  PlanarState next_state = state(0);
   for (size_t u = 0; u + 1 < log.samples.size(); ++u) {
     const TrajectorySample& a = log.samples[u];
     const TrajectorySample& b = log.samples[u + 1];
     StepObservation o;
     o.row = static_cast<int>(u);
     o.h_s = b.t_s - a.t_s;
-    o.start = a.state;
-    o.end = b.state;
+    o.start = next_state;
+    o.end = next_state = state(u + 1);
     o.applied = a.applied;
     o.start_velocity_known = log.measured.velocity || !StartsRun(log, u);
     o.across_gap = StartsRun(log, u + 1);
     o.near_force_switch =
-        !logged.measured.velocity && ((u > 0 && switches(u - 1, u)) || switches(u, u + 1));
+        !log.measured.velocity && ((u > 0 && switches(u - 1, u)) || switches(u, u + 1));
     const double h = o.h_s;
     o.pn = h * (s.mass_kg * s.gravity_mps2 - a.applied.fz);
     // Appendix A, corrected: friction impulses from Newton-Euler with the coupling term (*).
-    const double pt = s.mass_kg * (b.state.vx - a.state.vx) - h * a.applied.fx;
-    const double po = s.mass_kg * (b.state.vy - a.state.vy) - h * a.applied.fy;
-    const double pr = s.inertia_kgm2 * (b.state.wz - a.state.wz) - h * a.applied.tz -
+    const double pt = s.mass_kg * (o.end.vx - o.start.vx) - h * a.applied.fx;
+    const double po = s.mass_kg * (o.end.vy - o.start.vy) - h * a.applied.fy;
+    const double pr = s.inertia_kgm2 * (o.end.wz - o.start.wz) - h * a.applied.tz -
                       (pt * h * a.applied.tx + po * h * a.applied.ty) / o.pn;
     o.friction_impulse << pt, po, pr;
     const double rx = (h * a.applied.ty - s.com_height_m * pt) / o.pn;
     const double ry = (-h * a.applied.tx - s.com_height_m * po) / o.pn;
-    const double w = b.state.wz;
-    o.ecp_velocity << b.state.vx - w * ry, b.state.vy + w * rx, w;
-    o.logged_stick = has_mode ? b.mode == SampleMode::kStick
-                              : (b.state.vx == 0 && b.state.vy == 0 && b.state.wz == 0);
-    steps.push_back(o);
+    const double w = o.end.wz;
+    o.ecp_velocity << o.end.vx - w * ry, o.end.vy + w * rx, w;
+    o.logged_stick =
+        has_mode ? b.mode == SampleMode::kStick : (o.end.vx == 0 && o.end.vy == 0 && o.end.wz == 0);
+    f(o);
   }
-  return steps;
 }
 
 StepNoise ReadStepNoise(const Trajectory& log) {

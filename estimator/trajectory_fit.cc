@@ -16,6 +16,7 @@
 #include "estimator/internal/seed_information.h"
 #include "estimator/internal/trajectory_problem.h"
 #include "estimator/log_diagnostics.h"
+#include "estimator/parallel_for.h"
 #include "estimator/plausibility.h"
 #include "estimator/pooling.h"
 #include "estimator/robust_statistics.h"
@@ -76,7 +77,7 @@ SeedCandidates CandidateSeeds(const Trajectory& log, const IdentifyOptions& opti
     seeds.exact.push_back(seed);
     if (set_base) seeds.base = {defaults[0], seed[1], seed[2]};
   };
-  const EstimateResult closed_form = ClosedFormCore({&log}, options);
+  const EstimateResult closed_form = ClosedFormCore({&log}, options, /*keep_residuals=*/false);
   take(closed_form, true);
   if (log.measured.velocity) take(EquationErrorCore({&log}, options, closed_form), false);
   return seeds;
@@ -302,14 +303,14 @@ void SeedDelays(TrajectoryProblem* problem, double max_delay_s) {
 // Robust scale of each log's residual rows: sqrt(median |r_row|^2 / 0.789), comparable with
 // RowNoise (NaN for a log without rows in segments).
 std::vector<double> ResidualRowScale(const TrajectoryProblem& problem) {
-  const std::vector<double> r = problem.Residuals(true);
   std::vector<std::vector<double>> per_log(problem.num_logs());
-  size_t k = 0;
-  for (const TrajectorySegment& seg : problem.segments()) {
+  problem.ForEachSegmentResiduals(true, [&](int j, const std::vector<double>& r) {
+    const TrajectorySegment& seg = problem.segments()[j];
+    size_t k = 0;
     for (int row = seg.first_row; row <= seg.last_row; ++row, k += 3) {
       per_log[seg.log].push_back(r[k] * r[k] + r[k + 1] * r[k + 1] + r[k + 2] * r[k + 2]);
     }
-  }
+  });
   std::vector<double> scale(problem.num_logs(), kNaN);
   for (int i = 0; i < problem.num_logs(); ++i) {
     if (!per_log[i].empty()) scale[i] = RobustRowRms(per_log[i]);
@@ -319,15 +320,15 @@ std::vector<double> ResidualRowScale(const TrajectoryProblem& problem) {
 
 // Rows whose raw residual norm exceeds sigmas times their log's `noise`.
 int RowsBeyond(const TrajectoryProblem& problem, double sigmas, const std::vector<double>& noise) {
-  const std::vector<double> r = problem.Residuals(true);
   int beyond = 0;
-  size_t k = 0;
-  for (const TrajectorySegment& seg : problem.segments()) {
+  problem.ForEachSegmentResiduals(true, [&](int j, const std::vector<double>& r) {
+    const TrajectorySegment& seg = problem.segments()[j];
     const double limit = sigmas * noise[seg.log];
+    size_t k = 0;
     for (int row = seg.first_row; row <= seg.last_row; ++row, k += 3) {
       beyond += std::sqrt(r[k] * r[k] + r[k + 1] * r[k + 1] + r[k + 2] * r[k + 2]) > limit;
     }
-  }
+  });
   return beyond;
 }
 
@@ -353,17 +354,23 @@ void SetRowLosses(TrajectoryProblem* problem, RobustLoss kind, double sigmas,
 constexpr double kMaxModelFloorPose_m = 1e-4;        // a tenth of a millimetre
 constexpr double kMaxModelFloorVelocity_mps = 1e-3;  // a millimetre per second
 double DiscretisationScale(const TrajectoryProblem& problem) {
-  std::vector<const Trajectory*> own;
-  for (int k = 0; k < problem.num_logs(); ++k) own.push_back(&problem.log(k));
-  const std::vector<Eigen::VectorXd> base = problem.SegmentResidualsWith(own, problem.substeps());
-  const std::vector<Eigen::VectorXd> finer =
-      problem.SegmentResidualsWith(own, 2 * problem.substeps());
+  // Per segment, its sum of squares and rows (none where either fails), summed in order.
+  const int segments = static_cast<int>(problem.segments().size());
+  std::vector<double> segment_sum(segments, 0.0);
+  std::vector<int> segment_rows(segments, 0);
+  ParallelFor(segments, problem.threads(), [&](int j) {
+    const Eigen::VectorXd base = problem.SegmentResidualsWith(j, nullptr, problem.substeps());
+    const Eigen::VectorXd finer = problem.SegmentResidualsWith(j, nullptr, 2 * problem.substeps());
+    if (base.size() == 0 || base.size() != finer.size()) return;
+    segment_sum[j] = (base - finer).squaredNorm();
+    segment_rows[j] = static_cast<int>(base.size()) / 3;
+  });
   double sum = 0;
   int rows = 0;
-  for (size_t j = 0; j < base.size(); ++j) {
-    if (base[j].size() == 0 || base[j].size() != finer[j].size()) continue;
-    sum += (base[j] - finer[j]).squaredNorm();
-    rows += static_cast<int>(base[j].size()) / 3;
+  for (int j = 0; j < segments; ++j) {
+    if (segment_rows[j] == 0) continue;
+    sum += segment_sum[j];
+    rows += segment_rows[j];
   }
   const double cap = problem.use_pose(0) ? kMaxModelFloorPose_m : kMaxModelFloorVelocity_mps;
   return rows > 0 ? std::min(cap, std::sqrt(sum / rows)) : 0.0;
@@ -616,25 +623,23 @@ Eigen::VectorXd MismatchStep(const AugmentedShares& a, const Eigen::MatrixXd& Hi
 // default segmentation gives such logs 5 segments and the cluster-robust interval, so this
 // applies to a log shorter than 55 rows or cut by --segment into fewer than 5.
 double AutocorrelationInflation(const TrajectoryProblem& problem) {
-  const std::vector<double> r = problem.Residuals(true);
   int shortest = std::numeric_limits<int>::max();
   for (const TrajectorySegment& seg : problem.segments()) {
     shortest = std::min(shortest, seg.last_row - seg.first_row + 1);
   }
   const int K = std::max(1, shortest / 3);
   std::vector<double> lagged(K + 1, 0.0);
-  size_t start = 0;
-  for (const TrajectorySegment& seg : problem.segments()) {
+  problem.ForEachSegmentResiduals(true, [&](int j, const std::vector<double>& r) {
+    const TrajectorySegment& seg = problem.segments()[j];
     const int n = seg.last_row - seg.first_row + 1;
     for (int k = 0; k <= K && k < n; ++k) {
       for (int t = 0; t + k < n; ++t) {
-        const double* a = &r[start + 3 * t];
-        const double* b = &r[start + 3 * (t + k)];
+        const double* a = &r[3 * t];
+        const double* b = &r[3 * (t + k)];
         lagged[k] += a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
       }
     }
-    start += 3 * n;
-  }
+  });
   if (!(lagged[0] > 0) || !std::isfinite(lagged[0])) return 1.0;
   double factor = 1.0;
   for (int k = 1; k <= K; ++k) factor += 2.0 * (1.0 - double(k) / (K + 1)) * lagged[k] / lagged[0];
@@ -805,24 +810,28 @@ double MaxStdErr(const TrajectoryProblem& problem, int i, const std::vector<LogD
   return kMaxOffsetStdErrFraction * std::max(d[k].max_push_n, 0.1 * weight);
 }
 
-void FillResiduals(const TrajectoryProblem& problem, EstimateResult* result) {
-  const std::vector<double> r = problem.Residuals(true);
-  size_t k = 0;
-  for (const TrajectorySegment& seg : problem.segments()) {
-    const Trajectory& log = problem.log(seg.log);
-    for (int row = seg.first_row; row <= seg.last_row; ++row, k += 3) {
-      StepResidual sr;
-      sr.log = seg.log;
-      sr.row = row;
-      sr.t_s = log.samples[row].t_s;
-      sr.value = {r[k], r[k + 1], r[k + 2]};
-      result->residuals.push_back(sr);
-    }
-  }
+void FillResiduals(const TrajectoryProblem& problem, bool keep, EstimateResult* result) {
   const bool pose = problem.use_pose(0);
   result->residual_names = pose
                                ? std::array<std::string, 3>{{"x_m", "y_m", "theta_times_L_m"}}
                                : std::array<std::string, 3>{{"vx_mps", "vy_mps", "wz_times_L_mps"}};
+  // Evaluated even when not kept: the segments' caches (warm starts) are then left as a kept
+  // pass leaves them, and a pooled fit's refits from this problem do not depend on `keep`.
+  if (keep) result->residuals.reserve(result->residuals.size() + problem.Rows());
+  problem.ForEachSegmentResiduals(true, [&](int k, const std::vector<double>& r) {
+    if (!keep) return;
+    const TrajectorySegment& seg = problem.segments()[k];
+    const Trajectory& log = problem.log(seg.log);
+    size_t i = 0;
+    for (int row = seg.first_row; row <= seg.last_row; ++row, i += 3) {
+      StepResidual sr;
+      sr.log = seg.log;
+      sr.row = row;
+      sr.t_s = log.samples[row].t_s;
+      sr.value = {r[i], r[i + 1], r[i + 2]};
+      result->residuals.push_back(sr);
+    }
+  });
 }
 
 // ---- the fit, stage by stage ---------------------------------------------------------------
@@ -940,8 +949,9 @@ FitInformation InformationOf(TrajectoryProblem* problem, const std::vector<bool>
   if (std::find(correctable.begin(), correctable.end(), true) == correctable.end()) {
     return problem->Information();
   }
-  const std::vector<Eigen::MatrixXd> directions = MismatchDirections(*problem);
-  return problem->Information(&directions);
+  const MismatchDirections directions(*problem);
+  const std::function<Eigen::MatrixXd(int)> extra = [&](int k) { return directions(k); };
+  return problem->Information(&extra);
 }
 
 // Stage 4, identifiability over every global parameter: what the logs do not determine is
@@ -1148,7 +1158,7 @@ void Conclude(const FitStages& f, EstimateResult* result) {
         "minimum (sum of squares %.4g against %.4g): kept",
         f.second.steps, f.second.cost_second, f.second.cost_first);
   }
-  FillResiduals(*f.problem, result);
+  FillResiduals(*f.problem, f.options.keep_residuals, result);
   // Usable is not converged: a solve cut off by the iteration limit is usable to Ceres.
   result->Conclude(f.summary.termination_type == ceres::CONVERGENCE ||
                    f.summary.termination_type == ceres::USER_SUCCESS);

@@ -3,6 +3,7 @@
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <limits>
 #include <optional>
 #include <stdexcept>
@@ -195,29 +196,36 @@ std::unique_ptr<TrajectoryProblem> TrajectoryProblem::Resegmented(int steps) con
 }
 
 void TrajectoryProblem::StatesFrom(const TrajectoryProblem& other) {
-  // The state each of other's segments simulates at each of its rows, per log.
-  std::vector<std::vector<std::optional<Vector6>>> at_row(logs_.size());
-  for (size_t k = 0; k < logs_.size(); ++k) at_row[k].resize(logs_[k]->samples.size());
+  // Per log, this problem's segments by their first row: the only rows whose simulated
+  // state is kept (a state per row of the log took 56 bytes a row, and every one of other's
+  // segments' simulated rows 48 more at once).
+  std::vector<std::vector<std::pair<int, int>>> starts(logs_.size());  // (first row, segment)
+  for (size_t i = 0; i < segments_.size(); ++i) {
+    starts[segments_[i].log].emplace_back(segments_[i].first_row, static_cast<int>(i));
+  }
+  for (auto& log_starts : starts) std::sort(log_starts.begin(), log_starts.end());
+  std::vector<std::optional<Vector6>> found(segments_.size());
   auto* source = const_cast<TrajectoryProblem*>(&other);  // BlocksOf hands out pointers only
-  std::vector<std::vector<PlanarState>> simulated(other.segments_.size());
-  std::vector<char> ok(other.segments_.size(), 0);
   ParallelFor(static_cast<int>(other.segments_.size()), options_.threads, [&](int j) {
+    const TrajectorySegment& seg = other.segments_[j];
     const std::vector<double*> blocks = source->BlocksOf(source->segments_[j]);
     std::vector<const double*> params(blocks.begin(), blocks.end());
-    ok[j] = other.segments_[j].cost->SimulatedStates(params.data(), &simulated[j]);
-  });
-  for (size_t j = 0; j < other.segments_.size(); ++j) {
-    if (!ok[j]) continue;
-    const TrajectorySegment& seg = other.segments_[j];
-    for (size_t i = 0; i < simulated[j].size(); ++i) {
-      const PlanarState& p = simulated[j][i];
+    std::vector<PlanarState> simulated;
+    if (!seg.cost->SimulatedStates(params.data(), &simulated)) return;
+    // other's segments cover disjoint rows: each of this problem's starts is written once.
+    const std::vector<std::pair<int, int>>& log_starts = starts[seg.log];
+    const int end = seg.first_row + static_cast<int>(simulated.size());
+    for (auto it = std::lower_bound(log_starts.begin(), log_starts.end(),
+                                    std::make_pair(seg.first_row, -1));
+         it != log_starts.end() && it->first < end; ++it) {
+      const PlanarState& p = simulated[it->first - seg.first_row];
       Vector6 state;
       state << p.x, p.y, p.theta, p.vx, p.vy, p.wz;
-      at_row[seg.log][seg.first_row + i] = state;
+      found[it->second] = state;
     }
-  }
-  for (TrajectorySegment& seg : segments_) {
-    if (at_row[seg.log][seg.first_row]) seg.state = *at_row[seg.log][seg.first_row];
+  });
+  for (size_t i = 0; i < segments_.size(); ++i) {
+    if (found[i]) segments_[i].state = *found[i];
   }
 }
 
@@ -318,9 +326,35 @@ std::vector<double> TrajectoryProblem::Residuals(bool raw) const {
   return all;
 }
 
+void TrajectoryProblem::ForEachSegmentResiduals(
+    bool raw, const std::function<void(int, const std::vector<double>&)>& f) const {
+  constexpr int kChunkSegments = 256;
+  const int n = static_cast<int>(segments_.size());
+  std::vector<std::vector<double>> chunk(std::min(n, kChunkSegments));
+  auto* self = const_cast<TrajectoryProblem*>(this);  // BlocksOf hands out pointers only
+  for (int first = 0; first < n; first += kChunkSegments) {
+    const int m = std::min(kChunkSegments, n - first);
+    ParallelFor(m, options_.threads, [&](int j) {
+      const SegmentCost& cost = *segments_[first + j].cost;
+      const std::vector<double*> blocks = self->BlocksOf(self->segments_[first + j]);
+      std::vector<const double*> params(blocks.begin(), blocks.end());
+      std::vector<double>& r = chunk[j];
+      r.assign(cost.num_residuals(), 0.0);
+      if (!cost.Residuals(params.data(), r.data(), !raw)) {
+        std::fill(r.begin(), r.end(), std::numeric_limits<double>::infinity());
+      }
+    });
+    for (int j = 0; j < m; ++j) f(first + j, chunk[j]);
+  }
+}
+
 double TrajectoryProblem::RawCost() const {
+  // The sum over Residuals(true) in its order, without a residual vector of the whole log
+  // (the seed scan takes many costs).
   double cost = 0;
-  for (double r : Residuals(true)) cost += r * r;
+  ForEachSegmentResiduals(true, [&](int, const std::vector<double>& r) {
+    for (double v : r) cost += v * v;
+  });
   return std::isfinite(cost) ? cost : std::numeric_limits<double>::infinity();
 }
 
@@ -384,15 +418,75 @@ class SettledCallback final : public ceres::IterationCallback {
   int settled_ = 0;
 };
 
+// What Ceres sees of a segment: its n residuals r and n x m Jacobian J (m the parameters of
+// all its blocks) compressed by the thin QR J = Q R to m + 1 residuals [Q^T r; |r - Q Q^T r|]
+// with Jacobian [R; 0]. The cost (|r|^2), the gradient J^T r = R^T Q^T r, the Gauss-Newton
+// matrix J^T J = R^T R and so the model |r + J d|^2 of every step are those of the
+// segment's own residuals, for any subset of its blocks held constant: the same solve in
+// exact arithmetic (rounding aside), without the n x m Jacobian Ceres would keep for every
+// segment (3 residuals a row x 9 parameters: 216 bytes a row, 216 MB for a 1e6-row log) nor
+// its n-long residual vectors. An evaluation without derivatives returns the cost alone, as
+// (0, ..., 0, |r|): Ceres takes residuals and Jacobian from the same evaluation (a step's
+// model) and only the cost from the others. Segments with n <= m + 1 are not compressed.
+class CompressedSegmentCost final : public ceres::CostFunction {
+ public:
+  explicit CompressedSegmentCost(const SegmentCost* cost) : cost_(cost) {
+    *mutable_parameter_block_sizes() = cost->parameter_block_sizes();
+    for (const int32_t size : cost->parameter_block_sizes()) columns_ += size;
+    set_num_residuals(std::min(cost->num_residuals(), columns_ + 1));
+  }
+
+  bool Evaluate(double const* const* params, double* residuals, double** jacobians) const override {
+    const int n = cost_->num_residuals();
+    if (n == num_residuals()) return cost_->Evaluate(params, residuals, jacobians);
+    const std::vector<int32_t>& sizes = parameter_block_sizes();
+    Eigen::VectorXd r(n);
+    if (!jacobians) {
+      if (!cost_->Evaluate(params, r.data(), nullptr)) return false;
+      std::fill(residuals, residuals + num_residuals(), 0.0);
+      residuals[columns_] = r.norm();
+      return true;
+    }
+    // Every block's Jacobian, held ones too: Q must not depend on which blocks Ceres asks for.
+    std::vector<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>> block(
+        sizes.size());
+    std::vector<double*> all(sizes.size());
+    for (size_t b = 0; b < sizes.size(); ++b) {
+      block[b].resize(n, sizes[b]);
+      all[b] = block[b].data();
+    }
+    if (!cost_->Evaluate(params, r.data(), all.data())) return false;
+    Eigen::MatrixXd J(n, columns_);
+    for (size_t b = 0, col = 0; b < sizes.size(); col += sizes[b], ++b) {
+      J.middleCols(static_cast<Eigen::Index>(col), sizes[b]) = block[b];
+    }
+    const Eigen::HouseholderQR<Eigen::Ref<Eigen::MatrixXd>> qr(J);  // in place, in J
+    r.applyOnTheLeft(qr.householderQ().adjoint());                  // Q^T r (n, full Q)
+    for (int i = 0; i < columns_; ++i) residuals[i] = r(i);
+    residuals[columns_] = r.tail(n - columns_).norm();
+    const Eigen::MatrixXd R = J.topRows(columns_).triangularView<Eigen::Upper>();
+    for (size_t b = 0, col = 0; b < sizes.size(); col += sizes[b], ++b) {
+      if (!jacobians[b]) continue;
+      Eigen::Map<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>> out(
+          jacobians[b], num_residuals(), sizes[b]);
+      out.topRows(columns_) = R.middleCols(static_cast<Eigen::Index>(col), sizes[b]);
+      out.bottomRows<1>().setZero();
+    }
+    return true;
+  }
+
+ private:
+  const SegmentCost* cost_;
+  int columns_ = 0;
+};
+
 }  // namespace
 
 ceres::Solver::Summary TrajectoryProblem::Solve(const std::vector<bool>& free, bool stage) {
-  ceres::Problem::Options problem_options;
-  problem_options.cost_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
-  ceres::Problem problem(problem_options);
+  ceres::Problem problem;  // owns the CompressedSegmentCosts, not the segments' costs
   auto* ordering = new ceres::ParameterBlockOrdering;
   for (TrajectorySegment& seg : segments_) {
-    problem.AddResidualBlock(seg.cost.get(), nullptr, BlocksOf(seg));
+    problem.AddResidualBlock(new CompressedSegmentCost(seg.cost.get()), nullptr, BlocksOf(seg));
     ordering->AddElementToGroup(seg.state.data(), 0);
     if (!use_pose(seg.log)) {
       // Velocity residuals do not see the pose: only the velocity part is a parameter.
@@ -444,7 +538,7 @@ ceres::Solver::Summary TrajectoryProblem::Solve(const std::vector<bool>& free, b
   return summary;
 }
 
-FitInformation TrajectoryProblem::Information(const std::vector<Eigen::MatrixXd>* extra) {
+FitInformation TrajectoryProblem::Information(const std::function<Eigen::MatrixXd(int)>* extra) {
   const int G = num_global();
   std::vector<SegmentShare> shares(segments_.size());
   ParallelFor(static_cast<int>(segments_.size()), options_.threads, [&](int k) {
@@ -494,8 +588,8 @@ FitInformation TrajectoryProblem::Information(const std::vector<Eigen::MatrixXd>
     const Eigen::Map<const Eigen::VectorXd> rv(r.data(), n);
     share.h = Jm.transpose() * Jm;
     share.score = Jm.transpose() * rv;
-    if (extra && (*extra)[k].rows() == n) {
-      const Eigen::MatrixXd& X = (*extra)[k];
+    const Eigen::MatrixXd X = extra ? (*extra)(k) : Eigen::MatrixXd();
+    if (extra && X.rows() == n) {
       const Eigen::MatrixXd Xm = X - Js * (Hss_pinv * (Js.transpose() * X));
       share.extra_cross = Xm.transpose() * Jm;
       share.extra_h = Xm.transpose() * Xm;
@@ -557,21 +651,19 @@ FitInformation TrajectoryProblem::Information(const std::vector<Eigen::MatrixXd>
   return info;
 }
 
-std::vector<Eigen::VectorXd> TrajectoryProblem::SegmentResidualsWith(
-    const std::vector<const Trajectory*>& replaced_logs, int substeps) const {
-  std::vector<Eigen::VectorXd> out(segments_.size());
+Eigen::VectorXd TrajectoryProblem::SegmentResidualsWith(int segment,
+                                                        const std::vector<char>* held_rows,
+                                                        int substeps) const {
+  const TrajectorySegment& seg = segments_[segment];
+  SegmentCost cost(*logs_[seg.log], seg.first_row, seg.last_row, substeps, use_pose(seg.log),
+                   FittedNuisances());
+  cost.SetHeldRows(held_rows);
   auto* self = const_cast<TrajectoryProblem*>(this);  // BlocksOf hands out pointers only
-  const SegmentNuisances nuisances = FittedNuisances();
-  ParallelFor(static_cast<int>(segments_.size()), options_.threads, [&](int k) {
-    const TrajectorySegment& seg = segments_[k];
-    SegmentCost cost(*replaced_logs[seg.log], seg.first_row, seg.last_row, substeps,
-                     use_pose(seg.log), nuisances);
-    const std::vector<double*> blocks = self->BlocksOf(self->segments_[k]);
-    std::vector<const double*> params(blocks.begin(), blocks.end());
-    Eigen::VectorXd r(cost.num_residuals());
-    if (cost.Residuals(params.data(), r.data(), false)) out[k] = r;
-  });
-  return out;
+  const std::vector<double*> blocks = self->BlocksOf(self->segments_[segment]);
+  std::vector<const double*> params(blocks.begin(), blocks.end());
+  Eigen::VectorXd r(cost.num_residuals());
+  if (!cost.Residuals(params.data(), r.data(), false)) return Eigen::VectorXd();
+  return r;
 }
 
 std::vector<double> TrajectoryProblem::StandardErrors(const std::vector<bool>& free) {

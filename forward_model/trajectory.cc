@@ -38,19 +38,24 @@ double MedianInterval(const Trajectory& log) {
   return 0.5 * (*std::max_element(h.begin(), h.begin() + n / 2) + upper);
 }
 
+PlanarState StateWithPoseVelocity(const Trajectory& log, std::size_t row) {
+  PlanarState b = log.samples[row].state;
+  if (StartsRun(log, row)) {
+    b.vx = b.vy = b.wz = 0.0;
+    return b;
+  }
+  const PlanarState& a = log.samples[row - 1].state;
+  const double dt = log.samples[row].t_s - log.samples[row - 1].t_s;
+  b.vx = (b.x - a.x) / dt;
+  b.vy = (b.y - a.y) / dt;
+  b.wz = (b.theta - a.theta) / dt;
+  return b;
+}
+
 void SetVelocitiesFromPoses(Trajectory* log) {
-  auto& samples = log->samples;
-  for (std::size_t u = 0; u < samples.size(); ++u) {
-    PlanarState& b = samples[u].state;
-    if (StartsRun(*log, u)) {
-      b.vx = b.vy = b.wz = 0.0;
-      continue;
-    }
-    const PlanarState& a = samples[u - 1].state;
-    const double dt = samples[u].t_s - samples[u - 1].t_s;
-    b.vx = (b.x - a.x) / dt;
-    b.vy = (b.y - a.y) / dt;
-    b.wz = (b.theta - a.theta) / dt;
+  // Row u's velocity reads the poses of rows u - 1 and u only, which this leaves alone.
+  for (std::size_t u = 0; u < log->samples.size(); ++u) {
+    log->samples[u].state = StateWithPoseVelocity(*log, u);
   }
 }
 

@@ -22,6 +22,8 @@ enum class SampleMode { kStart, kSlide, kStick };
 
 /// One log row at time t.
 struct TrajectorySample {
+  // Members in an order that leaves little padding (224 bytes, not 240: 16 MB of a 1e6-row
+  // log): the two 16-byte-aligned Eigen vectors last.
   double t_s = 0.0;
   PlanarState state;  ///< pose and twist at t (fields absent from a log stay 0)
   /// Total wrench applied over [t, t_next), moments about the CM (world axes), including
@@ -29,14 +31,15 @@ struct TrajectorySample {
   AppliedWrench applied;
   /// Where (fx, fy, fz) acts, world frame [m], when the log has px, py, pz.
   std::optional<Eigen::Vector3d> push_point_world;
-  /// The pusher tip's centre at t, world frame [m], when the log has tip_x, tip_y.
-  std::optional<Eigen::Vector2d> tip_world;
 
   // The step that ended at t (simulated logs; zero on the first row).
-  Eigen::Vector2d ecp_world = Eigen::Vector2d::Zero();  ///< ax, ay [m]
-  double pt = 0.0, po = 0.0, pr = 0.0;                  ///< friction impulses
-  double sigma = 0.0;                                   ///< [m/s]
+  double pt = 0.0, po = 0.0, pr = 0.0;   ///< friction impulses
+  double sigma = 0.0;                    ///< [m/s]
   SampleMode mode = SampleMode::kSlide;  ///< the simulator and the readers set kStart on row 0
+
+  /// The pusher tip's centre at t, world frame [m], when the log has tip_x, tip_y.
+  std::optional<Eigen::Vector2d> tip_world;
+  Eigen::Vector2d ecp_world = Eigen::Vector2d::Zero();  ///< ax, ay [m] (the step that ended at t)
 };
 
 /// Which quantities the samples carry, measured or simulated; the others are left 0 or
@@ -88,5 +91,9 @@ double MedianInterval(const Trajectory& log);
 /// v^{u+1} = (q^{u+1} - q^u) / (t_{u+1} - t_u) (log-format.md); a run's first row's is set to
 /// 0 (unknown). What a poses-only log means, wherever it came from.
 void SetVelocitiesFromPoses(Trajectory* log);
+
+/// Row `row`'s state with the velocity SetVelocitiesFromPoses would give it (the same
+/// arithmetic), without copying the log.
+PlanarState StateWithPoseVelocity(const Trajectory& log, std::size_t row);
 
 }  // namespace slideid

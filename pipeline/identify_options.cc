@@ -290,6 +290,8 @@ IdentifyRequest ReadIdentifyOptions(const po::variables_map& vm) {
   r.strict = vm.count("strict") > 0;
   if (vm.count("residuals")) r.residuals_path = vm["residuals"].as<std::string>();
   if (vm.count("report")) r.report_path = vm["report"].as<std::string>();
+  // Per-row residuals only where something writes them (48 MB of a 1e6-row log).
+  r.options.identify.keep_residuals = !r.residuals_path.empty() || !r.report_path.empty();
   return r;
 }
 

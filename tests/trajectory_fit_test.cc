@@ -54,6 +54,23 @@ TEST(TrajectoryFit, RecoversEveryParameterFromNoiselessLogsOfEveryScene) {
   }
 }
 
+TEST(TrajectoryFit, LeavingOutTheResidualsChangesNothingElse) {
+  const Trajectory log = SimulateOrFail(testing::PushedSlider());
+  IdentifyOptions options = Options(20);
+  const EstimateResult kept = EstimateTrajectory(log, options);
+  options.keep_residuals = false;
+  const EstimateResult left_out = EstimateTrajectory(log, options);
+  ASSERT_TRUE(kept.converged) << kept.message;
+  EXPECT_FALSE(kept.residuals.empty());
+  EXPECT_TRUE(left_out.residuals.empty());
+  EXPECT_EQ(left_out.residual_names, kept.residual_names);
+  for (int i = 0; i < 3; ++i) {
+    EXPECT_EQ(left_out.parameters[i].value, kept.parameters[i].value) << ParameterName(i);
+    EXPECT_EQ(left_out.parameters[i].stderr_value, kept.parameters[i].stderr_value);
+  }
+  EXPECT_EQ(left_out.final_cost, kept.final_cost);
+}
+
 TEST(TrajectoryFit, RecoversFromAVelocityOnlyLog) {
   const Scene scene = testing::TiltingPush();
   Trajectory log = SimulateOrFail(scene);

@@ -11,9 +11,10 @@
 
 namespace slideid {
 
-/// The closed form of `logs` together (EstimateClosedForm, estimator/closed_form.h).
+/// The closed form of `logs` together (EstimateClosedForm, estimator/closed_form.h);
+/// without its per-step residuals when `keep_residuals` is false (a seed needs none).
 EstimateResult ClosedFormCore(const std::vector<const Trajectory*>& logs,
-                              const IdentifyOptions& options);
+                              const IdentifyOptions& options, bool keep_residuals = true);
 
 /// The equation error of `logs` together (EstimateEquationError), seeded by `closed_form`,
 /// the closed form of the same logs; too little sliding for the closed form is the result.

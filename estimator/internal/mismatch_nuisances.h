@@ -66,11 +66,11 @@ constexpr double kJumpRatio = 3.0;
 /// Per row, the change from it to the next (the last row: kNone).
 std::vector<RowForceChange> ClassifyForceChanges(const Trajectory& log);
 
-/// `log` with the wrench of each row of kind `which` (`kind`: ClassifyForceChanges of
-/// `log`) replaced by the mean of it and the next row's: for kSmooth, the interval's mean
-/// to first order; for kJump, a switch at the interval's middle.
-Trajectory HoldVariant(const Trajectory& log, const std::vector<RowForceChange>& kind,
-                       RowForceChange which);
+/// Per row, whether a variant of the log's wrenches holds the mean of the row's and the next
+/// row's over the row's interval (SegmentCost::SetHeldRows): the rows of kind `which` (`kind`:
+/// ClassifyForceChanges of the log). For kSmooth, the interval's mean to first order; for
+/// kJump, a switch at the interval's middle.
+std::vector<char> HeldRows(const std::vector<RowForceChange>& kind, RowForceChange which);
 
 /// The push switches' timing (the third nuisance) has a direction only on logs of this many
 /// segments: it matters on long pushed logs (scene suite log 230, 6613 rows: a -0.55%, 4.4
@@ -79,11 +79,26 @@ Trajectory HoldVariant(const Trajectory& log, const std::vector<RowForceChange>&
 /// direction is zero, and the fit leaves it out as undetermined.
 constexpr int kMinSwitchCorrectionSegments = 16;
 
-/// Per segment of `problem` (in order), the residual directions of the nuisances:
+/// Per segment of `problem`, the residual directions of the nuisances:
 /// rows x (kMismatchNuisances * num_logs), in the units of the row-loss residuals
 /// (Information's `extra`), nonzero only in the segment's own log's columns. A segment
 /// whose alternative residuals cannot be computed (a step fails) gets zeros there, and so
 /// does the switch column of a log of fewer than kMinSwitchCorrectionSegments segments.
-std::vector<Eigen::MatrixXd> MismatchDirections(const TrajectoryProblem& problem);
+/// Computed a segment at a time (operator(), safe to call concurrently), at the problem's
+/// current point, so that the directions of every segment (72 bytes a row) are never held
+/// at once. The problem must outlive this.
+class MismatchDirections {
+ public:
+  explicit MismatchDirections(const TrajectoryProblem& problem);
+  /// Segment `s`'s directions.
+  Eigen::MatrixXd operator()(int s) const;
+
+ private:
+  bool Switches(int log) const;
+
+  const TrajectoryProblem& problem_;
+  std::vector<int> segments_of_log_;
+  std::vector<std::vector<char>> smooth_, jumps_;  // HeldRows per log (jumps_: when Switches)
+};
 
 }  // namespace slideid

@@ -75,6 +75,11 @@ class SegmentCost final : public ceres::CostFunction {
               SegmentNuisances nuisances);
 
   void SetRowLoss(const RowLoss& loss) { loss_ = loss; }
+  /// Replaces the logged wrench of every row u with held_rows[u] != 0 (indexed by the log's
+  /// rows; u + 1 must be a row) by the mean of it and row u + 1's: the mismatch directions'
+  /// held-force variants (mismatch_nuisances.h), without a copy of the log. Null: the
+  /// logged wrenches. `held_rows` must outlive the cost.
+  void SetHeldRows(const std::vector<char>* held_rows) { held_rows_ = held_rows; }
   const RowLoss& row_loss() const { return loss_; }
   /// The residuals alone, with or without the row loss (diagnostics, the seed scan).
   bool Residuals(double const* const* params, double* residuals, bool with_row_loss) const;
@@ -97,6 +102,9 @@ class SegmentCost final : public ceres::CostFunction {
   /// the same parameter values (bit for bit).
   bool RawResiduals(double const* const* params, double* residuals, double** jacobians) const;
   void ApplyRowLoss(double* residuals, double** jacobians) const;
+  /// The wrench held over row `row`'s interval before any nuisance: the logged one, or its
+  /// mean with the next row's (SetHeldRows).
+  AppliedWrench RowWrench(int row) const;
 
   const Trajectory& log_;
   int first_, last_, substeps_;
@@ -105,6 +113,7 @@ class SegmentCost final : public ceres::CostFunction {
   int offset_block_ = -1, delay_block_ = -1;  // parameter block indices, -1 when absent
   double length_m_;
   RowLoss loss_;
+  const std::vector<char>* held_rows_ = nullptr;
   // Per (step, substep) cache of the last solution; a residual block is evaluated by one
   // thread at a time, so the cache needs no lock.
   mutable std::vector<Eigen::Vector4d> warm_start_;

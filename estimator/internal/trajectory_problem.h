@@ -13,6 +13,7 @@
 #include <Eigen/Core>
 #include <algorithm>
 #include <array>
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -179,12 +180,18 @@ class TrajectoryProblem {
   const Trajectory& log(int k) const { return *logs_[k]; }
   bool use_pose(int k) const { return logs_[k]->measured.pose; }
   int substeps() const { return options_.trajectory.substeps; }
+  int threads() const { return options_.threads; }
   int Rows() const;  ///< rows inside segments, over all logs
 
   void SetRowLoss(const RowLoss& loss);
   /// Residuals of every segment in order, robustified (raw = false) or not; a segment
   /// whose simulation fails gives zeros. Runs on options.threads threads.
   std::vector<double> Residuals(bool raw) const;
+  /// Calls f(k, r) for every segment k in order with its residuals r, as Residuals(raw)
+  /// gives them, evaluating a chunk of segments at a time on options.threads threads: the
+  /// whole log's residual vector (24 MB for 1e6 rows) is never held.
+  void ForEachSegmentResiduals(bool raw,
+                               const std::function<void(int, const std::vector<double>&)>& f) const;
   /// Sum of squares of the raw residuals; infinity if a segment fails.
   double RawCost() const;
 
@@ -195,16 +202,19 @@ class TrajectoryProblem {
   ceres::Solver::Summary Solve(const std::vector<bool>& free, bool stage = false);
 
   /// The information of every global parameter, marginalised over the states; also marks
-  /// segments whose state is undetermined. `extra`, when given, holds per segment (in
-  /// order) E further residual directions (rows x E, in the units of the row-loss
-  /// residuals): linearised nuisances whose shares FitInformation::per_segment then holds.
-  FitInformation Information(const std::vector<Eigen::MatrixXd>* extra = nullptr);
+  /// segments whose state is undetermined. `extra`, when given, gives for segment k (called
+  /// for each, concurrently on options.threads threads) E further residual directions
+  /// (rows x E, in the units of the row-loss residuals): linearised nuisances whose shares
+  /// FitInformation::per_segment then holds.
+  FitInformation Information(const std::function<Eigen::MatrixXd(int)>* extra = nullptr);
 
-  /// The raw residuals (no row loss) of every segment with each log replaced by
-  /// `replaced_logs[log]` (the same rows, other wrenches) and `substeps` steps per interval,
-  /// at the current states and parameters; empty where a segment fails.
-  std::vector<Eigen::VectorXd> SegmentResidualsWith(
-      const std::vector<const Trajectory*>& replaced_logs, int substeps) const;
+  /// The raw residuals (no row loss) of segment `segment` with `substeps` steps per interval
+  /// and, where `held_rows` is given (indexed by its log's rows), each row u with
+  /// held_rows[u] != 0 holding the mean of its and the next row's wrench
+  /// (SegmentCost::SetHeldRows), at the current state and parameters; empty where a step
+  /// fails. Safe to call for different segments concurrently.
+  Eigen::VectorXd SegmentResidualsWith(int segment, const std::vector<char>* held_rows,
+                                       int substeps) const;
 
   /// One-sigma errors of the free global parameters from Information() and the residual
   /// variance (0 where undetermined).
