@@ -528,9 +528,9 @@ EstimateResult EquationErrorCore(const std::vector<const Trajectory*>& logs,
   }
   for (int i = 0; i < 3; ++i) {
     context.seed[i] = seed_result.parameters[i].identifiable ? std::exp(seed[i]) : kNaN;
-    context.lower[i] = kFrictionLowerBound[i];
-    context.upper[i] = kFrictionUpperBound[i];
   }
+  context.lower = kFrictionLowerBound;
+  context.upper = kFrictionUpperBound;
   JudgeEstimates(context, &result.parameters);
   if (result.parameters[kC].identifiable && set.rotation_snr < kMinImpulseSnr) {
     result.parameters[kC] = NotIdentifiable(result.parameters[kC].value, set.rotation_reason);

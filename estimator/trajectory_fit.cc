@@ -65,23 +65,28 @@ double Seconds(std::chrono::steady_clock::time_point start) {
 // measured (not differentiated from poses) make the equation error accurate: its estimate
 // is a candidate too.
 struct SeedCandidates {
-  std::array<double, 3> base;                // (a, b, c) to scan a around
-  std::vector<std::array<double, 3>> exact;  // full candidates tried as they are
+  ReducedFriction base;                // to scan a around
+  std::vector<ReducedFriction> exact;  // full candidates tried as they are
 };
+
+// What `r` estimates where it identifies a positive value, else `fallback`'s.
+ReducedFriction IdentifiedOr(const EstimateResult& r, ReducedFriction fallback) {
+  for (int i = 0; i < 3; ++i) {
+    const ParameterEstimate& p = r.parameters[i];
+    if (p.identifiable && std::isfinite(p.value) && p.value > 0) fallback[i] = p.value;
+  }
+  return fallback;
+}
 
 SeedCandidates CandidateSeeds(const Trajectory& log, const IdentifyOptions& options) {
   const double length_m = std::sqrt(log.slider.inertia_kgm2 / log.slider.mass_kg);
-  const std::array<double, 3> defaults{{kDefaultA, 1.0, length_m}};
+  const ReducedFriction defaults{kDefaultA, 1.0, length_m};
   SeedCandidates seeds{defaults, {defaults}};
   auto take = [&](const EstimateResult& r, bool set_base) {
-    std::array<double, 3> seed = defaults;
-    for (int i = 0; i < 3; ++i) {
-      const ParameterEstimate& p = r.parameters[i];
-      if (p.identifiable && std::isfinite(p.value) && p.value > 0) seed[i] = p.value;
-    }
+    const ReducedFriction seed = IdentifiedOr(r, defaults);
     if (seed == defaults) return;
     seeds.exact.push_back(seed);
-    if (set_base) seeds.base = {defaults[0], seed[1], seed[2]};
+    if (set_base) seeds.base = {defaults.a, seed.b, seed.c};
   };
   const EstimateResult closed_form = ClosedFormCore({&log}, options);
   take(closed_form, true);
@@ -91,12 +96,12 @@ SeedCandidates CandidateSeeds(const Trajectory& log, const IdentifyOptions& opti
 
 // Sets the problem's friction to the seed with the lowest trajectory cost among the exact
 // candidates and a scan of a (refined by a parabola) at the base's (b, c).
-std::array<double, 3> SeedFriction(TrajectoryProblem* problem, const SeedCandidates& seeds) {
+ReducedFriction SeedFriction(TrajectoryProblem* problem, const SeedCandidates& seeds) {
   double best_cost = std::numeric_limits<double>::infinity();
-  std::array<double, 3> best = seeds.base;
+  ReducedFriction best = seeds.base;
   // The seed is what the fit starts from: inside the search range, as SetFriction puts it.
-  auto try_seed = [&](std::array<double, 3> seed) {
-    for (int i = 0; i < 3; ++i) seed[i] = ClampToSearchRange(i, seed[i]);
+  auto try_seed = [&](const ReducedFriction& candidate) {
+    const ReducedFriction seed = ClampToSearchRange(candidate);
     problem->SetFriction(seed);
     const double cost = problem->RawCost();
     if (cost < best_cost) {
@@ -105,17 +110,17 @@ std::array<double, 3> SeedFriction(TrajectoryProblem* problem, const SeedCandida
     }
     return cost;
   };
-  double lo = seeds.base[0], hi = seeds.base[0];
-  for (const std::array<double, 3>& seed : seeds.exact) {
+  double lo = seeds.base.a, hi = seeds.base.a;
+  for (const ReducedFriction& seed : seeds.exact) {
     try_seed(seed);
-    lo = std::min(lo, seed[0]);
-    hi = std::max(hi, seed[0]);
+    lo = std::min(lo, seed.a);
+    hi = std::max(hi, seed.a);
   }
   const double log_lo = std::log(lo / kScanSpan), log_hi = std::log(hi * kScanSpan);
   const double spacing = (log_hi - log_lo) / (kScanPoints - 1);
   auto at = [&](double log_a) {
-    std::array<double, 3> seed = seeds.base;
-    seed[0] = std::exp(log_a);
+    ReducedFriction seed = seeds.base;
+    seed.a = std::exp(log_a);
     return try_seed(seed);
   };
   int best_point = 0;
@@ -139,19 +144,19 @@ std::array<double, 3> SeedFriction(TrajectoryProblem* problem, const SeedCandida
   }
   // Then b and c, one at a time from the best so far: a parabola in the log-parameter
   // through the best and a factor kRefineFactor either side, its vertex tried once.
-  for (int i = 1; i < 3; ++i) {
-    const std::array<double, 3> centre = best;
+  for (double ReducedFriction::*refined : {&ReducedFriction::b, &ReducedFriction::c}) {
+    const ReducedFriction centre = best;
     const double centre_cost = best_cost;
     double f[2];
     for (int side = 0; side < 2; ++side) {
-      std::array<double, 3> trial = centre;
-      trial[i] *= side == 0 ? 1.0 / kRefineFactor : kRefineFactor;
+      ReducedFriction trial = centre;
+      trial.*refined *= side == 0 ? 1.0 / kRefineFactor : kRefineFactor;
       f[side] = try_seed(trial);
     }
     const double curvature = f[0] - 2 * centre_cost + f[1];
     if (curvature > 0 && std::isfinite(curvature)) {
-      std::array<double, 3> trial = centre;
-      trial[i] *= std::exp(0.5 * std::log(kRefineFactor) * (f[0] - f[1]) / curvature);
+      ReducedFriction trial = centre;
+      trial.*refined *= std::exp(0.5 * std::log(kRefineFactor) * (f[0] - f[1]) / curvature);
       try_seed(trial);
     }
   }
@@ -182,7 +187,7 @@ void AppendTrace(const ceres::Solver::Summary& summary, const char* stage,
 
 // Seeds the problem's friction (returned in *seed) and states; returns the iterations spent.
 int SeedFromHeads(TrajectoryProblem* problem, const SeedCandidates& candidates,
-                  std::array<double, 3>* seed, std::vector<SolverIteration>* trace) {
+                  ReducedFriction* seed, std::vector<SolverIteration>* trace) {
   if (problem->HeadsFraction(kSeedHeadSteps) > kMaxHeadsFraction) {
     *seed = SeedFriction(problem, candidates);
     return 0;
@@ -762,7 +767,7 @@ struct FitOutcome {
 // Where a fit starts when not from its own seeds: the pooled fit from the logs fitted on
 // their own, a log's own fit again from the pooled one.
 struct FitStart {
-  std::array<double, 3> friction;
+  ReducedFriction friction;
   /// Per log of the fit: the problem whose segment states (matched by rows) start it, and
   /// the log's index there; null keeps the log's own seeded states.
   std::vector<std::pair<const TrajectoryProblem*, int>> states;
@@ -846,7 +851,7 @@ struct FitStages {
   std::vector<double> row_noise;            ///< per log: its rows' noise (RowNoise)
   std::vector<double> residual_scale;       ///< per log: its residuals' scale (ResidualRowScale)
   std::vector<bool> free;                   ///< per global parameter: fitted, not held
-  std::array<double, 3> seed{};             ///< the friction the fit started from
+  ReducedFriction seed{0, 0, 0};            ///< the friction the fit started from
   ceres::Solver::Summary summary;           ///< of the last solve
   int iterations = 0;                       ///< over every solve
   std::vector<SolverIteration> trace;       ///< every solve's iterations (the trace)
@@ -1113,10 +1118,8 @@ void VerdictStage(const FitStages& f, const IntervalStage& iv, EstimateResult* r
     context.model_floor = DiscretisationScale(problem);
   }
   context.seed = f.seed;
-  for (int i = 0; i < 3; ++i) {
-    context.lower[i] = kFrictionLowerBound[i];
-    context.upper[i] = kFrictionUpperBound[i];
-  }
+  context.lower = kFrictionLowerBound;
+  context.upper = kFrictionUpperBound;
   JudgeEstimates(context, &result->parameters);
   // A white-noise interval is doubtful where force noise or a hold could correlate the
   // residuals along a segment; a free slide has neither (TrajectorySegmentSteps), and its
@@ -1421,8 +1424,8 @@ class TrajectoryMethod : public PoolableFit {
       }
     }
     const Trajectory& first = *logs_[0];
-    const std::array<double, 3> defaults{
-        {kDefaultA, 1.0, std::sqrt(first.slider.inertia_kgm2 / first.slider.mass_kg)}};
+    const ReducedFriction defaults{kDefaultA, 1.0,
+                                   std::sqrt(first.slider.inertia_kgm2 / first.slider.mass_kg)};
     for (int i = 0; i < 3; ++i) {
       start_.friction[i] = log_values[i].empty() ? defaults[i] : std::exp(Median(log_values[i]));
     }

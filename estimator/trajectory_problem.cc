@@ -266,15 +266,11 @@ std::string TrajectoryProblem::GlobalName(int i) const {
   return "delay_s";
 }
 
-void TrajectoryProblem::SetFriction(const std::array<double, 3>& abc) {
-  for (int i = 0; i < 3; ++i) {
-    global_[i] = std::log(ClampToSearchRange(i, abc[i]));
-  }
+void TrajectoryProblem::SetFriction(const ReducedFriction& friction) {
+  ToLogParameters(ClampToSearchRange(friction), &global_[0]);
 }
 
-std::array<double, 3> TrajectoryProblem::Friction() const {
-  return {std::exp(global_[0]), std::exp(global_[1]), std::exp(global_[2])};
-}
+ReducedFriction TrajectoryProblem::Friction() const { return FromLogParameters(&global_[0]); }
 
 int TrajectoryProblem::Rows() const {
   int n = 0;
