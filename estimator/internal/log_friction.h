@@ -2,9 +2,10 @@
 // Where (a, b, c) meet Ceres. The least-squares fits work in log a, log b, log c (positive
 // by construction, a relative step alike for all three), each a parameter block of one
 // value: blocks 1-3 of a SegmentCost (segment_cost.h), global parameters 0-2 of a
-// TrajectoryProblem (trajectory_problem.h). What comes before the solver (the seeds) and
-// after it (estimates, replays) carries a ReducedFriction; these are the only conversions.
-// Internal to the estimator.
+// TrajectoryProblem (trajectory_problem.h), the theta of the equation-error and
+// quasi-static fits, the online identifier's log-friction state. What comes before the
+// solver (the seeds) and after it (estimates, replays) carries a ReducedFriction; these are
+// the conversions between the two. Internal to the estimator.
 
 #include <algorithm>
 #include <cmath>
@@ -19,10 +20,6 @@ namespace slideid {
 constexpr ReducedFriction kFrictionLowerBound{1e-4, 1e-3, 1e-6};
 constexpr ReducedFriction kFrictionUpperBound{10.0, 1e3, 10.0};
 
-/// Friction parameter i (0 a, 1 b, 2 c) brought inside the search range.
-inline double ClampToSearchRange(int i, double value) {
-  return std::clamp(value, kFrictionLowerBound[i], kFrictionUpperBound[i]);
-}
 /// (a, b, c) brought inside the search range.
 inline ReducedFriction ClampToSearchRange(const ReducedFriction& f) {
   return {std::clamp(f.a, kFrictionLowerBound.a, kFrictionUpperBound.a),
