@@ -196,7 +196,8 @@ int SeedFromHeads(TrajectoryProblem* problem, const SeedCandidates& candidates,
   *seed = SeedFriction(heads.get(), candidates);
   // Delays held at zero, as in Fit's first stage (SeedDelays says why).
   std::vector<bool> free(heads->num_global(), true);
-  for (int i = 3; i < heads->num_global(); ++i) free[i] = heads->GlobalName(i) != "delay_s";
+  for (int i = kFrictionGlobals; i < heads->num_global(); ++i)
+    free[i] = heads->GlobalName(i) != "delay_s";
   const ceres::Solver::Summary summary = heads->Solve(free, /*stage=*/true);
   AppendTrace(summary, "seed (segment heads)", trace);
   const int iterations = static_cast<int>(summary.iterations.size());
@@ -289,7 +290,7 @@ SecondStart TrySecondStart(TrajectoryProblem* problem, const std::vector<bool>& 
 constexpr int kMaxDelayScanSteps = 50;
 
 void SeedDelays(TrajectoryProblem* problem, double max_delay_s) {
-  for (int i = 3; i < problem->num_global(); ++i) {
+  for (int i = kFrictionGlobals; i < problem->num_global(); ++i) {
     if (problem->GlobalName(i) != "delay_s") continue;
     const int k = problem->GlobalLog(i);
     const double h = MedianInterval(problem->log(k >= 0 ? k : 0));
@@ -604,7 +605,7 @@ Eigen::VectorXd MismatchStep(const AugmentedShares& a, const Eigen::MatrixXd& Hi
   Eigen::VectorXd delta = -Hinv * a.g;
   if (!delta.allFinite()) return Eigen::VectorXd::Zero(delta.size());  // degenerate directions
   for (int i = 0; i < n; ++i) {
-    if (free[i] < 3 && std::abs(delta(i)) > kMaxMismatchShift) {
+    if (free[i] < kFrictionGlobals && std::abs(delta(i)) > kMaxMismatchShift) {
       choice->correction_refused = true;
       choice->correction = std::string("model mismatch too large to correct: it would move ") +
                            ParameterName(free[i]) + " by " +
@@ -790,13 +791,13 @@ void ApplyStart(const FitStart& start, TrajectoryProblem* problem) {
       }
     }
   }
-  for (int i = 3; i < problem->num_global(); ++i) {
+  for (int i = kFrictionGlobals; i < problem->num_global(); ++i) {
     // A log's own nuisance from its source; a shared one (a delay) the median of them all.
     std::vector<double> values;
     for (int k = 0; k < problem->num_logs(); ++k) {
       const auto& [from, source_log] = start.nuisances[k];
       if (!from || (problem->GlobalLog(i) >= 0 && problem->GlobalLog(i) != k)) continue;
-      for (int j = 3; j < from->num_global(); ++j) {
+      for (int j = kFrictionGlobals; j < from->num_global(); ++j) {
         if (from->GlobalName(j) == problem->GlobalName(i) &&
             (from->GlobalLog(j) == source_log || from->GlobalLog(j) < 0)) {
           values.push_back(from->global(j));
@@ -897,7 +898,7 @@ void LeastSquaresStage(const FitStart* start, FitStages* f) {
   SetRowLosses(&problem, RobustLoss::kNone, f->topt.loss_scale_sigmas, f->row_noise);
   if (!start && f->topt.fit_delay != DelayFit::kNone) {
     std::vector<bool> stage = f->free;
-    for (int i = 3; i < problem.num_global(); ++i) {
+    for (int i = kFrictionGlobals; i < problem.num_global(); ++i) {
       stage[i] = problem.GlobalName(i) != "delay_s";
     }
     const ceres::Solver::Summary held = problem.Solve(stage, /*stage=*/true);
@@ -972,7 +973,7 @@ bool HoldStage(FitStages* f, HeldStage* held) {
   // Where a nuisance and a friction parameter are confounded, the nuisance is held: the
   // friction is what the user asked for (priority 1 over 0).
   std::vector<int> priority(G, 0);
-  for (int i = 0; i < 3; ++i) priority[i] = 1;
+  for (int i = 0; i < kFrictionGlobals; ++i) priority[i] = 1;
   held->verdict =
       AssessIdentifiability(held->info.fisher, dof0 > 0 ? held->info.sum_squares / dof0 : 0.0,
                             std::vector<bool>(G, true), max_stderr, priority);
@@ -981,10 +982,12 @@ bool HoldStage(FitStages* f, HeldStage* held) {
   // the undetermined fit left it: that value is arbitrary, and through its confounded
   // partner (a force offset along the only direction of motion, and a) it would bias the
   // estimates (by 15 standard errors of a on a noisy log pushed along one line).
-  for (int i = 3; i < G; ++i) {
+  for (int i = kFrictionGlobals; i < G; ++i) {
     if (!f->free[i]) problem.set_global(i, 0.0);
   }
-  if (!f->free[0] && !f->free[1] && !f->free[2]) return false;
+  if (std::none_of(f->free.begin(), f->free.begin() + kFrictionGlobals, [](bool x) { return x; })) {
+    return false;
+  }
   if (std::find(f->free.begin(), f->free.end(), false) != f->free.end()) {
     f->Solve(f->free, "refit, unidentifiable held");
     f->residual_scale = ResidualRowScale(problem);
@@ -1022,8 +1025,8 @@ IntervalStage Intervals(const FitStages& f, const HeldStage& held, EstimateResul
     out.value_of[free_index[a]] += out.choice.shift[a];
   }
   const Eigen::MatrixXd& cov = out.choice.covariance;
-  for (size_t a = 0; a < free_index.size() && free_index[a] < 3; ++a) {
-    for (size_t b = 0; b < free_index.size() && free_index[b] < 3; ++b) {
+  for (size_t a = 0; a < free_index.size() && free_index[a] < kFrictionGlobals; ++a) {
+    for (size_t b = 0; b < free_index.size() && free_index[b] < kFrictionGlobals; ++b) {
       if (cov.rows() <= static_cast<int>(std::max(a, b))) continue;
       const double scale = std::sqrt(cov(a, a) * cov(b, b));
       // The mean of both triangles: a covariance that is symmetric only to rounding would
@@ -1063,7 +1066,7 @@ IntervalStage Intervals(const FitStages& f, const HeldStage& held, EstimateResul
           out.choice.correction + ")";
     }
   }
-  for (int i = 3; i < G; ++i) {
+  for (int i = kFrictionGlobals; i < G; ++i) {
     NuisanceEstimate n;
     n.name = problem.GlobalName(i);
     const int owner = problem.GlobalLog(i);
@@ -1584,7 +1587,7 @@ SeedInformation TrajectoryInformationAtSeed(const Trajectory& log, const Identif
   const std::vector<LogDiagnostics> per_log{diagnostics};
   for (int i = 0; i < G; ++i) max_stderr[i] = MaxStdErr(*problem, i, per_log, options.trajectory);
   std::vector<int> priority(G, 0);
-  for (int i = 0; i < 3; ++i) priority[i] = 1;
+  for (int i = 0; i < kFrictionGlobals; ++i) priority[i] = 1;
   out.verdicts = AssessIdentifiability(info.fisher, out.residual_variance,
                                        std::vector<bool>(G, true), max_stderr, priority);
   return out;

@@ -127,8 +127,8 @@ TrajectoryProblem::TrajectoryProblem(const std::vector<const Trajectory*>& logs,
     : logs_(logs), options_(options) {
   const TrajectoryOptions& t = options.trajectory;
   const int n = static_cast<int>(logs.size());
-  global_ = {0.0, 0.0, 0.0};
-  global_log_ = {-1, -1, -1};
+  global_.assign(kFrictionGlobals, 0.0);
+  global_log_.assign(kFrictionGlobals, -1);
   offset_index_.assign(n, -1);
   delay_index_.assign(n, -1);
   if (t.fit_force_bias) {
@@ -259,7 +259,7 @@ void TrajectoryProblem::set_point(const Point& point) {
 }
 
 std::string TrajectoryProblem::GlobalName(int i) const {
-  if (i < 3) return ParameterName(i);
+  if (IsFriction(i)) return ParameterName(i);
   const int k = global_log_[i];
   if (k >= 0 && offset_index_[k] == i) return "force_bias_x_n";
   if (k >= 0 && offset_index_[k] + 1 == i) return "force_bias_y_n";

@@ -4,9 +4,9 @@
 // global parameters they share. Internal to the estimator; tests use it to check the
 // information it computes against ceres::Covariance.
 //
-// Global parameters, in order: log a, log b, log c; then for each log its force offset
-// (o_x, o_y) [N] when fitted; then the delay [s] of each log's force stream, or one shared
-// delay, when fitted.
+// Global parameters, in order: log a, log b, log c (the first kFrictionGlobals); then for each log
+// its force offset (o_x, o_y) [N] when fitted; then the delay [s] of each log's force stream, or
+// one shared delay, when fitted.
 
 #include <ceres/ceres.h>
 
@@ -23,6 +23,10 @@
 #include "forward_model/trajectory.h"
 
 namespace slideid {
+
+/// Global parameters 0, 1, 2 are log a, log b, log c (log_friction.h); the sensor
+/// nuisances, when fitted, follow from this index on.
+constexpr int kFrictionGlobals = 3;
 
 /// Intervals per shooting segment for a log of `rows` rows, `interval_s` apart (its median
 /// interval): options.segment_steps when set, else rows / kTargetSegments within
@@ -143,7 +147,7 @@ class TrajectoryProblem {
   /// it belongs to (-1: all).
   std::string GlobalName(int i) const;
   int GlobalLog(int i) const { return global_log_[i]; }
-  bool IsFriction(int i) const { return i < 3; }
+  bool IsFriction(int i) const { return i < kFrictionGlobals; }
   double global(int i) const { return global_[i]; }
   void set_global(int i, double value) { global_[i] = value; }
   /// Sets (a, b, c), clamped to the search range (global parameters 0-2 hold their logs).
