@@ -184,15 +184,13 @@ LogEstimate ChooseInterval(const Sandwich& s, int a, bool spin) {
 /// (isotropic), c = L (uniform disc-like pressure), a = typical table-top friction.
 constexpr double kDefaultA = 0.3;
 
-std::array<double, 3> SeedOf(const EstimateResult& closed_form, double radius_m) {
-  const std::array<double, 3> fallback{{kDefaultA, 1.0, radius_m}};
-  std::array<double, 3> seed;
+ReducedFriction SeedOf(const EstimateResult& closed_form, double radius_m) {
+  ReducedFriction seed{kDefaultA, 1.0, radius_m};
   for (int i = 0; i < 3; ++i) {
     const ParameterEstimate& p = closed_form.parameters[i];
-    const double value = p.identifiable ? p.value : fallback[i];
-    seed[i] = std::log(ClampToSearchRange(i, value));
+    if (p.identifiable) seed[i] = p.value;
   }
-  return seed;
+  return ClampToSearchRange(seed);
 }
 
 /// Residuals at least this fraction of the scale the logs' noise implies
@@ -468,7 +466,8 @@ EstimateResult EquationErrorCore(const std::vector<const Trajectory*>& logs,
     return result;
   }
 
-  const std::array<double, 3> seed = SeedOf(seed_result, set.log_steps[0].radius_m);
+  std::array<double, 3> seed;  // log a, log b, log c: the fit's parameter blocks
+  ToLogParameters(SeedOf(seed_result, set.log_steps[0].radius_m), seed.data());
   const FitOutcome fit = FitWithIdentifiability(set.fit, seed, identify);
   result.iterations = fit.iterations;
   result.final_cost = fit.summary.final_cost;
@@ -528,9 +527,9 @@ EstimateResult EquationErrorCore(const std::vector<const Trajectory*>& logs,
   }
   for (int i = 0; i < 3; ++i) {
     context.seed[i] = seed_result.parameters[i].identifiable ? std::exp(seed[i]) : kNaN;
-    context.lower[i] = kFrictionLowerBound[i];
-    context.upper[i] = kFrictionUpperBound[i];
   }
+  context.lower = kFrictionLowerBound;
+  context.upper = kFrictionUpperBound;
   JudgeEstimates(context, &result.parameters);
   if (result.parameters[kC].identifiable && set.rotation_snr < kMinImpulseSnr) {
     result.parameters[kC] = NotIdentifiable(result.parameters[kC].value, set.rotation_reason);

@@ -9,6 +9,7 @@
 #include <stdexcept>
 #include <utility>
 
+#include "estimator/internal/log_friction.h"
 #include "estimator/internal/mismatch_nuisances.h"
 #include "estimator/internal/trajectory_problem.h"
 #include "estimator/log_diagnostics.h"
@@ -365,7 +366,7 @@ struct OnlineIdentifier::Impl {
   bool RunModel(const TrajectorySample& next, int substeps, bool interpolate,
                 std::vector<Eigen::Vector4d>* warm, Vector6* end, Matrix69* jacobian) const {
     const double h = (next.t_s - last.t_s) / substeps;
-    const ReducedFriction abc{std::exp(x(kPar)), std::exp(x(kPar + 1)), std::exp(x(kPar + 2))};
+    const ReducedFriction abc = FromLogParameters(x.data() + kPar);
     PlanarState s{x(0), x(1), x(2), x(3), x(4), x(5)};
     jacobian->setZero();
     jacobian->leftCols<6>().setIdentity();

@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "estimator/estimate.h"
+#include "forward_model/slider.h"
 
 namespace slideid {
 
@@ -50,13 +51,13 @@ struct PlausibilityContext {
   /// distrust it.
   double model_floor = 0;
   std::vector<PushCapacity> logs;
-  std::array<double, 3> seed{{std::numeric_limits<double>::quiet_NaN(),
-                              std::numeric_limits<double>::quiet_NaN(),
-                              std::numeric_limits<double>::quiet_NaN()}};
-  std::array<double, 3> lower{{0, 0, 0}};  ///< search range; 0 / inf: none
-  std::array<double, 3> upper{{std::numeric_limits<double>::infinity(),
-                               std::numeric_limits<double>::infinity(),
-                               std::numeric_limits<double>::infinity()}};
+  ReducedFriction seed{std::numeric_limits<double>::quiet_NaN(),
+                       std::numeric_limits<double>::quiet_NaN(),
+                       std::numeric_limits<double>::quiet_NaN()};
+  ReducedFriction lower{0, 0, 0};  ///< search range; 0 / inf: none
+  ReducedFriction upper{std::numeric_limits<double>::infinity(),
+                        std::numeric_limits<double>::infinity(),
+                        std::numeric_limits<double>::infinity()};
 };
 
 /// Sets the verdict (and reason) of every parameter: kNotIdentifiable ones stay so; an

@@ -101,12 +101,11 @@ FrictionKnowledge KnowledgeFromPrior(const FrictionPrior& prior, const ContactPa
 FrictionKnowledge KnowledgeFromResult(const EstimateResult& result,
                                       const FrictionKnowledge& prior) {
   FrictionKnowledge k = prior;
-  double* values[3] = {&k.estimate.a, &k.estimate.b, &k.estimate.c};
   for (int i = 0; i < 3; ++i) {
     const ParameterEstimate& p = result.parameters[i];
     if (!p.identifiable) {
       // Not determined by the log: the prior's width, about what the fit held it at.
-      if (p.held_at > 0 && std::isfinite(p.held_at)) *values[i] = p.held_at;
+      if (p.held_at > 0 && std::isfinite(p.held_at)) k.estimate[i] = p.held_at;
       continue;
     }
     if (!(p.value > 0 && std::isfinite(p.value))) {
@@ -120,7 +119,7 @@ FrictionKnowledge KnowledgeFromResult(const EstimateResult& result,
                                   "standard error, not " +
                                   ShortNumber(p.stderr_value));
     }
-    *values[i] = p.value;
+    k.estimate[i] = p.value;
     const double sd_log = p.stderr_value / p.value;
     k.information_log.row(i).setZero();
     k.information_log.col(i).setZero();

@@ -11,6 +11,7 @@
 #include <string>
 
 #include "estimator/identifiability.h"
+#include "estimator/internal/log_friction.h"
 #include "estimator/internal/quasi_static_residuals.h"
 #include "estimator/plausibility.h"
 #include "estimator/pooling.h"
@@ -56,8 +57,8 @@ void CheckPairs(const std::vector<WrenchTwistPair>& pairs, double weight_n) {
 }
 
 /// The seed: b = 1, c from the spins, a from the wrench norms (see the header).
-std::array<double, 3> Seed(const std::vector<WrenchTwistPair>& pairs, double weight_n,
-                           double length_scale_m) {
+ReducedFriction Seed(const std::vector<WrenchTwistPair>& pairs, double weight_n,
+                     double length_scale_m) {
   std::vector<double> c_candidates, arms;
   for (const WrenchTwistPair& p : pairs) {
     const double f = std::hypot(p.fx, p.fy), v = std::hypot(p.vx, p.vy);
@@ -166,10 +167,10 @@ EstimateResult EstimateQuasiStatic(const std::vector<WrenchTwistPair>& pairs,
   std::string why;
   if (!options.IsValid(&why)) throw std::invalid_argument("EstimateQuasiStatic: " + why);
   CheckPairs(pairs, options.weight_n);
-  const std::array<double, 3> seed_value = Seed(pairs, options.weight_n, options.length_scale_m);
-  const double length = options.length_scale_m > 0.0 ? options.length_scale_m : seed_value[2];
-  std::array<double, 3> seed;
-  for (int i = 0; i < 3; ++i) seed[i] = std::log(seed_value[i]);
+  const ReducedFriction seed_value = Seed(pairs, options.weight_n, options.length_scale_m);
+  const double length = options.length_scale_m > 0.0 ? options.length_scale_m : seed_value.c;
+  std::array<double, 3> seed;  // log a, log b, log c: the fit's parameter blocks
+  ToLogParameters(seed_value, seed.data());
   double theta[3] = {seed[0], seed[1], seed[2]};
 
   EstimateResult result;

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <exception>
 
+#include "estimator/internal/log_friction.h"
 #include "estimator/step_sensitivity.h"
 #include "forward_model/step_solver.h"
 
@@ -221,7 +222,7 @@ bool SegmentCost::SimulatedStates(double const* const* params,
 bool SegmentCost::Simulate(double const* const* params, double* residuals, double** jacobians,
                            std::vector<PlanarState>* states) const {
   PlanarState s{params[0][0], params[0][1], params[0][2], params[0][3], params[0][4], params[0][5]};
-  const ReducedFriction abc{std::exp(params[1][0]), std::exp(params[2][0]), std::exp(params[3][0])};
+  const ReducedFriction abc = FromLogBlocks(params + kFirstFrictionBlock);
   if (!(abc.a > 0 && abc.b > 0 && abc.c > 0) || !std::isfinite(abc.a * abc.b * abc.c)) {
     return false;
   }

@@ -59,23 +59,28 @@ double Seconds(std::chrono::steady_clock::time_point start) {
 // measured (not differentiated from poses) make the equation error accurate: its estimate
 // is a candidate too.
 struct SeedCandidates {
-  std::array<double, 3> base;                // (a, b, c) to scan a around
-  std::vector<std::array<double, 3>> exact;  // full candidates tried as they are
+  ReducedFriction base;                // to scan a around
+  std::vector<ReducedFriction> exact;  // full candidates tried as they are
 };
+
+// What `r` estimates where it identifies a positive value, else `fallback`'s.
+ReducedFriction IdentifiedOr(const EstimateResult& r, ReducedFriction fallback) {
+  for (int i = 0; i < 3; ++i) {
+    const ParameterEstimate& p = r.parameters[i];
+    if (p.identifiable && std::isfinite(p.value) && p.value > 0) fallback[i] = p.value;
+  }
+  return fallback;
+}
 
 SeedCandidates CandidateSeeds(const Trajectory& log, const IdentifyOptions& options) {
   const double length_m = std::sqrt(log.slider.inertia_kgm2 / log.slider.mass_kg);
-  const std::array<double, 3> defaults{{kDefaultA, 1.0, length_m}};
+  const ReducedFriction defaults{kDefaultA, 1.0, length_m};
   SeedCandidates seeds{defaults, {defaults}};
   auto take = [&](const EstimateResult& r, bool set_base) {
-    std::array<double, 3> seed = defaults;
-    for (int i = 0; i < 3; ++i) {
-      const ParameterEstimate& p = r.parameters[i];
-      if (p.identifiable && std::isfinite(p.value) && p.value > 0) seed[i] = p.value;
-    }
+    const ReducedFriction seed = IdentifiedOr(r, defaults);
     if (seed == defaults) return;
     seeds.exact.push_back(seed);
-    if (set_base) seeds.base = {defaults[0], seed[1], seed[2]};
+    if (set_base) seeds.base = {defaults.a, seed.b, seed.c};
   };
   const EstimateResult closed_form = ClosedFormCore({&log}, options, /*keep_residuals=*/false);
   take(closed_form, true);
@@ -85,12 +90,12 @@ SeedCandidates CandidateSeeds(const Trajectory& log, const IdentifyOptions& opti
 
 // Sets the problem's friction to the seed with the lowest trajectory cost among the exact
 // candidates and a scan of a (refined by a parabola) at the base's (b, c).
-std::array<double, 3> SeedFriction(TrajectoryProblem* problem, const SeedCandidates& seeds) {
+ReducedFriction SeedFriction(TrajectoryProblem* problem, const SeedCandidates& seeds) {
   double best_cost = std::numeric_limits<double>::infinity();
-  std::array<double, 3> best = seeds.base;
+  ReducedFriction best = seeds.base;
   // The seed is what the fit starts from: inside the search range, as SetFriction puts it.
-  auto try_seed = [&](std::array<double, 3> seed) {
-    for (int i = 0; i < 3; ++i) seed[i] = ClampToSearchRange(i, seed[i]);
+  auto try_seed = [&](const ReducedFriction& candidate) {
+    const ReducedFriction seed = ClampToSearchRange(candidate);
     problem->SetFriction(seed);
     const double cost = problem->RawCost();
     if (cost < best_cost) {
@@ -99,17 +104,17 @@ std::array<double, 3> SeedFriction(TrajectoryProblem* problem, const SeedCandida
     }
     return cost;
   };
-  double lo = seeds.base[0], hi = seeds.base[0];
-  for (const std::array<double, 3>& seed : seeds.exact) {
+  double lo = seeds.base.a, hi = seeds.base.a;
+  for (const ReducedFriction& seed : seeds.exact) {
     try_seed(seed);
-    lo = std::min(lo, seed[0]);
-    hi = std::max(hi, seed[0]);
+    lo = std::min(lo, seed.a);
+    hi = std::max(hi, seed.a);
   }
   const double log_lo = std::log(lo / kScanSpan), log_hi = std::log(hi * kScanSpan);
   const double spacing = (log_hi - log_lo) / (kScanPoints - 1);
   auto at = [&](double log_a) {
-    std::array<double, 3> seed = seeds.base;
-    seed[0] = std::exp(log_a);
+    ReducedFriction seed = seeds.base;
+    seed.a = std::exp(log_a);
     return try_seed(seed);
   };
   int best_point = 0;
@@ -133,19 +138,19 @@ std::array<double, 3> SeedFriction(TrajectoryProblem* problem, const SeedCandida
   }
   // Then b and c, one at a time from the best so far: a parabola in the log-parameter
   // through the best and a factor kRefineFactor either side, its vertex tried once.
-  for (int i = 1; i < 3; ++i) {
-    const std::array<double, 3> centre = best;
+  for (double ReducedFriction::*refined : {&ReducedFriction::b, &ReducedFriction::c}) {
+    const ReducedFriction centre = best;
     const double centre_cost = best_cost;
     double f[2];
     for (int side = 0; side < 2; ++side) {
-      std::array<double, 3> trial = centre;
-      trial[i] *= side == 0 ? 1.0 / kRefineFactor : kRefineFactor;
+      ReducedFriction trial = centre;
+      trial.*refined *= side == 0 ? 1.0 / kRefineFactor : kRefineFactor;
       f[side] = try_seed(trial);
     }
     const double curvature = f[0] - 2 * centre_cost + f[1];
     if (curvature > 0 && std::isfinite(curvature)) {
-      std::array<double, 3> trial = centre;
-      trial[i] *= std::exp(0.5 * std::log(kRefineFactor) * (f[0] - f[1]) / curvature);
+      ReducedFriction trial = centre;
+      trial.*refined *= std::exp(0.5 * std::log(kRefineFactor) * (f[0] - f[1]) / curvature);
       try_seed(trial);
     }
   }
@@ -176,7 +181,7 @@ void AppendTrace(const ceres::Solver::Summary& summary, const char* stage,
 
 // Seeds the problem's friction (returned in *seed) and states; returns the iterations spent.
 int SeedFromHeads(TrajectoryProblem* problem, const SeedCandidates& candidates,
-                  std::array<double, 3>* seed, std::vector<SolverIteration>* trace) {
+                  ReducedFriction* seed, std::vector<SolverIteration>* trace) {
   if (problem->HeadsFraction(kSeedHeadSteps) > kMaxHeadsFraction) {
     *seed = SeedFriction(problem, candidates);
     return 0;
@@ -185,7 +190,8 @@ int SeedFromHeads(TrajectoryProblem* problem, const SeedCandidates& candidates,
   *seed = SeedFriction(heads.get(), candidates);
   // Delays held at zero, as in Fit's first stage (SeedDelays says why).
   std::vector<bool> free(heads->num_global(), true);
-  for (int i = 3; i < heads->num_global(); ++i) free[i] = heads->GlobalName(i) != "delay_s";
+  for (int i = kFrictionGlobals; i < heads->num_global(); ++i)
+    free[i] = heads->GlobalName(i) != "delay_s";
   const ceres::Solver::Summary summary = heads->Solve(free, /*stage=*/true);
   AppendTrace(summary, "seed (segment heads)", trace);
   const int iterations = static_cast<int>(summary.iterations.size());
@@ -278,7 +284,7 @@ SecondStart TrySecondStart(TrajectoryProblem* problem, const std::vector<bool>& 
 constexpr int kMaxDelayScanSteps = 50;
 
 void SeedDelays(TrajectoryProblem* problem, double max_delay_s) {
-  for (int i = 3; i < problem->num_global(); ++i) {
+  for (int i = kFrictionGlobals; i < problem->num_global(); ++i) {
     if (problem->GlobalName(i) != "delay_s") continue;
     const int k = problem->GlobalLog(i);
     const double h = MedianInterval(problem->log(k >= 0 ? k : 0));
@@ -599,7 +605,7 @@ Eigen::VectorXd MismatchStep(const AugmentedShares& a, const Eigen::MatrixXd& Hi
   Eigen::VectorXd delta = -Hinv * a.g;
   if (!delta.allFinite()) return Eigen::VectorXd::Zero(delta.size());  // degenerate directions
   for (int i = 0; i < n; ++i) {
-    if (free[i] < 3 && std::abs(delta(i)) > kMaxMismatchShift) {
+    if (free[i] < kFrictionGlobals && std::abs(delta(i)) > kMaxMismatchShift) {
       choice->correction_refused = true;
       choice->correction = std::string("model mismatch too large to correct: it would move ") +
                            ParameterName(free[i]) + " by " +
@@ -760,7 +766,7 @@ struct FitOutcome {
 // Where a fit starts when not from its own seeds: the pooled fit from the logs fitted on
 // their own, a log's own fit again from the pooled one.
 struct FitStart {
-  std::array<double, 3> friction;
+  ReducedFriction friction;
   /// Per log of the fit: the problem whose segment states (matched by rows) start it, and
   /// the log's index there; null keeps the log's own seeded states.
   std::vector<std::pair<const TrajectoryProblem*, int>> states;
@@ -783,13 +789,13 @@ void ApplyStart(const FitStart& start, TrajectoryProblem* problem) {
       }
     }
   }
-  for (int i = 3; i < problem->num_global(); ++i) {
+  for (int i = kFrictionGlobals; i < problem->num_global(); ++i) {
     // A log's own nuisance from its source; a shared one (a delay) the median of them all.
     std::vector<double> values;
     for (int k = 0; k < problem->num_logs(); ++k) {
       const auto& [from, source_log] = start.nuisances[k];
       if (!from || (problem->GlobalLog(i) >= 0 && problem->GlobalLog(i) != k)) continue;
-      for (int j = 3; j < from->num_global(); ++j) {
+      for (int j = kFrictionGlobals; j < from->num_global(); ++j) {
         if (from->GlobalName(j) == problem->GlobalName(i) &&
             (from->GlobalLog(j) == source_log || from->GlobalLog(j) < 0)) {
           values.push_back(from->global(j));
@@ -848,7 +854,7 @@ struct FitStages {
   std::vector<double> row_noise;            ///< per log: its rows' noise (RowNoise)
   std::vector<double> residual_scale;       ///< per log: its residuals' scale (ResidualRowScale)
   std::vector<bool> free;                   ///< per global parameter: fitted, not held
-  std::array<double, 3> seed{};             ///< the friction the fit started from
+  ReducedFriction seed{0, 0, 0};            ///< the friction the fit started from
   ceres::Solver::Summary summary;           ///< of the last solve
   int iterations = 0;                       ///< over every solve
   std::vector<SolverIteration> trace;       ///< every solve's iterations (the trace)
@@ -894,7 +900,7 @@ void LeastSquaresStage(const FitStart* start, FitStages* f) {
   SetRowLosses(&problem, RobustLoss::kNone, f->topt.loss_scale_sigmas, f->row_noise);
   if (!start && f->topt.fit_delay != DelayFit::kNone) {
     std::vector<bool> stage = f->free;
-    for (int i = 3; i < problem.num_global(); ++i) {
+    for (int i = kFrictionGlobals; i < problem.num_global(); ++i) {
       stage[i] = problem.GlobalName(i) != "delay_s";
     }
     const ceres::Solver::Summary held = problem.Solve(stage, /*stage=*/true);
@@ -967,7 +973,7 @@ bool HoldStage(FitStages* f, HeldStage* held) {
   // Where a nuisance and a friction parameter are confounded, the nuisance is held: the
   // friction is what the user asked for (priority 1 over 0).
   std::vector<int> priority(G, 0);
-  for (int i = 0; i < 3; ++i) priority[i] = 1;
+  for (int i = 0; i < kFrictionGlobals; ++i) priority[i] = 1;
   held->verdict =
       AssessIdentifiability(held->info.fisher, dof0 > 0 ? held->info.sum_squares / dof0 : 0.0,
                             std::vector<bool>(G, true), max_stderr, priority);
@@ -976,10 +982,12 @@ bool HoldStage(FitStages* f, HeldStage* held) {
   // the undetermined fit left it: that value is arbitrary, and through its confounded
   // partner (a force offset along the only direction of motion, and a) it would bias the
   // estimates (by 15 standard errors of a on a noisy log pushed along one line).
-  for (int i = 3; i < G; ++i) {
+  for (int i = kFrictionGlobals; i < G; ++i) {
     if (!f->free[i]) problem.set_global(i, 0.0);
   }
-  if (!f->free[0] && !f->free[1] && !f->free[2]) return false;
+  if (std::none_of(f->free.begin(), f->free.begin() + kFrictionGlobals, [](bool x) { return x; })) {
+    return false;
+  }
   if (std::find(f->free.begin(), f->free.end(), false) != f->free.end()) {
     f->Solve(f->free, "refit, unidentifiable held");
     f->residual_scale = ResidualRowScale(problem);
@@ -1017,8 +1025,8 @@ IntervalStage Intervals(const FitStages& f, const HeldStage& held, EstimateResul
     out.value_of[free_index[a]] += out.choice.shift[a];
   }
   const Eigen::MatrixXd& cov = out.choice.covariance;
-  for (size_t a = 0; a < free_index.size() && free_index[a] < 3; ++a) {
-    for (size_t b = 0; b < free_index.size() && free_index[b] < 3; ++b) {
+  for (size_t a = 0; a < free_index.size() && free_index[a] < kFrictionGlobals; ++a) {
+    for (size_t b = 0; b < free_index.size() && free_index[b] < kFrictionGlobals; ++b) {
       if (cov.rows() <= static_cast<int>(std::max(a, b))) continue;
       const double scale = std::sqrt(cov(a, a) * cov(b, b));
       // The mean of both triangles: a covariance that is symmetric only to rounding would
@@ -1058,7 +1066,7 @@ IntervalStage Intervals(const FitStages& f, const HeldStage& held, EstimateResul
           out.choice.correction + ")";
     }
   }
-  for (int i = 3; i < G; ++i) {
+  for (int i = kFrictionGlobals; i < G; ++i) {
     NuisanceEstimate n;
     n.name = problem.GlobalName(i);
     const int owner = problem.GlobalLog(i);
@@ -1113,10 +1121,8 @@ void VerdictStage(const FitStages& f, const IntervalStage& iv, EstimateResult* r
     context.model_floor = DiscretisationScale(problem);
   }
   context.seed = f.seed;
-  for (int i = 0; i < 3; ++i) {
-    context.lower[i] = kFrictionLowerBound[i];
-    context.upper[i] = kFrictionUpperBound[i];
-  }
+  context.lower = kFrictionLowerBound;
+  context.upper = kFrictionUpperBound;
   JudgeEstimates(context, &result->parameters);
   // A white-noise interval is doubtful where force noise or a hold could correlate the
   // residuals along a segment; a free slide has neither (TrajectorySegmentSteps), and its
@@ -1421,8 +1427,8 @@ class TrajectoryMethod : public PoolableFit {
       }
     }
     const Trajectory& first = *logs_[0];
-    const std::array<double, 3> defaults{
-        {kDefaultA, 1.0, std::sqrt(first.slider.inertia_kgm2 / first.slider.mass_kg)}};
+    const ReducedFriction defaults{kDefaultA, 1.0,
+                                   std::sqrt(first.slider.inertia_kgm2 / first.slider.mass_kg)};
     for (int i = 0; i < 3; ++i) {
       start_.friction[i] = log_values[i].empty() ? defaults[i] : std::exp(Median(log_values[i]));
     }
@@ -1581,7 +1587,7 @@ SeedInformation TrajectoryInformationAtSeed(const Trajectory& log, const Identif
   const std::vector<LogDiagnostics> per_log{diagnostics};
   for (int i = 0; i < G; ++i) max_stderr[i] = MaxStdErr(*problem, i, per_log, options.trajectory);
   std::vector<int> priority(G, 0);
-  for (int i = 0; i < 3; ++i) priority[i] = 1;
+  for (int i = 0; i < kFrictionGlobals; ++i) priority[i] = 1;
   out.verdicts = AssessIdentifiability(info.fisher, out.residual_variance,
                                        std::vector<bool>(G, true), max_stderr, priority);
   return out;

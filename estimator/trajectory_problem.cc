@@ -128,8 +128,8 @@ TrajectoryProblem::TrajectoryProblem(const std::vector<const Trajectory*>& logs,
     : logs_(logs), options_(options) {
   const TrajectoryOptions& t = options.trajectory;
   const int n = static_cast<int>(logs.size());
-  global_ = {0.0, 0.0, 0.0};
-  global_log_ = {-1, -1, -1};
+  global_.assign(kFrictionGlobals, 0.0);
+  global_log_.assign(kFrictionGlobals, -1);
   offset_index_.assign(n, -1);
   delay_index_.assign(n, -1);
   if (t.fit_force_bias) {
@@ -267,22 +267,18 @@ void TrajectoryProblem::set_point(const Point& point) {
 }
 
 std::string TrajectoryProblem::GlobalName(int i) const {
-  if (i < 3) return ParameterName(i);
+  if (IsFriction(i)) return ParameterName(i);
   const int k = global_log_[i];
   if (k >= 0 && offset_index_[k] == i) return "force_bias_x_n";
   if (k >= 0 && offset_index_[k] + 1 == i) return "force_bias_y_n";
   return "delay_s";
 }
 
-void TrajectoryProblem::SetFriction(const std::array<double, 3>& abc) {
-  for (int i = 0; i < 3; ++i) {
-    global_[i] = std::log(ClampToSearchRange(i, abc[i]));
-  }
+void TrajectoryProblem::SetFriction(const ReducedFriction& friction) {
+  ToLogParameters(ClampToSearchRange(friction), &global_[0]);
 }
 
-std::array<double, 3> TrajectoryProblem::Friction() const {
-  return {std::exp(global_[0]), std::exp(global_[1]), std::exp(global_[2])};
-}
+ReducedFriction TrajectoryProblem::Friction() const { return FromLogParameters(&global_[0]); }
 
 int TrajectoryProblem::Rows() const {
   int n = 0;

@@ -193,8 +193,17 @@ PlanarState ReplayStart(const Trajectory& log) {
   return s;
 }
 
-SimulationResult ReplayLog(const Trajectory& log, const FrictionParameters& friction, int substeps,
-                           const SimulationOptions& options) {
+namespace {
+
+FrictionParameters AsTrueFriction(const FrictionParameters& friction) { return friction; }
+FrictionParameters AsTrueFriction(const ReducedFriction& friction) {
+  return friction.ToFrictionParameters();
+}
+
+// ReplayLog with either form of the friction: SolveStep of that form at every step.
+template <typename Friction>
+SimulationResult Replay(const Trajectory& log, const Friction& friction, int substeps,
+                        const SimulationOptions& options) {
   std::string why;
   if (!options.IsValid(&why)) throw std::invalid_argument("ReplayLog: " + why);
   if (log.samples.size() < 2) throw std::invalid_argument("ReplayLog: the log has < 2 rows");
@@ -203,7 +212,7 @@ SimulationResult ReplayLog(const Trajectory& log, const FrictionParameters& fric
   Trajectory& traj = result.trajectory;
   traj.slider = log.slider;
   traj.patch = log.patch;
-  traj.true_friction = friction;
+  traj.true_friction = AsTrueFriction(friction);
   traj.measured = log.measured;
   traj.measured.pose = traj.measured.velocity = traj.measured.step_info = true;
   TrajectorySample first = log.samples.front();
@@ -239,6 +248,18 @@ SimulationResult ReplayLog(const Trajectory& log, const FrictionParameters& fric
     traj.samples.push_back(next);
   }
   return result;
+}
+
+}  // namespace
+
+SimulationResult ReplayLog(const Trajectory& log, const FrictionParameters& friction, int substeps,
+                           const SimulationOptions& options) {
+  return Replay(log, friction, substeps, options);
+}
+
+SimulationResult ReplayLog(const Trajectory& log, const ReducedFriction& friction, int substeps,
+                           const SimulationOptions& options) {
+  return Replay(log, friction, substeps, options);
 }
 
 const char* ToString(SimulationStatus status) {

@@ -69,6 +69,11 @@ SimulationResult Simulate(const Scene& scene, const SimulationOptions& options =
 /// ends the replay with its status in the summary.
 SimulationResult ReplayLog(const Trajectory& log, const FrictionParameters& friction,
                            int substeps = 1, const SimulationOptions& options = {});
+/// The same replay with the three combinations the motion depends on (a fit's estimate):
+/// no round trip through the paper's four parameters. The replay's true_friction is the
+/// e_t = 1 form (ReducedFriction::ToFrictionParameters); its sigma is sigma / e_t.
+SimulationResult ReplayLog(const Trajectory& log, const ReducedFriction& friction, int substeps = 1,
+                           const SimulationOptions& options = {});
 
 /// Where ReplayLog starts (and predictions with it): the first row's state, its velocity for
 /// a log without velocity columns the second row's backward difference (the first row's is

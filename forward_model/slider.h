@@ -32,6 +32,16 @@ struct ReducedFriction {
   }
   /// The friction parameters with e_t = 1 that give the same motion.
   FrictionParameters ToFrictionParameters() const { return {a, 1.0, b, c}; }
+
+  /// a, b, c by index 0, 1, 2 (estimator's ParameterIndex), for what is done to each of the
+  /// three alike (search bounds, intervals, verdicts); named fields everywhere else.
+  constexpr double operator[](int i) const { return i == 0 ? a : i == 1 ? b : c; }
+  constexpr double& operator[](int i) { return i == 0 ? a : i == 1 ? b : c; }
+
+  friend bool operator==(const ReducedFriction& x, const ReducedFriction& y) {
+    return x.a == y.a && x.b == y.b && x.c == y.c;
+  }
+  friend bool operator!=(const ReducedFriction& x, const ReducedFriction& y) { return !(x == y); }
 };
 
 }  // namespace slideid

@@ -84,8 +84,7 @@ ReportInputs IdentifyReportOf(std::vector<ReportLog> logs, const FileIdentifyOpt
       l.replay_note = "No replay: the fit gave no value to replay with.";
     } else if (l.log.samples.size() >= 2) {
       try {
-        SimulationResult replay =
-            ReplayLog(l.log, friction.ToFrictionParameters(), options.identify.trajectory.substeps);
+        SimulationResult replay = ReplayLog(l.log, friction, options.identify.trajectory.substeps);
         l.replay_note = StoppedNote("replay", replay.summary, replay.trajectory);
         l.replay = std::move(replay.trajectory);
       } catch (const std::exception& e) {

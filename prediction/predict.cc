@@ -350,8 +350,7 @@ Prediction PredictPush(const Trajectory& log, const ReducedFriction& friction,
     }
     SimulationOptions sim;
     sim.step = options.step.step;
-    const SimulationResult r =
-        ReplayLog(log, friction.ToFrictionParameters(), options.substeps, sim);
+    const SimulationResult r = ReplayLog(log, friction, options.substeps, sim);
     p.predicted = r.trajectory;
     p.summary = r.summary;
   }

@@ -42,7 +42,7 @@ ReducedFriction Truth() { return {0.4, 1.3, 0.03}; }
 /// The (x, y, L theta) of every row of `log` replayed from `start` with (a, b, c).
 Eigen::VectorXd ReplayedPoses(Trajectory log, const PlanarState& start, const ReducedFriction& f) {
   log.samples[0].state = start;
-  const SimulationResult r = ReplayLog(log, f.ToFrictionParameters(), 1);
+  const SimulationResult r = ReplayLog(log, f, 1);
   EXPECT_TRUE(r.summary.ok()) << r.summary.message;
   const double length = std::sqrt(log.slider.inertia_kgm2 / log.slider.mass_kg);
   Eigen::VectorXd out(3 * log.samples.size());

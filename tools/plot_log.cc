@@ -81,8 +81,7 @@ int main(int argc, char** argv) {
       std::stringstream json;
       json << in.rdbuf();
       const ReducedFriction r = ParseIdentifyJson(json.str());
-      const SimulationResult replay =
-          ReplayLog(log, r.ToFrictionParameters(), vm["substeps"].as<int>());
+      const SimulationResult replay = ReplayLog(log, r, vm["substeps"].as<int>());
       if (!replay.summary.ok()) {
         std::cerr << "plot-log: replay: " << ToString(replay.summary.status) << ": "
                   << replay.summary.message << "\n";

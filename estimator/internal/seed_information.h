@@ -12,6 +12,7 @@
 
 #include "estimator/estimate.h"
 #include "estimator/identifiability.h"
+#include "forward_model/slider.h"
 #include "forward_model/trajectory.h"
 
 namespace slideid {
@@ -21,7 +22,7 @@ struct SeedInformation {
   /// Empty when the information was computed; else why not (too short for one shooting
   /// segment, a dead force channel: what the fit would answer "too little excitation" with).
   std::string failure;
-  std::array<double, 3> seed{};  ///< (a, b, c [m]) the fit starts from
+  ReducedFriction seed{0, 0, 0};  ///< the friction the fit starts from
   /// J^T J of (log a, log b, log c), the segment states and any sensor nuisances
   /// marginalised out (Schur complement), in units of the residuals [m^2 or (m/s)^2].
   Eigen::Matrix3d fisher = Eigen::Matrix3d::Zero();

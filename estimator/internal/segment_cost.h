@@ -5,9 +5,9 @@
 // (estimator/step_sensitivity.h).
 //
 // Parameter blocks, in order: the segment's initial state (x, y, theta, v_x, v_y, w_z);
-// log a; log b; log c; then, when fitted, the log's force offset (o_x, o_y) [N] and its
-// delay [s]. Residuals: 3 per row (x, y, L theta, or v_x, v_y, L w_z), L the radius of
-// gyration, each row's triple robustified on its own (SetRowLoss).
+// log a; log b; log c (read by FromLogBlocks, log_friction.h); then, when fitted, the log's force
+// offset (o_x, o_y) [N] and its delay [s]. Residuals: 3 per row (x, y, L theta, or v_x, v_y, L
+// w_z), L the radius of gyration, each row's triple robustified on its own (SetRowLoss).
 
 #include <ceres/cost_function.h>
 

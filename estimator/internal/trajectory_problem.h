@@ -4,9 +4,9 @@
 // global parameters they share. Internal to the estimator; tests use it to check the
 // information it computes against ceres::Covariance.
 //
-// Global parameters, in order: log a, log b, log c; then for each log its force offset
-// (o_x, o_y) [N] when fitted; then the delay [s] of each log's force stream, or one shared
-// delay, when fitted.
+// Global parameters, in order: log a, log b, log c (the first kFrictionGlobals); then for each log
+// its force offset (o_x, o_y) [N] when fitted; then the delay [s] of each log's force stream, or
+// one shared delay, when fitted.
 
 #include <ceres/ceres.h>
 
@@ -19,20 +19,15 @@
 #include <vector>
 
 #include "estimator/estimate.h"
+#include "estimator/internal/log_friction.h"
 #include "estimator/internal/segment_cost.h"
 #include "forward_model/trajectory.h"
 
 namespace slideid {
 
-/// Search range of (a, b, c [m]): mu e_t from 1e-4 (ice) to 10, an anisotropy within 1e3
-/// either way, a spin-resistance length from 1e-6 m to 10 m. Beyond these the step's
-/// parameters under- or overflow (exp of the log-parameter).
-constexpr double kFrictionLowerBound[3] = {1e-4, 1e-3, 1e-6};
-constexpr double kFrictionUpperBound[3] = {10.0, 1e3, 10.0};
-/// Friction parameter i (0 a, 1 b, 2 c) brought inside the search range.
-inline double ClampToSearchRange(int i, double value) {
-  return std::clamp(value, kFrictionLowerBound[i], kFrictionUpperBound[i]);
-}
+/// Global parameters 0, 1, 2 are log a, log b, log c (log_friction.h); the sensor
+/// nuisances, when fitted, follow from this index on.
+constexpr int kFrictionGlobals = 3;
 
 /// Intervals per shooting segment for a log of `rows` rows, `interval_s` apart (its median
 /// interval): options.segment_steps when set, else rows / kTargetSegments within
@@ -168,12 +163,12 @@ class TrajectoryProblem {
   /// it belongs to (-1: all).
   std::string GlobalName(int i) const;
   int GlobalLog(int i) const { return global_log_[i]; }
-  bool IsFriction(int i) const { return i < 3; }
+  bool IsFriction(int i) const { return i < kFrictionGlobals; }
   double global(int i) const { return global_[i]; }
   void set_global(int i, double value) { global_[i] = value; }
-  /// Sets (a, b, c), clamped to the search range.
-  void SetFriction(const std::array<double, 3>& abc);
-  std::array<double, 3> Friction() const;
+  /// Sets (a, b, c), clamped to the search range (global parameters 0-2 hold their logs).
+  void SetFriction(const ReducedFriction& friction);
+  ReducedFriction Friction() const;
 
   std::vector<TrajectorySegment>& segments() { return segments_; }
   const std::vector<TrajectorySegment>& segments() const { return segments_; }
