@@ -49,14 +49,14 @@ constexpr int kFrictionGlobals = 3;
 /// where the floor in time would leave fewer identified fewer logs (488 against 493 of
 /// 500) and left more outside 3 standard errors (96.9% against 98.0%). At 100 Hz the
 /// bounds are 35 and 100 intervals, as they were in rows.
-/// A free slide is not shortened for a cluster-robust interval. Its model has no process
-/// noise (no force to mis-measure, no hold to interpolate), which is what the segments'
-/// own states absorb, so long segments lose it nothing but their incidental states; short
-/// ones throw away the information of its whole path. The holdout disk
-/// (datasets/scenes/holdout_free_disk.ini: 100 rows, a 0.6 s slide), cut into 5 segments
-/// of 19 intervals, gave a to 6% (one standard error) and came out -1.8% / -2.6% / +0.3%;
-/// in 3 of 35 it gives 0.5% and -0.6% / +0.2% / +0.3% (the discretization allowance of
-/// trajectory_fit.cc then covers the step's own error). On the scene suite's 124 free
+/// A free slide is not shortened for a cluster-robust interval. The segments' own states
+/// are there to absorb process noise (a mis-measured force, a held one), and a free slide
+/// has none, so short segments would only throw away the information of its whole path.
+/// The holdout disk (datasets/scenes/holdout_free_disk.ini: 100 rows, a 0.6 s slide), cut
+/// into 5 segments of 19 intervals, had a standard error of a of 6% and came out -1.8% /
+/// -2.6% / +0.3%; in 3 segments of 35 intervals the standard error is 0.5% and it comes
+/// out -0.56% / +0.23% / +0.32% (the discretization allowance of trajectory_fit.cc covers
+/// the step's own error, which long segments show). On the scene suite's 124 free
 /// slides the median error went from 0.41 / 0.50 / 0.74% to 0.15 / 0.16 / 0.28%.
 int TrajectorySegmentSteps(int rows, double interval_s, const TrajectoryOptions& options,
                            bool free_slide = false);
