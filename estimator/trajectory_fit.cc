@@ -1274,11 +1274,14 @@ constexpr int kCrossCheckMaxRows = 300;
 // covariances' own, before each interval's quantile): their errors are positively correlated
 // (the same data), so this is conservative, and it leaves alone a difference that either
 // fit's own noise explains.
+// The covariance's own standard error of an estimate, relative (in logs): its interval's
+// half-width over the interval's quantile (ParameterEstimate::stderr_value).
+double CovarianceRelativeError(const ParameterEstimate& e) {
+  return e.stderr_value / e.value * kZ95 / e.interval_quantile;
+}
+
 bool Consistent(const ParameterEstimate& p, const ParameterEstimate& q) {
-  const auto covariance_rel = [](const ParameterEstimate& e) {
-    return e.stderr_value / e.value * kZ95 / e.interval_quantile;
-  };
-  const double rel_p = covariance_rel(p), rel_q = covariance_rel(q);
+  const double rel_p = CovarianceRelativeError(p), rel_q = CovarianceRelativeError(q);
   const double allowed = p.interval_quantile * std::hypot(rel_p, rel_q);
   return std::abs(std::log(q.value / p.value)) <= allowed || !(allowed >= 0);
 }
@@ -1304,9 +1307,8 @@ constexpr char kDiscretizationNote[] =
 // Widens `p` in quadrature (in logs) by its distance to `other`, and says so in its note.
 void WidenByMove(const ParameterEstimate& other, int other_substeps, ParameterEstimate* p) {
   const double moved = std::log(other.value / p->value);
-  const double se_log = p->stderr_value / p->value * kZ95 / p->interval_quantile;
-  ParameterEstimate widened =
-      EstimateFromLog(std::log(p->value), std::hypot(se_log, moved), p->interval_quantile);
+  ParameterEstimate widened = EstimateFromLog(
+      std::log(p->value), std::hypot(CovarianceRelativeError(*p), moved), p->interval_quantile);
   widened.verdict = p->verdict;
   widened.reason = p->reason;
   widened.minimum_value = p->minimum_value;

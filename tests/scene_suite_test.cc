@@ -161,16 +161,15 @@ void ExpectHonestIntervals(const std::string& scene_file, double within = 0) {
   const Trajectory log = HoldOutLog(scene_file, &truth);
   const EstimateResult r = Identify(log, IdentifyOptions{});
   ASSERT_TRUE(r.converged) << r.message;
-  const double t[3] = {truth.a, truth.b, truth.c};
   for (int i = 0; i < 3; ++i) {
     const ParameterEstimate& p = r.parameters[i];
     ASSERT_TRUE(p.identifiable) << ParameterName(i) << ": " << p.reason;
-    EXPECT_TRUE(p.ci95_lo <= t[i] && t[i] <= p.ci95_hi)
+    EXPECT_TRUE(p.ci95_lo <= truth[i] && truth[i] <= p.ci95_hi)
         << ParameterName(i) << " " << p.value << " [" << p.ci95_lo << ", " << p.ci95_hi
-        << "], truth " << t[i];
-    if (within > 0) EXPECT_NEAR(p.value / t[i], 1.0, within) << ParameterName(i);
+        << "], truth " << truth[i];
+    if (within > 0) EXPECT_NEAR(p.value / truth[i], 1.0, within) << ParameterName(i);
     std::printf("%s %s: %+.2f%%\n", scene_file.c_str(), ParameterName(i),
-                100 * (p.value / t[i] - 1));
+                100 * (p.value / truth[i] - 1));
   }
 }
 
@@ -188,8 +187,7 @@ TEST(SceneSuite, HoldOutLikeFreeSlideComesOutWithinItsIntervalsAndOnePointFivePe
 TEST(SceneSuite, AFreeSlideInLongSegmentsIsMorePreciseAndItsIntervalsStillHold) {
   LoggedScene scene =
       LoadScene(std::string(SLIDEID_SOURCE_DIR) + "/datasets/scenes/holdout_free_disk.ini");
-  const ReducedFriction t = ReducedFriction::From(scene.friction);
-  const double truth[3] = {t.a, t.b, t.c};
+  const ReducedFriction truth = ReducedFriction::From(scene.friction);
   const SimulationResult sim = Simulate(scene);
   ASSERT_TRUE(sim.summary.ok()) << sim.summary.message;
   IdentifyOptions short_segments;
