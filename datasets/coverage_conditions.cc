@@ -91,7 +91,7 @@ CoverageLog MakeCoverageLog(const CoverageCondition& condition, int index, std::
     throw std::runtime_error(condition.name + " log " + std::to_string(index) + ": only " +
                              std::to_string(made.log.samples.size()) + " rows");
   }
-  made.log.samples.resize(condition.rows);
+  KeepFirstRows(&made.log, condition.rows);
   const ReducedFriction t = ReducedFriction::From(entry.scene.friction);
   made.truth = {t.a, t.b, t.c};
   return made;

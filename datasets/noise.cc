@@ -108,10 +108,7 @@ Trajectory AddNoise(const Trajectory& log, const NoiseSpec& noise) {
   Trajectory out = log;
   ApplyNoise(&out, noise);
   out.measured.step_info = false;
-  for (TrajectorySample& s : out.samples) {
-    s.pt = s.po = s.pr = s.sigma = 0;
-    s.ecp_world.setZero();
-  }
+  out.steps = {};
   return out;
 }
 

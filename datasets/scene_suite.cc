@@ -197,7 +197,7 @@ SuiteLog MakeSuiteLog(int index, std::uint64_t seed, const SceneSuiteLimits& lim
       reasons += "\n  attempt " + std::to_string(attempt) + ": too few rows";
       continue;
     }
-    made.log.samples.resize(rows);
+    KeepFirstRows(&made.log, rows);
     const ReducedFriction t = ReducedFriction::From(scene.friction);
     made.truth = {t.a, t.b, t.c};
     return made;

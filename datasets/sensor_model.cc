@@ -2,6 +2,8 @@
 
 #include <cmath>
 #include <stdexcept>
+#include <utility>
+#include <vector>
 
 #include "datasets/noise.h"
 #include "forward_model/constants.h"
@@ -30,26 +32,41 @@ AppliedWrench IntervalMean(const std::vector<TrajectorySample>& rows, size_t fir
   return mean;
 }
 
-/// Every k-th row; step columns summarise the simulated steps of each log interval.
-std::vector<TrajectorySample> Decimate(const std::vector<TrajectorySample>& rows, int k) {
+/// Every k-th row of `log`; a kept row's mode and step (when the log has steps) summarise
+/// the simulated steps of its log interval.
+void Decimate(Trajectory* log, int k) {
+  const std::vector<TrajectorySample>& rows = log->samples;
+  const std::vector<StepRecord>& steps = log->steps;
   std::vector<TrajectorySample> out;
-  if (rows.empty()) return out;
-  out.reserve(rows.size() / k + 1);
-  out.push_back(rows.front());
+  std::vector<StepRecord> out_steps;
+  if (!rows.empty()) {
+    out.reserve(rows.size() / k + 1);
+    out.push_back(rows.front());
+    if (!steps.empty()) {
+      out_steps.reserve(rows.size() / k + 1);
+      out_steps.push_back(steps.front());
+    }
+  }
   for (size_t end = k; end < rows.size(); end += k) {
     TrajectorySample kept = rows[end];
     bool all_stick = true;
-    kept.pt = kept.po = kept.pr = 0.0;
     for (size_t i = end - k + 1; i <= end; ++i) {
-      kept.pt += rows[i].pt;
-      kept.po += rows[i].po;
-      kept.pr += rows[i].pr;
       all_stick = all_stick && rows[i].mode == SampleMode::kStick;
     }
     kept.mode = all_stick ? SampleMode::kStick : SampleMode::kSlide;
     out.push_back(kept);
+    if (steps.empty()) continue;
+    StepRecord step = steps[end];  // the last step's sigma and ECP, the impulses summed
+    step.pt = step.po = step.pr = 0.0;
+    for (size_t i = end - k + 1; i <= end; ++i) {
+      step.pt += steps[i].pt;
+      step.po += steps[i].po;
+      step.pr += steps[i].pr;
+    }
+    out_steps.push_back(step);
   }
-  return out;
+  log->samples = std::move(out);
+  log->steps = std::move(out_steps);
 }
 
 /// Gives log row r (simulated row r k) the mean wrench of its interval, and no push point
@@ -127,7 +144,7 @@ Trajectory MakeLog(const Trajectory& simulated, const LogSpec& spec) {
   Trajectory log = simulated;
   if (spec.noise.force_delay_s != 0.0) DelayPushStream(&log, spec.noise.force_delay_s);
   if (spec.log_every > 1) {
-    log.samples = Decimate(log.samples, spec.log_every);
+    Decimate(&log, spec.log_every);
   }
   if (spec.wrench == LogWrench::kIntervalMean) {
     SetIntervalMeanWrench(simulated.samples, spec.log_every, &log.samples);
@@ -145,12 +162,7 @@ Trajectory MakeLog(const Trajectory& simulated, const LogSpec& spec) {
     AddForceBias(&log, spec.noise.force_bias_x_n, spec.noise.force_bias_y_n);
     c.force = true;
   }
-  if (!c.step_info) {
-    for (TrajectorySample& s : log.samples) {
-      s.pt = s.po = s.pr = s.sigma = 0.0;
-      s.ecp_world.setZero();
-    }
-  }
+  if (!c.step_info) log.steps = {};
   if (!c.velocity) SetVelocitiesFromPoses(&log);
   if (spec.wrap_theta) {
     for (TrajectorySample& s : log.samples) s.state.theta = Wrap(s.state.theta);

@@ -9,6 +9,10 @@
 namespace slideid {
 namespace {
 
+StepRecord RecordOf(const StepResult& step) {
+  return {step.pt, step.po, step.pr, step.sigma, step.ecp_world};
+}
+
 // Most steps one simulation keeps in memory.
 constexpr double kMaxSimulationSteps = 2e7;
 
@@ -128,7 +132,9 @@ SimulationResult Simulate(const Scene& scene, const SimulationOptions& options) 
   sample.applied = PushWrench(scene, 0.0, sample.state, &sample.push_point_world);
   if (scene.pusher) sample.tip_world = scene.pusher->path.PositionAt(0.0);
   traj.samples.reserve(steps + 1);
+  traj.steps.reserve(steps + 1);
   traj.samples.push_back(sample);
+  traj.steps.emplace_back();
 
   for (long u = 0; u < steps; ++u) {
     TrajectorySample& prev = traj.samples.back();
@@ -147,15 +153,11 @@ SimulationResult Simulate(const Scene& scene, const SimulationOptions& options) 
     TrajectorySample next;
     next.t_s = t_next;
     next.state = step.state;
-    next.ecp_world = step.ecp_world;
-    next.pt = step.pt;
-    next.po = step.po;
-    next.pr = step.pr;
-    next.sigma = step.sigma;
     next.mode = step.mode == StepMode::kStick ? SampleMode::kStick : SampleMode::kSlide;
     next.applied = PushWrench(scene, t_next, next.state, &next.push_point_world);
     if (scene.pusher) next.tip_world = scene.pusher->path.PositionAt(t_next);
     traj.samples.push_back(next);
+    traj.steps.push_back(RecordOf(step));
 
     ++summary.steps;
     summary.tip_stick_steps += tip_mode == TipMode::kStick;
@@ -219,11 +221,12 @@ SimulationResult Replay(const Trajectory& log, const Friction& friction, int sub
   first.state = ReplayStart(log);
   first.mode = SampleMode::kStart;
   traj.samples.push_back(first);
+  traj.steps.push_back(StepAt(log, 0));
   for (size_t u = 0; u + 1 < log.samples.size(); ++u) {
     const double h = (log.samples[u + 1].t_s - log.samples[u].t_s) / substeps;
     TrajectorySample next = log.samples[u + 1];
+    StepRecord record;  // the substeps' impulses summed, the last one's sigma and ECP
     PlanarState state = traj.samples.back().state;
-    next.pt = next.po = next.pr = 0.0;
     for (int k = 0; k < substeps; ++k) {
       const StepResult step =
           SolveStep(log.slider, friction, state, log.samples[u].applied, h, options.step);
@@ -235,17 +238,18 @@ SimulationResult Replay(const Trajectory& log, const Friction& friction, int sub
         return result;
       }
       state = step.state;
-      next.pt += step.pt;
-      next.po += step.po;
-      next.pr += step.pr;
-      next.sigma = step.sigma;
-      next.ecp_world = step.ecp_world;
+      record.pt += step.pt;
+      record.po += step.po;
+      record.pr += step.pr;
+      record.sigma = step.sigma;
+      record.ecp_world = step.ecp_world;
       next.mode = step.mode == StepMode::kStick ? SampleMode::kStick : SampleMode::kSlide;
       ++result.summary.steps;
       (step.mode == StepMode::kStick ? result.summary.stick_steps : result.summary.slide_steps)++;
     }
     next.state = state;
     traj.samples.push_back(next);
+    traj.steps.push_back(record);
   }
   return result;
 }

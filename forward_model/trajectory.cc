@@ -4,6 +4,16 @@
 
 namespace slideid {
 
+const StepRecord& StepAt(const Trajectory& log, std::size_t row) {
+  static const StepRecord kNone;
+  return log.steps.empty() ? kNone : log.steps[row];
+}
+
+void KeepFirstRows(Trajectory* log, std::size_t rows) {
+  if (log->samples.size() > rows) log->samples.resize(rows);
+  if (log->steps.size() > rows) log->steps.resize(rows);
+}
+
 bool StartsRun(const Trajectory& log, std::size_t row) {
   return row == 0 || log.samples[row].mode == SampleMode::kStart;
 }

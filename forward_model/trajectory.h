@@ -20,10 +20,9 @@ namespace slideid {
 /// is not modelled and a pose-only log knows no velocity.
 enum class SampleMode { kStart, kSlide, kStick };
 
-/// One log row at time t.
+/// One log row at time t: what a measured log can hold (176 bytes). What only a simulator
+/// knows of the step into the row is a StepRecord, kept apart: Trajectory::steps.
 struct TrajectorySample {
-  // Members in an order that leaves little padding (224 bytes, not 240: 16 MB of a 1e6-row
-  // log): the two 16-byte-aligned Eigen vectors last.
   double t_s = 0.0;
   PlanarState state;  ///< pose and twist at t (fields absent from a log stay 0)
   /// Total wrench applied over [t, t_next), moments about the CM (world axes), including
@@ -31,15 +30,17 @@ struct TrajectorySample {
   AppliedWrench applied;
   /// Where (fx, fy, fz) acts, world frame [m], when the log has px, py, pz.
   std::optional<Eigen::Vector3d> push_point_world;
-
-  // The step that ended at t (simulated logs; zero on the first row).
-  double pt = 0.0, po = 0.0, pr = 0.0;   ///< friction impulses
-  double sigma = 0.0;                    ///< [m/s]
   SampleMode mode = SampleMode::kSlide;  ///< the simulator and the readers set kStart on row 0
-
   /// The pusher tip's centre at t, world frame [m], when the log has tip_x, tip_y.
   std::optional<Eigen::Vector2d> tip_world;
-  Eigen::Vector2d ecp_world = Eigen::Vector2d::Zero();  ///< ax, ay [m] (the step that ended at t)
+};
+
+/// The simulated step that ended at a row (zero on the first row): the unknowns the step
+/// solved for besides the state, and its ECP. Only simulated logs have it.
+struct StepRecord {
+  double pt = 0.0, po = 0.0, pr = 0.0;                  ///< friction impulses
+  double sigma = 0.0;                                   ///< [m/s]
+  Eigen::Vector2d ecp_world = Eigen::Vector2d::Zero();  ///< ax, ay [m]
 };
 
 /// Which quantities the samples carry, measured or simulated; the others are left 0 or
@@ -52,7 +53,8 @@ struct Measurements {
   bool fz = false;          ///< fz
   bool moments = false;     ///< tx, ty, tz of their own, beyond r x f of a push point
   bool push_point = false;  ///< where the force acts (push_point_world)
-  /// The simulator's step quantities: ECP, impulses, sigma and each row's mode.
+  /// The simulator's step quantities: ECP, impulses, sigma (Trajectory::steps) and each
+  /// row's mode.
   bool step_info = true;
   /// Each row's mode alone (a log whose rows are split into runs by gaps).
   bool mode = false;
@@ -71,7 +73,17 @@ struct Trajectory {
   std::optional<FrictionParameters> true_friction;  ///< simulated logs only
   Measurements measured;
   std::vector<TrajectorySample> samples;
+  /// steps[u] is the step that ended at samples[u]: one per sample, or empty when the log
+  /// holds no step information (a measured log; read as zeros). Kept apart from the samples
+  /// so that a measured log does not carry it (48 bytes a row). Read through StepAt.
+  std::vector<StepRecord> steps;
 };
+
+/// The step that ended at `row`: log.steps[row], or a zero record when the log holds none.
+const StepRecord& StepAt(const Trajectory& log, std::size_t row);
+
+/// Keeps the first `rows` rows of `log` (samples and steps), dropping the rest.
+void KeepFirstRows(Trajectory* log, std::size_t rows);
 
 /// Whether `row` starts a run: the first row, or a row marked `start` after a gap.
 bool StartsRun(const Trajectory& log, std::size_t row);

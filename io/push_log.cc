@@ -480,6 +480,16 @@ AppliedWrench RowWrench(const RawRow& row, bool push_point, double com_height_m)
   return w;
 }
 
+/// Whether the header has any of the step columns (ax, ay, pt, po, pr, sigma).
+bool HasStepColumns(const Header& h) {
+  return h.Has(kAx) || h.Has(kAy) || h.HasAny(kPt, kPo, kPr) || h.Has(kSigma);
+}
+
+StepRecord RowStep(const RawRow& row) {
+  const auto& v = row.v;
+  return {v[kPt], v[kPo], v[kPr], v[kSigma], Eigen::Vector2d(v[kAx], v[kAy])};
+}
+
 TrajectorySample RowSample(const RawRow& row, const Header& h, double com_height_m, bool first) {
   const auto& v = row.v;
   TrajectorySample s;
@@ -488,11 +498,6 @@ TrajectorySample RowSample(const RawRow& row, const Header& h, double com_height
   s.applied = RowWrench(row, h.Has(kPx), com_height_m);
   if (h.Has(kPx)) s.push_point_world = Eigen::Vector3d(v[kPx], v[kPy], v[kPz]);
   if (h.Has(kTipX)) s.tip_world = Eigen::Vector2d(v[kTipX], v[kTipY]);
-  s.ecp_world = Eigen::Vector2d(v[kAx], v[kAy]);
-  s.pt = v[kPt];
-  s.po = v[kPo];
-  s.pr = v[kPr];
-  s.sigma = v[kSigma];
   s.mode = row.mode ? *row.mode : (first ? SampleMode::kStart : SampleMode::kSlide);
   return s;
 }
@@ -512,8 +517,10 @@ void ReadSamples(const ReadContext& ctx, TextLines& in, const Header& h, Traject
   std::vector<std::string_view> cells;
   std::array<MagnitudeTally, kNumNumeric> tally;
   RawRow row;
+  const bool steps = HasStepColumns(h);
   if (ctx.row_lines > 0) {
     trajectory.samples.reserve(ctx.row_lines);
+    if (steps) trajectory.steps.reserve(ctx.row_lines);
     lines.reserve(ctx.row_lines);
   }
   double prev_t = 0.0, prev_theta = 0.0, prev_raw_theta = 0.0;
@@ -560,6 +567,7 @@ void ReadSamples(const ReadContext& ctx, TextLines& in, const Header& h, Traject
       }
     }
     trajectory.samples.push_back(RowSample(row, h, com_height, first));
+    if (steps) trajectory.steps.push_back(RowStep(row));
     if (!IsFinite(trajectory.samples.back().applied)) {
       ctx.Fail(line_no, h.Has(kPx) ? "px" : "tx",
                "the applied moment (r x f at the push point, plus tx, ty, tz) overflows");
@@ -852,7 +860,7 @@ LogColumns PresentColumns(const Header& h) {
   c.moments = h.HasAny(kTx, kTy, kTz);
   c.push_point = h.Has(kPx);
   c.tip = h.Has(kTipX);
-  c.step_info = h.Has(kAx) || h.Has(kAy) || h.HasAny(kPt, kPo, kPr) || h.Has(kSigma);
+  c.step_info = HasStepColumns(h);
   c.mode = h.mode_field >= 0;
   return c;
 }
@@ -1027,8 +1035,8 @@ std::string HeaderLine(const LogColumns& c) {
 }
 
 /// The numbers of a row, in the order of WrittenNames (`values` is cleared first).
-void RowValues(const TrajectorySample& s, const LogColumns& c, double com_height_m,
-               std::vector<double>& values) {
+void RowValues(const TrajectorySample& s, const StepRecord& step, const LogColumns& c,
+               double com_height_m, std::vector<double>& values) {
   values.clear();
   auto add = [&](std::initializer_list<double> group) {
     values.insert(values.end(), group.begin(), group.end());
@@ -1048,7 +1056,9 @@ void RowValues(const TrajectorySample& s, const LogColumns& c, double com_height
     add({m.x(), m.y(), m.z()});
   }
   if (c.tip) add({s.tip_world->x(), s.tip_world->y()});  // WrittenColumns: every row has it
-  if (c.step_info) add({s.ecp_world.x(), s.ecp_world.y(), s.pt, s.po, s.pr, s.sigma});
+  if (c.step_info) {
+    add({step.ecp_world.x(), step.ecp_world.y(), step.pt, step.po, step.pr, step.sigma});
+  }
 }
 
 /// Writes without checking the stream; callers check and name their target.
@@ -1060,8 +1070,9 @@ void WriteUnchecked(const FileView& file, std::ostream& out) {
   out << HeaderLine(columns) << '\n';
   std::vector<double> values;
   std::string line;
-  for (const TrajectorySample& s : tr.samples) {
-    RowValues(s, columns, tr.slider.com_height_m, values);
+  for (std::size_t u = 0; u < tr.samples.size(); ++u) {
+    const TrajectorySample& s = tr.samples[u];
+    RowValues(s, StepAt(tr, u), columns, tr.slider.com_height_m, values);
     line.clear();
     for (std::size_t i = 0; i < values.size(); ++i) {
       if (i > 0) line += ',';
@@ -1175,8 +1186,9 @@ PushLogColumns ColumnsOf(const Trajectory& trajectory) {
   columns.values.assign(columns.names.size(), {});
   for (auto& column : columns.values) column.reserve(trajectory.samples.size());
   std::vector<double> values;
-  for (const TrajectorySample& s : trajectory.samples) {
-    RowValues(s, written, trajectory.slider.com_height_m, values);
+  for (std::size_t u = 0; u < trajectory.samples.size(); ++u) {
+    const TrajectorySample& s = trajectory.samples[u];
+    RowValues(s, StepAt(trajectory, u), written, trajectory.slider.com_height_m, values);
     for (std::size_t i = 0; i < values.size(); ++i) columns.values[i].push_back(values[i]);
     if (written.mode) columns.mode.emplace_back(WrittenMode(trajectory, s));
   }

@@ -57,8 +57,8 @@ void WriteMotion(std::ostream& out, const Trajectory& t, const std::vector<Plana
 
 bool HasEcp(const Trajectory& log) {
   if (!log.measured.step_info) return false;
-  for (size_t u = 1; u < log.samples.size(); ++u) {
-    if (!log.samples[u].ecp_world.isZero(0.0)) return true;
+  for (size_t u = 1; u < log.steps.size(); ++u) {
+    if (!log.steps[u].ecp_world.isZero(0.0)) return true;
   }
   return false;
 }
@@ -129,7 +129,7 @@ void WritePlotData(const Trajectory& log, const Trajectory* fit, const PlotOptio
   }
   ecp << "# ax ay\n";
   for (size_t u = 1; u < log.samples.size(); ++u) {
-    const Eigen::Vector2d& a = log.samples[u].ecp_world;
+    const Eigen::Vector2d& a = StepAt(log, u).ecp_world;
     ecp << GnuplotNumber(a.x()) << ' ' << GnuplotNumber(a.y()) << '\n';
   }
   WritePlotFile(dir + "/path.dat", path.str());

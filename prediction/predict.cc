@@ -156,7 +156,6 @@ SimulationResult ReplayPusher(const Trajectory& log, const ReducedFriction& fric
     next.state = state;
     next.mode = r.step.mode == StepMode::kStick ? SampleMode::kStick : SampleMode::kSlide;
     next.tip_world = log.samples[u + 1].tip_world;
-    next.ecp_world = r.step.ecp_world;
     out.samples.push_back(next);
   }
   return result;

@@ -173,6 +173,7 @@ TEST(Noise, AddNoiseKeepsTheFirstVersionsStreamForPoseAngleAndVelocity) {
     EXPECT_EQ(q.wz, c.wz + n.spin_radps * z[5]) << u;
   }
   EXPECT_FALSE(noisy.measured.step_info);
+  EXPECT_TRUE(noisy.steps.empty());
   // What a file says of the noise (io/simulated_log.h writes it).
   EXPECT_EQ(n.Metadata().back(), std::make_pair(std::string("noise_seed"), std::string("5")));
 }
@@ -285,6 +286,7 @@ TEST(SensorModel, DecimationKeepsEveryKthRowWithTheForceAtItsTime) {
   spec.log_every = 10;
   const Trajectory log = MakeLog(fine, spec);
   ASSERT_EQ(log.samples.size(), (fine.samples.size() - 1) / 10 + 1);
+  ASSERT_EQ(log.steps.size(), log.samples.size());
   for (size_t j = 0; j < log.samples.size(); ++j) {
     const TrajectorySample& a = log.samples[j];
     const TrajectorySample& b = fine.samples[10 * j];
@@ -293,11 +295,11 @@ TEST(SensorModel, DecimationKeepsEveryKthRowWithTheForceAtItsTime) {
     EXPECT_EQ(a.state.wz, b.state.wz);
     EXPECT_EQ(a.applied.fx, b.applied.fx);  // the force applied at the row's time
     EXPECT_EQ(a.applied.tz, b.applied.tz);
-    EXPECT_EQ(a.ecp_world, b.ecp_world);
+    EXPECT_EQ(log.steps[j].ecp_world, fine.steps[10 * j].ecp_world);
     if (j == 0) continue;
     double pt = 0;  // the impulse over the log interval: the sum over its steps
-    for (size_t i = 10 * j - 9; i <= 10 * j; ++i) pt += fine.samples[i].pt;
-    EXPECT_NEAR(a.pt, pt, 1e-15);
+    for (size_t i = 10 * j - 9; i <= 10 * j; ++i) pt += fine.steps[i].pt;
+    EXPECT_NEAR(log.steps[j].pt, pt, 1e-15);
   }
   EXPECT_TRUE(log.measured.step_info);  // noiseless: the truth columns stay
 }
@@ -323,7 +325,7 @@ TEST(SensorModel, IntervalMeanWrenchCarriesTheAppliedImpulseOfEachInterval) {
     const TrajectorySample& a = log.samples[j];
     EXPECT_EQ(a.t_s, at_row.samples[j].t_s);  // only the wrench differs
     EXPECT_EQ(a.state.x, at_row.samples[j].state.x);
-    EXPECT_EQ(a.pt, at_row.samples[j].pt);
+    EXPECT_EQ(StepAt(log, j).pt, StepAt(at_row, j).pt);
     EXPECT_FALSE(a.push_point_world.has_value());  // a mean wrench has no point
     double fx = 0, tz = 0;  // the mean over the 10 simulated steps the row starts
     for (size_t i = 10 * j; i < 10 * j + 10; ++i) {
@@ -386,6 +388,7 @@ TEST(SensorModel, ColumnsFollowTheSpec) {
   EXPECT_FALSE(log.measured.velocity);
   EXPECT_TRUE(log.measured.push_point);
   EXPECT_FALSE(log.measured.step_info);  // noisy: a sensor does not see the ECP
+  EXPECT_TRUE(log.steps.empty());
   // Poses only: the velocities are those a reader derives.
   Trajectory derived = log;
   SetVelocitiesFromPoses(&derived);

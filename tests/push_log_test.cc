@@ -72,13 +72,15 @@ Trajectory FullTrajectory() {
     s.applied.tx += 1e-3 / 7.0;
     s.applied.ty += -2e-3 / 3.0;
     s.applied.tz += 5e-4 * u;
-    s.ecp_world = {0.017482644676537 * u, -1.0 / 11.0};
-    s.pt = -0.006500247901168545 * u;
-    s.po = 1.0 / 13.0;
-    s.pr = -1.3871455217168605e-05;
-    s.sigma = 1.087763339137281 * u;
     s.mode = u == 0 ? SampleMode::kStart : (u % 2 ? SampleMode::kSlide : SampleMode::kStick);
     tr.samples.push_back(s);
+    StepRecord step;
+    step.ecp_world = {0.017482644676537 * u, -1.0 / 11.0};
+    step.pt = -0.006500247901168545 * u;
+    step.po = 1.0 / 13.0;
+    step.pr = -1.3871455217168605e-05;
+    step.sigma = 1.087763339137281 * u;
+    tr.steps.push_back(step);
   }
   return tr;
 }
@@ -110,6 +112,7 @@ TEST(PushLog, RoundTripReproducesEveryColumnBitExactly) {
   EXPECT_EQ(out.true_friction->e_r, in.true_friction->e_r);
   EXPECT_EQ(out_file.extra_metadata, in_file.extra_metadata);
   ASSERT_EQ(out.samples.size(), in.samples.size());
+  ASSERT_EQ(out.steps.size(), in.steps.size());
   for (std::size_t u = 0; u < in.samples.size(); ++u) {
     const TrajectorySample& a = in.samples[u];
     const TrajectorySample& b = out.samples[u];
@@ -129,12 +132,12 @@ TEST(PushLog, RoundTripReproducesEveryColumnBitExactly) {
     EXPECT_EQ(b.applied.tz, a.applied.tz);
     ASSERT_TRUE(b.push_point_world.has_value());
     EXPECT_EQ(*b.push_point_world, *a.push_point_world);
-    EXPECT_EQ(b.ecp_world, a.ecp_world);
-    EXPECT_EQ(b.pt, a.pt);
-    EXPECT_EQ(b.po, a.po);
-    EXPECT_EQ(b.pr, a.pr);
-    EXPECT_EQ(b.sigma, a.sigma);
     EXPECT_EQ(b.mode, a.mode);
+    EXPECT_EQ(out.steps[u].ecp_world, in.steps[u].ecp_world);
+    EXPECT_EQ(out.steps[u].pt, in.steps[u].pt);
+    EXPECT_EQ(out.steps[u].po, in.steps[u].po);
+    EXPECT_EQ(out.steps[u].pr, in.steps[u].pr);
+    EXPECT_EQ(out.steps[u].sigma, in.steps[u].sigma);
   }
   // Writing what was read gives the same file again.
   std::ostringstream first, second;
@@ -218,9 +221,10 @@ TEST(PushLog, AbsentOptionalColumnsReadAsZeroAndModesDefault) {
     EXPECT_FALSE(s.push_point_world.has_value());
     EXPECT_EQ(s.state.x, 0.0);
     EXPECT_EQ(s.state.theta, 0.0);
-    EXPECT_EQ(s.sigma, 0.0);
-    EXPECT_EQ(s.ecp_world, Eigen::Vector2d::Zero());
   }
+  EXPECT_TRUE(tr.steps.empty());  // no step columns: no steps, read as zeros
+  EXPECT_EQ(StepAt(tr, 1).sigma, 0.0);
+  EXPECT_EQ(StepAt(tr, 1).ecp_world, Eigen::Vector2d::Zero());
   EXPECT_EQ(tr.samples[0].mode, SampleMode::kStart);
   EXPECT_EQ(tr.samples[1].mode, SampleMode::kSlide);
   EXPECT_FALSE(tr.measured.pose);
