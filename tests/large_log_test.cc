@@ -28,7 +28,7 @@ namespace slideid {
 namespace {
 
 constexpr int kRows = 100000;
-// The reader keeps one TrajectorySample (224 bytes) and one line number per row; with
+// The reader keeps one TrajectorySample (176 bytes) and one line number per row; with
 // vector growth and fccp's buffer a row costs under 1 KB. 4 KB a row would mean a copy per
 // row too many (the reader before issue 6 kept two).
 constexpr double kMaxBytesPerRow = 4096;
