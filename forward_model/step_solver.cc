@@ -33,6 +33,11 @@ constexpr int kEcpVelocitySweeps = 3;
 // the friction, dominates the ECP velocity: the ECP-velocity guess goes first. (The
 // failing case of the sweep had 575; cases that converge from the decoupled guess, 0.1.)
 constexpr double kFarEcpRatio = 10.0;
+// Where the sliding root is unique (issue 19): the decoupled root to 1e-2 (its last
+// Newton step from 1e-1 unchecked), then one sweep of the ECP velocity. The coupling, not
+// the decoupled root's digits, sets that guess's error.
+constexpr double kRoughGuessTolerance = 1e-2;
+constexpr double kRoughGuessAccept = 1e-1;
 // Newton iterations allowed to that speculative first try: where its guess is right it
 // converges in a handful; where it is not, the usual guesses follow.
 constexpr int kSpeculativeIterations = 12;
@@ -158,7 +163,7 @@ bool SolveNewtonSystem(const Eigen::Matrix3d& A, const Eigen::Vector4d& z, doubl
 // evaluated at every trial point, the Jacobian only at accepted points that have not
 // converged.
 bool Newton(const StepEquations& eq, const StepOptions& options, Eigen::Vector4d* z,
-            int* iterations, double* relative_residual) {
+            int* iterations, double* relative_residual, bool line_search = true) {
   Eigen::Vector4d f;
   StepEquations::Shared shared;
   eq.Residual(*z, &f, &shared);
@@ -192,6 +197,10 @@ bool Newton(const StepEquations& eq, const StepOptions& options, Eigen::Vector4d
       eq.Residual(trial, &trial_f, &trial_shared);
       double trial_normwise = 0;
       if (!(convergence(trial, trial_f, &trial_normwise) < *relative_residual)) return false;
+    } else if (!line_search) {
+      // Full steps (but for the guard on s): where the root is unique (SolveGeneral).
+      trial = *z + alpha * dz;
+      eq.Residual(trial, &trial_f, &trial_shared);
     } else {
       const double merit = 0.5 * f.squaredNorm();
       for (int halvings = 0;; ++halvings) {
@@ -221,14 +230,15 @@ bool Newton(const StepEquations& eq, const StepOptions& options, Eigen::Vector4d
 bool SolveGeneral(const StepEquations& eq, const StepOptions& options, double stop_ratio,
                   Eigen::Vector4d* z, int* iterations, double* relative_residual) {
   *iterations = 0;
-  auto attempt = [&](const Eigen::Vector4d& guess, int max_iterations = 0) {
+  auto attempt = [&](const Eigen::Vector4d& guess, int max_iterations = 0,
+                     bool line_search = true) {
     int its = 0;
     *z = guess;
     StepOptions limited = options;
     if (max_iterations > 0) {
       limited.max_iterations = std::min(options.max_iterations, max_iterations);
     }
-    const bool ok = Newton(eq, limited, z, &its, relative_residual);
+    const bool ok = Newton(eq, limited, z, &its, relative_residual, line_search);
     *iterations += its;
     return ok;
   };
@@ -237,12 +247,22 @@ bool SolveGeneral(const StepEquations& eq, const StepOptions& options, double st
     return true;
   }
   if (stop_ratio < 1.0 + kNearStickBoundary && attempt(eq.LinearisedStopGuess())) return true;
-  const Eigen::Vector4d decoupled = eq.DecoupledGuess();
   // The ECP far from the CM (large q_z or tilting moments with a fast spin): the slip
   // speed is set by the spin about the ECP, far from V, and the decoupled guess is off by
   // more than the whole velocity scale (issue 5, docs/stability.md). Try that guess first
   // there, last elsewhere.
   const bool far_ecp = eq.CouplingSpeed() > kFarEcpRatio * eq.velocity_scale();
+  // Where the sliding root is provably unique (issue 19), any guess and any path that
+  // converge find the root the decoupled guess would: a rough decoupled root and one
+  // sweep of the ECP velocity, then Newton's full steps (the line search's halvings only
+  // slow it there). Where that fails, the usual guesses follow. (Without coupling the
+  // decoupled guess is the root already.)
+  if (!far_ecp && !eq.IsDecoupled() && eq.UniqueSlidingRoot() &&
+      attempt(eq.EcpVelocitySweep(eq.DecoupledGuess(kRoughGuessTolerance, kRoughGuessAccept)),
+              kSpeculativeIterations, false)) {
+    return true;
+  }
+  const Eigen::Vector4d decoupled = eq.DecoupledGuess();
   if (far_ecp &&
       attempt(eq.EcpVelocityGuess(decoupled, kEcpVelocitySweeps), kSpeculativeIterations)) {
     return true;
