@@ -38,6 +38,7 @@ constexpr double kFarEcpRatio = 10.0;
 // the decoupled root's digits, sets that guess's error.
 constexpr double kRoughGuessTolerance = 1e-2;
 constexpr double kRoughGuessAccept = 1e-1;
+constexpr int kUniqueRootSweeps = 1;
 // Newton iterations allowed to that speculative first try: where its guess is right it
 // converges in a handful; where it is not, the usual guesses follow.
 constexpr int kSpeculativeIterations = 12;
@@ -220,6 +221,48 @@ bool Newton(const StepEquations& eq, const StepOptions& options, Eigen::Vector4d
   return *relative_residual <= tol && (*z)(3) > 0;
 }
 
+// Newton's full steps from `z`, where the root is unique (SolveGeneral): the loop of Newton
+// without its line search and with the normwise test in products, until that test holds;
+// Newton's own tests (and polishing) from there.
+bool NewtonFullSteps(const StepEquations& eq, const StepOptions& options, Eigen::Vector4d* z,
+                     int* iterations, double* relative_residual) {
+  const double tol = options.relative_tolerance;
+  const double V = eq.velocity_scale();
+  Eigen::Vector4d f;
+  StepEquations::Shared shared;
+  eq.Residual(*z, &f, &shared);
+  int it = 0;
+  for (; it < options.max_iterations; ++it) {
+    // RelativeResidual(z, f) <= tol, without its divisions (V > 0 here: the step slides).
+    const double motion = std::max(std::max(std::abs(f(0)), std::abs(f(1))), std::abs(f(2)));
+    if (motion <= tol * (V + std::abs((*z)(3))) && 2.0 * std::abs(f(3)) <= tol * V) {
+      // Newton's test, ConvergenceResidual.
+      *relative_residual = std::max(eq.RelativeResidual(*z, f), eq.ComponentwiseResidual(*z, f));
+      if (*relative_residual <= tol) {
+        *iterations = it;
+        return (*z)(3) > 0;
+      }
+      break;  // polishing, in Newton
+    }
+    Eigen::Matrix3d A;
+    eq.JacobianBlock(*z, shared, &A);
+    Eigen::Vector4d dz;
+    if (!SolveNewtonSystem(A, *z, V, f, &dz)) return false;
+    double alpha = 1.0;
+    if ((*z)(3) + dz(3) < kMinSlipFraction * (*z)(3)) {
+      alpha = (1.0 - kMinSlipFraction) * (*z)(3) / -dz(3);
+    }
+    *z += alpha * dz;
+    eq.Residual(*z, &f, &shared);
+  }
+  StepOptions rest = options;
+  rest.max_iterations = std::max(1, options.max_iterations - it);
+  int its = 0;
+  const bool ok = Newton(eq, rest, z, &its, relative_residual, false);
+  *iterations = it + its;
+  return ok;
+}
+
 // Newton from the decoupled guess; where that fails (typically near the stick boundary,
 // where the decoupled problem sticks but the coupled one slides), from the stopping
 // impulse's direction; then from the ECP-velocity guess; last, continuation in the
@@ -238,7 +281,8 @@ bool SolveGeneral(const StepEquations& eq, const StepOptions& options, double st
     if (max_iterations > 0) {
       limited.max_iterations = std::min(options.max_iterations, max_iterations);
     }
-    const bool ok = Newton(eq, limited, z, &its, relative_residual, line_search);
+    const bool ok = line_search ? Newton(eq, limited, z, &its, relative_residual)
+                                : NewtonFullSteps(eq, limited, z, &its, relative_residual);
     *iterations += its;
     return ok;
   };
@@ -257,10 +301,10 @@ bool SolveGeneral(const StepEquations& eq, const StepOptions& options, double st
   // sweep of the ECP velocity, then Newton's full steps (the line search's halvings only
   // slow it there). Where that fails, the usual guesses follow. (Without coupling the
   // decoupled guess is the root already.)
-  if (!far_ecp && !eq.IsDecoupled() && eq.UniqueSlidingRoot() &&
-      attempt(eq.EcpVelocitySweep(eq.DecoupledGuess(kRoughGuessTolerance, kRoughGuessAccept)),
-              kSpeculativeIterations, false)) {
-    return true;
+  if (!far_ecp && !eq.IsDecoupled() && eq.UniqueSlidingRoot()) {
+    Eigen::Vector4d guess = eq.DecoupledGuess(kRoughGuessTolerance, kRoughGuessAccept);
+    for (int i = 0; i < kUniqueRootSweeps; ++i) guess = eq.EcpVelocitySweep(guess);
+    if (attempt(guess, kSpeculativeIterations, false)) return true;
   }
   const Eigen::Vector4d decoupled = eq.DecoupledGuess();
   if (far_ecp &&
