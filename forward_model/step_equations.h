@@ -131,8 +131,10 @@ class StepEquations {
   /// is strictly monotone on the unit ball (the symmetric part of du/dtau positive definite
   /// there), so the sliding equations, a variational inequality on the ball, have at most
   /// one solution. A sufficient test (docs/performance.md, "The general step"): the
-  /// symmetric part of u's linear part exceeds the bound b d |g| of what its quadratic part
-  /// (the spin about the displaced ECP, d = q_z a, g = dw/dtau) adds anywhere on the ball.
+  /// symmetric part of u's linear part exceeds the bound b d (|g_12| + |g|) / 2 of what its
+  /// quadratic part (the spin about the displaced ECP, d = q_z a, g = dw'/dtau, g_12 its
+  /// first two entries) adds anywhere on the ball. About 3 in 4 of step_benchmark's general
+  /// steps pass; strongly coupled steps (large q_z a against c) do not.
   bool UniqueSlidingRoot() const;
   /// sqrt(p_t^2 + (p_o/b)^2 + (p_r/c)^2) / (a p_n): 1 on the ellipsoid.
   double EllipsoidRatio(const Eigen::Vector3d& p) const;
