@@ -247,7 +247,11 @@ bool NewtonFullSteps(const StepEquations& eq, const StepOptions& options, Eigen:
     Eigen::Matrix3d A;
     eq.JacobianBlock(*z, shared, &A);
     Eigen::Vector4d dz;
-    if (!SolveNewtonSystem(A, *z, V, f, &dz)) return false;
+    if (!SolveNewtonSystem(A, *z, V, f, &dz)) {
+      *iterations = it;
+      *relative_residual = eq.RelativeResidual(*z, f);
+      return false;
+    }
     double alpha = 1.0;
     if ((*z)(3) + dz(3) < kMinSlipFraction * (*z)(3)) {
       alpha = (1.0 - kMinSlipFraction) * (*z)(3) / -dz(3);
@@ -255,8 +259,13 @@ bool NewtonFullSteps(const StepEquations& eq, const StepOptions& options, Eigen:
     *z += alpha * dz;
     eq.Residual(*z, &f, &shared);
   }
+  if (it == options.max_iterations) {
+    *iterations = it;
+    *relative_residual = eq.ConvergenceResidual(*z, f, tol);
+    return *relative_residual <= tol && (*z)(3) > 0;
+  }
   StepOptions rest = options;
-  rest.max_iterations = std::max(1, options.max_iterations - it);
+  rest.max_iterations = options.max_iterations - it;
   int its = 0;
   const bool ok = Newton(eq, rest, z, &its, relative_residual, false);
   *iterations = it + its;
