@@ -80,6 +80,16 @@ const Eigen::Vector3d& StepEquations::RowTerms() const {
   row_terms_ready_ = true;
   // Magnitudes of the terms of u = (v_t, b v_o, c v_r) with every friction impulse at the
   // size of the ellipsoid (|p_t| <= P, |p_o| <= P b, |p_r| <= P c).
+  if (reciprocals_) {
+    // By the reciprocals of the constructor (issue 19: this is on the path of every step
+    // that slides, and only kEllipsoidFloor of it enters the test).
+    const double tx = std::abs(t_.ptx) * inv_pn_, ty = std::abs(t_.pty) * inv_pn_;
+    const double w = (std::abs(t_.k(2)) + P_ * t_.c + P_ * (tx + t_.b * ty)) * inv_I_;
+    const double rx = ty + t_.qz * t_.a, ry = tx + t_.qz * t_.a * t_.b;
+    row_terms_ << (std::abs(t_.k(0)) + P_) * inv_m_ + w * ry,
+        t_.b * ((std::abs(t_.k(1)) + P_ * t_.b) * inv_m_ + w * rx), t_.c * w;
+    return row_terms_;
+  }
   const double w = (std::abs(t_.k(2)) + P_ * t_.c +
                     P_ * ((std::abs(t_.ptx) + t_.b * std::abs(t_.pty)) / t_.pn)) /
                    t_.I;
@@ -229,6 +239,40 @@ double StepEquations::CouplingSpeed() const {
   return std::abs(t_.k(2)) / t_.I * offset;
 }
 
+bool StepEquations::UniqueSlidingRoot() const {
+  // u(tau) = u_0 + A_1 tau + b d (g . tau) (tau_o, -tau_t, 0), with p = P W tau, W = diag(1,
+  // b, c), d = q_z P / p_n, w' = w_0 + g . tau, g = P (t_x / p_n, b t_y / p_n, c) / I and
+  // A_1 = diag(P / m, P b^2 / m, 0) + (antisymmetric: the spin w_0 about the ECP's shift)
+  // + h g^T, h = (t_x / p_n, b t_y / p_n, c). The quadratic part's Jacobian is
+  // b d (e g^T + (g . tau) R), e = (tau_o, -tau_t, 0), R antisymmetric: its symmetric part
+  // b d (e g^T + g e^T) / 2 has norm b d (|e . g| + |e| |g|) / 2 <= b d (|g_12| + |g|) / 2
+  // on the unit ball (|e| <= 1, g_12 = (g_t, g_o)). u is strictly monotone there if
+  // S = diag(P / m, P b^2 / m, 0) + sym(h g^T) - beta I is positive definite, beta above
+  // that bound (with a margin for rounding); then a sliding root (u + s tau = 0, |tau| = 1,
+  // s > 0: tau solves the variational inequality of u on the ball) is the only one.
+  // (g = P h / I: the linear part's symmetric part is positive semidefinite.)
+  if (!reciprocals_) return false;  // (issue 5's domain probes: the usual guesses)
+  const double P = P_, b = t_.b, c = t_.c;
+  const double h0 = t_.ptx * inv_pn_, h1 = b * t_.pty * inv_pn_, h2 = c;
+  const double g0 = pw_[0] * dw_[0], g1 = pw_[1] * dw_[1], g2 = pw_[2] * dw_[2];
+  const double d = t_.qz * P * inv_pn_;
+  const double d0 = P * inv_m_, d1 = pw_[1] * b * inv_m_;
+  const double g01_sq = g0 * g0 + g1 * g1;
+  const double g01 = std::sqrt(g01_sq), g_norm = std::sqrt(g01_sq + g2 * g2);
+  const double h_norm = std::abs(h0) + std::abs(h1) + std::abs(h2);  // >= |h|
+  // The margin: 0.1% of beta and 1e-9 of the matrix's size (the minors below round at a
+  // few ulps of their terms).
+  const double beta = 1.001 * b * d * 0.5 * (g01 + g_norm) + 1e-9 * (d0 + d1 + h_norm * g_norm);
+  const double s00 = d0 + h0 * g0 - beta, s11 = d1 + h1 * g1 - beta, s22 = h2 * g2 - beta;
+  const double s01 = 0.5 * (h0 * g1 + h1 * g0), s02 = 0.5 * (h0 * g2 + h2 * g0),
+               s12 = 0.5 * (h1 * g2 + h2 * g1);
+  // Sylvester's criterion: the leading principal minors positive (false for NaN).
+  const double m2 = s00 * s11 - s01 * s01;
+  const double m3 =
+      s00 * (s11 * s22 - s12 * s12) - s01 * (s01 * s22 - s12 * s02) + s02 * (s01 * s12 - s11 * s02);
+  return s00 > 0 && m2 > 0 && m3 > 0;
+}
+
 double StepEquations::EllipsoidRatio(const Eigen::Vector3d& p) const {
   const double qt = p(0) / P_, qo = p(1) / (P_ * t_.b), qr = p(2) / (P_ * t_.c);
   return std::sqrt(qt * qt + qo * qo + qr * qr);
@@ -347,12 +391,16 @@ bool StepEquations::SolveDecoupled(Eigen::Vector4d* z, int* iterations, double t
 }
 
 Eigen::Vector4d StepEquations::DecoupledGuess() const {
+  return DecoupledGuess(kGuessTolerance, kGuessAcceptAfterStep);
+}
+
+Eigen::Vector4d StepEquations::DecoupledGuess(double tolerance, double accept_after_step) const {
   Eigen::Vector4d z;
   int its = 0;
   const Eigen::Vector3d weight(1.0, t_.b, t_.c);
   double phi0 = 0;  // |tau(0)|^2: the decoupled stick test
   for (int i = 0; i < 3; ++i) phi0 += std::pow(t_.k(i) / (P_ * weight(i)), 2);
-  if (phi0 > 1.0 && SolveDecoupled(&z, &its, kGuessTolerance, kGuessAcceptAfterStep)) return z;
+  if (phi0 > 1.0 && SolveDecoupled(&z, &its, tolerance, accept_after_step)) return z;
   z = DecoupledAt(kGuessSlipFraction * velocity_scale_);
   z.head<3>().normalize();
   return z;

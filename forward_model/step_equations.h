@@ -12,6 +12,7 @@
 #include <Eigen/Core>
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <string>
 
 #include "forward_model/planar_state.h"
@@ -126,6 +127,15 @@ class StepEquations {
   /// |w| times the largest ECP offset the friction allows: the slip the spin about an ECP
   /// away from the CM adds, against the free slip speed V [m/s].
   double CouplingSpeed() const;
+  /// True when the step's sliding root is provably unique: the weighted ECP velocity u(tau)
+  /// is strictly monotone on the unit ball (the symmetric part of du/dtau positive definite
+  /// there), so the sliding equations, a variational inequality on the ball, have at most
+  /// one solution. A sufficient test (docs/performance.md, "The general step"): the
+  /// symmetric part of u's linear part exceeds the bound b d (|g_12| + |g|) / 2 of what its
+  /// quadratic part (the spin about the displaced ECP, d = q_z a, g = dw'/dtau, g_12 its
+  /// first two entries) adds anywhere on the ball. About 3 in 4 of step_benchmark's general
+  /// steps pass; strongly coupled steps (large q_z a against c) do not.
+  bool UniqueSlidingRoot() const;
   /// sqrt(p_t^2 + (p_o/b)^2 + (p_r/c)^2) / (a p_n): 1 on the ellipsoid.
   double EllipsoidRatio(const Eigen::Vector3d& p) const;
 
@@ -145,6 +155,9 @@ class StepEquations {
   /// The decoupled solution as a first guess for the general solve (valid even where the
   /// decoupled problem itself would stick).
   Eigen::Vector4d DecoupledGuess() const;
+  /// The same with the scalar root to `tolerance`, its Newton step from |g| <=
+  /// `accept_after_step` taken unchecked (SolveDecoupled).
+  Eigen::Vector4d DecoupledGuess(double tolerance, double accept_after_step) const;
   /// A first guess near the stick boundary: the direction of the stopping impulse, and the
   /// slip speed each axis alone would have (decoupled closed form), averaged by weight.
   Eigen::Vector4d StoppingGuess() const;
@@ -159,6 +172,9 @@ class StepEquations {
   /// coupling moves the ECP far from the CM, so that the spin about it, not the free slip
   /// speed V, sets the slip speed (found by the stability sweep, docs/stability.md).
   Eigen::Vector4d EcpVelocityGuess(Eigen::Vector4d z, int sweeps) const;
+  /// One sweep of EcpVelocityGuess by the arithmetic of Residual (u = F_1..3 - s tau), with
+  /// one square root and one division (issue 19: the first guess where UniqueSlidingRoot).
+  Eigen::Vector4d EcpVelocitySweep(const Eigen::Vector4d& z) const;
   /// Closed form for pure translation with b = 1 (model.md, erratum 4).
   Eigen::Vector4d PureTranslationClosedForm() const;
   /// The same step with q_z and the tilting impulses scaled by `scale` (continuation).
@@ -219,6 +235,16 @@ inline void StepEquations::Residual(const Eigen::Vector4d& z, Eigen::Vector4d* f
   (*f)(2) = t_.c * nu2 + z(3) * z(2);
   (*f)(3) = (0.5 * velocity_scale_) * (z(0) * z(0) + z(1) * z(1) + z(2) * z(2) - 1.0);
   if (shared) *shared = {nu2, r0, r1};
+}
+
+inline Eigen::Vector4d StepEquations::EcpVelocitySweep(const Eigen::Vector4d& z) const {
+  Eigen::Vector4d f;
+  Residual(z, &f);
+  const double u0 = f(0) - z(3) * z(0), u1 = f(1) - z(3) * z(1), u2 = f(2) - z(3) * z(2);
+  const double speed = std::sqrt(u0 * u0 + u1 * u1 + u2 * u2);
+  if (!(speed > 0) || !(speed <= std::numeric_limits<double>::max())) return z;
+  const double scale = -1.0 / speed;
+  return {u0 * scale, u1 * scale, u2 * scale, speed};
 }
 
 inline void StepEquations::EndVelocityAndOffset(const Eigen::Vector4d& z, Eigen::Vector3d* nu,

@@ -33,6 +33,12 @@ constexpr int kEcpVelocitySweeps = 3;
 // the friction, dominates the ECP velocity: the ECP-velocity guess goes first. (The
 // failing case of the sweep had 575; cases that converge from the decoupled guess, 0.1.)
 constexpr double kFarEcpRatio = 10.0;
+// Where the sliding root is unique (issue 19): the decoupled root to 1e-2 (its last
+// Newton step from 1e-1 unchecked), then one sweep of the ECP velocity. The coupling, not
+// the decoupled root's digits, sets that guess's error.
+constexpr double kRoughGuessTolerance = 1e-2;
+constexpr double kRoughGuessAccept = 1e-1;
+constexpr int kUniqueRootSweeps = 1;
 // Newton iterations allowed to that speculative first try: where its guess is right it
 // converges in a handful; where it is not, the usual guesses follow.
 constexpr int kSpeculativeIterations = 12;
@@ -158,7 +164,7 @@ bool SolveNewtonSystem(const Eigen::Matrix3d& A, const Eigen::Vector4d& z, doubl
 // evaluated at every trial point, the Jacobian only at accepted points that have not
 // converged.
 bool Newton(const StepEquations& eq, const StepOptions& options, Eigen::Vector4d* z,
-            int* iterations, double* relative_residual) {
+            int* iterations, double* relative_residual, bool line_search = true) {
   Eigen::Vector4d f;
   StepEquations::Shared shared;
   eq.Residual(*z, &f, &shared);
@@ -192,6 +198,10 @@ bool Newton(const StepEquations& eq, const StepOptions& options, Eigen::Vector4d
       eq.Residual(trial, &trial_f, &trial_shared);
       double trial_normwise = 0;
       if (!(convergence(trial, trial_f, &trial_normwise) < *relative_residual)) return false;
+    } else if (!line_search) {
+      // Full steps (but for the guard on s): where the root is unique (SolveGeneral).
+      trial = *z + alpha * dz;
+      eq.Residual(trial, &trial_f, &trial_shared);
     } else {
       const double merit = 0.5 * f.squaredNorm();
       for (int halvings = 0;; ++halvings) {
@@ -211,6 +221,57 @@ bool Newton(const StepEquations& eq, const StepOptions& options, Eigen::Vector4d
   return *relative_residual <= tol && (*z)(3) > 0;
 }
 
+// Newton's full steps from `z`, where the root is unique (SolveGeneral): the loop of Newton
+// without its line search and with the normwise test in products, until that test holds;
+// Newton's own tests (and polishing) from there.
+bool NewtonFullSteps(const StepEquations& eq, const StepOptions& options, Eigen::Vector4d* z,
+                     int* iterations, double* relative_residual) {
+  const double tol = options.relative_tolerance;
+  const double V = eq.velocity_scale();
+  Eigen::Vector4d f;
+  StepEquations::Shared shared;
+  eq.Residual(*z, &f, &shared);
+  int it = 0;
+  for (; it < options.max_iterations; ++it) {
+    // RelativeResidual(z, f) <= tol, without its divisions (V > 0 here: the step slides).
+    const double motion = std::max(std::max(std::abs(f(0)), std::abs(f(1))), std::abs(f(2)));
+    if (motion <= tol * (V + std::abs((*z)(3))) && 2.0 * std::abs(f(3)) <= tol * V) {
+      // Newton's test, ConvergenceResidual.
+      *relative_residual = std::max(eq.RelativeResidual(*z, f), eq.ComponentwiseResidual(*z, f));
+      if (*relative_residual <= tol) {
+        *iterations = it;
+        return (*z)(3) > 0;
+      }
+      break;  // polishing, in Newton
+    }
+    Eigen::Matrix3d A;
+    eq.JacobianBlock(*z, shared, &A);
+    Eigen::Vector4d dz;
+    if (!SolveNewtonSystem(A, *z, V, f, &dz)) {
+      *iterations = it;
+      *relative_residual = eq.RelativeResidual(*z, f);
+      return false;
+    }
+    double alpha = 1.0;
+    if ((*z)(3) + dz(3) < kMinSlipFraction * (*z)(3)) {
+      alpha = (1.0 - kMinSlipFraction) * (*z)(3) / -dz(3);
+    }
+    *z += alpha * dz;
+    eq.Residual(*z, &f, &shared);
+  }
+  if (it == options.max_iterations) {
+    *iterations = it;
+    *relative_residual = eq.ConvergenceResidual(*z, f, tol);
+    return *relative_residual <= tol && (*z)(3) > 0;
+  }
+  StepOptions rest = options;
+  rest.max_iterations = options.max_iterations - it;
+  int its = 0;
+  const bool ok = Newton(eq, rest, z, &its, relative_residual, false);
+  *iterations = it + its;
+  return ok;
+}
+
 // Newton from the decoupled guess; where that fails (typically near the stick boundary,
 // where the decoupled problem sticks but the coupled one slides), from the stopping
 // impulse's direction; then from the ECP-velocity guess; last, continuation in the
@@ -221,14 +282,16 @@ bool Newton(const StepEquations& eq, const StepOptions& options, Eigen::Vector4d
 bool SolveGeneral(const StepEquations& eq, const StepOptions& options, double stop_ratio,
                   Eigen::Vector4d* z, int* iterations, double* relative_residual) {
   *iterations = 0;
-  auto attempt = [&](const Eigen::Vector4d& guess, int max_iterations = 0) {
+  auto attempt = [&](const Eigen::Vector4d& guess, int max_iterations = 0,
+                     bool line_search = true) {
     int its = 0;
     *z = guess;
     StepOptions limited = options;
     if (max_iterations > 0) {
       limited.max_iterations = std::min(options.max_iterations, max_iterations);
     }
-    const bool ok = Newton(eq, limited, z, &its, relative_residual);
+    const bool ok = line_search ? Newton(eq, limited, z, &its, relative_residual)
+                                : NewtonFullSteps(eq, limited, z, &its, relative_residual);
     *iterations += its;
     return ok;
   };
@@ -237,12 +300,22 @@ bool SolveGeneral(const StepEquations& eq, const StepOptions& options, double st
     return true;
   }
   if (stop_ratio < 1.0 + kNearStickBoundary && attempt(eq.LinearisedStopGuess())) return true;
-  const Eigen::Vector4d decoupled = eq.DecoupledGuess();
   // The ECP far from the CM (large q_z or tilting moments with a fast spin): the slip
   // speed is set by the spin about the ECP, far from V, and the decoupled guess is off by
   // more than the whole velocity scale (issue 5, docs/stability.md). Try that guess first
   // there, last elsewhere.
   const bool far_ecp = eq.CouplingSpeed() > kFarEcpRatio * eq.velocity_scale();
+  // Where the sliding root is provably unique (issue 19), any guess and any path that
+  // converge find the root the decoupled guess would: a rough decoupled root and one
+  // sweep of the ECP velocity, then Newton's full steps (the line search's halvings only
+  // slow it there). Where that fails, the usual guesses follow. (Without coupling the
+  // decoupled guess is the root already.)
+  if (!far_ecp && !eq.IsDecoupled() && eq.UniqueSlidingRoot()) {
+    Eigen::Vector4d guess = eq.DecoupledGuess(kRoughGuessTolerance, kRoughGuessAccept);
+    for (int i = 0; i < kUniqueRootSweeps; ++i) guess = eq.EcpVelocitySweep(guess);
+    if (attempt(guess, kSpeculativeIterations, false)) return true;
+  }
+  const Eigen::Vector4d decoupled = eq.DecoupledGuess();
   if (far_ecp &&
       attempt(eq.EcpVelocityGuess(decoupled, kEcpVelocitySweeps), kSpeculativeIterations)) {
     return true;

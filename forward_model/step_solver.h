@@ -4,7 +4,9 @@
 // The step first decides stick or slide from the impulse that would stop the slider. While
 // sliding it solves the paper's four equations in (p_t, p_o, p_r, sigma), written on the
 // unit sphere of the friction ellipsoid, by safeguarded Newton with the analytic Jacobian,
-// started from the decoupled solution. Scenes that need less take an exact shortcut:
+// started from the decoupled solution; where the sliding root is provably unique
+// (StepEquations::UniqueSlidingRoot), by full Newton steps from that solution swept once
+// through the ECP velocity (issue 19). Scenes that need less take an exact shortcut:
 // no CM height and no tilting moments -> a monotone scalar root in the slip speed;
 // pure translation with b = 1 -> the closed form (model.md, erratum 4).
 
