@@ -43,7 +43,7 @@ Trajectory EmptyTrajectory(const Scene& scene) {
   Trajectory traj;
   traj.slider = scene.slider;
   traj.patch = scene.patch;
-  traj.true_friction = scene.friction;
+  traj.true_friction = scene.friction.paper();
   const bool pushed = !scene.pushes.empty() || scene.pusher.has_value();
   traj.measured.push_point = pushed;
   traj.measured.force = pushed;
@@ -62,15 +62,16 @@ void Fail(SimulationSummary* summary, SimulationStatus status, double t,
 }
 
 /// One step of a pusher-driven scene from `row`, whose applied wrench and push point
-/// become the tip's (held over the step, as a log row's force is).
+/// become the tip's (held over the step, as a log row's force is); sigma is the reduced
+/// step's.
 StepResult PusherStep(const Scene& scene, const SimulationOptions& options, TrajectorySample* row,
                       double t_next, TipMode* tip_mode) {
   const Pusher& pusher = *scene.pusher;
   PusherStepOptions pusher_options = options.pusher;
   pusher_options.step = options.step;
   const PusherStepResult r =
-      SolvePusherStep(scene.slider, ReducedFriction::From(scene.friction), scene.patch, pusher,
-                      row->state, pusher.path.PositionAt(row->t_s), pusher.path.PositionAt(t_next),
+      SolvePusherStep(scene.slider, scene.friction.reduced(), scene.patch, pusher, row->state,
+                      pusher.path.PositionAt(row->t_s), pusher.path.PositionAt(t_next),
                       AppliedWrench{}, scene.dt_s, pusher_options);
   row->applied = r.applied;
   row->push_point_world.reset();
@@ -80,7 +81,6 @@ StepResult PusherStep(const Scene& scene, const SimulationOptions& options, Traj
   }
   *tip_mode = r.tip_mode;
   StepResult step = r.step;
-  step.sigma *= scene.friction.e_t;  // the paper's sigma, as SolveStep(FrictionParameters)
   step.residual = std::max(step.residual, r.residual);  // the summary's worst: either solve's
   return step;
 }
@@ -102,6 +102,14 @@ SimulationResult Simulate(const Scene& scene, const SimulationOptions& options) 
   if (!options.IsValid(&why)) throw std::invalid_argument("Simulate: " + why);
   if (!(scene.dt_s > 0) || !(scene.duration_s > 0)) {
     throw std::invalid_argument("Simulate: dt and duration must be > 0");
+  }
+  const FrictionParameters& f = scene.friction.paper();
+  for (const double x : {f.mu, f.e_t, f.e_o, f.e_r}) {
+    if (!(std::isfinite(x) && x > 0)) {
+      throw std::invalid_argument(
+          Printf("Simulate: mu, e_t, e_o and e_r must be finite and > 0 (got %g, %g, %g, %g)", f.mu,
+                 f.e_t, f.e_o, f.e_r));
+    }
   }
   if (scene.pusher) {
     if (!scene.pushes.empty()) {
@@ -140,9 +148,10 @@ SimulationResult Simulate(const Scene& scene, const SimulationOptions& options) 
     TrajectorySample& prev = traj.samples.back();
     const double t_next = (u + 1) * scene.dt_s;
     TipMode tip_mode = TipMode::kApart;
-    const StepResult step = scene.pusher ? PusherStep(scene, options, &prev, t_next, &tip_mode)
-                                         : SolveStep(scene.slider, scene.friction, prev.state,
-                                                     prev.applied, scene.dt_s, options.step);
+    StepResult step = scene.pusher ? PusherStep(scene, options, &prev, t_next, &tip_mode)
+                                   : SolveStep(scene.slider, scene.friction.reduced(), prev.state,
+                                               prev.applied, scene.dt_s, options.step);
+    step.sigma *= scene.friction.paper().e_t;  // the paper's: the reduced step's is sigma / e_t
     if (!step.ok()) {
       Fail(&summary,
            step.status == StepStatus::kLiftOff ? SimulationStatus::kLiftOff
