@@ -52,6 +52,8 @@ class SceneFriction {
   const ReducedFriction& reduced() const { return reduced_; }
   /// mu, e_t, e_o, e_r: the truth a log records.
   const FrictionParameters& paper() const { return paper_; }
+  /// Whether mu, e_t, e_o and e_r are finite and > 0; `why` gives them and a, b, c.
+  bool IsValid(std::string* why) const;
 
  private:
   FrictionParameters paper_;

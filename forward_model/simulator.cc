@@ -103,14 +103,7 @@ SimulationResult Simulate(const Scene& scene, const SimulationOptions& options) 
   if (!(scene.dt_s > 0) || !(scene.duration_s > 0)) {
     throw std::invalid_argument("Simulate: dt and duration must be > 0");
   }
-  const FrictionParameters& f = scene.friction.paper();
-  for (const double x : {f.mu, f.e_t, f.e_o, f.e_r}) {
-    if (!(std::isfinite(x) && x > 0)) {
-      throw std::invalid_argument(
-          Printf("Simulate: mu, e_t, e_o and e_r must be finite and > 0 (got %g, %g, %g, %g)", f.mu,
-                 f.e_t, f.e_o, f.e_r));
-    }
-  }
+  if (!scene.friction.IsValid(&why)) throw std::invalid_argument("Simulate: " + why);
   if (scene.pusher) {
     if (!scene.pushes.empty()) {
       throw std::invalid_argument(
@@ -204,26 +197,18 @@ PlanarState ReplayStart(const Trajectory& log) {
   return s;
 }
 
-namespace {
-
-FrictionParameters AsTrueFriction(const FrictionParameters& friction) { return friction; }
-FrictionParameters AsTrueFriction(const ReducedFriction& friction) {
-  return friction.ToFrictionParameters();
-}
-
-// ReplayLog with either form of the friction: SolveStep of that form at every step.
-template <typename Friction>
-SimulationResult Replay(const Trajectory& log, const Friction& friction, int substeps,
-                        const SimulationOptions& options) {
+SimulationResult ReplayLog(const Trajectory& log, const SceneFriction& friction, int substeps,
+                           const SimulationOptions& options) {
   std::string why;
   if (!options.IsValid(&why)) throw std::invalid_argument("ReplayLog: " + why);
+  if (!friction.IsValid(&why)) throw std::invalid_argument("ReplayLog: " + why);
   if (log.samples.size() < 2) throw std::invalid_argument("ReplayLog: the log has < 2 rows");
   if (substeps < 1) throw std::invalid_argument("ReplayLog: substeps must be >= 1");
   SimulationResult result;
   Trajectory& traj = result.trajectory;
   traj.slider = log.slider;
   traj.patch = log.patch;
-  traj.true_friction = AsTrueFriction(friction);
+  traj.true_friction = friction.paper();
   traj.measured = log.measured;
   traj.measured.pose = traj.measured.velocity = traj.measured.step_info = true;
   TrajectorySample first = log.samples.front();
@@ -238,7 +223,7 @@ SimulationResult Replay(const Trajectory& log, const Friction& friction, int sub
     PlanarState state = traj.samples.back().state;
     for (int k = 0; k < substeps; ++k) {
       const StepResult step =
-          SolveStep(log.slider, friction, state, log.samples[u].applied, h, options.step);
+          SolveStep(log.slider, friction.reduced(), state, log.samples[u].applied, h, options.step);
       if (!step.ok()) {
         Fail(&result.summary,
              step.status == StepStatus::kLiftOff ? SimulationStatus::kLiftOff
@@ -250,7 +235,7 @@ SimulationResult Replay(const Trajectory& log, const Friction& friction, int sub
       record.pt += step.pt;
       record.po += step.po;
       record.pr += step.pr;
-      record.sigma = step.sigma;
+      record.sigma = step.sigma * friction.paper().e_t;  // the paper's, as Simulate's
       record.ecp_world = step.ecp_world;
       next.mode = step.mode == StepMode::kStick ? SampleMode::kStick : SampleMode::kSlide;
       ++result.summary.steps;
@@ -261,18 +246,6 @@ SimulationResult Replay(const Trajectory& log, const Friction& friction, int sub
     traj.steps.push_back(record);
   }
   return result;
-}
-
-}  // namespace
-
-SimulationResult ReplayLog(const Trajectory& log, const FrictionParameters& friction, int substeps,
-                           const SimulationOptions& options) {
-  return Replay(log, friction, substeps, options);
-}
-
-SimulationResult ReplayLog(const Trajectory& log, const ReducedFriction& friction, int substeps,
-                           const SimulationOptions& options) {
-  return Replay(log, friction, substeps, options);
 }
 
 const char* ToString(SimulationStatus status) {

@@ -157,7 +157,7 @@ TEST(ReplayLog, ReplaysALogWithItsOwnParametersAndWrenches) {
   LogSpec every10;
   every10.log_every = 10;
   const Trajectory coarse = MakeLog(testing::SimulateOrFail(scene), every10);
-  const SimulationResult sub = ReplayLog(coarse, scene.friction.paper(), 10);
+  const SimulationResult sub = ReplayLog(coarse, scene.friction, 10);
   ASSERT_TRUE(sub.summary.ok());
   // The replay holds each row's force over its 10 ms; the push's cosine (2 N, period 0.2 s)
   // moves by up to 2 pi 2 N 0.01 s / 0.2 s = 0.6 N within that time, and the push turns

@@ -225,7 +225,7 @@ TEST(Pusher, ReplayingTheTipsForceReproducesThePusherDrivenTrajectory) {
   const SimulationResult r =
       RunPush(scene, StraightPusher(0.02, {std::cos(a), std::sin(a)}, 0.05, 1.0, 0.2), 0.8);
   EXPECT_GT(r.summary.tip_slide_steps, 100);
-  const SimulationResult replay = ReplayLog(r.trajectory, scene.friction.reduced());
+  const SimulationResult replay = ReplayLog(r.trajectory, scene.friction);
   ASSERT_TRUE(replay.summary.ok()) << replay.summary.message;
   ASSERT_EQ(replay.trajectory.samples.size(), r.trajectory.samples.size());
   for (size_t u = 0; u < r.trajectory.samples.size(); ++u) {
