@@ -578,7 +578,7 @@ int Main(int argc, char** argv) {
         const Trajectory simulated =
             SimulateScene(kind, steps, config.log_every, seed, &scene, &stats);
         total_redraws += stats.redraws;
-        const ReducedFriction t = ReducedFriction::From(scene.friction);
+        const ReducedFriction t = scene.friction.reduced();
         const double truth[3] = {t.a, t.b, t.c};
         for (const std::string& motion : config.Motions()) {
           for (int noise = 0; noise < kNoiseCount; ++noise) {

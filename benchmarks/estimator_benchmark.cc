@@ -43,7 +43,7 @@ const Trajectory& NoisyLog() {
 double ForwardPassSeconds(const Trajectory& log, bool with_derivatives) {
   const int rows = static_cast<int>(log.samples.size());
   const int steps = TrajectorySegmentSteps(rows, MedianInterval(log), TrajectoryOptions{});
-  const ReducedFriction abc = ReducedFriction::From(testing::LongPushScene(kSteps).friction);
+  const ReducedFriction abc = testing::LongPushScene(kSteps).friction.reduced();
   double log_abc[3] = {std::log(abc.a), std::log(abc.b), std::log(abc.c)};
   std::vector<std::unique_ptr<ceres::CostFunction>> costs;
   std::vector<std::array<double, 6>> states;
@@ -87,7 +87,7 @@ void Run(benchmark::State& state, EstimatorMethod method, int threads = 1) {
     result = Identify(log, options);
     benchmark::DoNotOptimize(result);
   }
-  const ReducedFriction truth = ReducedFriction::From(testing::LongPushScene(kSteps).friction);
+  const ReducedFriction truth = testing::LongPushScene(kSteps).friction.reduced();
   const double t[3] = {truth.a, truth.b, truth.c};
   const char* names[3] = {"err_a", "err_b", "err_c"};
   for (int i = 0; i < 3; ++i) {

@@ -47,7 +47,7 @@ double ThreadCpuSeconds() {
 
 void BM_OnlineAgainstBatch(benchmark::State& state) {
   const Trajectory& log = NoisyLog();
-  const ReducedFriction truth = ReducedFriction::From(testing::LongPushScene(kSteps).friction);
+  const ReducedFriction truth = testing::LongPushScene(kSteps).friction.reduced();
   const double truths[3] = {truth.a, truth.b, truth.c};
   double online_s = 0, worst_s = 0, worst_cpu_s = 0, online_cpu_s = 0, batch_s = 0;
   OnlineResult last;

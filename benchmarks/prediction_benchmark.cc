@@ -70,7 +70,7 @@ std::vector<StepCase> StepCases() {
 void BM_ForceDrivenStep(benchmark::State& state) {
   static const std::vector<StepCase> cases = StepCases();
   const Scene scene = PushScene(0);
-  const ReducedFriction f = ReducedFriction::From(scene.friction);
+  const ReducedFriction f = scene.friction.reduced();
   size_t i = 0;
   for (auto _ : state) {
     const StepCase& c = cases[i++ % cases.size()];
@@ -82,7 +82,7 @@ BENCHMARK(BM_ForceDrivenStep);
 void BM_PusherDrivenStep(benchmark::State& state) {
   static const std::vector<StepCase> cases = StepCases();
   const Scene scene = PushScene(0);
-  const ReducedFriction f = ReducedFriction::From(scene.friction);
+  const ReducedFriction f = scene.friction.reduced();
   size_t i = 0;
   for (auto _ : state) {
     const StepCase& c = cases[i++ % cases.size()];

@@ -651,7 +651,7 @@ void EstimatorGrid(bool quick, Sweep* sweep) {
       for (const char* method : {"trajectory", "equation-error"}) {
         sweep->Estimator(
             tags, std::string(pushed ? "pushed" : "free-spin") + (similar ? "" : " (as in tests)"),
-            method, ReducedFriction::From(scene.friction), &log, error);
+            method, scene.friction.reduced(), &log, error);
       }
     }
   }

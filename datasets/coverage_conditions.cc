@@ -92,7 +92,7 @@ CoverageLog MakeCoverageLog(const CoverageCondition& condition, int index, std::
                              std::to_string(made.log.samples.size()) + " rows");
   }
   KeepFirstRows(&made.log, condition.rows);
-  const ReducedFriction t = ReducedFriction::From(entry.scene.friction);
+  const ReducedFriction& t = entry.scene.friction.reduced();
   made.truth = {t.a, t.b, t.c};
   return made;
 }

@@ -228,10 +228,12 @@ DatasetEntry DrawDatasetLog(const DatasetSpec& spec, int index, Trajectory* log)
     std::vector<double> sizes;
     for (const ValueRange& r : spec.patch.sizes) sizes.push_back(draw(r));
     const double inertia_draw = unit(rng);
-    scene.friction.mu = draw(spec.mu);
-    scene.friction.e_t = draw(spec.e_t);
-    scene.friction.e_o = draw(spec.e_o);
-    scene.friction.e_r = draw(spec.e_r_m);
+    FrictionParameters friction;
+    friction.mu = draw(spec.mu);
+    friction.e_t = draw(spec.e_t);
+    friction.e_o = draw(spec.e_o);
+    friction.e_r = draw(spec.e_r_m);
+    scene.friction = friction;
     RandomProgramSpec program = spec.program;
     program.seed = rng();
     if (spec.align_pushes) {
@@ -258,7 +260,7 @@ DatasetEntry DrawDatasetLog(const DatasetSpec& spec, int index, Trajectory* log)
       scene.duration_s = scene.pusher->path.end_s() + kPusherRunOutS;
     } else {
       const PushProgram pushes =
-          RandomPushProgram(program, scene.patch, scene.slider, scene.friction);
+          RandomPushProgram(program, scene.patch, scene.slider, scene.friction.reduced());
       scene.pushes = pushes.pushes;
       scene.duration_s = pushes.end_s;
     }

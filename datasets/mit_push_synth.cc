@@ -38,8 +38,7 @@ Scene MakeScene(const MitSynthSpec& spec) {
   push.point_body = spec.push_point_body;
   push.direction_body = spec.push_direction_body.normalized();
   push.height_m = spec.slider.com_height_m;
-  const double friction_n =
-      spec.friction.mu * spec.friction.e_t * spec.slider.mass_kg * spec.slider.gravity_mps2;
+  const double friction_n = spec.friction.a * spec.slider.mass_kg * spec.slider.gravity_mps2;
   push.force_n = spec.force_ratio * friction_n;
   push.amplitude_n = spec.amplitude_ratio * friction_n;
   push.period_s = spec.period_s;

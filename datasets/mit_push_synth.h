@@ -46,8 +46,8 @@ struct MitSynthDefects {
 struct MitSynthSpec {
   /// 90 mm x 90 mm x 13 mm steel plate (like the MIT rect1; mass from its geometry).
   SliderProperties slider{0.835, 0.835 * (0.09 * 0.09 + 0.09 * 0.09) / 12.0, 0.0065, 9.81};
-  FrictionParameters friction{0.3, 1.0, 1.2, 0.035};  ///< a = 0.3, b = 1.2, c = 0.035 m
-  double side_m = 0.09;                               ///< the square's side [m]
+  ReducedFriction friction{0.3, 1.2, 0.035};  ///< c [m]
+  double side_m = 0.09;                       ///< the square's side [m]
   /// Where the pusher acts, on an edge (body frame) [m], and the direction it pushes.
   Eigen::Vector2d push_point_body{-0.045, -0.02};
   Eigen::Vector2d push_direction_body{1.0, 0.2};

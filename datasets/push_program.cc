@@ -76,10 +76,10 @@ bool RandomProgramSpec::IsValid(std::string* why) const {
 }
 
 PushProgram RandomPushProgram(const RandomProgramSpec& spec, const ContactPatch& patch,
-                              const SliderProperties& slider, const FrictionParameters& friction) {
+                              const SliderProperties& slider, const ReducedFriction& friction) {
   std::string why;
   if (!spec.IsValid(&why)) throw std::invalid_argument("RandomPushProgram: " + why);
-  const double limit_n = ReducedFriction::From(friction).a * slider.mass_kg * slider.gravity_mps2;
+  const double limit_n = friction.a * slider.mass_kg * slider.gravity_mps2;
   const ValueRange force =
       spec.force_n.value_or(ValueRange{kForceLoOverLimit * limit_n, kForceHiOverLimit * limit_n});
   const ValueRange height = spec.height_m.value_or(

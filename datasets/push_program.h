@@ -67,10 +67,10 @@ struct PushProgram {
   double end_s = 0.0;
 };
 
-/// Draws a random program for a slider with this patch, properties and friction (friction
-/// and com_height only set the default force and height ranges). Deterministic: one spec
+/// Draws a random program for a slider with this patch, properties and friction (a and
+/// com_height only set the default force and height ranges). Deterministic: one spec
 /// (including its seed) gives one program. Throws std::invalid_argument for an invalid spec.
 PushProgram RandomPushProgram(const RandomProgramSpec& spec, const ContactPatch& patch,
-                              const SliderProperties& slider, const FrictionParameters& friction);
+                              const SliderProperties& slider, const ReducedFriction& friction);
 
 }  // namespace slideid

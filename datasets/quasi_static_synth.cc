@@ -92,9 +92,9 @@ bool SpringPushOptions::IsValid(std::string* why) const {
   return step.IsValid(why);
 }
 
-SimulatedPush SimulateSpringPush(const SliderProperties& slider_in,
-                                 const FrictionParameters& friction, const PlanarState& start,
-                                 const SpringPush& push, const SpringPushOptions& options) {
+SimulatedPush SimulateSpringPush(const SliderProperties& slider_in, const ReducedFriction& friction,
+                                 const PlanarState& start, const SpringPush& push,
+                                 const SpringPushOptions& options) {
   std::string why;
   if (!options.IsValid(&why)) throw std::invalid_argument("SimulateSpringPush: " + why);
   if (!(push.speed_mps > 0.0 && push.rest_s >= 0.0 && push.push_s > 0.0) ||
@@ -202,7 +202,6 @@ std::vector<SimulatedPush> SimulateSpringPushes(const QuasiStaticSynthSpec& spec
   double perimeter = 0;
   for (std::size_t i = 0; i < n; ++i)
     perimeter += (spec.outline[(i + 1) % n] - spec.outline[i]).norm();
-  const FrictionParameters friction = spec.friction.ToFrictionParameters();
 
   std::vector<SimulatedPush> pushes;
   PlanarState state;
@@ -226,7 +225,7 @@ std::vector<SimulatedPush> SimulateSpringPushes(const QuasiStaticSynthSpec& spec
     push.speed_mps = spec.speed_mps;
     push.rest_s = spec.rest_s;
     push.push_s = spec.push_s;
-    pushes.push_back(SimulateSpringPush(spec.slider, friction, state, push, spec.options));
+    pushes.push_back(SimulateSpringPush(spec.slider, spec.friction, state, push, spec.options));
     state = pushes.back().end;
   }
   return pushes;

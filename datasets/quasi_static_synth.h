@@ -73,7 +73,7 @@ struct SimulatedPush {
 /// Simulates one push from `start` (at rest). Throws std::invalid_argument for invalid
 /// properties, options or a push that never slides the slider; a step that does not
 /// converge is a std::runtime_error naming its time.
-SimulatedPush SimulateSpringPush(const SliderProperties& slider, const FrictionParameters& friction,
+SimulatedPush SimulateSpringPush(const SliderProperties& slider, const ReducedFriction& friction,
                                  const PlanarState& start, const SpringPush& push,
                                  const SpringPushOptions& options = {});
 

@@ -77,13 +77,14 @@ void DrawSlider(Draw* d, LoggedScene* scene, std::string* name) {
 }
 
 void DrawFriction(Draw* d, LoggedScene* scene) {
-  FrictionParameters& f = scene->friction;
+  FrictionParameters f;
   f.mu = d->Uniform(0.15, 0.7);
   f.e_t = d->Uniform(0.8, 1.2);
   f.e_o = d->Chance(0.4) ? f.e_t : f.e_t * d->LogUniform(0.6, 1.6);
   // c of the order of the patch's radius of gyration (a uniform pressure gives 0.6-0.7 of it).
   const double gyration = std::sqrt(UniformInertia(scene->patch, 1.0));
   f.e_r = f.e_t * gyration * d->Uniform(0.3, 1.0);
+  scene->friction = f;
 }
 
 void DrawNoise(Draw* d, bool pushed, bool velocities, bool outliers, NoiseSpec* n) {
@@ -152,7 +153,7 @@ SuiteLog MakeSuiteLog(int index, std::uint64_t seed, const SceneSuiteLimits& lim
     const bool velocities = d.Chance(0.3);
     made.outliers = d.Chance(0.1);
     const bool pushed = made.motion != SuiteMotion::kFreeSlide;
-    const double a = ReducedFriction::From(scene.friction).a;
+    const double a = scene.friction.reduced().a;
     const double g = scene.slider.gravity_mps2;
 
     scene.dt_s = interval_s / every;
@@ -172,7 +173,8 @@ SuiteLog MakeSuiteLog(int index, std::uint64_t seed, const SceneSuiteLimits& lim
         program.time_grid_s = interval_s;
         program.grid_lead_s = scene.dt_s / 2;
       }
-      const PushProgram p = RandomPushProgram(program, scene.patch, scene.slider, scene.friction);
+      const PushProgram p =
+          RandomPushProgram(program, scene.patch, scene.slider, scene.friction.reduced());
       scene.pushes = p.pushes;
       scene.duration_s = rows * interval_s;
     } else {
@@ -198,7 +200,7 @@ SuiteLog MakeSuiteLog(int index, std::uint64_t seed, const SceneSuiteLimits& lim
       continue;
     }
     KeepFirstRows(&made.log, rows);
-    const ReducedFriction t = ReducedFriction::From(scene.friction);
+    const ReducedFriction& t = scene.friction.reduced();
     made.truth = {t.a, t.b, t.c};
     return made;
   }

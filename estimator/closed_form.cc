@@ -34,6 +34,7 @@ constexpr int kMaxLocationIterations = 100;
 /// log rule that reading out (noisy logs: about 1; exact logs: 1e-10 and less).
 constexpr double kMinReadingScale = 0.5;
 
+// By index, not ReducedFriction: a, b, c share each check, sample and interval, and may be NaN.
 const char* const kSymbol[3] = {"a", "b", "c"};
 
 /// |x| is nonzero, at least `fraction` of `scale` and kDivisorSigmas of `noise`.

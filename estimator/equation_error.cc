@@ -16,8 +16,8 @@
 #include "estimator/closed_form.h"
 #include "estimator/identifiability.h"
 #include "estimator/internal/equation_error_residual.h"
+#include "estimator/internal/log_friction.h"
 #include "estimator/internal/method_cores.h"
-#include "estimator/internal/trajectory_problem.h"
 #include "estimator/plausibility.h"
 #include "estimator/pooling.h"
 #include "estimator/robust_statistics.h"
@@ -297,10 +297,12 @@ ceres::Solver::Summary SolveFit(const std::vector<FitStep>& fit, ceres::LossFunc
   return summary;
 }
 
-/// The fit of (log a, log b, log c) from `seed`, holding what AssessIdentifiability
-/// rejects (with the residuals' robust scale) at its seed and refitting the rest.
+/// The fit of (a, b, c) from `seed`, holding what AssessIdentifiability rejects (with the
+/// residuals' robust scale) at its seed and refitting the rest.
 struct FitOutcome {
-  std::array<double, 3> theta;
+  std::array<double, 3> theta;  ///< log a, log b, log c: the fit's parameter blocks
+  /// The seed as the blocks hold it (log_friction.h), where a held parameter stays.
+  ReducedFriction seed;
   std::array<bool, 3> active{{true, true, true}};
   std::array<std::string, 3> held_note;
   std::unique_ptr<ceres::LossFunction> loss;
@@ -309,15 +311,17 @@ struct FitOutcome {
   int iterations = 0;
 };
 
-FitOutcome FitWithIdentifiability(const std::vector<FitStep>& fit,
-                                  const std::array<double, 3>& seed,
+FitOutcome FitWithIdentifiability(const std::vector<FitStep>& fit, const ReducedFriction& seed,
                                   const IdentifyOptions& identify) {
   FitOutcome out;
-  out.theta = seed;
+  std::array<double, 3> start;
+  ToLogParameters(seed, start.data());
+  out.seed = FromLogParameters(start.data());
+  out.theta = start;
   out.loss = MakeLoss(identify.equation_error, fit, out.theta.data());
   for (int pass = 0; pass < 4; ++pass) {  // each pass but the last holds >= 1 more
     for (int i = 0; i < 3; ++i) {
-      if (!out.active[i]) out.theta[i] = seed[i];
+      if (!out.active[i]) out.theta[i] = start[i];
     }
     out.summary = SolveFit(fit, out.loss.get(), out.active, identify, out.theta.data());
     out.iterations += out.summary.num_successful_steps + out.summary.num_unsuccessful_steps;
@@ -340,7 +344,7 @@ FitOutcome FitWithIdentifiability(const std::vector<FitStep>& fit,
     }
   }
   for (int i = 0; i < 3; ++i) {
-    if (!out.active[i]) out.theta[i] = seed[i];
+    if (!out.active[i]) out.theta[i] = start[i];
   }
   return out;
 }
@@ -466,9 +470,8 @@ EstimateResult EquationErrorCore(const std::vector<const Trajectory*>& logs,
     return result;
   }
 
-  std::array<double, 3> seed;  // log a, log b, log c: the fit's parameter blocks
-  ToLogParameters(SeedOf(seed_result, set.log_steps[0].radius_m), seed.data());
-  const FitOutcome fit = FitWithIdentifiability(set.fit, seed, identify);
+  const FitOutcome fit =
+      FitWithIdentifiability(set.fit, SeedOf(seed_result, set.log_steps[0].radius_m), identify);
   result.iterations = fit.iterations;
   result.final_cost = fit.summary.final_cost;
   const bool solve_converged =
@@ -503,7 +506,7 @@ EstimateResult EquationErrorCore(const std::vector<const Trajectory*>& logs,
     });
   }
   for (int i = 0; i < 3; ++i) {
-    if (!fit.active[i]) result.parameters[i] = NotIdentifiable(std::exp(seed[i]), fit.held_note[i]);
+    if (!fit.active[i]) result.parameters[i] = NotIdentifiable(fit.seed[i], fit.held_note[i]);
   }
   for (size_t a = 0; a < free.size(); ++a) {
     const int i = free[a];
@@ -526,7 +529,7 @@ EstimateResult EquationErrorCore(const std::vector<const Trajectory*>& logs,
     context.log_noise = result.log_noise = noise_scale;
   }
   for (int i = 0; i < 3; ++i) {
-    context.seed[i] = seed_result.parameters[i].identifiable ? std::exp(seed[i]) : kNaN;
+    context.seed[i] = seed_result.parameters[i].identifiable ? fit.seed[i] : kNaN;
   }
   context.lower = kFrictionLowerBound;
   context.upper = kFrictionUpperBound;

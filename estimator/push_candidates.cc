@@ -109,7 +109,7 @@ Scene PushScene(const SliderProperties& slider, const ReducedFriction& friction,
   Scene scene;
   scene.source = "advise-push candidate " + Describe(push);
   scene.slider = slider;
-  scene.friction = friction.ToFrictionParameters();
+  scene.friction = friction;
   scene.patch = patch;
   scene.dt_s = dt_s;
   Pusher pusher;

@@ -169,9 +169,11 @@ EstimateResult EstimateQuasiStatic(const std::vector<WrenchTwistPair>& pairs,
   CheckPairs(pairs, options.weight_n);
   const ReducedFriction seed_value = Seed(pairs, options.weight_n, options.length_scale_m);
   const double length = options.length_scale_m > 0.0 ? options.length_scale_m : seed_value.c;
-  std::array<double, 3> seed;  // log a, log b, log c: the fit's parameter blocks
-  ToLogParameters(seed_value, seed.data());
-  double theta[3] = {seed[0], seed[1], seed[2]};
+  std::array<double, 3> start;  // the seed's log a, log b, log c, where a held block stays
+  ToLogParameters(seed_value, start.data());
+  // The seed as the blocks hold it (log_friction.h): a held parameter's value.
+  const ReducedFriction seed = FromLogParameters(start.data());
+  std::array<double, 3> theta = start;  // the fit's parameter blocks
 
   EstimateResult result;
   result.method = EstimatorMethod::kQuasiStatic;
@@ -225,7 +227,7 @@ EstimateResult EstimateQuasiStatic(const std::vector<WrenchTwistPair>& pairs,
     result.iterations += summary.num_successful_steps + summary.num_unsuccessful_steps;
   };
   auto reweight = [&]() {
-    const Linearisation l = Linearise(costs, theta);
+    const Linearisation l = Linearise(costs, theta.data());
     if (!l.ok) return;
     const auto [sigma_m, sigma_d] = ResidualScales(l);
     costs.w_magnitude = 1.0 / sigma_m;
@@ -246,10 +248,10 @@ EstimateResult EstimateQuasiStatic(const std::vector<WrenchTwistPair>& pairs,
   double variance = kNaN;
   for (int pass = 0; pass < 4; ++pass) {  // each pass but the last holds >= 1 more
     for (int i = 0; i < 3; ++i) {
-      if (!active[i]) theta[i] = seed[i];
+      if (!active[i]) theta[i] = start[i];
     }
     solve(active);
-    at_solution = Linearise(costs, theta);
+    at_solution = Linearise(costs, theta.data());
     const int n_free = static_cast<int>(std::count(active.begin(), active.end(), true));
     const int dof = 3 * static_cast<int>(pairs.size()) - n_free;
     if (!at_solution.ok || dof <= 0) break;
@@ -266,7 +268,7 @@ EstimateResult EstimateQuasiStatic(const std::vector<WrenchTwistPair>& pairs,
     if (!changed || std::none_of(active.begin(), active.end(), [](bool x) { return x; })) break;
   }
   for (int i = 0; i < 3; ++i) {
-    if (!active[i]) theta[i] = seed[i];
+    if (!active[i]) theta[i] = start[i];
   }
   result.final_cost = summary.final_cost;
   const bool solve_converged = summary.termination_type == ceres::CONVERGENCE && at_solution.ok;
@@ -301,10 +303,10 @@ EstimateResult EstimateQuasiStatic(const std::vector<WrenchTwistPair>& pairs,
   }
   for (int i = 0; i < 3; ++i) {
     result.parameters[i] = active[i] ? EstimateFromLog(theta[i], log_stderr[i])
-                                     : NotIdentifiable(std::exp(seed[i]), held_note[i]);
+                                     : NotIdentifiable(seed[i], held_note[i]);
   }
   PlausibilityContext context;
-  for (int i = 0; i < 3; ++i) context.seed[i] = std::exp(seed[i]);
+  context.seed = seed;
   JudgeEstimates(context, &result.parameters);
   result.Conclude(solve_converged);
 

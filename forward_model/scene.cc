@@ -4,9 +4,25 @@
 #include <cmath>
 
 #include "forward_model/constants.h"
+#include "forward_model/number_format.h"
 
 namespace slideid {
 namespace {}  // namespace
+
+bool SceneFriction::IsValid(std::string* why) const {
+  for (const double x : {paper_.mu, paper_.e_t, paper_.e_o, paper_.e_r}) {
+    if (!(std::isfinite(x) && x > 0)) {
+      if (why) {
+        *why = Printf(
+            "the friction must be finite and > 0: mu = %g, e_t = %g, e_o = %g, e_r = %g (a = %g, "
+            "b = %g, c = %g)",
+            paper_.mu, paper_.e_t, paper_.e_o, paper_.e_r, reduced_.a, reduced_.b, reduced_.c);
+      }
+      return false;
+    }
+  }
+  return true;
+}
 
 double PushSpec::MagnitudeAt(double t_s) const {
   if (t_s < start_s || t_s >= stop_s) return 0.0;

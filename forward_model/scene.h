@@ -35,11 +35,36 @@ struct PushSpec {
                          Eigen::Vector3d* point_world = nullptr) const;
 };
 
+/// A scene's friction as the simulator takes it: the three combinations the motion depends on
+/// (every step's), and the paper's four parameters its logs record as their truth (whose e_t
+/// scales the slip sigma they report). Made from the paper's four (a scene file's, a dataset's
+/// draws) or from (a, b, c) alone (a fit's, a fixture's), whose four are the e_t = 1 form
+/// (ReducedFriction::ToFrictionParameters); either way the other form is made once, here.
+class SceneFriction {
+ public:
+  SceneFriction() : SceneFriction(FrictionParameters{}) {}
+  SceneFriction(const FrictionParameters& paper)  // NOLINT(google-explicit-constructor)
+      : paper_(paper), reduced_(ReducedFriction::From(paper)) {}
+  SceneFriction(const ReducedFriction& reduced)  // NOLINT(google-explicit-constructor)
+      : paper_(reduced.ToFrictionParameters()), reduced_(reduced) {}
+
+  /// a, b, c: all a step needs.
+  const ReducedFriction& reduced() const { return reduced_; }
+  /// mu, e_t, e_o, e_r: the truth a log records.
+  const FrictionParameters& paper() const { return paper_; }
+  /// Whether mu, e_t, e_o and e_r are finite and > 0; `why` gives them and a, b, c.
+  bool IsValid(std::string* why) const;
+
+ private:
+  FrictionParameters paper_;
+  ReducedFriction reduced_;
+};
+
 /// Everything a simulation needs (physics only: how a log samples it is datasets' LogSpec).
 struct Scene {
   std::string source;  ///< where it came from (a file, a generator), for messages
   SliderProperties slider;
-  FrictionParameters friction;
+  SceneFriction friction;
   ContactPatch patch = ContactPatch::Rectangle(0.05, 0.05);
   PlanarState initial;
   /// Empty: free sliding. A scene file gives them in [push], [push.1], ... or draws them

@@ -43,7 +43,7 @@ Trajectory EmptyTrajectory(const Scene& scene) {
   Trajectory traj;
   traj.slider = scene.slider;
   traj.patch = scene.patch;
-  traj.true_friction = scene.friction;
+  traj.true_friction = scene.friction.paper();
   const bool pushed = !scene.pushes.empty() || scene.pusher.has_value();
   traj.measured.push_point = pushed;
   traj.measured.force = pushed;
@@ -62,15 +62,16 @@ void Fail(SimulationSummary* summary, SimulationStatus status, double t,
 }
 
 /// One step of a pusher-driven scene from `row`, whose applied wrench and push point
-/// become the tip's (held over the step, as a log row's force is).
+/// become the tip's (held over the step, as a log row's force is); sigma is the reduced
+/// step's.
 StepResult PusherStep(const Scene& scene, const SimulationOptions& options, TrajectorySample* row,
                       double t_next, TipMode* tip_mode) {
   const Pusher& pusher = *scene.pusher;
   PusherStepOptions pusher_options = options.pusher;
   pusher_options.step = options.step;
   const PusherStepResult r =
-      SolvePusherStep(scene.slider, ReducedFriction::From(scene.friction), scene.patch, pusher,
-                      row->state, pusher.path.PositionAt(row->t_s), pusher.path.PositionAt(t_next),
+      SolvePusherStep(scene.slider, scene.friction.reduced(), scene.patch, pusher, row->state,
+                      pusher.path.PositionAt(row->t_s), pusher.path.PositionAt(t_next),
                       AppliedWrench{}, scene.dt_s, pusher_options);
   row->applied = r.applied;
   row->push_point_world.reset();
@@ -80,7 +81,6 @@ StepResult PusherStep(const Scene& scene, const SimulationOptions& options, Traj
   }
   *tip_mode = r.tip_mode;
   StepResult step = r.step;
-  step.sigma *= scene.friction.e_t;  // the paper's sigma, as SolveStep(FrictionParameters)
   step.residual = std::max(step.residual, r.residual);  // the summary's worst: either solve's
   return step;
 }
@@ -103,6 +103,7 @@ SimulationResult Simulate(const Scene& scene, const SimulationOptions& options) 
   if (!(scene.dt_s > 0) || !(scene.duration_s > 0)) {
     throw std::invalid_argument("Simulate: dt and duration must be > 0");
   }
+  if (!scene.friction.IsValid(&why)) throw std::invalid_argument("Simulate: " + why);
   if (scene.pusher) {
     if (!scene.pushes.empty()) {
       throw std::invalid_argument(
@@ -140,9 +141,10 @@ SimulationResult Simulate(const Scene& scene, const SimulationOptions& options) 
     TrajectorySample& prev = traj.samples.back();
     const double t_next = (u + 1) * scene.dt_s;
     TipMode tip_mode = TipMode::kApart;
-    const StepResult step = scene.pusher ? PusherStep(scene, options, &prev, t_next, &tip_mode)
-                                         : SolveStep(scene.slider, scene.friction, prev.state,
-                                                     prev.applied, scene.dt_s, options.step);
+    StepResult step = scene.pusher ? PusherStep(scene, options, &prev, t_next, &tip_mode)
+                                   : SolveStep(scene.slider, scene.friction.reduced(), prev.state,
+                                               prev.applied, scene.dt_s, options.step);
+    step.sigma *= scene.friction.paper().e_t;  // the paper's: the reduced step's is sigma / e_t
     if (!step.ok()) {
       Fail(&summary,
            step.status == StepStatus::kLiftOff ? SimulationStatus::kLiftOff
@@ -195,26 +197,18 @@ PlanarState ReplayStart(const Trajectory& log) {
   return s;
 }
 
-namespace {
-
-FrictionParameters AsTrueFriction(const FrictionParameters& friction) { return friction; }
-FrictionParameters AsTrueFriction(const ReducedFriction& friction) {
-  return friction.ToFrictionParameters();
-}
-
-// ReplayLog with either form of the friction: SolveStep of that form at every step.
-template <typename Friction>
-SimulationResult Replay(const Trajectory& log, const Friction& friction, int substeps,
-                        const SimulationOptions& options) {
+SimulationResult ReplayLog(const Trajectory& log, const SceneFriction& friction, int substeps,
+                           const SimulationOptions& options) {
   std::string why;
   if (!options.IsValid(&why)) throw std::invalid_argument("ReplayLog: " + why);
+  if (!friction.IsValid(&why)) throw std::invalid_argument("ReplayLog: " + why);
   if (log.samples.size() < 2) throw std::invalid_argument("ReplayLog: the log has < 2 rows");
   if (substeps < 1) throw std::invalid_argument("ReplayLog: substeps must be >= 1");
   SimulationResult result;
   Trajectory& traj = result.trajectory;
   traj.slider = log.slider;
   traj.patch = log.patch;
-  traj.true_friction = AsTrueFriction(friction);
+  traj.true_friction = friction.paper();
   traj.measured = log.measured;
   traj.measured.pose = traj.measured.velocity = traj.measured.step_info = true;
   TrajectorySample first = log.samples.front();
@@ -229,7 +223,7 @@ SimulationResult Replay(const Trajectory& log, const Friction& friction, int sub
     PlanarState state = traj.samples.back().state;
     for (int k = 0; k < substeps; ++k) {
       const StepResult step =
-          SolveStep(log.slider, friction, state, log.samples[u].applied, h, options.step);
+          SolveStep(log.slider, friction.reduced(), state, log.samples[u].applied, h, options.step);
       if (!step.ok()) {
         Fail(&result.summary,
              step.status == StepStatus::kLiftOff ? SimulationStatus::kLiftOff
@@ -241,7 +235,7 @@ SimulationResult Replay(const Trajectory& log, const Friction& friction, int sub
       record.pt += step.pt;
       record.po += step.po;
       record.pr += step.pr;
-      record.sigma = step.sigma;
+      record.sigma = step.sigma * friction.paper().e_t;  // the paper's, as Simulate's
       record.ecp_world = step.ecp_world;
       next.mode = step.mode == StepMode::kStick ? SampleMode::kStick : SampleMode::kSlide;
       ++result.summary.steps;
@@ -252,18 +246,6 @@ SimulationResult Replay(const Trajectory& log, const Friction& friction, int sub
     traj.steps.push_back(record);
   }
   return result;
-}
-
-}  // namespace
-
-SimulationResult ReplayLog(const Trajectory& log, const FrictionParameters& friction, int substeps,
-                           const SimulationOptions& options) {
-  return Replay(log, friction, substeps, options);
-}
-
-SimulationResult ReplayLog(const Trajectory& log, const ReducedFriction& friction, int substeps,
-                           const SimulationOptions& options) {
-  return Replay(log, friction, substeps, options);
 }
 
 const char* ToString(SimulationStatus status) {

@@ -65,14 +65,12 @@ SimulationResult Simulate(const Scene& scene, const SimulationOptions& options =
 /// the log's times, step columns filled. Initial velocity: the first row's, or, for a log
 /// without velocity columns, the second row's backward-Euler velocity (the first row's is
 /// unknown). No hull check (the fit, not the slider, is on trial). Throws
-/// std::invalid_argument for a log with fewer than 2 rows or substeps < 1; a failing step
-/// ends the replay with its status in the summary.
-SimulationResult ReplayLog(const Trajectory& log, const FrictionParameters& friction,
-                           int substeps = 1, const SimulationOptions& options = {});
-/// The same replay with the three combinations the motion depends on (a fit's estimate):
-/// no round trip through the paper's four parameters. The replay's true_friction is the
-/// e_t = 1 form (ReducedFriction::ToFrictionParameters); its sigma is sigma / e_t.
-SimulationResult ReplayLog(const Trajectory& log, const ReducedFriction& friction, int substeps = 1,
+/// std::invalid_argument for a log with fewer than 2 rows, substeps < 1 or an invalid
+/// friction; a failing step ends the replay with its status in the summary. The friction is
+/// a fit's (a, b, c) or the paper's four (a log's truth), as a scene's (SceneFriction): the
+/// steps take its (a, b, c), the replay's true_friction and sigma are its paper's (the e_t =
+/// 1 form for a fit's).
+SimulationResult ReplayLog(const Trajectory& log, const SceneFriction& friction, int substeps = 1,
                            const SimulationOptions& options = {});
 
 /// Where ReplayLog starts (and predictions with it): the first row's state, its velocity for

@@ -19,8 +19,8 @@ std::string TruthCsvHeader() {
 
 std::string TruthCsvRow(const DatasetEntry& e) {
   const SliderProperties& s = e.scene.slider;
-  const FrictionParameters& f = e.scene.friction;
-  const ReducedFriction r = ReducedFriction::From(f);
+  const FrictionParameters& f = e.scene.friction.paper();
+  const ReducedFriction& r = e.scene.friction.reduced();
   std::string row = e.file;
   for (double v :
        {s.mass_kg, s.inertia_kgm2, s.com_height_m, f.mu, f.e_t, f.e_o, f.e_r, r.a, r.b, r.c}) {

@@ -699,7 +699,8 @@ LoggedScene ParseScene(const std::string& ini_text, const std::string& source) {
       if (!(spec.time_grid_s > scene.dt_s)) r.Fail("program.time_grid", "must be > [sim] dt");
       spec.grid_lead_s = scene.dt_s / 2;  // switch half a step early: see RandomProgramSpec
     }
-    const PushProgram program = RandomPushProgram(spec, scene.patch, scene.slider, scene.friction);
+    const PushProgram program =
+        RandomPushProgram(spec, scene.patch, scene.slider, scene.friction.reduced());
     scene.pushes = program.pushes;
     scene.duration_s = r.Number("sim.duration", program.end_s, Reader::Check::kPositive);
   } else {

@@ -11,7 +11,7 @@ using Metadata = std::vector<std::pair<std::string, std::string>>;
 /// What the simulator was given beyond the log's physics: the truth's reduced form (the
 /// estimator's parameters), the step, the scene's name and the pusher's tip friction.
 void AddSceneMetadata(const Scene& scene, Metadata* out) {
-  const ReducedFriction reduced = ReducedFriction::From(scene.friction);
+  const ReducedFriction& reduced = scene.friction.reduced();
   auto add = [&](const char* key, double v) { out->emplace_back(key, ExactNumber(v)); };
   add("e_t_mu", reduced.a);
   add("e_o_over_e_t", reduced.b);

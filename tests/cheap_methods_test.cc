@@ -22,7 +22,7 @@ namespace slideid {
 namespace {
 
 std::array<double, 3> Truth(const DatasetEntry& e) {
-  const ReducedFriction t = ReducedFriction::From(e.scene.friction);
+  const ReducedFriction t = e.scene.friction.reduced();
   return {{t.a, t.b, t.c}};
 }
 

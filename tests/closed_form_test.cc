@@ -33,7 +33,7 @@ TEST(ClosedForm, RecoversTruthExactlyFromNoiselessLogs) {
     EXPECT_EQ(r.method, EstimatorMethod::kClosedForm);
     EXPECT_EQ(r.steps_total, static_cast<int>(log.samples.size()) - 1);
     EXPECT_GE(r.steps_used, 3);
-    ExpectRecovers(r, ReducedFriction::From(s.scene.friction), s.name);
+    ExpectRecovers(r, s.scene.friction.reduced(), s.name);
   }
 }
 
@@ -43,7 +43,7 @@ TEST(ClosedForm, RecoversTruthExactlyFromPosesOnlyLogs) {
   for (const NamedScene& s : FullyIdentifiableScenes()) {
     const Trajectory log = PosesOnly(SimulateOrFail(s.scene), std::string(s.name) + ".csv");
     const EstimateResult r = EstimateClosedForm(log, {});
-    ExpectRecovers(r, ReducedFriction::From(s.scene.friction), std::string(s.name) + " poses");
+    ExpectRecovers(r, s.scene.friction.reduced(), std::string(s.name) + " poses");
     bool unknown_start = false;
     for (const auto& [reason, count] : r.steps_excluded) {
       if (reason == "start velocity unknown") unknown_start = (count == 1);
@@ -77,7 +77,7 @@ TEST(ClosedForm, ExcludesStickingStepsAndSaysSo) {
 
 TEST(ClosedForm, PureTranslationCannotIdentifyC) {
   const Scene scene = testing::PureTranslation();
-  const ReducedFriction truth = ReducedFriction::From(scene.friction);
+  const ReducedFriction truth = scene.friction.reduced();
   const EstimateResult r = EstimateClosedForm(SimulateOrFail(scene), {});
   ASSERT_TRUE(r.parameters[kA].identifiable) << r.parameters[kA].note;
   EXPECT_NEAR(r.parameters[kA].value / truth.a, 1.0, kExactRelTol);
@@ -92,7 +92,7 @@ TEST(ClosedForm, PureTranslationCannotIdentifyC) {
 
 TEST(ClosedForm, MotionAlongOneAxisIdentifiesOnlyA) {
   const Scene scene = testing::AlongOneAxis();
-  const ReducedFriction truth = ReducedFriction::From(scene.friction);
+  const ReducedFriction truth = scene.friction.reduced();
   const EstimateResult r = EstimateClosedForm(SimulateOrFail(scene), {});
   ASSERT_TRUE(r.parameters[kA].identifiable) << r.parameters[kA].note;
   EXPECT_NEAR(r.parameters[kA].value / truth.a, 1.0, kExactRelTol);
@@ -139,7 +139,7 @@ bool DeclinedForNoiseBias(const ParameterEstimate& p) {
 TEST(ClosedForm, NoisyLogsGiveEstimatesWithinTheirStandardErrorsOrSayWhyNot) {
   int reported = 0;
   for (const NamedScene& s : FullyIdentifiableScenes()) {
-    const ReducedFriction truth = ReducedFriction::From(s.scene.friction);
+    const ReducedFriction truth = s.scene.friction.reduced();
     const double expected[3] = {truth.a, truth.b, truth.c};
     const Trajectory clean = SimulateOrFail(s.scene);
     for (int seed = 1; seed <= 10; ++seed) {
@@ -170,7 +170,7 @@ TEST(ClosedForm, DeclinesWhatTheNoiseMayBiasBeyondItsStandardError) {
   // the noise may give each step (the 45-step free slides sit near the threshold).
   for (const NamedScene& s : FullyIdentifiableScenes()) {
     if (s.scene.pushes.empty()) continue;
-    const ReducedFriction truth = ReducedFriction::From(s.scene.friction);
+    const ReducedFriction truth = s.scene.friction.reduced();
     const Trajectory clean = SimulateOrFail(s.scene);
     for (int seed = 1; seed <= 5; ++seed) {
       const EstimateResult r = EstimateClosedForm(AddNoise(clean, VelocityNoise(seed)), {});

@@ -57,18 +57,13 @@ IdentifyOptions Options(int substeps) {
   return o;
 }
 
-double Truth(const FrictionParameters& f, int i) {
-  const ReducedFriction r = ReducedFriction::From(f);
-  return i == kA ? r.a : i == kB ? r.b : r.c;
-}
-
 /// Expects parameter i identified within `tolerance` (relative) of the truth.
-void ExpectRecovered(const EstimateResult& r, const FrictionParameters& truth, int i,
-                     double tolerance, const std::string& what) {
+void ExpectRecovered(const EstimateResult& r, const ReducedFriction& truth, int i, double tolerance,
+                     const std::string& what) {
   const ParameterEstimate& p = r.parameters[i];
   ASSERT_TRUE(p.identifiable) << what << " " << ParameterName(i) << ": " << p.note;
-  EXPECT_NEAR(p.value / Truth(truth, i), 1.0, tolerance)
-      << what << " " << ParameterName(i) << " = " << p.value << ", truth " << Truth(truth, i);
+  EXPECT_NEAR(p.value / truth[i], 1.0, tolerance)
+      << what << " " << ParameterName(i) << " = " << p.value << ", truth " << truth[i];
 }
 
 /// The dataset of the tests: realistic motion capture and force sensing at 100 Hz.
@@ -90,9 +85,9 @@ TEST(DatasetEndToEnd, EveryParameterOfEveryLogIsRecoveredWithinTheNoiseTolerance
     const DatasetEntry e = DrawDatasetLog(spec, i, &log);
     const EstimateResult r = Identify(log, Options(10));
     EXPECT_TRUE(r.converged) << e.file << ": " << r.message;
-    ExpectRecovered(r, e.scene.friction, kA, kTolA, e.file);
-    ExpectRecovered(r, e.scene.friction, kB, kTolB, e.file);
-    ExpectRecovered(r, e.scene.friction, kC, kTolC, e.file);
+    ExpectRecovered(r, e.scene.friction.reduced(), kA, kTolA, e.file);
+    ExpectRecovered(r, e.scene.friction.reduced(), kB, kTolB, e.file);
+    ExpectRecovered(r, e.scene.friction.reduced(), kC, kTolC, e.file);
   }
 }
 
@@ -104,24 +99,24 @@ TEST(DatasetEndToEnd, PushesThroughTheCmLeaveCUnidentifiedAndFlagged) {
   const EstimateResult r = Identify(log, Options(10));
   EXPECT_FALSE(r.parameters[kC].identifiable) << "c = " << r.parameters[kC].value;
   EXPECT_FALSE(r.parameters[kC].reason.empty());
-  ExpectRecovered(r, e.scene.friction, kA, kTolA, e.file);
-  ExpectRecovered(r, e.scene.friction, kB, kTolB, e.file);  // directions still vary
+  ExpectRecovered(r, e.scene.friction.reduced(), kA, kTolA, e.file);
+  ExpectRecovered(r, e.scene.friction.reduced(), kB, kTolB, e.file);  // directions still vary
 }
 
 /// The default scene without noise, simulated at 1 ms and logged every k steps.
-Trajectory DefaultSceneLoggedEvery(int k, FrictionParameters* truth) {
+Trajectory DefaultSceneLoggedEvery(int k, ReducedFriction* truth) {
   LoggedScene scene = LoadScene(Source("datasets/scenes/default_push.ini"));
   scene.dt_s = 1e-3;
   scene.log.log_every = k;
   scene.log.noise = NoiseSpec{};
-  *truth = scene.friction;
+  *truth = scene.friction.reduced();
   const SimulationResult sim = Simulate(scene);
   EXPECT_TRUE(sim.summary.ok()) << sim.summary.message;
   return MakeLog(sim.trajectory, scene.log);
 }
 
 TEST(DatasetEndToEnd, LogsSampledCoarserThanSimulatedAreStillIdentified) {
-  FrictionParameters truth;
+  ReducedFriction truth;
   const Trajectory at100Hz = DefaultSceneLoggedEvery(10, &truth);
   const EstimateResult fine = Identify(at100Hz, Options(10));
   for (int i = 0; i < 3; ++i) ExpectRecovered(fine, truth, i, kTol100Hz, "100 Hz");
@@ -165,7 +160,8 @@ TEST(DatasetEndToEnd, BundledDefaultLogIsIdentifiedWithinAFewPercent) {
   EXPECT_FALSE(log.measured.velocity);  // poses only, as motion capture gives
   const EstimateResult r = Identify(log, Options(1));
   for (int i = 0; i < 3; ++i) {
-    ExpectRecovered(r, *log.true_friction, i, kTolDefaultLog, "default_push.csv");
+    ExpectRecovered(r, ReducedFriction::From(*log.true_friction), i, kTolDefaultLog,
+                    "default_push.csv");
   }
 }
 
@@ -195,7 +191,7 @@ TEST(DatasetEndToEnd, ToolsMakeADatasetAndIdentifyItsLog) {
   const DatasetEntry e = DrawDatasetLog(RealisticSpec(), 0, &log);
   EXPECT_EQ(ReadText(dir + "/log_0000.csv").find("# dataset_seed = 2024") != std::string::npos,
             true);
-  const ReducedFriction truth = ReducedFriction::From(e.scene.friction);
+  const ReducedFriction truth = e.scene.friction.reduced();
   EXPECT_NEAR(fit.a / truth.a, 1.0, kTolA);
   EXPECT_NEAR(fit.b / truth.b, 1.0, kTolB);
   EXPECT_NEAR(fit.c / truth.c, 1.0, kTolC);

@@ -43,7 +43,7 @@ TEST(EquationError, RecoversTruthExactlyFromNoiselessLogs) {
     EXPECT_EQ(r.method, EstimatorMethod::kEquationError);
     EXPECT_EQ(r.steps_total, static_cast<int>(log.samples.size()) - 1);
     EXPECT_GE(r.steps_used, 3);
-    ExpectRecovers(r, ReducedFriction::From(s.scene.friction), s.name);
+    ExpectRecovers(r, s.scene.friction.reduced(), s.name);
     EXPECT_EQ(r.residual_names[0], "t");
     EXPECT_EQ(r.residual_names[2], "r");
     ASSERT_EQ(r.residuals.size(), static_cast<size_t>(r.steps_total));
@@ -61,7 +61,7 @@ TEST(EquationError, RecoversTruthExactlyFromPosesOnlyLogs) {
   // The kinematic map inverts the simulator's backward-Euler pose update exactly.
   for (const NamedScene& s : FullyIdentifiableScenes()) {
     const Trajectory log = PosesOnly(SimulateOrFail(s.scene), std::string(s.name) + ".csv");
-    ExpectRecovers(EstimateEquationError(log, {}), ReducedFriction::From(s.scene.friction),
+    ExpectRecovers(EstimateEquationError(log, {}), s.scene.friction.reduced(),
                    std::string(s.name) + " poses");
   }
 }
@@ -72,14 +72,13 @@ TEST(EquationError, EveryLossRecoversTruthFromNoiselessLogs) {
   for (RobustLoss loss : {RobustLoss::kNone, RobustLoss::kHuber, RobustLoss::kCauchy}) {
     IdentifyOptions options;
     options.equation_error.loss = loss;
-    ExpectRecovers(EstimateEquationError(log, options), ReducedFriction::From(scene.friction),
-                   ToString(loss));
+    ExpectRecovers(EstimateEquationError(log, options), scene.friction.reduced(), ToString(loss));
   }
 }
 
 TEST(EquationError, PureTranslationHoldsCAndReportsItNotIdentifiable) {
   const Scene scene = testing::PureTranslation();
-  const ReducedFriction truth = ReducedFriction::From(scene.friction);
+  const ReducedFriction truth = scene.friction.reduced();
   const EstimateResult r = EstimateEquationError(SimulateOrFail(scene), {});
   ASSERT_TRUE(r.parameters[kA].identifiable) << r.parameters[kA].note;
   EXPECT_NEAR(r.parameters[kA].value / truth.a, 1.0, kExactRelTol);
@@ -95,7 +94,7 @@ TEST(EquationError, PureTranslationHoldsCAndReportsItNotIdentifiable) {
 
 TEST(EquationError, MotionAlongOneAxisIdentifiesOnlyA) {
   const Scene scene = testing::AlongOneAxis();
-  const ReducedFriction truth = ReducedFriction::From(scene.friction);
+  const ReducedFriction truth = scene.friction.reduced();
   const EstimateResult r = EstimateEquationError(SimulateOrFail(scene), {});
   ASSERT_TRUE(r.parameters[kA].identifiable) << r.parameters[kA].note;
   EXPECT_NEAR(r.parameters[kA].value / truth.a, 1.0, kExactRelTol);
@@ -131,7 +130,7 @@ constexpr double kMaxMeanRelError = 0.005;
 
 TEST(EquationError, NoisyLogsGiveEstimatesWithinTheirStandardErrors) {
   for (const NamedScene& s : FullyIdentifiableScenes()) {
-    const ReducedFriction truth = ReducedFriction::From(s.scene.friction);
+    const ReducedFriction truth = s.scene.friction.reduced();
     const Trajectory clean = SimulateOrFail(s.scene);
     const bool slow_spin = std::string(s.name) == "TiltingPush";
     for (int seed = 1; seed <= 10; ++seed) {
@@ -161,7 +160,7 @@ TEST(EquationError, NoisyIntervalsCoverTheTruthForMostSeeds) {
   // sample, their noise largely cancels in the fit, and that interval is conservative
   // (tests/cheap_methods_test.cc checks the calibrated intervals of longer logs).
   const Scene scene = testing::FreeSlideWithSpin();
-  const ReducedFriction truth = ReducedFriction::From(scene.friction);
+  const ReducedFriction truth = scene.friction.reduced();
   const double expected[3] = {truth.a, truth.b, truth.c};
   const Trajectory clean = SimulateOrFail(scene);
   constexpr int kSeeds = 50;

@@ -124,7 +124,7 @@ TEST(IdentifyTool, JsonHasTheDocumentedKeysAndNullForUnidentifiable) {
   EXPECT_EQ(JsonField(c, "identifiable"), "false") << c;
   const std::string a = JsonField(o.out, "e_t_mu");
   EXPECT_EQ(JsonField(a, "identifiable"), "true");
-  EXPECT_NEAR(std::stod(JsonField(a, "value")), ReducedFriction::From(scene.friction).a, 1e-6);
+  EXPECT_NEAR(std::stod(JsonField(a, "value")), scene.friction.reduced().a, 1e-6);
   EXPECT_EQ(JsonField(o.out, "method"), "\"trajectory\"");
 }
 

@@ -73,7 +73,7 @@ TEST(LargeLog, HundredThousandRowsReadInBoundedMemoryAndIdentifyTheTruth) {
   EXPECT_GT(kRows / read_s, kMinRowsPerSecond);
 #endif
 
-  const ReducedFriction truth = ReducedFriction::From(scene.friction);
+  const ReducedFriction truth = scene.friction.reduced();
   for (EstimatorMethod method : {EstimatorMethod::kClosedForm, EstimatorMethod::kEquationError}) {
     IdentifyOptions options;
     options.method = method;

@@ -70,7 +70,7 @@ TEST(Dataset, APusherDrivenDatasetLogsTheTipAndKeepsTheOtherDraws) {
     const DatasetEntry f = DrawDatasetLog(force, index, &by_force);
     const DatasetEntry p = DrawDatasetLog(pusher, index, &by_pusher);
     EXPECT_EQ(p.scene.slider.mass_kg, f.scene.slider.mass_kg);
-    EXPECT_EQ(p.scene.friction.mu, f.scene.friction.mu);
+    EXPECT_EQ(p.scene.friction.paper().mu, f.scene.friction.paper().mu);
     ASSERT_TRUE(p.scene.pusher.has_value());
     EXPECT_TRUE(p.scene.pushes.empty());
     EXPECT_GE(p.scene.pusher->mu, 0.1);
@@ -104,9 +104,9 @@ TEST(Dataset, DrawsStayInTheirRangesAndInertiaFollowsThePatch) {
     EXPECT_LE(s.slider.mass_kg, spec.mass_kg.hi);
     EXPECT_GE(s.slider.com_height_m, spec.com_height_m.lo);
     EXPECT_LE(s.slider.com_height_m, spec.com_height_m.hi);
-    EXPECT_GE(s.friction.mu, spec.mu.lo);
-    EXPECT_LE(s.friction.e_o, spec.e_o.hi);
-    EXPECT_GE(s.friction.e_r, spec.e_r_m.lo);
+    EXPECT_GE(s.friction.paper().mu, spec.mu.lo);
+    EXPECT_LE(s.friction.paper().e_o, spec.e_o.hi);
+    EXPECT_GE(s.friction.paper().e_r, spec.e_r_m.lo);
     std::istringstream patch(s.patch.Spec());
     std::string shape;
     double w = 0, l = 0;
@@ -118,7 +118,7 @@ TEST(Dataset, DrawsStayInTheirRangesAndInertiaFollowsThePatch) {
     EXPECT_NEAR(s.slider.inertia_kgm2, s.slider.mass_kg * (w * w + l * l) / 12, 1e-15);
     // The log carries the truth and the noise it was made with.
     ASSERT_TRUE(log.true_friction.has_value());
-    EXPECT_EQ(log.true_friction->e_o, s.friction.e_o);
+    EXPECT_EQ(log.true_friction->e_o, s.friction.paper().e_o);
     EXPECT_EQ(log.slider.mass_kg, s.slider.mass_kg);
     ASSERT_TRUE(log.patch.has_value());
     EXPECT_EQ(log.patch->Spec(), s.patch.Spec());

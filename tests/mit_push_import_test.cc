@@ -419,7 +419,7 @@ TEST(MitPushImport, IdentifyRecoversTheTruthFromImportedLogsAsFromNativeOnes) {
     spec.defects.quarter_turns = {{0.6, 1}};
     spec.offset_after_n = {-1.3, -0.4};
     const MitSynthResult truth = MakeMitPushRecording(spec);
-    const ReducedFriction friction = ReducedFriction::From(spec.friction);
+    const ReducedFriction& friction = spec.friction;
     const MitImportResult imported = ImportMitPush(truth.recording, "s.json", Options(spec));
     ASSERT_EQ(imported.report.verdict, ImportVerdict::kAccepted) << imported.report.reason;
     const EstimateResult fit = Identify(imported.file.log, estimator);
@@ -449,7 +449,7 @@ TEST(MitPushImport, IdentifyRecoversTheTruthFromImportedLogsAsFromNativeOnes) {
 TEST(MitPushImport, PoseGapsInsideThePushSplitTheLogAndTheFitGoesOnAcrossThem) {
   IdentifyOptions estimator;
   estimator.method = EstimatorMethod::kTrajectory;
-  const ReducedFriction truth = ReducedFriction::From(MitSynthSpec{}.friction);
+  const ReducedFriction truth = MitSynthSpec{}.friction;
   const std::vector<std::pair<double, double>> gaps = {
       {0.70, 0.76}, {0.50, 0.60}, {0.85, 1.05}, {0.45, 0.85}};
   for (const auto& gap : gaps) {

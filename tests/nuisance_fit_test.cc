@@ -88,7 +88,7 @@ const NuisanceEstimate& Nuisance(const EstimateResult& r, const std::string& nam
 }
 
 std::array<double, 3> Truth(const Scene& scene) {
-  const ReducedFriction t = ReducedFriction::From(scene.friction);
+  const ReducedFriction t = scene.friction.reduced();
   return {t.a, t.b, t.c};
 }
 

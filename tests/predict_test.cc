@@ -37,7 +37,7 @@ Trajectory Logged(const Scene& scene, int every) {
 // step's force.
 TEST(Predict, TheTruthReproducesItsOwnLogByEitherDrive) {
   const Scene scene = PushedSquare();
-  const ReducedFriction truth = ReducedFriction::From(scene.friction);
+  const ReducedFriction truth = scene.friction.reduced();
   Trajectory log = testing::SimulateOrFail(scene);
   log.measured.velocity = true;  // the simulator's own start velocity (0)
   PredictionOptions options;
@@ -61,7 +61,7 @@ TEST(Predict, TheTruthReproducesItsOwnLogByEitherDrive) {
 TEST(Predict, TheTruthPredictsBetterThanAWrongFriction) {
   const Scene scene = PushedSquare();
   const Trajectory log = Logged(scene, 10);
-  const ReducedFriction truth = ReducedFriction::From(scene.friction);
+  const ReducedFriction truth = scene.friction.reduced();
   PredictionOptions options;
   options.substeps = 10;
   const Prediction right = PredictPush(log, truth, 0.25, options);
@@ -84,7 +84,7 @@ TEST(Predict, TheTipIsRegisteredToTheOutlineWhereTheLogPushes) {
   const Scene scene = PushedSquare();
   Trajectory log = Logged(scene, 10);
   for (TrajectorySample& s : log.samples) *s.tip_world += Eigen::Vector2d(-0.0015, 0.0);
-  const ReducedFriction truth = ReducedFriction::From(scene.friction);
+  const ReducedFriction truth = scene.friction.reduced();
   PredictionOptions options;
   options.substeps = 10;
   const Prediction registered = PredictPush(log, truth, 0.25, options);
@@ -106,7 +106,7 @@ TEST(Predict, AGapInTheRecordIsSteppedAtTheLogsRate) {
   holed.samples[30].mode = SampleMode::kStart;
   PredictionOptions options;
   options.substeps = 10;
-  const ReducedFriction truth = ReducedFriction::From(scene.friction);
+  const ReducedFriction truth = scene.friction.reduced();
   const Prediction whole = PredictPush(full, truth, 0.25, options);
   const Prediction across = PredictPush(holed, truth, 0.25, options);
   ASSERT_TRUE(across.summary.ok()) << across.summary.message;
@@ -128,7 +128,7 @@ TEST(Predict, TheQuasiStaticModelIsTheSlowLimitOfTheDynamicOne) {
     scene.duration_s = scene.pusher->path.end_s() + 0.05;
     scene.dt_s = speed < 0.01 ? 1e-2 : 1e-3;
     Trajectory log = testing::SimulateOrFail(scene);
-    const ReducedFriction truth = ReducedFriction::From(scene.friction);
+    const ReducedFriction truth = scene.friction.reduced();
     PredictionOptions options;
     options.register_tip = false;
     options.drive = PredictionDrive::kQuasiStatic;

@@ -16,7 +16,7 @@ namespace {
 constexpr double kGeometryTol = 1e-12;
 
 SliderProperties Box() { return {0.8, 1.3867e-3, 0.04, 9.81}; }
-FrictionParameters Friction() { return {0.4, 1.0, 1.3, 0.03}; }
+ReducedFriction Friction() { return {0.4, 1.3, 0.03}; }
 const ContactPatch kPatch = ContactPatch::Rectangle(0.12, 0.08);
 
 TEST(RandomProgram, SameSeedGivesTheSameProgramAndAnotherSeedAnother) {
@@ -152,7 +152,7 @@ Scene ProgramScene(const RandomProgramSpec& spec) {
   s.friction = Friction();
   s.patch = kPatch;
   s.dt_s = 1e-3;
-  const PushProgram p = RandomPushProgram(spec, s.patch, s.slider, s.friction);
+  const PushProgram p = RandomPushProgram(spec, s.patch, s.slider, s.friction.reduced());
   s.pushes = p.pushes;
   s.duration_s = p.end_s;
   return s;

@@ -584,7 +584,7 @@ TEST(PushLogDegrees, ThetaInDegreesIsWarnedOf) {
 TEST(PushLogDegrees, AFastSpinInRadiansIsNotWarnedOf) {
   Scene scene;
   scene.slider = {0.5, 6.25e-4, 0.02, 9.81};
-  scene.friction = {0.3, 1.0, 1.0, 0.02};
+  scene.friction = FrictionParameters{0.3, 1.0, 1.0, 0.02};
   scene.patch = ContactPatch::Disk(0.05);
   scene.initial.vx = 1.2;
   scene.initial.wz = 25.0;  // a hard throw's spin

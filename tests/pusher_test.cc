@@ -24,7 +24,7 @@ constexpr double kTip = 0.00475;
 Scene SquareScene(double c_m = 0.035) {
   Scene scene;
   scene.slider = {0.837, 1.13e-3, 0.0, 9.81};  // q_z = 0: the ECP under the CM
-  scene.friction = ReducedFriction{0.3, 1.0, c_m}.ToFrictionParameters();
+  scene.friction = ReducedFriction{0.3, 1.0, c_m};
   scene.patch = ContactPatch::Rectangle(2 * kHalfSide, 2 * kHalfSide);
   scene.dt_s = 1e-3;
   return scene;
@@ -144,7 +144,9 @@ TEST(Pusher, EnergyNeverRisesWithoutTheTipsWorkAndEveryStepMeetsItsConditions) {
     scene.slider.inertia_kgm2 =
         scene.slider.mass_kg * 2 * kHalfSide * kHalfSide / 3 * (0.5 + u(rng));
     scene.slider.com_height_m = k % 2 ? 0.0 : 0.006;
-    scene.friction.e_o = 0.7 + 0.8 * u(rng);
+    ReducedFriction drawn = scene.friction.reduced();
+    drawn.b = 0.7 + 0.8 * u(rng);
+    scene.friction = drawn;
     scene.dt_s = k % 3 == 0 ? 1e-4 : k % 3 == 1 ? 1e-3 : 1e-2;
     Pusher pusher;
     pusher.mu = k % 5 == 0 ? 0.0 : 1.5 * u(rng);
@@ -156,7 +158,7 @@ TEST(Pusher, EnergyNeverRisesWithoutTheTipsWorkAndEveryStepMeetsItsConditions) {
     const Eigen::Vector2d out = in - Eigen::Vector2d(0.01, 0);
     pusher.path = PusherPath::Polyline(0.0, start, {in, out, in + Eigen::Vector2d(0.02, 0)},
                                        {speed, speed, speed});
-    const ReducedFriction friction = ReducedFriction::From(scene.friction);
+    const ReducedFriction friction = scene.friction.reduced();
     PlanarState q;
     const double end = pusher.path.end_s() + 0.2;
     for (double t = 0; t < end; t += scene.dt_s) {
@@ -215,7 +217,9 @@ TEST(Pusher, TheTipCanLeaveTheEdgeAndComeBack) {
 // trajectory: the two drives are one model.
 TEST(Pusher, ReplayingTheTipsForceReproducesThePusherDrivenTrajectory) {
   Scene scene = SquareScene();
-  scene.friction.e_o = 1.3;
+  ReducedFriction friction = scene.friction.reduced();
+  friction.b = 1.3;
+  scene.friction = friction;
   scene.slider.com_height_m = 0.0065;
   const double a = 1.0;  // 57 degrees off the normal: outside the motion cone, the tip slides
   const SimulationResult r =

@@ -143,7 +143,7 @@ TEST(SceneSuite, IdentifyCrossChecksUnlessToldNot) {
 Trajectory HoldOutLog(const std::string& scene_file, ReducedFriction* truth) {
   const LoggedScene scene =
       LoadScene(std::string(SLIDEID_SOURCE_DIR) + "/datasets/scenes/" + scene_file);
-  *truth = ReducedFriction::From(scene.friction);
+  *truth = scene.friction.reduced();
   const SimulationResult sim = Simulate(scene);
   EXPECT_TRUE(sim.summary.ok()) << sim.summary.message;
   return MakeLog(sim.trajectory, scene.log);
@@ -187,7 +187,7 @@ TEST(SceneSuite, HoldOutLikeFreeSlideComesOutWithinItsIntervalsAndOnePointFivePe
 TEST(SceneSuite, AFreeSlideInLongSegmentsIsMorePreciseAndItsIntervalsStillHold) {
   LoggedScene scene =
       LoadScene(std::string(SLIDEID_SOURCE_DIR) + "/datasets/scenes/holdout_free_disk.ini");
-  const ReducedFriction truth = ReducedFriction::From(scene.friction);
+  const ReducedFriction truth = scene.friction.reduced();
   const SimulationResult sim = Simulate(scene);
   ASSERT_TRUE(sim.summary.ok()) << sim.summary.message;
   IdentifyOptions short_segments;

@@ -375,7 +375,7 @@ TEST(Scene, RandomProgramIsDrawnIntoThePushesAndSetsTheDuration) {
   spec.force_n = ValueRange{2, 3};
   spec.duration_s = {0.2, 0.3};
   spec.rest_s = {0.1, 0.1};
-  const PushProgram expected = RandomPushProgram(spec, s.patch, s.slider, s.friction);
+  const PushProgram expected = RandomPushProgram(spec, s.patch, s.slider, s.friction.reduced());
   for (size_t i = 0; i < s.pushes.size(); ++i) {
     EXPECT_EQ(s.pushes[i].point_body, expected.pushes[i].point_body) << i;
     EXPECT_EQ(s.pushes[i].force_n, expected.pushes[i].force_n) << i;
@@ -406,7 +406,7 @@ TEST(Scene, BundledDefaultPushSceneIsARealisticExperiment) {
   const LoggedScene s = LoadScene(ScenePath("default_push.ini"));
   EXPECT_GE(s.slider.mass_kg, 0.5);
   EXPECT_LE(s.slider.mass_kg, 1.0);
-  EXPECT_NE(s.friction.e_o, s.friction.e_t);  // b != 1
+  EXPECT_NE(s.friction.paper().e_o, s.friction.paper().e_t);  // b != 1
   EXPECT_GE(s.pushes.size(), 4u);
   EXPECT_EQ(s.dt_s * s.log.log_every, 0.01);  // 100 Hz log of a finer simulation
   EXPECT_GT(s.log.log_every, 1);
@@ -425,10 +425,10 @@ TEST(Scene, BundledExample1LoadsWithThePapersNumbers) {
   EXPECT_NEAR(s.slider.inertia_kgm2, 0.5 * (0.05 * 0.05 + 0.05 * 0.05) / 12, 1e-18);
   EXPECT_EQ(s.slider.com_height_m, 0.08);
   EXPECT_EQ(s.slider.gravity_mps2, 9.8);
-  EXPECT_EQ(s.friction.mu, 0.31);
-  EXPECT_EQ(s.friction.e_t, 1.0);
-  EXPECT_EQ(s.friction.e_o, 1.0);
-  EXPECT_EQ(s.friction.e_r, 0.01);
+  EXPECT_EQ(s.friction.paper().mu, 0.31);
+  EXPECT_EQ(s.friction.paper().e_t, 1.0);
+  EXPECT_EQ(s.friction.paper().e_o, 1.0);
+  EXPECT_EQ(s.friction.paper().e_r, 0.01);
   EXPECT_EQ(s.patch.Spec(), ContactPatch::Rectangle(0.05, 0.05).Spec());
   EXPECT_EQ(s.initial.vx, 0.7);
   EXPECT_EQ(s.initial.vy, 0.9);
@@ -444,8 +444,8 @@ TEST(Scene, BundledExample2LoadsWithThePapersNumbers) {
   EXPECT_EQ(s.slider.inertia_kgm2, 0.00625);
   EXPECT_EQ(s.slider.com_height_m, 0.08);
   EXPECT_EQ(s.slider.gravity_mps2, 9.8);
-  EXPECT_EQ(s.friction.mu, 0.31);
-  EXPECT_EQ(s.friction.e_r, 0.01);
+  EXPECT_EQ(s.friction.paper().mu, 0.31);
+  EXPECT_EQ(s.friction.paper().e_r, 0.01);
   EXPECT_EQ(s.patch.Spec(), ContactPatch::Ring(0.1, 0.05).Spec());
   EXPECT_EQ(s.initial.vx, 1.3);
   EXPECT_EQ(s.initial.vy, 0.8);

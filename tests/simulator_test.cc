@@ -118,7 +118,9 @@ TEST(Simulator, FreeSlidingExamplesComeToRestAndStayThereWhenRunLonger) {
 
 TEST(Simulator, EcpLeavingTheHullStopsWithTheTimeAndTheEcp) {
   Scene scene = Example("example1_square.ini");
-  scene.friction.mu = 0.6;  // far past the tipping limit of the 5 cm square at q_z = 8 cm
+  FrictionParameters friction = scene.friction.paper();
+  friction.mu = 0.6;  // far past the tipping limit of the 5 cm square at q_z = 8 cm
+  scene.friction = friction;
   const SimulationResult sim = Simulate(scene);
   EXPECT_EQ(sim.summary.status, SimulationStatus::kToppling);
   EXPECT_NE(sim.summary.message.find("t = "), std::string::npos);

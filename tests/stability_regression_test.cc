@@ -275,7 +275,7 @@ TEST(StabilityRegression, TrajectoryFitRecoversSpinParameterFeltOnlyWeakly) {
   const Trajectory log = testing::SimulateOrFail(scene);
   IdentifyOptions options;
   const EstimateResult r = EstimateTrajectory(log, options);
-  const ReducedFriction truth = ReducedFriction::From(scene.friction);
+  const ReducedFriction truth = scene.friction.reduced();
   const double t[] = {truth.a, truth.b, truth.c};
   for (int i = 0; i < 3; ++i) {
     ASSERT_TRUE(r.parameters[i].identifiable) << ParameterName(i);
@@ -291,7 +291,7 @@ TEST(StabilityRegression, EquationErrorRecoversSpinParameterFeltOnlyWeakly) {
   scene.pushes[0].height_m = 0.03;
   const Trajectory log = testing::SimulateOrFail(scene);
   const EstimateResult r = EstimateEquationError(log, IdentifyOptions{});
-  EXPECT_NEAR(r.parameters[kC].value / scene.friction.e_r, 1.0, kExactRelTol);
+  EXPECT_NEAR(r.parameters[kC].value / scene.friction.paper().e_r, 1.0, kExactRelTol);
 }
 
 // ---------------------------------------------------------------------------------------

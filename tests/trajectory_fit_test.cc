@@ -26,7 +26,7 @@ using testing::SimulateOrFail;
 using testing::kExactRelTol;
 
 std::array<double, 3> Truth(const Scene& scene) {
-  const ReducedFriction r = ReducedFriction::From(scene.friction);
+  const ReducedFriction r = scene.friction.reduced();
   return {r.a, r.b, r.c};
 }
 
@@ -349,7 +349,7 @@ DefaultExperiment SimulateDefaultExperiment() {
   DefaultExperiment e;
   e.scene = LoadScene(std::string(SLIDEID_SOURCE_DIR) + "/datasets/scenes/default_push.ini");
   e.simulated = SimulateOrFail(e.scene);
-  const ReducedFriction t = ReducedFriction::From(e.scene.friction);
+  const ReducedFriction t = e.scene.friction.reduced();
   e.truth = {t.a, t.b, t.c};
   return e;
 }

@@ -54,7 +54,7 @@ int main(int argc, char** argv) {
     }
     if (vm.count("quiet")) return tools::kExitOk;
     for (const DatasetEntry& e : summary.entries) {
-      const ReducedFriction r = ReducedFriction::From(e.scene.friction);
+      const ReducedFriction& r = e.scene.friction.reduced();
       std::printf("%s  %4d rows  m = %.3f kg  a = %.4f  b = %.4f  c = %.4f m  redraws %zu\n",
                   e.file.c_str(), e.rows, e.scene.slider.mass_kg, r.a, r.b, r.c,
                   e.redraw_reasons.size());

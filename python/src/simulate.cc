@@ -72,8 +72,8 @@ std::pair<LogPtr, py::dict> SimulateScene(const std::string& scene_text, bool is
 /// One log of a dataset, as a row of truth.csv holds it.
 py::dict Entry(const DatasetEntry& e) {
   const SliderProperties& s = e.scene.slider;
-  const FrictionParameters& f = e.scene.friction;
-  const ReducedFriction r = ReducedFriction::From(f);
+  const FrictionParameters& f = e.scene.friction.paper();
+  const ReducedFriction& r = e.scene.friction.reduced();
   py::dict d;
   d["file"] = e.file;
   d["mass"] = s.mass_kg;

@@ -17,7 +17,7 @@ int main() {
   Scene scene;
   scene.source = "consumer";
   scene.slider = {1.0, 1.0 * (0.1 * 0.1 + 0.1 * 0.1) / 12, 0.03, 9.81};
-  scene.friction = {0.3, 1.0, 1.4, 0.03};
+  scene.friction = FrictionParameters{0.3, 1.0, 1.4, 0.03};
   scene.patch = ContactPatch::Rectangle(0.1, 0.1);
   scene.initial = {0, 0, 0, 1.2, 0.8, 12.0};
   scene.dt_s = 0.01;
@@ -32,7 +32,7 @@ int main() {
   const Trajectory log = ParsePushLog(text.str(), "consumer.csv");
 
   const EstimateResult result = Identify(log, IdentifyOptions{});
-  const ReducedFriction truth = ReducedFriction::From(scene.friction);
+  const ReducedFriction truth = scene.friction.reduced();
   const double expected[3] = {truth.a, truth.b, truth.c};
   // A noiseless log of the model itself: the fit must land on the truth, far inside 1e-4.
   constexpr double kRelativeTolerance = 1e-4;
