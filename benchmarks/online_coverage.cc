@@ -36,6 +36,9 @@ struct Tally {
   int intervals[4][3] = {}, covered[4][3] = {};
   int batch_intervals[3] = {}, within_batch[3] = {};
   double rel_error_sum[3] = {}, batch_rel_error_sum[3] = {};
+  // At the end of the log: estimates marked suspect, and misses (the interval does not hold
+  // the truth) that are marked ok: the silently wrong answers.
+  int suspect[3] = {}, missed_ok[3] = {};
 };
 
 void RunLog(const CoverageCondition& condition, int index, bool batch, Tally* tally,
@@ -87,7 +90,11 @@ void RunLog(const CoverageCondition& condition, int index, bool batch, Tally* ta
       if (!p.identifiable) continue;
       ++tally->intervals[f][i];
       tally->covered[f][i] += p.ci95_lo <= made.truth[i] && made.truth[i] <= p.ci95_hi;
-      if (f == 3) tally->rel_error_sum[i] += std::abs(p.value / made.truth[i] - 1);
+      if (f < 3) continue;
+      tally->rel_error_sum[i] += std::abs(p.value / made.truth[i] - 1);
+      const bool covered = p.ci95_lo <= made.truth[i] && made.truth[i] <= p.ci95_hi;
+      tally->suspect[i] += p.verdict == Verdict::kSuspect;
+      tally->missed_ok[i] += !covered && p.verdict == Verdict::kOk;
     }
   }
   if (std::getenv("SLIDEID_ONLINE_VERBOSE")) {
@@ -160,8 +167,9 @@ int main(int argc, char** argv) {
     }
     std::printf(
         "| condition | logs | a: 25/50/75/100%% rows | b: 25/50/75/100%% | c: 25/50/75/100%% "
-        "| in batch CI a/b/c | mean rel. error online a/b/c | batch a/b/c |\n");
-    std::printf("|---|---|---|---|---|---|---|---|\n");
+        "| in batch CI a/b/c | mean rel. error online a/b/c | batch a/b/c "
+        "| at the end: suspect a/b/c; missed and ok a/b/c |\n");
+    std::printf("|---|---|---|---|---|---|---|---|---|\n");
     for (const CoverageCondition& c : conditions) {
       Tally tally;
       std::mutex mutex;
@@ -193,7 +201,8 @@ int main(int argc, char** argv) {
       for (int i = 0; i < 3; ++i)
         std::printf("%s%.3f%%", i ? " / " : " ",
                     100 * tally.batch_rel_error_sum[i] / std::max(1, tally.batch_intervals[i]));
-      std::printf(" |\n");
+      std::printf(" | %d / %d / %d; %d / %d / %d |\n", tally.suspect[0], tally.suspect[1],
+                  tally.suspect[2], tally.missed_ok[0], tally.missed_ok[1], tally.missed_ok[2]);
       std::fflush(stdout);
     }
   } catch (const std::exception& e) {
