@@ -424,10 +424,6 @@ TEST(IdentifyBadLog, AbsurdMagnitudesWarnOnStderrWithoutVerboseAndNeverPrintNaN)
     EXPECT_TRUE(Contains(r.err, "identify: warning: " + path + ":")) << r.err;
     EXPECT_TRUE(Contains(r.err, "column 'x': ")) << r.err;
     EXPECT_TRUE(r.code == 0 || r.code == 1 || r.code == 3) << method << ": " << r.code;
-    // Known defect (estimator/, reported in issue 6): the trajectory fit runs off to
-    // a = inf on this log and SolveStep's precondition throws "mu must be > 0 (got inf)",
-    // which the tool reports as bad input (exit 1). Check only that it fails cleanly.
-    if (std::string(method) == "trajectory") continue;
     ExpectNoNaN(r);
   }
 }
