@@ -306,10 +306,10 @@ void SeedDelays(TrajectoryProblem* problem, double max_delay_s) {
 
 // ---- noise and loss --------------------------------------------------------------------
 
-// Robust scale of each log's residual rows: sqrt(median |r_row|^2 / 0.789), comparable with
-// RowNoise (NaN for a log without rows in segments).
-std::vector<double> ResidualRowScale(const TrajectoryProblem& problem) {
-  std::vector<std::vector<double>> per_log(problem.num_logs());
+// Each log's rows' squared raw residual norms |r_row|^2, in segment order: one pass.
+using RowSquares = std::vector<std::vector<double>>;
+RowSquares RowSquaresOf(const TrajectoryProblem& problem) {
+  RowSquares per_log(problem.num_logs());
   problem.ForEachSegmentResiduals(true, [&](int j, const std::vector<double>& r) {
     const TrajectorySegment& seg = problem.segments()[j];
     size_t k = 0;
@@ -317,24 +317,29 @@ std::vector<double> ResidualRowScale(const TrajectoryProblem& problem) {
       per_log[seg.log].push_back(r[k] * r[k] + r[k + 1] * r[k + 1] + r[k + 2] * r[k + 2]);
     }
   });
-  std::vector<double> scale(problem.num_logs(), kNaN);
-  for (int i = 0; i < problem.num_logs(); ++i) {
+  return per_log;
+}
+
+// Robust scale of each log's residual rows: sqrt(median |r_row|^2 / 0.789), comparable with
+// RowNoise (NaN for a log without rows in segments).
+std::vector<double> ResidualRowScale(const RowSquares& per_log) {
+  std::vector<double> scale(per_log.size(), kNaN);
+  for (size_t i = 0; i < per_log.size(); ++i) {
     if (!per_log[i].empty()) scale[i] = RobustRowRms(per_log[i]);
   }
   return scale;
 }
+std::vector<double> ResidualRowScale(const TrajectoryProblem& problem) {
+  return ResidualRowScale(RowSquaresOf(problem));
+}
 
 // Rows whose raw residual norm exceeds sigmas times their log's `noise`.
-int RowsBeyond(const TrajectoryProblem& problem, double sigmas, const std::vector<double>& noise) {
+int RowsBeyond(const RowSquares& per_log, double sigmas, const std::vector<double>& noise) {
   int beyond = 0;
-  problem.ForEachSegmentResiduals(true, [&](int j, const std::vector<double>& r) {
-    const TrajectorySegment& seg = problem.segments()[j];
-    const double limit = sigmas * noise[seg.log];
-    size_t k = 0;
-    for (int row = seg.first_row; row <= seg.last_row; ++row, k += 3) {
-      beyond += std::sqrt(r[k] * r[k] + r[k + 1] * r[k + 1] + r[k + 2] * r[k + 2]) > limit;
-    }
-  });
+  for (size_t k = 0; k < per_log.size(); ++k) {
+    const double limit = sigmas * noise[k];
+    for (double r2 : per_log[k]) beyond += std::sqrt(r2) > limit;
+  }
   return beyond;
 }
 
@@ -853,9 +858,11 @@ struct FitStages {
   std::vector<LogDiagnostics> diagnostics;  ///< per log
   std::vector<double> row_noise;            ///< per log: its rows' noise (RowNoise)
   std::vector<double> residual_scale;       ///< per log: its residuals' scale (ResidualRowScale)
+  RowSquares row_squares;                   ///< what residual_scale was read from, until used
   std::vector<bool> free;                   ///< per global parameter: fitted, not held
   ReducedFriction seed{0, 0, 0};            ///< the friction the fit started from
   ceres::Solver::Summary summary;           ///< of the last solve
+  bool settled_tightly = false;             ///< the least-squares solve settled as a last one
   int iterations = 0;                       ///< over every solve
   std::vector<SolverIteration> trace;       ///< every solve's iterations (the trace)
   SecondStart second;
@@ -908,14 +915,27 @@ void LeastSquaresStage(const FitStart* start, FitStages* f) {
     f->iterations += static_cast<int>(held.iterations.size());
     SeedDelays(&problem, f->topt.max_delay_s);
   }
-  if (!(start && start->settled) || !robust) f->Solve(f->free, "least squares", /*stage=*/robust);
+  // Huber is least squares where no row lies beyond its scale, as on most logs once seeded
+  // on the segments' heads (RobustStage): the least-squares solve then settles as tightly
+  // as the last solve would, and RobustStage needs no solve of its own (whose iteration
+  // zero alone is a pass with derivatives).
+  const bool tight = !robust || f->topt.loss == RobustLoss::kHuber;
+  if (!(start && start->settled) || !robust) {
+    f->Solve(f->free, "least squares", /*stage=*/!tight);
+    f->settled_tightly = tight;
+  }
   if (!start && f->topt.second_start) {
     f->second = TrySecondStart(&problem, f->free, /*stage=*/robust);
     f->iterations += f->second.iterations;
     f->trace.insert(f->trace.end(), f->second.trace.begin(), f->second.trace.end());
-    if (f->second.moved) f->summary = f->second.summary;
+    if (f->second.moved) {
+      f->summary = f->second.summary;
+      f->settled_tightly = !robust;
+    }
   }
-  f->residual_scale = ResidualRowScale(problem);
+  RowSquares rows = RowSquaresOf(problem);
+  f->residual_scale = ResidualRowScale(rows);
+  if (f->topt.loss == RobustLoss::kHuber) f->row_squares = std::move(rows);  // RobustStage's
 }
 
 // Stage 3, the robust loss, scaled to each log's own noise or, where the residuals sit well
@@ -932,10 +952,17 @@ void RobustStage(FitStages* f) {
   // least-squares solution is the robust one. (On estimator_benchmark's 10,000-row log no
   // row does once the fit is seeded on the segments' heads; 308 did when the first solve
   // started from the scan's seed and stopped early.) Either way the last solve settles
-  // tightly.
-  if (f->topt.loss != RobustLoss::kHuber ||
-      RowsBeyond(problem, f->topt.loss_scale_sigmas, loss_noise) > 0) {
+  // tightly: the least-squares one did (LeastSquaresStage) where no row lies beyond, and
+  // then no second solve runs. The rows are those LeastSquaresStage read at this point
+  // (one residual pass for both), freed before the solve.
+  const int beyond = f->topt.loss == RobustLoss::kHuber
+                         ? RowsBeyond(f->row_squares, f->topt.loss_scale_sigmas, loss_noise)
+                         : 0;
+  RowSquares().swap(f->row_squares);
+  if (f->topt.loss != RobustLoss::kHuber || beyond > 0) {
     SetRowLosses(&problem, f->topt.loss, f->topt.loss_scale_sigmas, loss_noise);
+  } else if (f->settled_tightly) {
+    return;  // the least-squares solution, settled tightly, is the robust one
   }
   f->Solve(f->free, "robust");
   f->residual_scale = ResidualRowScale(problem);

@@ -214,6 +214,10 @@ class TrajectoryProblem {
   /// One-sigma errors of the free global parameters from Information() and the residual
   /// variance (0 where undetermined).
   std::vector<double> StandardErrors(const std::vector<bool>& free);
+  /// The same from the information `fisher` (G x G) of `residuals` residuals whose sum of
+  /// squares is `sum_squares`.
+  std::vector<double> StandardErrorsFrom(const Eigen::MatrixXd& fisher, double sum_squares,
+                                         int residuals, const std::vector<bool>& free) const;
 
   /// Degrees of freedom the segment states take: 6 per segment (3 for velocity logs).
   int StateParameters() const;
