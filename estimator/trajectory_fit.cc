@@ -867,8 +867,9 @@ struct FitStages {
   std::vector<SolverIteration> trace;       ///< every solve's iterations (the trace)
   SecondStart second;
 
-  void Solve(const std::vector<bool>& which, const char* name, bool stage = false) {
-    summary = problem->Solve(which, stage);
+  void Solve(const std::vector<bool>& which, const char* name, bool stage = false,
+             const std::function<bool()>& settle_on = nullptr) {
+    summary = problem->Solve(which, stage, settle_on);
     AppendTrace(summary, name, &trace);
     iterations += static_cast<int>(summary.iterations.size());
   }
@@ -882,6 +883,22 @@ void DiagnoseLogs(FitStages* f, EstimateResult* result) {
                                     std::sqrt(log->slider.inertia_kgm2 / log->slider.mass_kg)));
     result->steps_total += std::max(0, static_cast<int>(log->samples.size()) - 1);
   }
+}
+
+// Each log's noise as the robust loss takes it: its rows' noise, or where its residuals
+// (`residual_scale`, per log) sit well above it, their own scale.
+std::vector<double> LossNoise(const FitStages& f, const std::vector<double>& residual_scale) {
+  std::vector<double> loss_noise = f.row_noise;
+  for (size_t k = 0; k < f.logs.size(); ++k) {
+    loss_noise[k] = RowLossNoise(f.row_noise[k], residual_scale[k]);
+  }
+  return loss_noise;
+}
+
+// Rows beyond the robust loss's scale, as RobustStage would set it from `residual_scale`.
+int RowsBeyondLossScale(const FitStages& f, const RowSquares& rows,
+                        const std::vector<double>& residual_scale) {
+  return RowsBeyond(rows, f.topt.loss_scale_sigmas, LossNoise(f, residual_scale));
 }
 
 // Stage 1, seeds: from `start`, or from the cheap methods and a scan on the segments' heads.
@@ -916,13 +933,23 @@ void LeastSquaresStage(const FitStart* start, FitStages* f) {
     SeedDelays(&problem, f->topt.max_delay_s);
   }
   // Huber is least squares where no row lies beyond its scale, as on most logs once seeded
-  // on the segments' heads (RobustStage): the least-squares solve then settles as tightly
-  // as the last solve would, and RobustStage needs no solve of its own (whose iteration
-  // zero alone is a pass with derivatives).
-  const bool tight = !robust || f->topt.loss == RobustLoss::kHuber;
+  // on the segments' heads (RobustStage). So once settled as a stage, the least-squares
+  // solve looks at its rows (the segments' cached residuals: no pass): with none beyond the
+  // scale RobustStage would set, it goes on to settle as the robust solve would have, and
+  // RobustStage needs no solve of its own (whose iteration zero alone is a pass with
+  // derivatives). With rows beyond, it stops where it did, and the robust solve follows.
+  bool went_on = false;
+  std::function<bool()> settle_on;
+  if (robust && f->topt.loss == RobustLoss::kHuber) {
+    settle_on = [&] {
+      const RowSquares rows = RowSquaresOf(problem);
+      went_on = RowsBeyondLossScale(*f, rows, ResidualRowScale(rows)) == 0;
+      return went_on;
+    };
+  }
   if (!(start && start->settled) || !robust) {
-    f->Solve(f->free, "least squares", /*stage=*/!tight);
-    f->settled_tightly = tight;
+    f->Solve(f->free, "least squares", /*stage=*/robust, settle_on);
+    f->settled_tightly = !robust || went_on;
   }
   if (!start && f->topt.second_start) {
     f->second = TrySecondStart(&problem, f->free, /*stage=*/robust);
@@ -944,10 +971,7 @@ void LeastSquaresStage(const FitStart* start, FitStages* f) {
 void RobustStage(FitStages* f) {
   if (f->topt.loss == RobustLoss::kNone) return;
   TrajectoryProblem& problem = *f->problem;
-  std::vector<double> loss_noise = f->row_noise;
-  for (size_t k = 0; k < f->logs.size(); ++k) {
-    loss_noise[k] = RowLossNoise(f->row_noise[k], f->residual_scale[k]);
-  }
+  const std::vector<double> loss_noise = LossNoise(*f, f->residual_scale);
   // Huber equals least squares for rows inside its scale: when no row lies beyond it, the
   // least-squares solution is the robust one. (On estimator_benchmark's 10,000-row log no
   // row does once the fit is seeded on the segments' heads; 308 did when the first solve
@@ -956,7 +980,7 @@ void RobustStage(FitStages* f) {
   // then no second solve runs. The rows are those LeastSquaresStage read at this point
   // (one residual pass for both), freed before the solve.
   const int beyond = f->topt.loss == RobustLoss::kHuber
-                         ? RowsBeyond(f->row_squares, f->topt.loss_scale_sigmas, loss_noise)
+                         ? RowsBeyondLossScale(*f, f->row_squares, f->residual_scale)
                          : 0;
   RowSquares().swap(f->row_squares);
   if (f->topt.loss != RobustLoss::kHuber || beyond > 0) {

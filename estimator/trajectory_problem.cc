@@ -385,13 +385,16 @@ constexpr double kStateConditioned = 1e-6;
 class SettledCallback final : public ceres::IterationCallback {
  public:
   /// `standard_errors` gives the free globals' standard errors at the current point.
+  /// `settle_on`, when given and the solve is a stage: see TrajectoryProblem::Solve.
   SettledCallback(TrajectoryProblem* problem, const std::vector<bool>& free, double fraction,
-                  std::function<std::vector<double>()> standard_errors)
+                  std::function<std::vector<double>()> standard_errors,
+                  const std::function<bool()>& settle_on)
       : problem_(problem),
         free_(free),
         last_(free.size()),
         fraction_(fraction),
-        standard_errors_(std::move(standard_errors)) {
+        standard_errors_(std::move(standard_errors)),
+        settle_on_(settle_on) {
     for (size_t i = 0; i < free.size(); ++i) last_[i] = problem->global(int(i));
   }
 
@@ -427,7 +430,13 @@ class SettledCallback final : public ceres::IterationCallback {
       if (free_[i] && !(moved[i] <= fraction_ * stderr_[i])) settled = false;
     }
     settled_ = settled ? settled_ + 1 : 0;
-    return settled_ >= 2 ? ceres::SOLVER_TERMINATE_SUCCESSFULLY : ceres::SOLVER_CONTINUE;
+    if (settled_ < 2) return ceres::SOLVER_CONTINUE;
+    if (settle_on_ && fraction_ > kSettledFraction && settle_on_()) {
+      fraction_ = kSettledFraction;  // as a next solve would start: nothing settled yet
+      settled_ = 0;
+      return ceres::SOLVER_CONTINUE;
+    }
+    return ceres::SOLVER_TERMINATE_SUCCESSFULLY;
   }
 
  private:
@@ -437,6 +446,7 @@ class SettledCallback final : public ceres::IterationCallback {
   std::vector<double> stderr_;
   double fraction_;
   std::function<std::vector<double>()> standard_errors_;
+  std::function<bool()> settle_on_;
   double cost_at_stderr_ = 0;
   int settled_ = 0;
 };
@@ -529,7 +539,8 @@ class CompressedSegmentCost final : public ceres::CostFunction {
 
 }  // namespace
 
-ceres::Solver::Summary TrajectoryProblem::Solve(const std::vector<bool>& free, bool stage) {
+ceres::Solver::Summary TrajectoryProblem::Solve(const std::vector<bool>& free, bool stage,
+                                                const std::function<bool()>& settle_on) {
   ceres::Problem problem;  // owns the CompressedSegmentCosts, not the segments' costs
   auto* ordering = new ceres::ParameterBlockOrdering;
   std::vector<SegmentGaussNewton> last(segments_.size());
@@ -620,7 +631,7 @@ ceres::Solver::Summary TrajectoryProblem::Solve(const std::vector<bool>& free, b
     return StandardErrorsFrom(0.5 * (fisher + fisher.transpose()), sum_squares, residuals, free);
   };
   SettledCallback settled(this, free, stage ? kStageSettledFraction : kSettledFraction,
-                          standard_errors);
+                          standard_errors, settle_on);
   solver.update_state_every_iteration = true;
   solver.callbacks.push_back(&settled);
   ceres::Solver::Summary summary;
