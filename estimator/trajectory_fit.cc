@@ -306,10 +306,10 @@ void SeedDelays(TrajectoryProblem* problem, double max_delay_s) {
 
 // ---- noise and loss --------------------------------------------------------------------
 
-// Robust scale of each log's residual rows: sqrt(median |r_row|^2 / 0.789), comparable with
-// RowNoise (NaN for a log without rows in segments).
-std::vector<double> ResidualRowScale(const TrajectoryProblem& problem) {
-  std::vector<std::vector<double>> per_log(problem.num_logs());
+// Each log's rows' squared raw residual norms |r_row|^2, in segment order: one pass.
+using RowSquares = std::vector<std::vector<double>>;
+RowSquares RowSquaresOf(const TrajectoryProblem& problem) {
+  RowSquares per_log(problem.num_logs());
   problem.ForEachSegmentResiduals(true, [&](int j, const std::vector<double>& r) {
     const TrajectorySegment& seg = problem.segments()[j];
     size_t k = 0;
@@ -317,24 +317,29 @@ std::vector<double> ResidualRowScale(const TrajectoryProblem& problem) {
       per_log[seg.log].push_back(r[k] * r[k] + r[k + 1] * r[k + 1] + r[k + 2] * r[k + 2]);
     }
   });
-  std::vector<double> scale(problem.num_logs(), kNaN);
-  for (int i = 0; i < problem.num_logs(); ++i) {
+  return per_log;
+}
+
+// Robust scale of each log's residual rows: sqrt(median |r_row|^2 / 0.789), comparable with
+// RowNoise (NaN for a log without rows in segments).
+std::vector<double> ResidualRowScale(const RowSquares& per_log) {
+  std::vector<double> scale(per_log.size(), kNaN);
+  for (size_t i = 0; i < per_log.size(); ++i) {
     if (!per_log[i].empty()) scale[i] = RobustRowRms(per_log[i]);
   }
   return scale;
 }
+std::vector<double> ResidualRowScale(const TrajectoryProblem& problem) {
+  return ResidualRowScale(RowSquaresOf(problem));
+}
 
 // Rows whose raw residual norm exceeds sigmas times their log's `noise`.
-int RowsBeyond(const TrajectoryProblem& problem, double sigmas, const std::vector<double>& noise) {
+int RowsBeyond(const RowSquares& per_log, double sigmas, const std::vector<double>& noise) {
   int beyond = 0;
-  problem.ForEachSegmentResiduals(true, [&](int j, const std::vector<double>& r) {
-    const TrajectorySegment& seg = problem.segments()[j];
-    const double limit = sigmas * noise[seg.log];
-    size_t k = 0;
-    for (int row = seg.first_row; row <= seg.last_row; ++row, k += 3) {
-      beyond += std::sqrt(r[k] * r[k] + r[k + 1] * r[k + 1] + r[k + 2] * r[k + 2]) > limit;
-    }
-  });
+  for (size_t k = 0; k < per_log.size(); ++k) {
+    const double limit = sigmas * noise[k];
+    for (double r2 : per_log[k]) beyond += std::sqrt(r2) > limit;
+  }
   return beyond;
 }
 
@@ -853,15 +858,18 @@ struct FitStages {
   std::vector<LogDiagnostics> diagnostics;  ///< per log
   std::vector<double> row_noise;            ///< per log: its rows' noise (RowNoise)
   std::vector<double> residual_scale;       ///< per log: its residuals' scale (ResidualRowScale)
+  RowSquares row_squares;                   ///< what residual_scale was read from, until used
   std::vector<bool> free;                   ///< per global parameter: fitted, not held
   ReducedFriction seed{0, 0, 0};            ///< the friction the fit started from
   ceres::Solver::Summary summary;           ///< of the last solve
+  bool settled_tightly = false;             ///< the least-squares solve settled as a last one
   int iterations = 0;                       ///< over every solve
   std::vector<SolverIteration> trace;       ///< every solve's iterations (the trace)
   SecondStart second;
 
-  void Solve(const std::vector<bool>& which, const char* name, bool stage = false) {
-    summary = problem->Solve(which, stage);
+  void Solve(const std::vector<bool>& which, const char* name, bool stage = false,
+             const std::function<bool()>& settle_on = nullptr) {
+    summary = problem->Solve(which, stage, settle_on);
     AppendTrace(summary, name, &trace);
     iterations += static_cast<int>(summary.iterations.size());
   }
@@ -875,6 +883,22 @@ void DiagnoseLogs(FitStages* f, EstimateResult* result) {
                                     std::sqrt(log->slider.inertia_kgm2 / log->slider.mass_kg)));
     result->steps_total += std::max(0, static_cast<int>(log->samples.size()) - 1);
   }
+}
+
+// Each log's noise as the robust loss takes it: its rows' noise, or where its residuals
+// (`residual_scale`, per log) sit well above it, their own scale.
+std::vector<double> LossNoise(const FitStages& f, const std::vector<double>& residual_scale) {
+  std::vector<double> loss_noise = f.row_noise;
+  for (size_t k = 0; k < f.logs.size(); ++k) {
+    loss_noise[k] = RowLossNoise(f.row_noise[k], residual_scale[k]);
+  }
+  return loss_noise;
+}
+
+// Rows beyond the robust loss's scale, as RobustStage would set it from `residual_scale`.
+int RowsBeyondLossScale(const FitStages& f, const RowSquares& rows,
+                        const std::vector<double>& residual_scale) {
+  return RowsBeyond(rows, f.topt.loss_scale_sigmas, LossNoise(f, residual_scale));
 }
 
 // Stage 1, seeds: from `start`, or from the cheap methods and a scan on the segments' heads.
@@ -908,14 +932,37 @@ void LeastSquaresStage(const FitStart* start, FitStages* f) {
     f->iterations += static_cast<int>(held.iterations.size());
     SeedDelays(&problem, f->topt.max_delay_s);
   }
-  if (!(start && start->settled) || !robust) f->Solve(f->free, "least squares", /*stage=*/robust);
+  // Huber is least squares where no row lies beyond its scale, as on most logs once seeded
+  // on the segments' heads (RobustStage). So once settled as a stage, the least-squares
+  // solve looks at its rows (the segments' cached residuals: no pass): with none beyond the
+  // scale RobustStage would set, it goes on to settle as the robust solve would have, and
+  // RobustStage needs no solve of its own (whose iteration zero alone is a pass with
+  // derivatives). With rows beyond, it stops where it did, and the robust solve follows.
+  bool went_on = false;
+  std::function<bool()> settle_on;
+  if (robust && f->topt.loss == RobustLoss::kHuber) {
+    settle_on = [&] {
+      const RowSquares rows = RowSquaresOf(problem);
+      went_on = RowsBeyondLossScale(*f, rows, ResidualRowScale(rows)) == 0;
+      return went_on;
+    };
+  }
+  if (!(start && start->settled) || !robust) {
+    f->Solve(f->free, "least squares", /*stage=*/robust, settle_on);
+    f->settled_tightly = !robust || went_on;
+  }
   if (!start && f->topt.second_start) {
     f->second = TrySecondStart(&problem, f->free, /*stage=*/robust);
     f->iterations += f->second.iterations;
     f->trace.insert(f->trace.end(), f->second.trace.begin(), f->second.trace.end());
-    if (f->second.moved) f->summary = f->second.summary;
+    if (f->second.moved) {
+      f->summary = f->second.summary;
+      f->settled_tightly = !robust;
+    }
   }
-  f->residual_scale = ResidualRowScale(problem);
+  RowSquares rows = RowSquaresOf(problem);
+  f->residual_scale = ResidualRowScale(rows);
+  if (f->topt.loss == RobustLoss::kHuber) f->row_squares = std::move(rows);  // RobustStage's
 }
 
 // Stage 3, the robust loss, scaled to each log's own noise or, where the residuals sit well
@@ -924,18 +971,22 @@ void LeastSquaresStage(const FitStart* start, FitStages* f) {
 void RobustStage(FitStages* f) {
   if (f->topt.loss == RobustLoss::kNone) return;
   TrajectoryProblem& problem = *f->problem;
-  std::vector<double> loss_noise = f->row_noise;
-  for (size_t k = 0; k < f->logs.size(); ++k) {
-    loss_noise[k] = RowLossNoise(f->row_noise[k], f->residual_scale[k]);
-  }
+  const std::vector<double> loss_noise = LossNoise(*f, f->residual_scale);
   // Huber equals least squares for rows inside its scale: when no row lies beyond it, the
   // least-squares solution is the robust one. (On estimator_benchmark's 10,000-row log no
   // row does once the fit is seeded on the segments' heads; 308 did when the first solve
   // started from the scan's seed and stopped early.) Either way the last solve settles
-  // tightly.
-  if (f->topt.loss != RobustLoss::kHuber ||
-      RowsBeyond(problem, f->topt.loss_scale_sigmas, loss_noise) > 0) {
+  // tightly: the least-squares one did (LeastSquaresStage) where no row lies beyond, and
+  // then no second solve runs. The rows are those LeastSquaresStage read at this point
+  // (one residual pass for both), freed before the solve.
+  const int beyond = f->topt.loss == RobustLoss::kHuber
+                         ? RowsBeyondLossScale(*f, f->row_squares, f->residual_scale)
+                         : 0;
+  RowSquares().swap(f->row_squares);
+  if (f->topt.loss != RobustLoss::kHuber || beyond > 0) {
     SetRowLosses(&problem, f->topt.loss, f->topt.loss_scale_sigmas, loss_noise);
+  } else if (f->settled_tightly) {
+    return;  // the least-squares solution, settled tightly, is the robust one
   }
   f->Solve(f->free, "robust");
   f->residual_scale = ResidualRowScale(problem);

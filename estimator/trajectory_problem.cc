@@ -356,16 +356,45 @@ double TrajectoryProblem::RawCost() const {
 
 namespace {
 
+// A segment's Gauss-Newton matrix at the solver's last evaluation with derivatives: a factor
+// F (the compressed Jacobian's R, or the Jacobian itself) with F^T F = J^T J over every
+// block (state, then the globals as BlocksOf orders them), the sum of squares of the
+// (row-loss) residuals and their number. What Information() would compute at that point,
+// without its pass: the solver evaluates the Jacobian at every point it accepts, before
+// the iteration's callbacks run.
+// Where the state's own block of R is well conditioned (every diagonal element above
+// kStateConditioned times the largest), only R's block of the globals is kept: R_gg^T R_gg
+// is the information marginalised over the state (the Schur complement of J^T J), and a
+// few hundred bytes a segment during a solve instead of the whole factor's kilobyte.
+struct SegmentGaussNewton {
+  Eigen::MatrixXd factor;
+  bool marginal = false;  ///< factor is R_gg (the globals' columns only)
+  double sum_squares = 0;
+  int residuals = 0;
+  bool ok = false;
+};
+constexpr double kStateConditioned = 1e-6;
+
 // Stops a solve once the free global parameters have settled: two successive successful
 // iterations each moved every one by less than kSettledFraction of its standard error.
 // The segment states may still creep along the kinks that stick-slip switching puts in the
 // cost (on the 10k-row benchmark log, 50 more iterations that moved a, b, c by less than
 // 0.01 of a standard error); nothing the estimate reports depends on them. The standard
-// errors are computed once, when the steps first fall below kSettleCheck (one pass).
+// errors are computed once, when the steps first fall below kSettleCheck, from the
+// Gauss-Newton matrix of the solver's own last evaluation (SegmentGaussNewton): no pass.
 class SettledCallback final : public ceres::IterationCallback {
  public:
-  SettledCallback(TrajectoryProblem* problem, const std::vector<bool>& free, double fraction)
-      : problem_(problem), free_(free), last_(free.size()), fraction_(fraction) {
+  /// `standard_errors` gives the free globals' standard errors at the current point.
+  /// `settle_on`, when given and the solve is a stage: see TrajectoryProblem::Solve.
+  SettledCallback(TrajectoryProblem* problem, const std::vector<bool>& free, double fraction,
+                  std::function<std::vector<double>()> standard_errors,
+                  const std::function<bool()>& settle_on)
+      : problem_(problem),
+        free_(free),
+        last_(free.size()),
+        fraction_(fraction),
+        standard_errors_(std::move(standard_errors)),
+        settle_on_(settle_on) {
     for (size_t i = 0; i < free.size(); ++i) last_[i] = problem->global(int(i));
   }
 
@@ -393,7 +422,7 @@ class SettledCallback final : public ceres::IterationCallback {
     // kStdErrRefresh since (on a noiseless log it falls by orders of magnitude, and errors
     // from early on would let the fit stop far from its last digits).
     if (stderr_.empty() || it.cost < kStdErrRefresh * cost_at_stderr_) {
-      stderr_ = problem_->StandardErrors(free_);
+      stderr_ = standard_errors_();
       cost_at_stderr_ = it.cost;
     }
     bool settled = true;
@@ -401,7 +430,13 @@ class SettledCallback final : public ceres::IterationCallback {
       if (free_[i] && !(moved[i] <= fraction_ * stderr_[i])) settled = false;
     }
     settled_ = settled ? settled_ + 1 : 0;
-    return settled_ >= 2 ? ceres::SOLVER_TERMINATE_SUCCESSFULLY : ceres::SOLVER_CONTINUE;
+    if (settled_ < 2) return ceres::SOLVER_CONTINUE;
+    if (settle_on_ && fraction_ > kSettledFraction && settle_on_()) {
+      fraction_ = kSettledFraction;  // as a next solve would start: nothing settled yet
+      settled_ = 0;
+      return ceres::SOLVER_CONTINUE;
+    }
+    return ceres::SOLVER_TERMINATE_SUCCESSFULLY;
   }
 
  private:
@@ -410,6 +445,8 @@ class SettledCallback final : public ceres::IterationCallback {
   std::vector<double> last_;
   std::vector<double> stderr_;
   double fraction_;
+  std::function<std::vector<double>()> standard_errors_;
+  std::function<bool()> settle_on_;
   double cost_at_stderr_ = 0;
   int settled_ = 0;
 };
@@ -426,7 +463,9 @@ class SettledCallback final : public ceres::IterationCallback {
 // model) and only the cost from the others. Segments with n <= m + 1 are not compressed.
 class CompressedSegmentCost final : public ceres::CostFunction {
  public:
-  explicit CompressedSegmentCost(const SegmentCost* cost) : cost_(cost) {
+  /// `last`, when given, receives every evaluation with derivatives (SegmentGaussNewton).
+  CompressedSegmentCost(const SegmentCost* cost, SegmentGaussNewton* last)
+      : cost_(cost), last_(last) {
     *mutable_parameter_block_sizes() = cost->parameter_block_sizes();
     for (const int32_t size : cost->parameter_block_sizes()) columns_ += size;
     set_num_residuals(std::min(cost->num_residuals(), columns_ + 1));
@@ -434,7 +473,10 @@ class CompressedSegmentCost final : public ceres::CostFunction {
 
   bool Evaluate(double const* const* params, double* residuals, double** jacobians) const override {
     const int n = cost_->num_residuals();
-    if (n == num_residuals()) return cost_->Evaluate(params, residuals, jacobians);
+    if (jacobians && last_) last_->ok = false;
+    if (n == num_residuals() && !(jacobians && last_)) {
+      return cost_->Evaluate(params, residuals, jacobians);
+    }
     const std::vector<int32_t>& sizes = parameter_block_sizes();
     Eigen::VectorXd r(n);
     if (!jacobians) {
@@ -456,11 +498,29 @@ class CompressedSegmentCost final : public ceres::CostFunction {
     for (size_t b = 0, col = 0; b < sizes.size(); col += sizes[b], ++b) {
       J.middleCols(static_cast<Eigen::Index>(col), sizes[b]) = block[b];
     }
+    if (n == num_residuals()) {  // not compressed: J itself is the factor
+      std::copy(r.data(), r.data() + n, residuals);
+      for (size_t b = 0; b < sizes.size(); ++b) {
+        if (jacobians[b])
+          std::copy(block[b].data(), block[b].data() + block[b].size(), jacobians[b]);
+      }
+      *last_ = {std::move(J), false, r.squaredNorm(), n, true};
+      return true;
+    }
     const Eigen::HouseholderQR<Eigen::Ref<Eigen::MatrixXd>> qr(J);  // in place, in J
     r.applyOnTheLeft(qr.householderQ().adjoint());                  // Q^T r (n, full Q)
     for (int i = 0; i < columns_; ++i) residuals[i] = r(i);
     residuals[columns_] = r.tail(n - columns_).norm();
     const Eigen::MatrixXd R = J.topRows(columns_).triangularView<Eigen::Upper>();
+    if (last_) {
+      const Eigen::ArrayXd diagonal = R.diagonal().head<6>().cwiseAbs();
+      const bool conditioned = diagonal.minCoeff() > kStateConditioned * diagonal.maxCoeff();
+      if (conditioned) {
+        *last_ = {R.bottomRightCorner(columns_ - 6, columns_ - 6), true, r.squaredNorm(), n, true};
+      } else {
+        *last_ = {R, false, r.squaredNorm(), n, true};
+      }
+    }
     for (size_t b = 0, col = 0; b < sizes.size(); col += sizes[b], ++b) {
       if (!jacobians[b]) continue;
       Eigen::Map<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>> out(
@@ -473,16 +533,21 @@ class CompressedSegmentCost final : public ceres::CostFunction {
 
  private:
   const SegmentCost* cost_;
+  SegmentGaussNewton* last_;
   int columns_ = 0;
 };
 
 }  // namespace
 
-ceres::Solver::Summary TrajectoryProblem::Solve(const std::vector<bool>& free, bool stage) {
+ceres::Solver::Summary TrajectoryProblem::Solve(const std::vector<bool>& free, bool stage,
+                                                const std::function<bool()>& settle_on) {
   ceres::Problem problem;  // owns the CompressedSegmentCosts, not the segments' costs
   auto* ordering = new ceres::ParameterBlockOrdering;
-  for (TrajectorySegment& seg : segments_) {
-    problem.AddResidualBlock(new CompressedSegmentCost(seg.cost.get()), nullptr, BlocksOf(seg));
+  std::vector<SegmentGaussNewton> last(segments_.size());
+  for (size_t k = 0; k < segments_.size(); ++k) {
+    TrajectorySegment& seg = segments_[k];
+    problem.AddResidualBlock(new CompressedSegmentCost(seg.cost.get(), &last[k]), nullptr,
+                             BlocksOf(seg));
     ordering->AddElementToGroup(seg.state.data(), 0);
     if (!use_pose(seg.log)) {
       // Velocity residuals do not see the pose: only the velocity part is a parameter.
@@ -526,7 +591,47 @@ ceres::Solver::Summary TrajectoryProblem::Solve(const std::vector<bool>& free, b
   // cost alone.
   solver.line_search_interpolation_type = ceres::QUADRATIC;
   solver.logging_type = ceres::SILENT;
-  SettledCallback settled(this, free, stage ? kStageSettledFraction : kSettledFraction);
+  // The settled test's standard errors from the solver's last evaluation with derivatives
+  // (at the point the callback judges), as StandardErrors would compute them there.
+  auto standard_errors = [&]() {
+    const int G = num_global();
+    Eigen::MatrixXd fisher = Eigen::MatrixXd::Zero(G, G);
+    double sum_squares = 0;
+    int residuals = 0;
+    for (size_t k = 0; k < segments_.size(); ++k) {
+      if (!last[k].ok) continue;
+      TrajectorySegment& seg = segments_[k];
+      Eigen::MatrixXd h;
+      if (last[k].marginal && use_pose(seg.log)) {
+        h = last[k].factor.transpose() * last[k].factor;
+      } else {  // as Information() marginalises
+        Eigen::MatrixXd F = last[k].factor;
+        if (!use_pose(seg.log)) F.leftCols<3>().setZero();  // poses are not parameters then
+        const Eigen::MatrixXd H = F.transpose() * F;
+        const int m = static_cast<int>(H.cols()) - 6;
+        const Eigen::MatrixXd Hss_pinv =
+            H.topLeftCorner(6, 6).completeOrthogonalDecomposition().pseudoInverse();
+        h = H.bottomRightCorner(m, m) -
+            H.bottomLeftCorner(m, 6) * Hss_pinv * H.topRightCorner(6, m);
+      }
+      const int m = static_cast<int>(h.cols());
+      std::vector<int> columns;
+      const std::vector<double*> blocks = BlocksOf(seg);
+      const std::vector<int32_t>& sizes = seg.cost->parameter_block_sizes();
+      for (size_t b = 1; b < blocks.size(); ++b) {
+        const int first = static_cast<int>(blocks[b] - global_.data());
+        for (int c = 0; c < sizes[b]; ++c) columns.push_back(first + c);
+      }
+      for (int a = 0; a < m; ++a) {
+        for (int b = 0; b < m; ++b) fisher(columns[a], columns[b]) += h(a, b);
+      }
+      sum_squares += last[k].sum_squares;
+      residuals += last[k].residuals;
+    }
+    return StandardErrorsFrom(0.5 * (fisher + fisher.transpose()), sum_squares, residuals, free);
+  };
+  SettledCallback settled(this, free, stage ? kStageSettledFraction : kSettledFraction,
+                          standard_errors, settle_on);
   solver.update_state_every_iteration = true;
   solver.callbacks.push_back(&settled);
   ceres::Solver::Summary summary;
@@ -664,23 +769,29 @@ Eigen::VectorXd TrajectoryProblem::SegmentResidualsWith(int segment,
 
 std::vector<double> TrajectoryProblem::StandardErrors(const std::vector<bool>& free) {
   const FitInformation info = Information();
+  return StandardErrorsFrom(info.fisher, info.sum_squares, info.residuals, free);
+}
+
+std::vector<double> TrajectoryProblem::StandardErrorsFrom(const Eigen::MatrixXd& fisher,
+                                                          double sum_squares, int residuals,
+                                                          const std::vector<bool>& free) const {
   std::vector<int> idx;
   for (int i = 0; i < num_global(); ++i) {
     if (free[i]) idx.push_back(i);
   }
   std::vector<double> se(num_global(), 0.0);
   const int n = static_cast<int>(idx.size());
-  const int dof = info.residuals - StateParameters() - n;
+  const int dof = residuals - StateParameters() - n;
   if (dof <= 0 || n == 0) return se;
   Eigen::MatrixXd H(n, n);
   for (int a = 0; a < n; ++a) {
-    for (int b = 0; b < n; ++b) H(a, b) = info.fisher(idx[a], idx[b]);
+    for (int b = 0; b < n; ++b) H(a, b) = fisher(idx[a], idx[b]);
   }
   const Eigen::LDLT<Eigen::MatrixXd> ldlt(H);
   if (ldlt.info() != Eigen::Success) return se;
   const Eigen::MatrixXd cov = ldlt.solve(Eigen::MatrixXd::Identity(n, n));
   for (int a = 0; a < n; ++a) {
-    se[idx[a]] = std::sqrt(std::max(0.0, cov(a, a) * info.sum_squares / dof));
+    se[idx[a]] = std::sqrt(std::max(0.0, cov(a, a) * sum_squares / dof));
   }
   return se;
 }

@@ -194,7 +194,11 @@ class TrajectoryProblem {
   /// (free.size() == num_global()), stopping once the free ones settle (the callback in
   /// trajectory_problem.cc).
   /// `stage`: an intermediate solve, settled more loosely (trajectory_problem.cc).
-  ceres::Solver::Summary Solve(const std::vector<bool>& free, bool stage = false);
+  /// `settle_on`, for a stage: asked when the stage has settled; true makes the solve go on
+  /// and settle as a last solve would (the iterations a next solve would spend, without its
+  /// iteration zero).
+  ceres::Solver::Summary Solve(const std::vector<bool>& free, bool stage = false,
+                               const std::function<bool()>& settle_on = nullptr);
 
   /// The information of every global parameter, marginalised over the states; also marks
   /// segments whose state is undetermined. `extra`, when given, gives for segment k (called
@@ -214,6 +218,10 @@ class TrajectoryProblem {
   /// One-sigma errors of the free global parameters from Information() and the residual
   /// variance (0 where undetermined).
   std::vector<double> StandardErrors(const std::vector<bool>& free);
+  /// The same from the information `fisher` (G x G) of `residuals` residuals whose sum of
+  /// squares is `sum_squares`.
+  std::vector<double> StandardErrorsFrom(const Eigen::MatrixXd& fisher, double sum_squares,
+                                         int residuals, const std::vector<bool>& free) const;
 
   /// Degrees of freedom the segment states take: 6 per segment (3 for velocity logs).
   int StateParameters() const;
