@@ -41,7 +41,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   Require(std::isfinite(s.gravity_mps2) && s.gravity_mps2 > 0, "gravity > 0");
   Require(std::isfinite(scene.dt_s) && scene.dt_s > 0, "dt > 0");
   Require(std::isfinite(scene.duration_s) && scene.duration_s > 0, "duration > 0");
-  const auto& f = scene.friction;
+  const auto& f = scene.friction.paper();
   Require(
       std::isfinite(f.mu) && std::isfinite(f.e_t) && std::isfinite(f.e_o) && std::isfinite(f.e_r),
       "finite friction");
