@@ -299,6 +299,17 @@ std::vector<double*> TrajectoryProblem::BlocksOf(TrajectorySegment& seg) {
   return blocks;
 }
 
+std::vector<int> TrajectoryProblem::GlobalColumnsOf(TrajectorySegment& seg) {
+  const std::vector<double*> blocks = BlocksOf(seg);
+  const std::vector<int32_t>& sizes = seg.cost->parameter_block_sizes();
+  std::vector<int> columns;
+  for (size_t b = 1; b < blocks.size(); ++b) {
+    const int first = static_cast<int>(blocks[b] - global_.data());
+    for (int c = 0; c < sizes[b]; ++c) columns.push_back(first + c);
+  }
+  return columns;
+}
+
 void TrajectoryProblem::SetRowLoss(const RowLoss& loss) {
   for (TrajectorySegment& seg : segments_) seg.cost->SetRowLoss(loss);
 }
@@ -374,6 +385,15 @@ struct SegmentGaussNewton {
   bool ok = false;
 };
 constexpr double kStateConditioned = 1e-6;
+
+// into(columns[a], columns[b]) += h(a, b): a segment's share of the globals' information,
+// h over the globals it takes, added into the G x G matrix of all of them.
+void AddAtColumns(const std::vector<int>& columns, const Eigen::MatrixXd& h,
+                  Eigen::MatrixXd* into) {
+  for (size_t a = 0; a < columns.size(); ++a) {
+    for (size_t b = 0; b < columns.size(); ++b) (*into)(columns[a], columns[b]) += h(a, b);
+  }
+}
 
 // Stops a solve once the free global parameters have settled: two successive successful
 // iterations each moved every one by less than kSettledFraction of its standard error.
@@ -614,17 +634,7 @@ ceres::Solver::Summary TrajectoryProblem::Solve(const std::vector<bool>& free, b
         h = H.bottomRightCorner(m, m) -
             H.bottomLeftCorner(m, 6) * Hss_pinv * H.topRightCorner(6, m);
       }
-      const int m = static_cast<int>(h.cols());
-      std::vector<int> columns;
-      const std::vector<double*> blocks = BlocksOf(seg);
-      const std::vector<int32_t>& sizes = seg.cost->parameter_block_sizes();
-      for (size_t b = 1; b < blocks.size(); ++b) {
-        const int first = static_cast<int>(blocks[b] - global_.data());
-        for (int c = 0; c < sizes[b]; ++c) columns.push_back(first + c);
-      }
-      for (int a = 0; a < m; ++a) {
-        for (int b = 0; b < m; ++b) fisher(columns[a], columns[b]) += h(a, b);
-      }
+      AddAtColumns(GlobalColumnsOf(seg), h, &fisher);
       sum_squares += last[k].sum_squares;
       residuals += last[k].residuals;
     }
@@ -658,11 +668,7 @@ FitInformation TrajectoryProblem::Information(const std::function<Eigen::MatrixX
     }
     std::vector<double> r(n);
     if (!cost.Evaluate(params.data(), r.data(), jac.data())) return;
-    // Columns of the global parameters this segment touches, in block order.
-    for (size_t b = 1; b < blocks.size(); ++b) {
-      const int first = static_cast<int>(blocks[b] - global_.data());
-      for (int c = 0; c < sizes[b]; ++c) share.columns.push_back(first + c);
-    }
+    share.columns = GlobalColumnsOf(seg);
     const int m = static_cast<int>(share.columns.size());
     Eigen::MatrixXd Js =
         Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, 6, Eigen::RowMajor>>(jac[0], n, 6);
@@ -712,11 +718,9 @@ FitInformation TrajectoryProblem::Information(const std::function<Eigen::MatrixX
     segments_[k].state_determined = s.ok && s.state_determined;
     if (!s.ok) continue;
     Eigen::VectorXd g = Eigen::VectorXd::Zero(G);
+    for (size_t a = 0; a < s.columns.size(); ++a) g(s.columns[a]) += s.score(a);
     Eigen::MatrixXd h = Eigen::MatrixXd::Zero(G, G);
-    for (size_t a = 0; a < s.columns.size(); ++a) {
-      g(s.columns[a]) += s.score(a);
-      for (size_t b = 0; b < s.columns.size(); ++b) h(s.columns[a], s.columns[b]) += s.h(a, b);
-    }
+    AddAtColumns(s.columns, s.h, &h);
     info.fisher += h;
     SegmentInformation si{segments_[k].log,
                           std::move(h),

@@ -234,6 +234,9 @@ class TrajectoryProblem {
   /// The sensor nuisances the options fit (parameter blocks of every segment's cost).
   SegmentNuisances FittedNuisances() const;
   std::vector<double*> BlocksOf(TrajectorySegment& seg);
+  /// The indices in global_ of the global parameters `seg`'s cost takes, in block order
+  /// (the columns of its Jacobian after the state's 6).
+  std::vector<int> GlobalColumnsOf(TrajectorySegment& seg);
 
   std::vector<const Trajectory*> logs_;
   IdentifyOptions options_;
