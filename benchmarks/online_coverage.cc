@@ -88,11 +88,11 @@ void RunLog(const CoverageCondition& condition, int index, bool batch, Tally* ta
     for (int i = 0; i < 3; ++i) {
       const ParameterEstimate& p = results[f].parameters[i];
       if (!p.identifiable) continue;
+      const bool covered = p.ci95_lo <= made.truth[i] && made.truth[i] <= p.ci95_hi;
       ++tally->intervals[f][i];
-      tally->covered[f][i] += p.ci95_lo <= made.truth[i] && made.truth[i] <= p.ci95_hi;
+      tally->covered[f][i] += covered;
       if (f < 3) continue;
       tally->rel_error_sum[i] += std::abs(p.value / made.truth[i] - 1);
-      const bool covered = p.ci95_lo <= made.truth[i] && made.truth[i] <= p.ci95_hi;
       tally->suspect[i] += p.verdict == Verdict::kSuspect;
       tally->missed_ok[i] += !covered && p.verdict == Verdict::kOk;
     }

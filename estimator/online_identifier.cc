@@ -767,8 +767,7 @@ struct OnlineIdentifier::Impl {
   // outliers), and that must read as suspect, not ok.
   PlausibilityContext Plausibility() const {
     PlausibilityContext c;
-    c.seed = ReducedFriction{std::exp(prior_mean(kPar)), std::exp(prior_mean(kPar + 1)),
-                             std::exp(prior_mean(kPar + 2))};
+    c.seed = FromLogParameters(prior_mean.data() + kPar);
     c.lower = kFrictionLowerBound;
     c.upper = kFrictionUpperBound;
     c.logs.push_back({slider.mass_kg * slider.gravity_mps2, largest_push_n});
