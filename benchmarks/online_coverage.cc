@@ -9,7 +9,10 @@
 // Experiment hooks (environment): SLIDEID_ONLINE_VERBOSE=1 prints each log's end on stderr,
 // SLIDEID_ONLINE_TRACE=K every 5th row of log K; SLIDEID_ONLINE_NO_CHANGES=1 turns change
 // detection off; SLIDEID_ONLINE_FORCE and SLIDEID_ONLINE_ACC set the process noise
-// (OnlineOptions::force_noise_fraction, model_acceleration_mps2).
+// (OnlineOptions::force_noise_fraction, model_acceleration_mps2);
+// SLIDEID_ONLINE_BATCH_CHECK=N sets OnlineOptions::batch_check_first_rows (0: off);
+// SLIDEID_ONLINE_Z=1 prints each log's standardized errors (log(value / truth) over the
+// interval's standard error) at the four points, and the rows of the last batch takeover.
 
 #include <atomic>
 #include <cmath>
@@ -56,6 +59,8 @@ void RunLog(const CoverageCondition& condition, int index, bool batch, Tally* ta
       options.force_noise_fraction = std::atof(v);
     if (const char* v = std::getenv("SLIDEID_ONLINE_ACC"))
       options.model_acceleration_mps2 = std::atof(v);
+    if (const char* v = std::getenv("SLIDEID_ONLINE_BATCH_CHECK"))
+      options.batch_check_first_rows = std::atoi(v);
     results = RunOnline(made.log, options, keep);
     if (const char* trace = std::getenv("SLIDEID_ONLINE_TRACE");
         trace && std::atoi(trace) == index) {
@@ -95,6 +100,19 @@ void RunLog(const CoverageCondition& condition, int index, bool batch, Tally* ta
       tally->rel_error_sum[i] += std::abs(p.value / made.truth[i] - 1);
       tally->suspect[i] += p.verdict == Verdict::kSuspect;
       tally->missed_ok[i] += !covered && p.verdict == Verdict::kOk;
+    }
+  }
+  if (std::getenv("SLIDEID_ONLINE_Z")) {
+    for (int f = 0; f < 4; ++f) {
+      std::fprintf(stderr, "Z %s %d %d takeover %d", condition.name.c_str(), index, f,
+                   results[f].batch_takeover_rows);
+      for (int i = 0; i < 3; ++i) {
+        const ParameterEstimate& p = results[f].parameters[i];
+        const double sd = std::log(p.ci95_hi / p.ci95_lo) / (2 * kZ95);
+        std::fprintf(stderr, " %.4f",
+                     p.identifiable ? std::log(p.value / made.truth[i]) / sd : NAN);
+      }
+      std::fprintf(stderr, "\n");
     }
   }
   if (std::getenv("SLIDEID_ONLINE_VERBOSE")) {

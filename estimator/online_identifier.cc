@@ -9,6 +9,7 @@
 #include <stdexcept>
 #include <utility>
 
+#include "estimator/identify.h"
 #include "estimator/internal/log_friction.h"
 #include "estimator/internal/mismatch_nuisances.h"
 #include "estimator/internal/trajectory_problem.h"
@@ -255,6 +256,11 @@ bool OnlineOptions::IsValid(std::string* why) const {
     return Fail(why, "change_window_rows must be >= " + std::to_string(2 * kMinChangeRows));
   if (!(change_reset_log_sigma > 0) || !std::isfinite(change_reset_log_sigma))
     return Fail(why, "change_reset_log_sigma must be a finite number > 0");
+  if (batch_check_first_rows < 0) return Fail(why, "batch_check_first_rows must be >= 0");
+  if (batch_check_first_rows > 0 && batch_check_max_rows < batch_check_first_rows)
+    return Fail(why, "batch_check_max_rows must be >= batch_check_first_rows");
+  if (!(batch_check_sigmas > 0) || !std::isfinite(batch_check_sigmas))
+    return Fail(why, "batch_check_sigmas must be a finite number > 0");
   return true;
 }
 
@@ -295,7 +301,15 @@ struct OnlineIdentifier::Impl {
   Eigen::Vector3d open_statistics = Eigen::Vector3d::Zero(), open_weights = Eigen::Vector3d::Zero();
   double open_total = 0;
   int open_ranks = 0;
-  int row_index = 0;                        // of the row being filtered
+  int row_index = 0;  // of the row being filtered
+  // The batch check (OnlineOptions::batch_check_first_rows): the log's metadata with the
+  // rows since the start or the last change, the row count of the next fit, and the
+  // information of (log a, log b, log c) of the last fit taken over (the intervals widen only
+  // what the filter added since, IntervalVariances).
+  Trajectory batch_log;
+  std::size_t next_check_rows = 0;
+  bool taken_over = false;
+  Eigen::Matrix3d takeover_information = Eigen::Matrix3d::Zero();
   std::optional<PusherFrictionStream> tip;  // mu_p, where the log has the tip
 
   void ReadNoise() {
@@ -548,6 +562,12 @@ struct OnlineIdentifier::Impl {
       if (r.first > w.start_row) again.push_back(r);
     recent.clear();
     lost_rows = 0;
+    if (options.batch_check_first_rows > 0) {
+      batch_log.samples.clear();
+      for (const auto& r : again) batch_log.samples.push_back(r.second);
+      next_check_rows = options.batch_check_first_rows;
+      result.batch_takeover_rows = 0;
+    }
     for (const auto& [index, row] : again) Filter(row, index);
     result.change_detected = true;
     // The change's size is refined once the filter has re-converged (RefineChangeSize).
@@ -678,6 +698,7 @@ struct OnlineIdentifier::Impl {
     x.segment<3>(kVel) = (x.head<3>() - previous) / h;
     const double s2 = options.change_reset_log_sigma * options.change_reset_log_sigma;
     for (int i = 0; i < 3; ++i) P(kPar + i, kPar + i) = std::max(P(kPar + i, kPar + i), s2);
+    taken_over = false;  // the parameters' covariance no longer grows from the fit's
     ++result.relocations;
     lost_rows = 0;
   }
@@ -703,6 +724,7 @@ struct OnlineIdentifier::Impl {
     P.block<3, 3>(kPar, kPar) = Eigen::Matrix3d::Identity() * s2;
     mismatch_released = false;
     windows.clear();
+    taken_over = false;
     // The new surface's filter earns its own variance factor, and its alarms wait for it.
     window_statistics = 0;
     window_ranks = 0;
@@ -734,6 +756,7 @@ struct OnlineIdentifier::Impl {
     result.variance_factor = Kappa();
     result.force_noise_fraction = ForceNoiseFraction();
     for (int i = 0; i < 3; ++i) result.interval_variance_factors[i] = IntervalKappa(i);
+    const Eigen::Vector3d interval_variance = IntervalVariances();
     for (int i = 0; i < 3; ++i) {
       ParameterEstimate& p = result.parameters[i];
       p = ParameterEstimate{};
@@ -742,8 +765,7 @@ struct OnlineIdentifier::Impl {
                    " rows (from which it reads the noise)";
         continue;
       }
-      const double sd =
-          std::sqrt(std::max(0.0, P(kPar + i, kPar + i)) * result.interval_variance_factors[i]);
+      const double sd = std::sqrt(std::max(0.0, interval_variance(i)));
       const double lo = std::exp(x(kPar + i) - kZ95 * sd), hi = std::exp(x(kPar + i) + kZ95 * sd);
       if (!(hi / lo <= kMaxIntervalFactor)) {
         p.held_at = std::exp(x(kPar + i));
@@ -759,6 +781,118 @@ struct OnlineIdentifier::Impl {
       p.ci95_hi = hi;
     }
     JudgeEstimates(Plausibility(), &result.parameters);
+  }
+
+  // The variances of log a, b, c the intervals come from: the filter's, each widened by its
+  // factor (IntervalKappa); after a batch takeover, the fit's information plus what the
+  // filter added since, only the latter widened: the batch fit's covariance is calibrated.
+  Eigen::Vector3d IntervalVariances() const {
+    const Eigen::Matrix3d Ppp = P.block<3, 3>(kPar, kPar);
+    Eigen::Vector3d v;
+    for (int i = 0; i < 3; ++i) v(i) = Ppp(i, i) * result.interval_variance_factors[i];
+    if (!taken_over) return v;
+    const Eigen::LDLT<Eigen::Matrix3d> now(Ppp);
+    if (now.info() != Eigen::Success || !now.isPositive()) return v;
+    // The information the rows since the takeover added; no direction may lose any.
+    Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> added(now.solve(Eigen::Matrix3d::Identity()) -
+                                                         takeover_information);
+    const Eigen::Vector3d gain = added.eigenvalues().cwiseMax(0.0);
+    const Eigen::Matrix3d added_psd =
+        added.eigenvectors() * gain.asDiagonal() * added.eigenvectors().transpose();
+    Eigen::Vector3d shrink;
+    for (int i = 0; i < 3; ++i) shrink(i) = 1.0 / std::sqrt(result.interval_variance_factors[i]);
+    const Eigen::Matrix3d total =
+        takeover_information + shrink.asDiagonal() * added_psd * shrink.asDiagonal();
+    const Eigen::LDLT<Eigen::Matrix3d> t(total);
+    if (t.info() != Eigen::Success || !t.isPositive()) return v;
+    return t.solve(Eigen::Matrix3d::Identity()).diagonal();
+  }
+
+  // Keeps `row` for the batch check and runs one when the rows since the start (or the last
+  // change) reach the next count: batch_check_first_rows, twice that, ... (amortised O(1)).
+  void AddBatchRow(const TrajectorySample& row) {
+    if (options.batch_check_first_rows <= 0) return;
+    if (batch_log.samples.size() >= static_cast<std::size_t>(options.batch_check_max_rows)) return;
+    batch_log.samples.push_back(row);
+    if (!result.started || batch_log.samples.size() < next_check_rows) return;
+    next_check_rows *= 2;
+    BatchCheck();
+  }
+
+  // The trajectory fit of the kept rows, as log a, b, c and their covariance (from its
+  // intervals, t widened, and correlations); false where it does not find all three ok.
+  bool BatchFit(Eigen::Vector3d* mean, Eigen::Matrix3d* covariance) const {
+    IdentifyOptions o;
+    o.method = EstimatorMethod::kTrajectory;
+    o.threads = 1;
+    o.keep_residuals = false;
+    o.trajectory.substeps = options.substeps;
+    o.trajectory.correct_mismatch = options.fit_mismatch;
+    EstimateResult fit;
+    try {
+      fit = Identify(batch_log, o);
+    } catch (const std::exception&) {
+      return false;  // rows the batch fit refuses (too short, say): the filter goes on alone
+    }
+    if (!fit.converged) return false;
+    Eigen::Vector3d sd;
+    for (int i = 0; i < 3; ++i) {
+      const ParameterEstimate& p = fit.parameters[i];
+      if (p.verdict != Verdict::kOk) return false;
+      (*mean)(i) = std::log(p.value);
+      sd(i) = std::log(p.ci95_hi / p.ci95_lo) / (2 * kZ95);  // the interval's, t widened
+      if (!(sd(i) > 0) || !std::isfinite(sd(i) + (*mean)(i))) return false;
+    }
+    for (int i = 0; i < 3; ++i) {
+      for (int j = 0; j < 3; ++j) {
+        const double r = i == j ? 1.0 : fit.correlation[i][j];
+        if (!std::isfinite(r)) return false;
+        (*covariance)(i, j) = r * sd(i) * sd(j);
+      }
+    }
+    return true;
+  }
+
+  // Where the fit and the filter lie more than batch_check_sigmas apart in a parameter, the
+  // filter ran off: it takes the fit's estimate and covariance. Otherwise it goes on as it
+  // was (taking the fit's every time ties the online estimate to fits of a prefix, whose
+  // intervals on a few segments are less reliable than the filter's: docs/online.md).
+  void BatchCheck() {
+    ++result.batch_checks;
+    Eigen::Vector3d mean;
+    Eigen::Matrix3d covariance;
+    if (!BatchFit(&mean, &covariance)) return;
+    bool apart = false;
+    for (int i = 0; i < 3; ++i) {
+      const double sd = std::sqrt(covariance(i, i) + P(kPar + i, kPar + i));
+      apart |= std::abs(mean(i) - x(kPar + i)) > options.batch_check_sigmas * sd;
+    }
+    if (!apart) return;
+    const Eigen::LDLT<Eigen::Matrix3d> c(covariance);
+    if (c.info() != Eigen::Success || !c.isPositive()) return;
+    if (!TakeParameters(mean, covariance)) return;
+    takeover_information = c.solve(Eigen::Matrix3d::Identity());
+    taken_over = true;
+    ++result.batch_takeovers;
+    result.batch_takeover_rows = static_cast<int>(batch_log.samples.size());
+    // The change windows' signatures are of the filter before its parameters moved.
+    windows.clear();
+    ClearOpenWindows();
+  }
+
+  // The parameters' marginal becomes N(mean, covariance); the other states' conditional on
+  // them stays: with K = P_.p P_pp^-1, x += K (mean - x_p) and P += K (covariance - P_pp) K^T
+  // (the p rows of K are the identity).
+  bool TakeParameters(const Eigen::Vector3d& mean, const Eigen::Matrix3d& covariance) {
+    const Eigen::Matrix3d Ppp = P.block<3, 3>(kPar, kPar);
+    const Eigen::LLT<Eigen::Matrix3d> llt(Ppp);
+    if (llt.info() != Eigen::Success) return false;
+    const Matrix93 K = llt.solve(P.middleCols<3>(kPar).transpose()).transpose();
+    x += K * (mean - x.segment<3>(kPar));
+    P += K * (covariance - Ppp) * K.transpose();
+    P = 0.5 * (P + P.transpose()).eval();
+    x.segment<3>(kPar) = mean;  // exactly, not to rounding
+    return true;
   }
 
   // The batch fit's checks of a believable value (plausibility.h), with the prior as the
@@ -804,6 +938,14 @@ OnlineIdentifier::OnlineIdentifier(const Trajectory& metadata, const OnlineOptio
   m.warm_base.assign(options.substeps, Eigen::Vector4d::Zero());
   m.warm_fine.assign(2 * options.substeps, Eigen::Vector4d::Zero());
   m.warm_hold.assign(options.substeps, Eigen::Vector4d::Zero());
+  if (options.batch_check_first_rows > 0) {
+    m.batch_log.source = metadata.source;
+    m.batch_log.slider = metadata.slider;
+    m.batch_log.patch = metadata.patch;
+    m.batch_log.tip_radius_m = metadata.tip_radius_m;
+    m.batch_log.measured = metadata.measured;
+    m.next_check_rows = options.batch_check_first_rows;
+  }
   if (PusherFrictionStream::Applies(metadata)) {
     m.tip.emplace(metadata);
     m.result.mu_pusher_examined = true;
@@ -835,6 +977,7 @@ const OnlineResult& OnlineIdentifier::Update(const TrajectorySample& row) {
   m.noise_y.Add(row.state.y);
   m.noise_theta.Add(row.state.theta);
   m.noise_force.Add(row.applied, kContactForceFraction * m.largest_push_n);
+  const std::size_t changes = m.result.changes.size();
   if (!m.result.started) {
     m.warmup.push_back(row);
     if (static_cast<int>(m.warmup.size()) >= m.options.warmup_rows) m.Start();
@@ -842,6 +985,8 @@ const OnlineResult& OnlineIdentifier::Update(const TrajectorySample& row) {
     if (++m.rows_since_noise >= kNoiseRefreshRows) m.ReadNoise();
     m.Filter(row, index);
   }
+  // A change found at this row restarted the batch check's rows with this one among them.
+  if (m.result.changes.size() == changes) m.AddBatchRow(row);
   m.AddTipRow(row);
   m.Report();
   return m.result;

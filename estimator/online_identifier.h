@@ -66,6 +66,19 @@ struct OnlineOptions {
   /// After a change, the parameters' prior is this wide (1 sigma, log) around the
   /// estimated new value: the filter forgets the old surface.
   double change_reset_log_sigma = 0.3;
+  /// The batch check: when the rows since the filter started (or since the last change)
+  /// reach batch_check_first_rows, then twice, four times as many, ... up to
+  /// batch_check_max_rows, the trajectory fit (estimator/trajectory_fit.h) of those rows
+  /// runs. Where it finds a, b and c ok and the filter's estimate of one of them lies more
+  /// than batch_check_sigmas standard errors (the two estimates' combined) from the fit's,
+  /// the filter has run off (it linearised far from the truth early, and the poses since
+  /// could not bring it back): its parameters take the fit's estimate and covariance, and
+  /// the rest of its state what it knows given them (docs/online.md, "The batch check").
+  /// Costs about two batch fits of the log, amortised; an update that runs one takes the
+  /// fit's time (about 1 ms per 100 rows). 0: no check.
+  int batch_check_first_rows = 128;
+  int batch_check_max_rows = 32768;
+  double batch_check_sigmas = 5.0;
 
   bool IsValid(std::string* why) const;
 };
@@ -120,6 +133,9 @@ struct OnlineResult {
   /// restarted it from the poses, widening what it knew of the parameters.
   int relocations = 0;
   int failed_steps = 0;  ///< rows whose step did not converge (the filter restarted its velocity)
+  /// The batch check (OnlineOptions::batch_check_first_rows): fits run, and those the
+  /// filter took over from (it had run off); the rows the last one taken covered.
+  int batch_checks = 0, batch_takeovers = 0, batch_takeover_rows = 0;
 };
 
 class OnlineIdentifier {

@@ -46,6 +46,8 @@ std::string FormatOnlineJson(const OnlineResult& r) {
                    Number(r.interval_variance_factors[2])});
   out["force_noise_fraction"] = Number(r.force_noise_fraction);
   out["nis"] = Number(r.nis);
+  out["batch_checks"] = r.batch_checks;
+  out["batch_takeovers"] = r.batch_takeovers;
   out["changes"] = r.changes.size();
   out["change"] = r.change_detected ? Change(r.changes.back()) : json(nullptr);
   return out.dump();

@@ -172,6 +172,10 @@ void AddIdentifyOptions(po::options_description* options, po::options_descriptio
       "row per line) and print the online estimate as a JSON line after each row "
       "(docs/online.md)")("every", po::value<int>()->default_value(1)->value_name("N"),
                           "with --follow: a line after every N rows (and at a change)")(
+      "batch-check", po::value<int>()->default_value(128)->value_name("N"),
+      "with --follow: check the online estimate against the trajectory fit of the rows so far "
+      "after N, 2N, 4N ... rows, and take the fit's over where the filter ran off; an update "
+      "that runs one takes the fit's time (0: no check; docs/online.md)")(
       "batch", po::value<std::string>()->value_name("DIR|GLOB"),
       "fit every log of a directory (or a quoted glob) on its own, writing one JSON line per "
       "log to --out as each finishes (a failed log gives a line with its error)")(
@@ -239,6 +243,8 @@ void ReadFollowOptions(const po::variables_map& vm, IdentifyRequest* r) {
   if (!vm["method"].defaulted()) throw po::error("--method does not go with --follow");
   r->follow_every = vm["every"].as<int>();
   if (r->follow_every < 1) throw po::error("--every must be >= 1");
+  r->follow_batch_check_rows = vm["batch-check"].as<int>();
+  if (r->follow_batch_check_rows < 0) throw po::error("--batch-check must be >= 0");
   r->options.read = ReadLogOptions(vm);
   r->verbose = vm.count("verbose") > 0;
 }
@@ -261,6 +267,7 @@ IdentifyRequest ReadIdentifyOptions(const po::variables_map& vm) {
     return r;
   }
   if (!vm["every"].defaulted()) throw po::error("--every needs --follow");
+  if (!vm["batch-check"].defaulted()) throw po::error("--batch-check needs --follow");
   if (vm.count("batch")) {
     ReadBatchOptions(vm, &r);
   } else {

@@ -33,6 +33,7 @@ struct IdentifyRequest {
   /// (pipeline/follow.h); only the slider overrides apply.
   bool follow = false;
   int follow_every = 1;
+  int follow_batch_check_rows = 128;  ///< OnlineOptions::batch_check_first_rows
 };
 
 /// Adds every option of identify (general ones to `options`, the rest to `advanced`).

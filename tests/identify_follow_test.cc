@@ -83,6 +83,36 @@ TEST(IdentifyFollow, PrintsALinePerEveryNRowsWithTheOnlineIdentifiersEstimates) 
   }
 }
 
+// --batch-check N: the identifier's batch check from N rows (0: none); each line counts the
+// checks and the takeovers.
+TEST(IdentifyFollow, BatchCheckOptionSetsTheIdentifiersCheck) {
+  for (int rows : {0, 100}) {
+    const ShellRun run =
+        Shell("cat " + LogFile() + " | $IDENTIFY --follow --every 300 --batch-check " +
+              std::to_string(rows));
+    ASSERT_EQ(run.exit_code, 0) << run.err;
+    const std::vector<nlohmann::json> lines = Lines(run.out);
+    ASSERT_EQ(lines.size(), 1u) << run.out;
+    EXPECT_EQ(lines[0]["batch_checks"], rows == 0 ? 0 : 2);  // 300 rows: at 100 and 200
+    OnlineOptions options;
+    options.batch_check_first_rows = rows;
+    const Trajectory log = ReadPushLog(LogFile());
+    OnlineIdentifier id(log, options);
+    for (const TrajectorySample& row : log.samples) id.Update(row);
+    EXPECT_EQ(lines[0]["batch_takeovers"], id.result().batch_takeovers);
+    for (int i = 0; i < 3; ++i) {
+      EXPECT_EQ(lines[0][ParameterName(i)]["value"].get<double>(), id.result().parameters[i].value)
+          << ParameterName(i) << " with --batch-check " << rows;
+    }
+  }
+  const ShellRun negative = Shell("$IDENTIFY --follow --batch-check -1 < /dev/null");
+  EXPECT_EQ(negative.exit_code, 2);
+  EXPECT_NE(negative.err.find("--batch-check"), std::string::npos) << negative.err;
+  const ShellRun alone = Shell("$IDENTIFY --log x.csv --batch-check 64");
+  EXPECT_EQ(alone.exit_code, 2);
+  EXPECT_NE(alone.err.find("--batch-check needs --follow"), std::string::npos) << alone.err;
+}
+
 // A log with the tip's path: each line carries mu_pusher, the identifier's.
 TEST(IdentifyFollow, ReportsMuPusherWhereTheLogHasTheTip) {
   testing::SquarePush push;

@@ -255,10 +255,16 @@ TEST(OnlineIdentifier, RaisesNoAlarmOnUnchangedLogs) {
 // poses jump 5 mm), c ends about 175 and 195 times its truth. Such an answer is labelled: an
 // estimate whose interval misses the truth by a factor 10 or more is marked suspect, saying
 // how far it is from where the filter started (plausibility.h), never ok.
+// Two logs of the coverage suite's `outliers` condition on which the filter alone runs off:
+// c ends a factor 100 or more from the truth, on a narrow interval.
+constexpr int kRunawayLogs[2] = {71, 116};
+
 TEST(OnlineIdentifier, AnEstimateThatRanOffIsMarkedSuspect) {
-  for (int index : {71, 116}) {
+  OnlineOptions filter_alone;
+  filter_alone.batch_check_first_rows = 0;
+  for (int index : kRunawayLogs) {
     const CoverageLog made = MakeCoverageLog(FindCoverageCondition("outliers"), index);
-    OnlineIdentifier id(made.log);
+    OnlineIdentifier id(made.log, filter_alone);
     for (const TrajectorySample& row : made.log.samples) id.Update(row);
     const OnlineResult& r = id.result();
     for (int i = 0; i < 3; ++i) {
@@ -275,6 +281,27 @@ TEST(OnlineIdentifier, AnEstimateThatRanOffIsMarkedSuspect) {
     const ParameterEstimate& c = r.parameters[2];
     ASSERT_TRUE(c.identifiable) << "log " << index << ": " << c.reason;
     EXPECT_GT(c.ci95_lo / made.truth[2], 10) << "log " << index;
+  }
+}
+
+// The same logs with the batch check (the default): the trajectory fit of the rows so far
+// finds c far from the filter's, the filter takes the fit's estimate over, and ends with
+// intervals that hold the truth, marked ok.
+TEST(OnlineIdentifier, TheBatchCheckBringsBackAnEstimateThatRanOff) {
+  for (int index : kRunawayLogs) {
+    const CoverageLog made = MakeCoverageLog(FindCoverageCondition("outliers"), index);
+    OnlineIdentifier id(made.log);
+    for (const TrajectorySample& row : made.log.samples) id.Update(row);
+    const OnlineResult& r = id.result();
+    EXPECT_GE(r.batch_takeovers, 1) << "log " << index;
+    EXPECT_GE(r.batch_checks, r.batch_takeovers);
+    for (int i = 0; i < 3; ++i) {
+      const ParameterEstimate& p = r.parameters[i];
+      ASSERT_TRUE(p.identifiable) << "log " << index << " parameter " << i << ": " << p.reason;
+      EXPECT_EQ(p.verdict, Verdict::kOk) << "log " << index << " parameter " << i << p.reason;
+      EXPECT_LE(p.ci95_lo, made.truth[i]) << "log " << index << " parameter " << i;
+      EXPECT_GE(p.ci95_hi, made.truth[i]) << "log " << index << " parameter " << i;
+    }
   }
 }
 

@@ -129,6 +129,7 @@ int RunFollowCommand(const cli::IdentifyRequest& request) {
   std::signal(SIGPIPE, SIG_IGN);  // a closed pipe is a failed write, not a death
   FollowOptions options;
   options.every = request.follow_every;
+  options.online.batch_check_first_rows = request.follow_batch_check_rows;
   options.overrides = request.options.read.overrides;
   const FollowSummary summary =
       FollowLog(std::cin, "<stdin>", options, [](const std::string& line) {

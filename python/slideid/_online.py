@@ -30,10 +30,15 @@ class OnlineIdentifier:
     and ``verdict``; ``mu_pusher`` likewise (with ``lower_bound``, ``contact_rows`` and
     ``sliding_rows``) where the rows carry the tip (columns ``tip_x``, ``tip_y``) and the
     metadata its radius and the patch; ``changes`` (how many changes of the friction so far) and ``change``
-    (the one found at this row, or None).
+    (the one found at this row, or None); ``batch_checks`` and ``batch_takeovers``.
+
+    ``batch_check_rows``: the rows after which the estimate is first checked against the
+    trajectory fit of the rows so far (then after twice, four times as many ...), the fit's
+    taken over where the filter ran off; an update that runs a check takes the fit's time.
+    0: no check.
     """
 
-    def __init__(self, metadata, columns=DEFAULT_COLUMNS):
+    def __init__(self, metadata, columns=DEFAULT_COLUMNS, batch_check_rows=128):
         if isinstance(metadata, Log):
             metadata = metadata.metadata
         if not isinstance(metadata, Mapping):
@@ -47,7 +52,9 @@ class OnlineIdentifier:
                                     metadata["com_height"], metadata.get("gravity"),
                                     metadata.get("patch"), None,
                                     None if tip is None else {"tip_radius": repr(float(tip))})
-        self._core = _core.OnlineCore(entries, list(self.columns))
+        if isinstance(batch_check_rows, bool) or int(batch_check_rows) != batch_check_rows:
+            raise TypeError("OnlineIdentifier: batch_check_rows must be an integer")
+        self._core = _core.OnlineCore(entries, list(self.columns), int(batch_check_rows))
 
     def update(self, row):
         """The estimate after one more row (a sequence in the columns' order, or a dict)."""

@@ -22,14 +22,16 @@ constexpr double kTwoPi = 6.283185307179586;
 class OnlineCore {
  public:
   OnlineCore(std::vector<std::pair<std::string, std::string>> metadata,
-             std::vector<std::string> columns)
+             std::vector<std::string> columns, int batch_check_rows)
       : metadata_(std::move(metadata)), columns_(std::move(columns)) {
+    OnlineOptions options;
+    options.batch_check_first_rows = batch_check_rows;  // checked by the identifier
     // The metadata read as a file's would be, with one row to carry it.
     PushLogColumns table;
     table.names = columns_;
     table.values.assign(columns_.size(), std::vector<double>{0.0});
     identifier_ = std::make_unique<OnlineIdentifier>(
-        ParsePushLogColumns(table, metadata_, kSource, ReadOptions()).log);
+        ParsePushLogColumns(table, metadata_, kSource, ReadOptions()).log, options);
   }
 
   /// Rows (n x columns), in order: one JSON line per row.
@@ -81,8 +83,9 @@ class OnlineCore {
 
 void BindOnline(py::module_& m) {
   py::class_<OnlineCore>(m, "OnlineCore", "the online identifier behind slideid.OnlineIdentifier")
-      .def(py::init<std::vector<std::pair<std::string, std::string>>, std::vector<std::string>>(),
-           py::arg("metadata"), py::arg("columns"))
+      .def(py::init<std::vector<std::pair<std::string, std::string>>, std::vector<std::string>,
+                    int>(),
+           py::arg("metadata"), py::arg("columns"), py::arg("batch_check_rows"))
       .def("update_many", &OnlineCore::UpdateMany, py::arg("rows"),
            "rows (n x columns): one JSON line per row; the GIL is released while it runs");
 }

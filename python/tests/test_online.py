@@ -54,6 +54,19 @@ def test_results_equal_identify_follow_on_the_same_log():
     assert first + rest == follow_lines(DEFAULT_LOG)
 
 
+def test_batch_check_rows_sets_the_identifiers_batch_check():
+    log = slideid.read_log(DEFAULT_LOG)
+    rows = rows_of(log)
+    checked = slideid.OnlineIdentifier(log, columns=COLUMNS).update_many(rows)[-1]
+    alone = slideid.OnlineIdentifier(log, columns=COLUMNS, batch_check_rows=0).update_many(rows)[-1]
+    assert checked["batch_checks"] >= 1 and alone["batch_checks"] == 0
+    assert alone["batch_takeovers"] == 0
+    with pytest.raises(ValueError, match="batch_check_first_rows"):
+        slideid.OnlineIdentifier(log, columns=COLUMNS, batch_check_rows=-1)
+    with pytest.raises(TypeError, match="batch_check_rows"):
+        slideid.OnlineIdentifier(log, columns=COLUMNS, batch_check_rows=1.5)
+
+
 def test_metadata_as_a_dict_and_bad_rows_are_named():
     online = slideid.OnlineIdentifier({"mass": 0.8, "inertia": 1.3866666666666667e-3,
                                        "com_height": 0.04})
