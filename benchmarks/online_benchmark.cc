@@ -5,7 +5,9 @@
 // CPU time), worst_update_us (the slowest single Update, wall; worst_update_cpu_us in CPU
 // time, which a loaded machine's scheduler does not inflate), batch_s (the trajectory fit of all
 // rows, one thread), ratio (the online identifier's whole run over the batch fit), and each one's
-// relative error in a, b, c.
+// relative error in a, b, c. The argument `check` is the batch check
+// (OnlineOptions::batch_check_first_rows): 0 in each update that is due (the default), 1 on a
+// thread of its own (batch_check_thread: the counters then are the updating thread's), 2 none.
 
 #include <benchmark/benchmark.h>
 
@@ -52,8 +54,11 @@ void BM_OnlineAgainstBatch(benchmark::State& state) {
   double online_s = 0, worst_s = 0, worst_cpu_s = 0, online_cpu_s = 0, batch_s = 0;
   OnlineResult last;
   EstimateResult batch;
+  OnlineOptions options;
+  options.batch_check_thread = state.range(0) == 1;
+  if (state.range(0) == 2) options.batch_check_first_rows = 0;
   for (auto _ : state) {
-    OnlineIdentifier id(log);
+    OnlineIdentifier id(log, options);
     worst_s = worst_cpu_s = 0;
     const auto t0 = std::chrono::steady_clock::now();
     const double c0 = ThreadCpuSeconds();
@@ -66,7 +71,7 @@ void BM_OnlineAgainstBatch(benchmark::State& state) {
     }
     online_s = Seconds(std::chrono::steady_clock::now() - t0);
     online_cpu_s = ThreadCpuSeconds() - c0;
-    last = id.result();
+    last = id.WaitForBatchCheck();
     const auto b0 = std::chrono::steady_clock::now();
     batch = Identify(log, IdentifyOptions{});
     batch_s = Seconds(std::chrono::steady_clock::now() - b0);
@@ -80,6 +85,8 @@ void BM_OnlineAgainstBatch(benchmark::State& state) {
   state.counters["online_s"] = online_s;
   state.counters["batch_s"] = batch_s;
   state.counters["ratio"] = online_s / batch_s;
+  state.counters["batch_checks"] = last.batch_checks;
+  state.counters["batch_takeovers"] = last.batch_takeovers;
   const char* names[3] = {"err_a", "err_b", "err_c"};
   const char* batch_names[3] = {"batch_err_a", "batch_err_b", "batch_err_c"};
   for (int i = 0; i < 3; ++i) {
@@ -88,7 +95,12 @@ void BM_OnlineAgainstBatch(benchmark::State& state) {
   }
 }
 
-BENCHMARK(BM_OnlineAgainstBatch)->Unit(benchmark::kSecond)->Iterations(1)->Repetitions(3);
+BENCHMARK(BM_OnlineAgainstBatch)
+    ->ArgName("check")
+    ->DenseRange(0, 2)
+    ->Unit(benchmark::kSecond)
+    ->Iterations(1)
+    ->Repetitions(3);
 
 }  // namespace
 }  // namespace slideid

@@ -3,8 +3,10 @@
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <deque>
+#include <future>
 #include <optional>
 #include <stdexcept>
 #include <utility>
@@ -236,6 +238,51 @@ double LikelihoodRatio(const ChangeWindow& w, Eigen::Vector3d* jump, int* rank,
 
 }  // namespace
 
+/// What the trajectory fit says of log a, log b, log c: its estimates and their covariance
+/// (from its intervals, t widened, and its correlations), and the rows it fitted.
+struct LogParameterGaussian {
+  Eigen::Vector3d mean;
+  Eigen::Matrix3d covariance;
+  std::size_t rows = 0;
+};
+
+/// The trajectory fit of `log` for the batch check; nothing where it does not find a, b and
+/// c all ok (or refuses the rows: too short, say).
+std::optional<LogParameterGaussian> FitRowsSoFar(const Trajectory& log, int substeps,
+                                                 bool correct_mismatch) {
+  IdentifyOptions o;
+  o.method = EstimatorMethod::kTrajectory;
+  o.threads = 1;
+  o.keep_residuals = false;
+  o.trajectory.substeps = substeps;
+  o.trajectory.correct_mismatch = correct_mismatch;
+  EstimateResult fit;
+  try {
+    fit = Identify(log, o);
+  } catch (const std::exception&) {
+    return std::nullopt;
+  }
+  if (!fit.converged) return std::nullopt;
+  LogParameterGaussian g;
+  g.rows = log.samples.size();
+  Eigen::Vector3d sd;
+  for (int i = 0; i < 3; ++i) {
+    const ParameterEstimate& p = fit.parameters[i];
+    if (p.verdict != Verdict::kOk) return std::nullopt;
+    g.mean(i) = std::log(p.value);
+    sd(i) = std::log(p.ci95_hi / p.ci95_lo) / (2 * kZ95);  // the interval's, t widened
+    if (!(sd(i) > 0) || !std::isfinite(sd(i) + g.mean(i))) return std::nullopt;
+  }
+  for (int i = 0; i < 3; ++i) {
+    for (int j = 0; j < 3; ++j) {
+      const double r = i == j ? 1.0 : fit.correlation[i][j];
+      if (!std::isfinite(r)) return std::nullopt;
+      g.covariance(i, j) = r * sd(i) * sd(j);
+    }
+  }
+  return g;
+}
+
 bool OnlineOptions::IsValid(std::string* why) const {
   if (substeps < 1) return Fail(why, "substeps must be >= 1");
   if (!(pose_noise_m >= 0) || !std::isfinite(pose_noise_m))
@@ -308,6 +355,10 @@ struct OnlineIdentifier::Impl {
   // what the filter added since, IntervalVariances).
   Trajectory batch_log;
   std::size_t next_check_rows = 0;
+  // A check on its own thread (OnlineOptions::batch_check_thread), and the surface (counted
+  // by changes found) whose rows it fits.
+  std::future<std::optional<LogParameterGaussian>> pending_check;
+  int surface = 0, pending_surface = 0;
   bool taken_over = false;
   Eigen::Matrix3d takeover_information = Eigen::Matrix3d::Zero();
   std::optional<PusherFrictionStream> tip;  // mu_p, where the log has the tip
@@ -562,6 +613,7 @@ struct OnlineIdentifier::Impl {
       if (r.first > w.start_row) again.push_back(r);
     recent.clear();
     lost_rows = 0;
+    ++surface;
     if (options.batch_check_first_rows > 0) {
       batch_log.samples.clear();
       for (const auto& r : again) batch_log.samples.push_back(r.second);
@@ -819,62 +871,54 @@ struct OnlineIdentifier::Impl {
     BatchCheck();
   }
 
-  // The trajectory fit of the kept rows, as log a, b, c and their covariance (from its
-  // intervals, t widened, and correlations); false where it does not find all three ok.
-  bool BatchFit(Eigen::Vector3d* mean, Eigen::Matrix3d* covariance) const {
-    IdentifyOptions o;
-    o.method = EstimatorMethod::kTrajectory;
-    o.threads = 1;
-    o.keep_residuals = false;
-    o.trajectory.substeps = options.substeps;
-    o.trajectory.correct_mismatch = options.fit_mismatch;
-    EstimateResult fit;
-    try {
-      fit = Identify(batch_log, o);
-    } catch (const std::exception&) {
-      return false;  // rows the batch fit refuses (too short, say): the filter goes on alone
-    }
-    if (!fit.converged) return false;
-    Eigen::Vector3d sd;
-    for (int i = 0; i < 3; ++i) {
-      const ParameterEstimate& p = fit.parameters[i];
-      if (p.verdict != Verdict::kOk) return false;
-      (*mean)(i) = std::log(p.value);
-      sd(i) = std::log(p.ci95_hi / p.ci95_lo) / (2 * kZ95);  // the interval's, t widened
-      if (!(sd(i) > 0) || !std::isfinite(sd(i) + (*mean)(i))) return false;
-    }
-    for (int i = 0; i < 3; ++i) {
-      for (int j = 0; j < 3; ++j) {
-        const double r = i == j ? 1.0 : fit.correlation[i][j];
-        if (!std::isfinite(r)) return false;
-        (*covariance)(i, j) = r * sd(i) * sd(j);
+  // Runs the check: here, or on a thread of its own (OnlineOptions::batch_check_thread),
+  // whose verdict the first update after it finished applies (CollectBatchCheck). One at a
+  // time: a check due while the last still runs is skipped.
+  void BatchCheck() {
+    if (!options.batch_check_thread) {
+      ++result.batch_checks;
+      if (const std::optional<LogParameterGaussian> fit =
+              FitRowsSoFar(batch_log, options.substeps, options.fit_mismatch)) {
+        TakeOverIfApart(*fit);
       }
+      return;
     }
-    return true;
+    if (pending_check.valid()) return;
+    ++result.batch_checks;
+    pending_surface = surface;
+    pending_check = std::async(std::launch::async, [log = batch_log, o = options] {
+      return FitRowsSoFar(log, o.substeps, o.fit_mismatch);
+    });
+  }
+
+  // The verdict of a check run on its thread, once it is in (`wait`: waiting for it).
+  void CollectBatchCheck(bool wait) {
+    if (!pending_check.valid()) return;
+    if (!wait && pending_check.wait_for(std::chrono::seconds(0)) != std::future_status::ready)
+      return;
+    const std::optional<LogParameterGaussian> fit = pending_check.get();
+    // A fit of the rows before a change found since says nothing of the new surface.
+    if (fit && pending_surface == surface) TakeOverIfApart(*fit);
   }
 
   // Where the fit and the filter lie more than batch_check_sigmas apart in a parameter, the
   // filter ran off: it takes the fit's estimate and covariance. Otherwise it goes on as it
   // was (taking the fit's every time ties the online estimate to fits of a prefix, whose
   // intervals on a few segments are less reliable than the filter's: docs/online.md).
-  void BatchCheck() {
-    ++result.batch_checks;
-    Eigen::Vector3d mean;
-    Eigen::Matrix3d covariance;
-    if (!BatchFit(&mean, &covariance)) return;
+  void TakeOverIfApart(const LogParameterGaussian& fit) {
     bool apart = false;
     for (int i = 0; i < 3; ++i) {
-      const double sd = std::sqrt(covariance(i, i) + P(kPar + i, kPar + i));
-      apart |= std::abs(mean(i) - x(kPar + i)) > options.batch_check_sigmas * sd;
+      const double sd = std::sqrt(fit.covariance(i, i) + P(kPar + i, kPar + i));
+      apart |= std::abs(fit.mean(i) - x(kPar + i)) > options.batch_check_sigmas * sd;
     }
     if (!apart) return;
-    const Eigen::LDLT<Eigen::Matrix3d> c(covariance);
+    const Eigen::LDLT<Eigen::Matrix3d> c(fit.covariance);
     if (c.info() != Eigen::Success || !c.isPositive()) return;
-    if (!TakeParameters(mean, covariance)) return;
+    if (!TakeParameters(fit.mean, fit.covariance)) return;
     takeover_information = c.solve(Eigen::Matrix3d::Identity());
     taken_over = true;
     ++result.batch_takeovers;
-    result.batch_takeover_rows = static_cast<int>(batch_log.samples.size());
+    result.batch_takeover_rows = static_cast<int>(fit.rows);
     // The change windows' signatures are of the filter before its parameters moved.
     windows.clear();
     ClearOpenWindows();
@@ -985,11 +1029,18 @@ const OnlineResult& OnlineIdentifier::Update(const TrajectorySample& row) {
     if (++m.rows_since_noise >= kNoiseRefreshRows) m.ReadNoise();
     m.Filter(row, index);
   }
+  m.CollectBatchCheck(false);
   // A change found at this row restarted the batch check's rows with this one among them.
   if (m.result.changes.size() == changes) m.AddBatchRow(row);
   m.AddTipRow(row);
   m.Report();
   return m.result;
+}
+
+const OnlineResult& OnlineIdentifier::WaitForBatchCheck() {
+  impl_->CollectBatchCheck(true);
+  impl_->Report();
+  return impl_->result;
 }
 
 const OnlineResult& OnlineIdentifier::result() const { return impl_->result; }

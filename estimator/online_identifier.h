@@ -79,6 +79,11 @@ struct OnlineOptions {
   int batch_check_first_rows = 128;
   int batch_check_max_rows = 32768;
   double batch_check_sigmas = 5.0;
+  /// Run each check's fit on a thread of its own, so that no update waits for it (a control
+  /// loop's); its verdict applies at the first update after it finished, which depends on
+  /// the machine's timing: the answers are then not reproducible row for row. A check due
+  /// while the last runs is skipped; the destructor waits for a running one.
+  bool batch_check_thread = false;
 
   bool IsValid(std::string* why) const;
 };
@@ -154,6 +159,10 @@ class OnlineIdentifier {
   /// a row that goes back in time or has non-finite values, naming the row.
   const OnlineResult& Update(const TrajectorySample& row);
   const OnlineResult& result() const;
+  /// With OnlineOptions::batch_check_thread: waits for a check running on its thread and
+  /// applies its verdict (at the end of a log, say); the result after it. Otherwise the
+  /// result as it is.
+  const OnlineResult& WaitForBatchCheck();
   /// The filter's covariance of (log a, log b, log c).
   Eigen::Matrix3d LogParameterCovariance() const;
 

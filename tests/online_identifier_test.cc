@@ -305,5 +305,25 @@ TEST(OnlineIdentifier, TheBatchCheckBringsBackAnEstimateThatRanOff) {
   }
 }
 
+// The check on a thread of its own: no update runs a fit, and the verdicts, applied when
+// they are in, bring the same runaways back.
+TEST(OnlineIdentifier, TheBatchCheckOnItsOwnThreadBringsThemBackToo) {
+  OnlineOptions threaded;
+  threaded.batch_check_thread = true;
+  for (int index : kRunawayLogs) {
+    const CoverageLog made = MakeCoverageLog(FindCoverageCondition("outliers"), index);
+    OnlineIdentifier id(made.log, threaded);
+    for (const TrajectorySample& row : made.log.samples) id.Update(row);
+    const OnlineResult& r = id.WaitForBatchCheck();
+    EXPECT_GE(r.batch_takeovers, 1) << "log " << index;
+    for (int i = 0; i < 3; ++i) {
+      const ParameterEstimate& p = r.parameters[i];
+      ASSERT_TRUE(p.identifiable) << "log " << index << " parameter " << i << ": " << p.reason;
+      EXPECT_LE(p.ci95_lo, made.truth[i]) << "log " << index << " parameter " << i;
+      EXPECT_GE(p.ci95_hi, made.truth[i]) << "log " << index << " parameter " << i;
+    }
+  }
+}
+
 }  // namespace
 }  // namespace slideid

@@ -1,5 +1,6 @@
 // Thread safety (issue 22): 8 threads identifying the same logs at once give results
-// identical, bit for bit, to one thread's, and a batch on 4 jobs the same lines as on one.
+// identical, bit for bit, to one thread's, and a batch on 4 jobs the same lines as on one;
+// the online identifier's batch check runs on a thread of its own (issue 21).
 // Built on its own (not in slideid_tests) so that the ThreadSanitizer job
 // (scripts/tsan.sh) compiles only what it needs; any data race it reports fails the test.
 // python/tests/test_concurrency.py runs the same with Python threads and processes.
@@ -14,7 +15,9 @@
 #include <thread>
 #include <vector>
 
+#include "estimator/online_identifier.h"
 #include "io/dataset_files.h"
+#include "io/push_log.h"
 #include "io/result_json.h"
 #include "pipeline/batch.h"
 #include "pipeline/identify_files.h"
@@ -97,6 +100,20 @@ TEST(ThreadSafety, BatchOnFourJobsWritesOneJobsLines) {
     return by_file;
   };
   EXPECT_EQ(lines(4), lines(1));
+}
+
+// The online identifier's batch check on a thread of its own (OnlineOptions::
+// batch_check_thread): the fit reads its copy of the rows while the filter goes on.
+TEST(ThreadSafety, OnlineBatchCheckOnItsOwnThreadSharesNothing) {
+  const Trajectory log = ReadPushLog(Logs()[0]);
+  OnlineOptions options;
+  options.batch_check_thread = true;
+  options.batch_check_first_rows = 32;
+  OnlineIdentifier online(log, options);
+  for (const TrajectorySample& row : log.samples) online.Update(row);
+  const OnlineResult& r = online.WaitForBatchCheck();
+  EXPECT_GE(r.batch_checks, 1);
+  EXPECT_EQ(r.rows, static_cast<int>(log.samples.size()));
 }
 
 }  // namespace
