@@ -244,33 +244,49 @@ bool StepEquations::UniqueSlidingRoot() const {
   // b, c), d = q_z P / p_n, w' = w_0 + g . tau, g = P (t_x / p_n, b t_y / p_n, c) / I and
   // A_1 = diag(P / m, P b^2 / m, 0) + (antisymmetric: the spin w_0 about the ECP's shift)
   // + h g^T, h = (t_x / p_n, b t_y / p_n, c). The quadratic part's Jacobian is
-  // b d (e g^T + (g . tau) R), e = (tau_o, -tau_t, 0), R antisymmetric: its symmetric part
-  // b d (e g^T + g e^T) / 2 has norm b d (|e . g| + |e| |g|) / 2 <= b d (|g_12| + |g|) / 2
-  // on the unit ball (|e| <= 1, g_12 = (g_t, g_o)). u is strictly monotone there if
-  // S = diag(P / m, P b^2 / m, 0) + sym(h g^T) - beta I is positive definite, beta above
-  // that bound (with a margin for rounding); then a sliding root (u + s tau = 0, |tau| = 1,
-  // s > 0: tau solves the variational inequality of u on the ball) is the only one.
-  // (g = P h / I: the linear part's symmetric part is positive semidefinite.)
+  // b d (e g^T + (g . tau) R), e = (tau_o, -tau_t, 0), R antisymmetric, so with S the
+  // symmetric part of A_1 (positive semidefinite: g = P h / I),
+  //   x^T (du/dtau) x = x^T S x + b d (e . x) (g . x)   for every x,
+  // and on the unit ball |e . x| <= |x_12| (x_12 = (x_t, x_o): |e| <= 1 and e has no third
+  // entry). With 2 |x_12| |g . x| <= alpha |x_12|^2 + (g . x)^2 / alpha for any alpha > 0,
+  // du/dtau has a positive definite symmetric part everywhere on the ball if
+  //   M(alpha) = alpha S - (b d / 2) (alpha^2 diag(1, 1, 0) + g g^T)
+  // is positive definite (the inequality times alpha: no division). Then u is strictly
+  // monotone on the ball, and a sliding root (u + s tau = 0, |tau| = 1, s > 0: tau solves
+  // the variational inequality of u on the ball) is the only one. alpha = |g| first, then
+  // 2 |g| and |g| / 2 (issue 19: the round-2 test, S - b d (|g_12| + |g|) / 2 I > 0,
+  // bounded the quadratic part in every direction at once and passed on 764 of
+  // step_benchmark's 1024 general steps; this one passes on 991, those 764 included).
   if (!reciprocals_) return false;  // (issue 5's domain probes: the usual guesses)
   const double P = P_, b = t_.b, c = t_.c;
   const double h0 = t_.ptx * inv_pn_, h1 = b * t_.pty * inv_pn_, h2 = c;
   const double g0 = pw_[0] * dw_[0], g1 = pw_[1] * dw_[1], g2 = pw_[2] * dw_[2];
   const double d = t_.qz * P * inv_pn_;
   const double d0 = P * inv_m_, d1 = pw_[1] * b * inv_m_;
-  const double g01_sq = g0 * g0 + g1 * g1;
-  const double g01 = std::sqrt(g01_sq), g_norm = std::sqrt(g01_sq + g2 * g2);
+  const double g_sq = g0 * g0 + g1 * g1 + g2 * g2, g_norm = std::sqrt(g_sq);
   const double h_norm = std::abs(h0) + std::abs(h1) + std::abs(h2);  // >= |h|
-  // The margin: 0.1% of beta and 1e-9 of the matrix's size (the minors below round at a
-  // few ulps of their terms).
-  const double beta = 1.001 * b * d * 0.5 * (g01 + g_norm) + 1e-9 * (d0 + d1 + h_norm * g_norm);
-  const double s00 = d0 + h0 * g0 - beta, s11 = d1 + h1 * g1 - beta, s22 = h2 * g2 - beta;
+  // The margins: 0.1% of the quadratic part's bound, and 1e-9 of S's size off its diagonal
+  // (the minors below round at a few ulps of their terms).
+  const double k = 1.001 * 0.5 * b * d;
+  const double floor = 1e-9 * (d0 + d1 + h_norm * g_norm);
+  // S - floor I, and k g g^T.
+  const double s00 = d0 + h0 * g0 - floor, s11 = d1 + h1 * g1 - floor, s22 = h2 * g2 - floor;
   const double s01 = 0.5 * (h0 * g1 + h1 * g0), s02 = 0.5 * (h0 * g2 + h2 * g0),
                s12 = 0.5 * (h1 * g2 + h2 * g1);
-  // Sylvester's criterion: the leading principal minors positive (false for NaN).
-  const double m2 = s00 * s11 - s01 * s01;
-  const double m3 =
-      s00 * (s11 * s22 - s12 * s12) - s01 * (s01 * s22 - s12 * s02) + s02 * (s01 * s12 - s11 * s02);
-  return s00 > 0 && m2 > 0 && m3 > 0;
+  const double q00 = k * g0 * g0, q11 = k * g1 * g1, q22 = k * g2 * g2, q01 = k * g0 * g1,
+               q02 = k * g0 * g2, q12 = k * g1 * g2;
+  for (const double ratio : {1.0, 2.0, 0.5}) {
+    const double alpha = ratio * g_norm, ka2 = k * alpha * alpha;
+    const double m00 = alpha * s00 - ka2 - q00, m11 = alpha * s11 - ka2 - q11,
+                 m22 = alpha * s22 - q22;
+    const double m01 = alpha * s01 - q01, m02 = alpha * s02 - q02, m12 = alpha * s12 - q12;
+    // Sylvester's criterion: the leading principal minors positive (false for NaN).
+    const double minor2 = m00 * m11 - m01 * m01;
+    const double minor3 = m00 * (m11 * m22 - m12 * m12) - m01 * (m01 * m22 - m12 * m02) +
+                          m02 * (m01 * m12 - m11 * m02);
+    if (m00 > 0 && minor2 > 0 && minor3 > 0) return true;
+  }
+  return false;
 }
 
 double StepEquations::EllipsoidRatio(const Eigen::Vector3d& p) const {

@@ -130,11 +130,13 @@ class StepEquations {
   /// True when the step's sliding root is provably unique: the weighted ECP velocity u(tau)
   /// is strictly monotone on the unit ball (the symmetric part of du/dtau positive definite
   /// there), so the sliding equations, a variational inequality on the ball, have at most
-  /// one solution. A sufficient test (docs/performance.md, "The general step"): the
-  /// symmetric part of u's linear part exceeds the bound b d (|g_12| + |g|) / 2 of what its
-  /// quadratic part (the spin about the displaced ECP, d = q_z a, g = dw'/dtau, g_12 its
-  /// first two entries) adds anywhere on the ball. About 3 in 4 of step_benchmark's general
-  /// steps pass; strongly coupled steps (large q_z a against c) do not.
+  /// one solution. A sufficient test (docs/performance.md, "The general step"): with S the
+  /// symmetric part of u's linear part, x^T (du/dtau) x = x^T S x + b d (e . x)(g . x) on
+  /// the ball (the spin about the displaced ECP: d = q_z a, g = dw'/dtau, |e . x| <= |x_12|),
+  /// and alpha S - (b d / 2)(alpha^2 diag(1, 1, 0) + g g^T) positive definite for one of
+  /// alpha = |g|, 2 |g|, |g| / 2 bounds that below. 991 of step_benchmark's 1024 general
+  /// steps pass (issue 19's third round; 764 passed the second round's whole-ball bound);
+  /// the most strongly coupled steps (large q_z a against c) do not.
   bool UniqueSlidingRoot() const;
   /// sqrt(p_t^2 + (p_o/b)^2 + (p_r/c)^2) / (a p_n): 1 on the ellipsoid.
   double EllipsoidRatio(const Eigen::Vector3d& p) const;

@@ -108,9 +108,21 @@ void ValidateFinite(const PlanarState& s, const AppliedWrench& w) {
 // The Jacobian is bordered, [[A, tau], [V tau^T, 0]]: eliminate through the 3x3 block A
 // by its adjugate, nine 2x2 cofactors and no pivot search (issue 19); fall back to pivoted
 // LU of the whole Jacobian where A is near singular (the same threshold on det A as
-// before) or the border is degenerate.
-bool SolveNewtonSystem(const Eigen::Matrix3d& A, const Eigen::Vector4d& z, double V,
-                       const Eigen::Vector4d& f, Eigen::Vector4d* dz) {
+// before) or the border is degenerate. Inlined, the LU out of line (issue 19): A then
+// stays in registers from JacobianBlock to the adjugate, where the call stored and loaded
+// it again on the chain of every Newton iteration (1.5% of the general step).
+#if defined(__GNUC__)
+#define SLIDEID_ALWAYS_INLINE inline __attribute__((always_inline))
+#define SLIDEID_NOINLINE __attribute__((noinline))
+#else
+#define SLIDEID_ALWAYS_INLINE inline
+#define SLIDEID_NOINLINE
+#endif
+SLIDEID_NOINLINE bool SolveNewtonSystemLU(const Eigen::Matrix3d& A, const Eigen::Vector4d& z,
+                                          double V, const Eigen::Vector4d& f, Eigen::Vector4d* dz);
+SLIDEID_ALWAYS_INLINE bool SolveNewtonSystem(const Eigen::Matrix3d& A, const Eigen::Vector4d& z,
+                                             double V, const Eigen::Vector4d& f,
+                                             Eigen::Vector4d* dz) {
   const double c00 = A(1, 1) * A(2, 2) - A(1, 2) * A(2, 1);
   const double c01 = A(1, 2) * A(2, 0) - A(1, 0) * A(2, 2);
   const double c02 = A(1, 0) * A(2, 1) - A(1, 1) * A(2, 0);
@@ -151,6 +163,12 @@ bool SolveNewtonSystem(const Eigen::Matrix3d& A, const Eigen::Vector4d& z, doubl
       if (dz->allFinite()) return true;
     }
   }
+  return SolveNewtonSystemLU(A, z, V, f, dz);
+}
+
+// The pivoted LU of the whole bordered Jacobian (SolveNewtonSystem's fallback).
+bool SolveNewtonSystemLU(const Eigen::Matrix3d& A, const Eigen::Vector4d& z, double V,
+                         const Eigen::Vector4d& f, Eigen::Vector4d* dz) {
   Eigen::Matrix4d jac;
   jac.topLeftCorner<3, 3>() = A;
   jac.topRightCorner<3, 1>() = z.head<3>();
