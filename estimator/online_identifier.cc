@@ -9,6 +9,7 @@
 #include <future>
 #include <optional>
 #include <stdexcept>
+#include <system_error>
 #include <utility>
 
 #include "estimator/identify.h"
@@ -236,8 +237,6 @@ double LikelihoodRatio(const ChangeWindow& w, Eigen::Vector3d* jump, int* rank,
   return stat;
 }
 
-}  // namespace
-
 /// What the trajectory fit says of log a, log b, log c: its estimates and their covariance
 /// (from its intervals, t widened, and its correlations), and the rows it fitted.
 struct LogParameterGaussian {
@@ -282,6 +281,8 @@ std::optional<LogParameterGaussian> FitRowsSoFar(const Trajectory& log, int subs
   }
   return g;
 }
+
+}  // namespace
 
 bool OnlineOptions::IsValid(std::string* why) const {
   if (substeps < 1) return Fail(why, "substeps must be >= 1");
@@ -875,20 +876,24 @@ struct OnlineIdentifier::Impl {
   // whose verdict the first update after it finished applies (CollectBatchCheck). One at a
   // time: a check due while the last still runs is skipped.
   void BatchCheck() {
-    if (!options.batch_check_thread) {
-      ++result.batch_checks;
-      if (const std::optional<LogParameterGaussian> fit =
-              FitRowsSoFar(batch_log, options.substeps, options.fit_mismatch)) {
-        TakeOverIfApart(*fit);
+    if (options.batch_check_thread) {
+      if (pending_check.valid()) return;
+      try {
+        pending_check = std::async(std::launch::async, [log = batch_log, o = options] {
+          return FitRowsSoFar(log, o.substeps, o.fit_mismatch);
+        });
+        ++result.batch_checks;
+        pending_surface = surface;
+        return;
+      } catch (const std::system_error&) {
+        // No thread to be had: the check runs here instead.
       }
-      return;
     }
-    if (pending_check.valid()) return;
     ++result.batch_checks;
-    pending_surface = surface;
-    pending_check = std::async(std::launch::async, [log = batch_log, o = options] {
-      return FitRowsSoFar(log, o.substeps, o.fit_mismatch);
-    });
+    if (const std::optional<LogParameterGaussian> fit =
+            FitRowsSoFar(batch_log, options.substeps, options.fit_mismatch)) {
+      TakeOverIfApart(*fit);
+    }
   }
 
   // The verdict of a check run on its thread, once it is in (`wait`: waiting for it).
