@@ -105,12 +105,6 @@ TEST(IdentifyFollow, BatchCheckOptionSetsTheIdentifiersCheck) {
           << ParameterName(i) << " with --batch-check " << rows;
     }
   }
-  const ShellRun negative = Shell("$IDENTIFY --follow --batch-check -1 < /dev/null");
-  EXPECT_EQ(negative.exit_code, 2);
-  EXPECT_NE(negative.err.find("--batch-check"), std::string::npos) << negative.err;
-  const ShellRun alone = Shell("$IDENTIFY --log x.csv --batch-check 64");
-  EXPECT_EQ(alone.exit_code, 2);
-  EXPECT_NE(alone.err.find("--batch-check needs --follow"), std::string::npos) << alone.err;
 }
 
 // A log with the tip's path: each line carries mu_pusher, the identifier's.
@@ -173,16 +167,19 @@ TEST(IdentifyFollow, ABadRowNamesItsLineOfTheStream) {
   EXPECT_NE(run.err.find(where), std::string::npos) << run.err << " (expected " << where << ")";
 }
 
+// `command` exits with `exit_code`, saying `text` on standard error.
+void ExpectFailure(const std::string& command, int exit_code, const std::string& text) {
+  const ShellRun run = Shell(command);
+  EXPECT_EQ(run.exit_code, exit_code) << command;
+  EXPECT_NE(run.err.find(text), std::string::npos) << command << ": " << run.err;
+}
+
 TEST(IdentifyFollow, RejectsOptionsThatDoNotGoWithIt) {
-  const ShellRun run = Shell("$IDENTIFY --follow --log x.csv < /dev/null");
-  EXPECT_EQ(run.exit_code, 2);
-  EXPECT_NE(run.err.find("--log does not go with --follow"), std::string::npos) << run.err;
-  const ShellRun every = Shell("$IDENTIFY --follow --every 0 < /dev/null");
-  EXPECT_EQ(every.exit_code, 2);
-  EXPECT_NE(every.err.find("--every"), std::string::npos) << every.err;
-  const ShellRun empty = Shell("$IDENTIFY --follow < /dev/null");
-  EXPECT_EQ(empty.exit_code, 1);
-  EXPECT_NE(empty.err.find("no header line"), std::string::npos) << empty.err;
+  ExpectFailure("$IDENTIFY --follow --log x.csv < /dev/null", 2, "--log does not go with --follow");
+  ExpectFailure("$IDENTIFY --follow --every 0 < /dev/null", 2, "--every");
+  ExpectFailure("$IDENTIFY --follow --batch-check -1 < /dev/null", 2, "--batch-check");
+  ExpectFailure("$IDENTIFY --log x.csv --batch-check 64", 2, "--batch-check needs --follow");
+  ExpectFailure("$IDENTIFY --follow < /dev/null", 1, "no header line");
 }
 
 }  // namespace
