@@ -54,6 +54,8 @@ class OnlineIdentifier:
                                     None if tip is None else {"tip_radius": repr(float(tip))})
         if isinstance(batch_check_rows, bool) or int(batch_check_rows) != batch_check_rows:
             raise TypeError("OnlineIdentifier: batch_check_rows must be an integer")
+        if batch_check_rows < 0:
+            raise ValueError("OnlineIdentifier: batch_check_rows must be >= 0 (0: no check)")
         self._core = _core.OnlineCore(entries, list(self.columns), int(batch_check_rows))
 
     def update(self, row):

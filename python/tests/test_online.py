@@ -61,7 +61,7 @@ def test_batch_check_rows_sets_the_identifiers_batch_check():
     alone = slideid.OnlineIdentifier(log, columns=COLUMNS, batch_check_rows=0).update_many(rows)[-1]
     assert checked["batch_checks"] >= 1 and alone["batch_checks"] == 0
     assert alone["batch_takeovers"] == 0
-    with pytest.raises(ValueError, match="batch_check_first_rows"):
+    with pytest.raises(ValueError, match="batch_check_rows must be >= 0"):
         slideid.OnlineIdentifier(log, columns=COLUMNS, batch_check_rows=-1)
     with pytest.raises(TypeError, match="batch_check_rows"):
         slideid.OnlineIdentifier(log, columns=COLUMNS, batch_check_rows=1.5)
