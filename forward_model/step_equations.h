@@ -186,6 +186,9 @@ class StepEquations {
   /// the coupling vanishes); its error is u's quadratic part over tau - tau0. False, z
   /// unchanged, where a quantity it divides by vanishes or is not finite, or s <= 0.
   bool LinearisedCouplingGuess(Eigen::Vector4d* z) const;
+  /// The same about tau0 = 0 from slip speed s (the first of SolveGeneral's two): u(0) by
+  /// the constructor's reciprocals, without the products by tau0 = 0 (the same doubles).
+  bool LinearisedCouplingGuessAtRest(double s, Eigen::Vector4d* z) const;
   /// The decoupled root's lower bound on s: each term of |tau(s)|^2 alone reaching 1.
   double DecoupledSlipLowerBound() const;
   /// Closed form for pure translation with b = 1 (model.md, erratum 4).
@@ -198,6 +201,10 @@ class StepEquations {
 
  private:
   Eigen::Vector4d DecoupledAt(double s) const;
+  /// LinearisedCouplingGuess's scalar step and its tau(s), from A = du/dtau at tau0 and
+  /// r = A tau0 - u(tau0).
+  bool SecularGuess(const Eigen::Matrix3d& A, double r0, double r1, double r2, double s,
+                    Eigen::Vector4d* z) const;
   /// Fills the constants of the Jacobian below from t_ and P_.
   void PrecomputeJacobianTerms();
   /// T_i of ComponentwiseResidual at the ellipsoid's size (without s tau_i); cached,
@@ -271,6 +278,24 @@ inline bool StepEquations::LinearisedCouplingGuess(Eigen::Vector4d* z) const {
   const double r0 = A(0, 0) * t0 + A(0, 1) * t1 + A(0, 2) * t2 - f(0);
   const double r1 = A(1, 0) * t0 + A(1, 1) * t1 + A(1, 2) * t2 - f(1);
   const double r2 = A(2, 0) * t0 + A(2, 1) * t1 + A(2, 2) * t2 - f(2);
+  return SecularGuess(A, r0, r1, r2, (*z)(3), z);
+}
+
+inline bool StepEquations::LinearisedCouplingGuessAtRest(double s, Eigen::Vector4d* z) const {
+  if (!reciprocals_) {
+    *z << 0.0, 0.0, 0.0, s;
+    return LinearisedCouplingGuess(z);
+  }
+  // Residual at tau = 0, s = 0 (p = 0): exactly these doubles; and r = -u(0).
+  const double w = t_.k(2) * inv_I_, q0 = t_.pty * inv_pn_, q1 = -t_.ptx * inv_pn_;
+  Eigen::Matrix3d A;
+  JacobianBlock(Eigen::Vector4d::Zero(), Shared{w, q0, q1}, &A);
+  return SecularGuess(A, -(t_.k(0) * inv_m_ - w * q1), -(t_.b * (t_.k(1) * inv_m_ + w * q0)),
+                      -(t_.c * w), s, z);
+}
+
+inline bool StepEquations::SecularGuess(const Eigen::Matrix3d& A, double r0, double r1, double r2,
+                                        double s, Eigen::Vector4d* z) const {
   // adj(A + s I) = s^2 I + s (tr(A) I - A) + adj(A); det(A + s I) = s^3 + tr s^2 + m2 s + det.
   const double c00 = A(1, 1) * A(2, 2) - A(1, 2) * A(2, 1);
   const double c01 = A(1, 2) * A(2, 0) - A(1, 0) * A(2, 2);
@@ -291,7 +316,6 @@ inline bool StepEquations::LinearisedCouplingGuess(Eigen::Vector4d* z) const {
   const double n00 = c00 * r0 + c10 * r1 + c20 * r2;
   const double n01 = c01 * r0 + c11 * r1 + c21 * r2;
   const double n02 = c02 * r0 + c12 * r1 + c22 * r2;
-  double s = (*z)(3);
   {
     // Newton on psi(s) = D / |N| - 1: psi / psi' = (D - |N|) |N|^2 / (D' |N|^2 - D N . N').
     const double N0 = (s * r0 + n10) * s + n00, N1 = (s * r1 + n11) * s + n01,

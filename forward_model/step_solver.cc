@@ -331,8 +331,8 @@ bool SolveGeneral(const StepEquations& eq, const StepOptions& options, double st
   // only slow it there). Where that fails, the usual guesses follow. (Without coupling the
   // decoupled guess is the root already.)
   if (!far_ecp && !eq.IsDecoupled() && eq.UniqueSlidingRoot()) {
-    Eigen::Vector4d guess(0.0, 0.0, 0.0, eq.DecoupledSlipLowerBound());
-    if (!eq.LinearisedCouplingGuess(&guess)) {
+    Eigen::Vector4d guess;
+    if (!eq.LinearisedCouplingGuessAtRest(eq.DecoupledSlipLowerBound(), &guess)) {
       guess = eq.DecoupledGuess(kRoughGuessTolerance, kRoughGuessAccept);
     }
     if (!eq.LinearisedCouplingGuess(&guess)) guess = eq.EcpVelocitySweep(guess);
