@@ -188,6 +188,7 @@ class StepEquations {
   bool LinearisedCouplingGuess(Eigen::Vector4d* z) const;
   /// The same about tau0 = 0 from slip speed s (the first of SolveGeneral's two): u(0) by
   /// the constructor's reciprocals, without the products by tau0 = 0 (the same doubles).
+  /// Where it returns false, z is not a guess.
   bool LinearisedCouplingGuessAtRest(double s, Eigen::Vector4d* z) const;
   /// The decoupled root's lower bound on s: each term of |tau(s)|^2 alone reaching 1.
   double DecoupledSlipLowerBound() const;
