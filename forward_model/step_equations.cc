@@ -355,6 +355,17 @@ Eigen::Vector4d StepEquations::DecoupledAt(double s) const {
           -t_.c * t_.k(2) / (t_.I * s + P_ * t_.c * t_.c), s};
 }
 
+double StepEquations::DecoupledSlipLowerBound() const {
+  const double mass[3] = {t_.m, t_.m, t_.I};
+  const double weight[3] = {1.0, t_.b, t_.c};
+  double lo = 0.0;
+  for (int i = 0; i < 3; ++i) {
+    const double d = weight[i] * weight[i];
+    lo = std::max(lo, (weight[i] * std::abs(t_.k(i)) - P_ * d) / mass[i]);
+  }
+  return lo;
+}
+
 bool StepEquations::SolveDecoupled(Eigen::Vector4d* z, int* iterations, double tolerance,
                                    double accept_after_step) const {
   tolerance = std::max(tolerance, kScalarTolerance);

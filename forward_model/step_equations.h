@@ -177,6 +177,21 @@ class StepEquations {
   /// One sweep of EcpVelocityGuess by the arithmetic of Residual (u = F_1..3 - s tau), with
   /// one square root and one division (issue 19: the first guess where UniqueSlidingRoot).
   Eigen::Vector4d EcpVelocitySweep(const Eigen::Vector4d& z) const;
+  /// A first guess from a rough one z (issue 19's fourth round, where UniqueSlidingRoot):
+  /// u linearised about z's tau, u(tau) ~ u(tau0) + A (tau - tau0), A = du/dtau there, so
+  /// that tau(s) = (A + s I)^-1 r, r = A tau0 - u(tau0); one Newton step from z's s on
+  /// det(A + s I) / |adj(A + s I) r| = 1 / |tau(s)| = 1 (the adjugate and the determinant
+  /// are polynomials in s: no solve per step), and tau = tau(s), of norm 1 to second order
+  /// in that step. From tau = 0 it generalises the decoupled root (the same equation where
+  /// the coupling vanishes); its error is u's quadratic part over tau - tau0. False, z
+  /// unchanged, where a quantity it divides by vanishes or is not finite, or s <= 0.
+  bool LinearisedCouplingGuess(Eigen::Vector4d* z) const;
+  /// The same about tau0 = 0 from slip speed s (the first of SolveGeneral's two): u(0) by
+  /// the constructor's reciprocals, without the products by tau0 = 0 (the same doubles).
+  /// Where it returns false, z is not a guess.
+  bool LinearisedCouplingGuessAtRest(double s, Eigen::Vector4d* z) const;
+  /// The decoupled root's lower bound on s: each term of |tau(s)|^2 alone reaching 1.
+  double DecoupledSlipLowerBound() const;
   /// Closed form for pure translation with b = 1 (model.md, erratum 4).
   Eigen::Vector4d PureTranslationClosedForm() const;
   /// The same step with q_z and the tilting impulses scaled by `scale` (continuation).
@@ -187,6 +202,10 @@ class StepEquations {
 
  private:
   Eigen::Vector4d DecoupledAt(double s) const;
+  /// LinearisedCouplingGuess's scalar step and its tau(s), from A = du/dtau at tau0 and
+  /// r = A tau0 - u(tau0).
+  bool SecularGuess(const Eigen::Matrix3d& A, double r0, double r1, double r2, double s,
+                    Eigen::Vector4d* z) const;
   /// Fills the constants of the Jacobian below from t_ and P_.
   void PrecomputeJacobianTerms();
   /// T_i of ComponentwiseResidual at the ellipsoid's size (without s tau_i); cached,
@@ -247,6 +266,79 @@ inline Eigen::Vector4d StepEquations::EcpVelocitySweep(const Eigen::Vector4d& z)
   if (!(speed > 0) || !(speed <= std::numeric_limits<double>::max())) return z;
   const double scale = -1.0 / speed;
   return {u0 * scale, u1 * scale, u2 * scale, speed};
+}
+
+inline bool StepEquations::LinearisedCouplingGuess(Eigen::Vector4d* z) const {
+  const Eigen::Vector4d at((*z)(0), (*z)(1), (*z)(2), 0.0);
+  Eigen::Vector4d f;
+  Shared shared;
+  Residual(at, &f, &shared);  // with s = 0: f_1..3 = u(tau0)
+  Eigen::Matrix3d A;
+  JacobianBlock(at, shared, &A);  // du/dtau at tau0 (s = 0 on the diagonal)
+  const double t0 = at(0), t1 = at(1), t2 = at(2);
+  const double r0 = A(0, 0) * t0 + A(0, 1) * t1 + A(0, 2) * t2 - f(0);
+  const double r1 = A(1, 0) * t0 + A(1, 1) * t1 + A(1, 2) * t2 - f(1);
+  const double r2 = A(2, 0) * t0 + A(2, 1) * t1 + A(2, 2) * t2 - f(2);
+  return SecularGuess(A, r0, r1, r2, (*z)(3), z);
+}
+
+inline bool StepEquations::LinearisedCouplingGuessAtRest(double s, Eigen::Vector4d* z) const {
+  if (!reciprocals_) {
+    *z << 0.0, 0.0, 0.0, s;
+    return LinearisedCouplingGuess(z);
+  }
+  // Residual at tau = 0, s = 0 (p = 0): exactly these doubles; and r = -u(0).
+  const double w = t_.k(2) * inv_I_, q0 = t_.pty * inv_pn_, q1 = -t_.ptx * inv_pn_;
+  Eigen::Matrix3d A;
+  JacobianBlock(Eigen::Vector4d::Zero(), Shared{w, q0, q1}, &A);
+  return SecularGuess(A, -(t_.k(0) * inv_m_ - w * q1), -(t_.b * (t_.k(1) * inv_m_ + w * q0)),
+                      -(t_.c * w), s, z);
+}
+
+inline bool StepEquations::SecularGuess(const Eigen::Matrix3d& A, double r0, double r1, double r2,
+                                        double s, Eigen::Vector4d* z) const {
+  // adj(A + s I) = s^2 I + s (tr(A) I - A) + adj(A); det(A + s I) = s^3 + tr s^2 + m2 s + det.
+  const double c00 = A(1, 1) * A(2, 2) - A(1, 2) * A(2, 1);
+  const double c01 = A(1, 2) * A(2, 0) - A(1, 0) * A(2, 2);
+  const double c02 = A(1, 0) * A(2, 1) - A(1, 1) * A(2, 0);
+  const double c10 = A(0, 2) * A(2, 1) - A(0, 1) * A(2, 2);
+  const double c11 = A(0, 0) * A(2, 2) - A(0, 2) * A(2, 0);
+  const double c12 = A(0, 1) * A(2, 0) - A(0, 0) * A(2, 1);
+  const double c20 = A(0, 1) * A(1, 2) - A(0, 2) * A(1, 1);
+  const double c21 = A(0, 2) * A(1, 0) - A(0, 0) * A(1, 2);
+  const double c22 = A(0, 0) * A(1, 1) - A(0, 1) * A(1, 0);
+  const double tr = A(0, 0) + A(1, 1) + A(2, 2);
+  const double m2 = c00 + c11 + c22;
+  const double det = A(0, 0) * c00 + A(0, 1) * c01 + A(0, 2) * c02;
+  // N(s) = adj(A + s I) r = s^2 r + s n1 + n0.
+  const double n10 = tr * r0 - (A(0, 0) * r0 + A(0, 1) * r1 + A(0, 2) * r2);
+  const double n11 = tr * r1 - (A(1, 0) * r0 + A(1, 1) * r1 + A(1, 2) * r2);
+  const double n12 = tr * r2 - (A(2, 0) * r0 + A(2, 1) * r1 + A(2, 2) * r2);
+  const double n00 = c00 * r0 + c10 * r1 + c20 * r2;
+  const double n01 = c01 * r0 + c11 * r1 + c21 * r2;
+  const double n02 = c02 * r0 + c12 * r1 + c22 * r2;
+  {
+    // Newton on psi(s) = D / |N| - 1: psi / psi' = (D - |N|) |N|^2 / (D' |N|^2 - D N . N').
+    const double N0 = (s * r0 + n10) * s + n00, N1 = (s * r1 + n11) * s + n01,
+                 N2 = (s * r2 + n12) * s + n02;
+    const double dN0 = 2.0 * s * r0 + n10, dN1 = 2.0 * s * r1 + n11, dN2 = 2.0 * s * r2 + n12;
+    const double D = ((s + tr) * s + m2) * s + det, dD = (3.0 * s + 2.0 * tr) * s + m2;
+    const double NN = N0 * N0 + N1 * N1 + N2 * N2;
+    const double den = dD * NN - D * (N0 * dN0 + N1 * dN1 + N2 * dN2);
+    if (den != 0.0) {
+      const double next = s - (D - std::sqrt(NN)) * NN / den;
+      if (next > 0 && next <= std::numeric_limits<double>::max()) s = next;
+    }
+  }
+  const double N0 = (s * r0 + n10) * s + n00, N1 = (s * r1 + n11) * s + n01,
+               N2 = (s * r2 + n12) * s + n02;
+  const double D = ((s + tr) * s + m2) * s + det;
+  // tau = N / D: |tau| = 1 to second order in the scalar step (Newton's sphere row takes
+  // the rest; a normalisation costs a square root and a division in series).
+  if (!(s > 0) || !(D != 0.0) || !std::isfinite(D)) return false;
+  const double scale = 1.0 / D;
+  *z << N0 * scale, N1 * scale, N2 * scale, s;
+  return true;
 }
 
 inline void StepEquations::EndVelocityAndOffset(const Eigen::Vector4d& z, Eigen::Vector3d* nu,

@@ -33,12 +33,13 @@ constexpr int kEcpVelocitySweeps = 3;
 // the friction, dominates the ECP velocity: the ECP-velocity guess goes first. (The
 // failing case of the sweep had 575; cases that converge from the decoupled guess, 0.1.)
 constexpr double kFarEcpRatio = 10.0;
-// Where the sliding root is unique (issue 19): the decoupled root to 1e-2 (its last
-// Newton step from 1e-1 unchecked), then one sweep of the ECP velocity. The coupling, not
-// the decoupled root's digits, sets that guess's error.
+// Where the sliding root is unique (issue 19), the first guess is the coupling linearised
+// twice (StepEquations::LinearisedCouplingGuess: about tau = 0 from the decoupled root's
+// lower bound on s, then about that). Where the first fails, the decoupled root to 1e-2
+// (its last Newton step from 1e-1 unchecked) takes its place; where the second fails, one
+// sweep of the ECP velocity.
 constexpr double kRoughGuessTolerance = 1e-2;
 constexpr double kRoughGuessAccept = 1e-1;
-constexpr int kUniqueRootSweeps = 1;
 // Newton iterations allowed to that speculative first try: where its guess is right it
 // converges in a handful; where it is not, the usual guesses follow.
 constexpr int kSpeculativeIterations = 12;
@@ -324,13 +325,17 @@ bool SolveGeneral(const StepEquations& eq, const StepOptions& options, double st
   // there, last elsewhere.
   const bool far_ecp = eq.CouplingSpeed() > kFarEcpRatio * eq.velocity_scale();
   // Where the sliding root is provably unique (issue 19), any guess and any path that
-  // converge find the root the decoupled guess would: a rough decoupled root and one
-  // sweep of the ECP velocity, then Newton's full steps (the line search's halvings only
-  // slow it there). Where that fails, the usual guesses follow. (Without coupling the
+  // converge find the root the decoupled guess would: the coupling linearised about
+  // tau = 0 and again about that guess (LinearisedCouplingGuess; a median 3e-9 from the
+  // root on step_benchmark's steps), then Newton's full steps (the line search's halvings
+  // only slow it there). Where that fails, the usual guesses follow. (Without coupling the
   // decoupled guess is the root already.)
   if (!far_ecp && !eq.IsDecoupled() && eq.UniqueSlidingRoot()) {
-    Eigen::Vector4d guess = eq.DecoupledGuess(kRoughGuessTolerance, kRoughGuessAccept);
-    for (int i = 0; i < kUniqueRootSweeps; ++i) guess = eq.EcpVelocitySweep(guess);
+    Eigen::Vector4d guess;
+    if (!eq.LinearisedCouplingGuessAtRest(eq.DecoupledSlipLowerBound(), &guess)) {
+      guess = eq.DecoupledGuess(kRoughGuessTolerance, kRoughGuessAccept);
+    }
+    if (!eq.LinearisedCouplingGuess(&guess)) guess = eq.EcpVelocitySweep(guess);
     if (attempt(guess, kSpeculativeIterations, false)) return true;
   }
   const Eigen::Vector4d decoupled = eq.DecoupledGuess();
