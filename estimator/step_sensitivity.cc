@@ -5,6 +5,7 @@
 #include <Eigen/Dense>
 #include <type_traits>
 
+#include "forward_model/adjugate3.h"
 #include "forward_model/step_equations.h"
 
 namespace slideid {
@@ -103,15 +104,9 @@ bool SolveBordered(const StepEquations& eq, const Eigen::Vector4d& z,
                    const Eigen::Matrix<double, 4, N>& f_x, Eigen::Matrix<double, 4, N>* dz_dx) {
   Eigen::Matrix3d A;
   eq.JacobianBlock(z, &A);
-  const double c00 = A(1, 1) * A(2, 2) - A(1, 2) * A(2, 1);
-  const double c01 = A(1, 2) * A(2, 0) - A(1, 0) * A(2, 2);
-  const double c02 = A(1, 0) * A(2, 1) - A(1, 1) * A(2, 0);
-  const double det = A(0, 0) * c00 + A(0, 1) * c01 + A(0, 2) * c02;
+  const Eigen::Matrix3d adj = Adjugate3(A);  // A^-1 = adj / det
+  const double det = Determinant3(A, adj);
   if (!(std::abs(det) > kSingularBlock * A.cwiseAbs().maxCoeff())) return false;
-  Eigen::Matrix3d adj;  // adj(A)_ij = c_ji: A^-1 = adj / det
-  adj << c00, A(0, 2) * A(2, 1) - A(0, 1) * A(2, 2), A(0, 1) * A(1, 2) - A(0, 2) * A(1, 1), c01,
-      A(0, 0) * A(2, 2) - A(0, 2) * A(2, 0), A(0, 2) * A(1, 0) - A(0, 0) * A(1, 2), c02,
-      A(0, 1) * A(2, 0) - A(0, 0) * A(2, 1), A(0, 0) * A(1, 1) - A(0, 1) * A(1, 0);
   const Eigen::Vector3d g = eq.velocity_scale() * z.head<3>();  // F_4's row, V tau^T
   const Eigen::Vector3d w = adj * z.head<3>();                  // det A^-1 tau
   const double border = g.dot(w);
@@ -151,7 +146,7 @@ void ExplicitPartials(const StepTerms<double>& t, const Eigen::Vector4d& z, doub
                       Eigen::Matrix<double, 4, N>* f_x, Eigen::Matrix<double, 3, N>* nu_x) {
   const double P = t.a * t.pn;
   const Eigen::Vector3d p(P * z(0), P * t.b * z(1), P * t.c * z(2));
-  const double nu0 = (t.k(0) + p(0)) / t.m, nu1 = (t.k(1) + p(1)) / t.m;
+  const double nu1 = (t.k(1) + p(1)) / t.m;  // nu_0 does not enter F's partials
   const double nu2 = (t.k(2) + p(2) + (p(0) * t.ptx + p(1) * t.pty) / t.pn) / t.I;
   const double r0 = (t.pty - t.qz * p(0)) / t.pn, r1 = (-t.ptx - t.qz * p(1)) / t.pn;
   struct Direction {

@@ -15,6 +15,7 @@
 #include <limits>
 #include <string>
 
+#include "forward_model/adjugate3.h"
 #include "forward_model/planar_state.h"
 #include "forward_model/slider.h"
 
@@ -298,25 +299,17 @@ inline bool StepEquations::LinearisedCouplingGuessAtRest(double s, Eigen::Vector
 inline bool StepEquations::SecularGuess(const Eigen::Matrix3d& A, double r0, double r1, double r2,
                                         double s, Eigen::Vector4d* z) const {
   // adj(A + s I) = s^2 I + s (tr(A) I - A) + adj(A); det(A + s I) = s^3 + tr s^2 + m2 s + det.
-  const double c00 = A(1, 1) * A(2, 2) - A(1, 2) * A(2, 1);
-  const double c01 = A(1, 2) * A(2, 0) - A(1, 0) * A(2, 2);
-  const double c02 = A(1, 0) * A(2, 1) - A(1, 1) * A(2, 0);
-  const double c10 = A(0, 2) * A(2, 1) - A(0, 1) * A(2, 2);
-  const double c11 = A(0, 0) * A(2, 2) - A(0, 2) * A(2, 0);
-  const double c12 = A(0, 1) * A(2, 0) - A(0, 0) * A(2, 1);
-  const double c20 = A(0, 1) * A(1, 2) - A(0, 2) * A(1, 1);
-  const double c21 = A(0, 2) * A(1, 0) - A(0, 0) * A(1, 2);
-  const double c22 = A(0, 0) * A(1, 1) - A(0, 1) * A(1, 0);
+  const Eigen::Matrix3d adj = Adjugate3(A);
   const double tr = A(0, 0) + A(1, 1) + A(2, 2);
-  const double m2 = c00 + c11 + c22;
-  const double det = A(0, 0) * c00 + A(0, 1) * c01 + A(0, 2) * c02;
+  const double m2 = adj(0, 0) + adj(1, 1) + adj(2, 2);
+  const double det = Determinant3(A, adj);
   // N(s) = adj(A + s I) r = s^2 r + s n1 + n0.
   const double n10 = tr * r0 - (A(0, 0) * r0 + A(0, 1) * r1 + A(0, 2) * r2);
   const double n11 = tr * r1 - (A(1, 0) * r0 + A(1, 1) * r1 + A(1, 2) * r2);
   const double n12 = tr * r2 - (A(2, 0) * r0 + A(2, 1) * r1 + A(2, 2) * r2);
-  const double n00 = c00 * r0 + c10 * r1 + c20 * r2;
-  const double n01 = c01 * r0 + c11 * r1 + c21 * r2;
-  const double n02 = c02 * r0 + c12 * r1 + c22 * r2;
+  const double n00 = adj(0, 0) * r0 + adj(0, 1) * r1 + adj(0, 2) * r2;
+  const double n01 = adj(1, 0) * r0 + adj(1, 1) * r1 + adj(1, 2) * r2;
+  const double n02 = adj(2, 0) * r0 + adj(2, 1) * r1 + adj(2, 2) * r2;
   {
     // Newton on psi(s) = D / |N| - 1: psi / psi' = (D - |N|) |N|^2 / (D' |N|^2 - D N . N').
     const double N0 = (s * r0 + n10) * s + n00, N1 = (s * r1 + n11) * s + n01,

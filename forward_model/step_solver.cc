@@ -9,6 +9,7 @@
 #include <string>
 #include <utility>
 
+#include "forward_model/adjugate3.h"
 #include "forward_model/step_equations.h"
 
 namespace slideid {
@@ -124,29 +125,21 @@ SLIDEID_NOINLINE bool SolveNewtonSystemLU(const Eigen::Matrix3d& A, const Eigen:
 SLIDEID_ALWAYS_INLINE bool SolveNewtonSystem(const Eigen::Matrix3d& A, const Eigen::Vector4d& z,
                                              double V, const Eigen::Vector4d& f,
                                              Eigen::Vector4d* dz) {
-  const double c00 = A(1, 1) * A(2, 2) - A(1, 2) * A(2, 1);
-  const double c01 = A(1, 2) * A(2, 0) - A(1, 0) * A(2, 2);
-  const double c02 = A(1, 0) * A(2, 1) - A(1, 1) * A(2, 0);
-  const double det = A(0, 0) * c00 + A(0, 1) * c01 + A(0, 2) * c02;
+  const Eigen::Matrix3d adj = Adjugate3(A);
+  const double det = Determinant3(A, adj);
   if (std::abs(det) > kSingularBlock * A.cwiseAbs().maxCoeff()) {
-    const double c10 = A(0, 2) * A(2, 1) - A(0, 1) * A(2, 2);
-    const double c11 = A(0, 0) * A(2, 2) - A(0, 2) * A(2, 0);
-    const double c12 = A(0, 1) * A(2, 0) - A(0, 0) * A(2, 1);
-    const double c20 = A(0, 1) * A(1, 2) - A(0, 2) * A(1, 1);
-    const double c21 = A(0, 2) * A(1, 0) - A(0, 0) * A(1, 2);
-    const double c22 = A(0, 0) * A(1, 1) - A(0, 1) * A(1, 0);
-    // With y1 = -adj(A) f_1..3 and y2 = adj(A) tau (A^-1 = adj(A) / det, adj(A)_ij = c_ji):
+    // With y1 = -adj(A) f_1..3 and y2 = adj(A) tau (A^-1 = adj(A) / det):
     // x1 = -A^-1 f_1..3 = y1 / det, x2 = A^-1 tau = y2 / det, and the slip step
     // ds = (g x1 + f_4) / (g x2) = (g y1 + det f_4) / (g y2) with g = V tau^T. 1 / det is
     // then off the critical path (issue 19: the iteration is a chain of dependent
     // operations, and a division is its longest link).
     const double t0 = z(0), t1 = z(1), t2 = z(2);
-    const double y10 = -(c00 * f(0) + c10 * f(1) + c20 * f(2));
-    const double y11 = -(c01 * f(0) + c11 * f(1) + c21 * f(2));
-    const double y12 = -(c02 * f(0) + c12 * f(1) + c22 * f(2));
-    const double y20 = c00 * t0 + c10 * t1 + c20 * t2;
-    const double y21 = c01 * t0 + c11 * t1 + c21 * t2;
-    const double y22 = c02 * t0 + c12 * t1 + c22 * t2;
+    const double y10 = -(adj(0, 0) * f(0) + adj(0, 1) * f(1) + adj(0, 2) * f(2));
+    const double y11 = -(adj(1, 0) * f(0) + adj(1, 1) * f(1) + adj(1, 2) * f(2));
+    const double y12 = -(adj(2, 0) * f(0) + adj(2, 1) * f(1) + adj(2, 2) * f(2));
+    const double y20 = adj(0, 0) * t0 + adj(0, 1) * t1 + adj(0, 2) * t2;
+    const double y21 = adj(1, 0) * t0 + adj(1, 1) * t1 + adj(1, 2) * t2;
+    const double y22 = adj(2, 0) * t0 + adj(2, 1) * t1 + adj(2, 2) * t2;
     const double inv_det = 1.0 / det;
     // The border test |g x2| > k |g| |x2|, in squares (no square roots) while those are
     // finite: with y2 = det x2 on both sides, det cancels.
