@@ -306,8 +306,12 @@ TEST(OnlineIdentifier, TheBatchCheckBringsBackAnEstimateThatRanOff) {
 }
 
 // The check on a thread of its own: no update runs a fit, and the verdicts, applied when
-// they are in, bring the same runaways back.
+// they are in, bring the same runaways back. Which row a verdict lands on depends on the
+// machine's timing, and so do the last digits of the end: the test asks for what holds at
+// any timing, a takeover and estimates near the truth (the filter alone ends 100 times off),
+// not the intervals' exact reach.
 TEST(OnlineIdentifier, TheBatchCheckOnItsOwnThreadBringsThemBackToo) {
+  constexpr double kNear = 0.2;  // relative; the ordinary errors here are 0.1-3%
   OnlineOptions threaded;
   threaded.batch_check_thread = true;
   for (int index : kRunawayLogs) {
@@ -319,8 +323,34 @@ TEST(OnlineIdentifier, TheBatchCheckOnItsOwnThreadBringsThemBackToo) {
     for (int i = 0; i < 3; ++i) {
       const ParameterEstimate& p = r.parameters[i];
       ASSERT_TRUE(p.identifiable) << "log " << index << " parameter " << i << ": " << p.reason;
-      EXPECT_LE(p.ci95_lo, made.truth[i]) << "log " << index << " parameter " << i;
-      EXPECT_GE(p.ci95_hi, made.truth[i]) << "log " << index << " parameter " << i;
+      EXPECT_EQ(p.verdict, Verdict::kOk) << "log " << index << " parameter " << i << p.reason;
+      EXPECT_LT(std::abs(p.value / made.truth[i] - 1), kNear)
+          << "log " << index << " parameter " << i << ": " << p.value << ", truth "
+          << made.truth[i];
+    }
+  }
+}
+
+// Waiting for each check's thread as soon as it starts applies each verdict where the check in
+// the update would: the same answers, bit for bit.
+TEST(OnlineIdentifier, WaitingForEachThreadedCheckGivesTheChecksInTheUpdateAnswers) {
+  OnlineOptions threaded;
+  threaded.batch_check_thread = true;
+  for (int index : kRunawayLogs) {
+    const CoverageLog made = MakeCoverageLog(FindCoverageCondition("outliers"), index);
+    OnlineIdentifier in_update(made.log), waited(made.log, threaded);
+    for (const TrajectorySample& row : made.log.samples) {
+      in_update.Update(row);
+      waited.Update(row);
+      waited.WaitForBatchCheck();
+    }
+    const OnlineResult &a = in_update.result(), &b = waited.result();
+    EXPECT_EQ(a.batch_checks, b.batch_checks) << "log " << index;
+    EXPECT_EQ(a.batch_takeovers, b.batch_takeovers) << "log " << index;
+    for (int i = 0; i < 3; ++i) {
+      EXPECT_EQ(a.parameters[i].value, b.parameters[i].value) << "log " << index << " " << i;
+      EXPECT_EQ(a.parameters[i].ci95_lo, b.parameters[i].ci95_lo) << "log " << index << " " << i;
+      EXPECT_EQ(a.parameters[i].ci95_hi, b.parameters[i].ci95_hi) << "log " << index << " " << i;
     }
   }
 }
