@@ -108,10 +108,19 @@ Eigen::Vector3d StepEquations::StoppingImpulse() const {
   return p;
 }
 
-bool StepEquations::InsideEllipsoid(const Eigen::Vector3d& p) const {
+bool StepEquations::InsideEllipsoid(const Eigen::Vector3d& p, bool* far_outside) const {
   const double qo = p(1) / t_.b, qr = p(2) / t_.c;
   const double lhs = p(0) * p(0) + qo * qo + qr * qr, rhs = P_ * P_;
-  if (std::isnormal(lhs) && std::isnormal(rhs)) return lhs <= rhs;
+  if (far_outside) *far_outside = false;
+  if (std::isnormal(lhs) && std::isnormal(rhs)) {
+    // 1.001^2 = 1.002001: lhs / rhs and EllipsoidRatio^2 differ by a few ulps where
+    // EllipsoidRatio's divisors P b and P c are normal.
+    if (far_outside) {
+      *far_outside = lhs > 1.0021 * rhs && std::isfinite(1.0021 * rhs) &&
+                     std::isnormal(P_ * t_.b) && std::isnormal(P_ * t_.c);
+    }
+    return lhs <= rhs;
+  }
   // The squares under- or overflowed (masses or steps far from 1; issue 5: m = 1e-300 kg
   // "stuck" with 0 <= 0): in ratios to a p_n.
   if (p(0) == 0.0 && p(1) == 0.0 && p(2) == 0.0) return true;  // at rest, even if P_ = 0
@@ -356,6 +365,12 @@ Eigen::Vector4d StepEquations::DecoupledAt(double s) const {
 }
 
 double StepEquations::DecoupledSlipLowerBound() const {
+  if (reciprocals_) {
+    // By the reciprocals (issue 19's fifth round: the first link of the first guess's chain).
+    return std::max(std::max(std::max(0.0, (std::abs(t_.k(0)) - P_) * inv_m_),
+                             (t_.b * std::abs(t_.k(1)) - P_ * (t_.b * t_.b)) * inv_m_),
+                    (t_.c * std::abs(t_.k(2)) - P_ * (t_.c * t_.c)) * inv_I_);
+  }
   const double mass[3] = {t_.m, t_.m, t_.I};
   const double weight[3] = {1.0, t_.b, t_.c};
   double lo = 0.0;

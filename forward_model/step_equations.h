@@ -79,8 +79,10 @@ class StepEquations {
   double pn() const { return t_.pn; }
   /// Friction impulse (p_t, p_o, p_r) that brings the slider to rest in this step.
   Eigen::Vector3d StoppingImpulse() const;
-  /// (p_t)^2 + (p_o/b)^2 + (p_r/c)^2 <= (a p_n)^2.
-  bool InsideEllipsoid(const Eigen::Vector3d& p) const;
+  /// (p_t)^2 + (p_o/b)^2 + (p_r/c)^2 <= (a p_n)^2. With `far_outside`, also whether p is
+  /// certainly more than 0.1% outside (EllipsoidRatio(p) > 1.001: the sums in squares,
+  /// with a margin over their rounding); false where that is not certain.
+  bool InsideEllipsoid(const Eigen::Vector3d& p, bool* far_outside = nullptr) const;
 
   /// (v_x', v_y', w_z') from Newton-Euler with the coupling term (*).
   Eigen::Vector3d EndVelocity(const Eigen::Vector3d& p) const;
@@ -319,7 +321,9 @@ inline bool StepEquations::SecularGuess(const Eigen::Matrix3d& A, double r0, dou
     const double NN = N0 * N0 + N1 * N1 + N2 * N2;
     const double den = dD * NN - D * (N0 * dN0 + N1 * dN1 + N2 * dN2);
     if (den != 0.0) {
-      const double next = s - (D - std::sqrt(NN)) * NN / den;
+      // NN / den beside the square root, not after it (issue 19's fifth round: the two
+      // guesses' longest links).
+      const double next = s - (D - std::sqrt(NN)) * (NN / den);
       if (next > 0 && next <= std::numeric_limits<double>::max()) s = next;
     }
   }

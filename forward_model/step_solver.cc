@@ -291,7 +291,7 @@ bool NewtonFullSteps(const StepEquations& eq, const StepOptions& options, Eigen:
 // the stopping impulse is the better guess and goes first (issue 5: from the decoupled
 // guess Newton drove s to 0 with tau off the stopping direction, and spent its 60
 // iterations there).
-bool SolveGeneral(const StepEquations& eq, const StepOptions& options, double stop_ratio,
+bool SolveGeneral(const StepEquations& eq, const StepOptions& options, bool near_stick,
                   Eigen::Vector4d* z, int* iterations, double* relative_residual) {
   *iterations = 0;
   auto attempt = [&](const Eigen::Vector4d& guess, int max_iterations = 0,
@@ -311,7 +311,7 @@ bool SolveGeneral(const StepEquations& eq, const StepOptions& options, double st
       (*options.initial_guess)(3) > 0 && attempt(*options.initial_guess)) {
     return true;
   }
-  if (stop_ratio < 1.0 + kNearStickBoundary && attempt(eq.LinearisedStopGuess())) return true;
+  if (near_stick && attempt(eq.LinearisedStopGuess())) return true;
   // The ECP far from the CM (large q_z or tilting moments with a fast spin): the slip
   // speed is set by the spin about the ECP, far from V, and the decoupled guess is off by
   // more than the whole velocity scale (issue 5, docs/stability.md). Try that guess first
@@ -452,7 +452,8 @@ StepResult SolveStep(const SliderProperties& slider, const ReducedFriction& fric
 
   // Stick when the impulse that stops the slider lies inside the ellipsoid (model.md).
   const Eigen::Vector3d p_stop = eq.StoppingImpulse();
-  if (eq.InsideEllipsoid(p_stop)) return Stick(state, dt_s, eq, p_stop);
+  bool far_outside = false;
+  if (eq.InsideEllipsoid(p_stop, &far_outside)) return Stick(state, dt_s, eq, p_stop);
 
   // Domain limits of double (issue 5): p_n, a p_n, the momenta, V or the terms of the
   // scaled equations under- or overflow (far outside any physical slider: e.g.
@@ -482,7 +483,10 @@ StepResult SolveStep(const SliderProperties& slider, const ReducedFriction& fric
     ok = eq.SolveDecoupled(&z, &iterations);
     path = StepPath::kDecoupled;
   } else {
-    ok = SolveGeneral(eq, options, eq.EllipsoidRatio(p_stop), &z, &iterations, &residual);
+    // The ratio (three divisions and a square root) only where the squares of the stick
+    // test leave it in doubt (issue 19's fifth round): the same decision.
+    const bool near_stick = !far_outside && eq.EllipsoidRatio(p_stop) < 1.0 + kNearStickBoundary;
+    ok = SolveGeneral(eq, options, near_stick, &z, &iterations, &residual);
   }
   // Newton's own test is ConvergenceResidual already. The special paths satisfy the three
   // motion rows exactly to rounding by construction (tau_i explicit in s): their test is
