@@ -108,16 +108,19 @@ Eigen::Vector3d StepEquations::StoppingImpulse() const {
   return p;
 }
 
-bool StepEquations::InsideEllipsoid(const Eigen::Vector3d& p, bool* far_outside) const {
+bool StepEquations::InsideEllipsoid(const Eigen::Vector3d& p, double beyond_ratio,
+                                    bool* beyond) const {
   const double qo = p(1) / t_.b, qr = p(2) / t_.c;
   const double lhs = p(0) * p(0) + qo * qo + qr * qr, rhs = P_ * P_;
-  if (far_outside) *far_outside = false;
+  if (beyond) *beyond = false;
   if (std::isnormal(lhs) && std::isnormal(rhs)) {
-    // 1.001^2 = 1.002001: lhs / rhs and EllipsoidRatio^2 differ by a few ulps where
-    // EllipsoidRatio's divisors P b and P c are normal.
-    if (far_outside) {
-      *far_outside = lhs > 1.0021 * rhs && std::isfinite(1.0021 * rhs) &&
-                     std::isnormal(P_ * t_.b) && std::isnormal(P_ * t_.c);
+    // lhs / rhs and EllipsoidRatio^2 differ by a few ulps where EllipsoidRatio's divisors
+    // P b and P c are normal: a relative margin of kSquaresMargin covers that.
+    if (beyond) {
+      const double limit =
+          (1.0 + beyond_ratio) * (1.0 + beyond_ratio) * (1.0 + kSquaresMargin) * rhs;
+      *beyond = lhs > limit && std::isfinite(limit) && std::isnormal(P_ * t_.b) &&
+                std::isnormal(P_ * t_.c);
     }
     return lhs <= rhs;
   }

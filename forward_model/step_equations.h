@@ -79,10 +79,14 @@ class StepEquations {
   double pn() const { return t_.pn; }
   /// Friction impulse (p_t, p_o, p_r) that brings the slider to rest in this step.
   Eigen::Vector3d StoppingImpulse() const;
-  /// (p_t)^2 + (p_o/b)^2 + (p_r/c)^2 <= (a p_n)^2. With `far_outside`, also whether p is
-  /// certainly more than 0.1% outside (EllipsoidRatio(p) > 1.001: the sums in squares,
-  /// with a margin over their rounding); false where that is not certain.
-  bool InsideEllipsoid(const Eigen::Vector3d& p, bool* far_outside = nullptr) const;
+  /// (p_t)^2 + (p_o/b)^2 + (p_r/c)^2 <= (a p_n)^2. With `beyond`, also whether p is
+  /// certainly further out than EllipsoidRatio(p) > 1 + beyond_ratio (the sums in squares,
+  /// with a relative margin of kSquaresMargin over their rounding); false where that is not
+  /// certain, and the ratio decides.
+  bool InsideEllipsoid(const Eigen::Vector3d& p, double beyond_ratio = 0,
+                       bool* beyond = nullptr) const;
+  /// InsideEllipsoid's margin on its sums of squares against EllipsoidRatio's rounding.
+  static constexpr double kSquaresMargin = 1e-4;
 
   /// (v_x', v_y', w_z') from Newton-Euler with the coupling term (*).
   Eigen::Vector3d EndVelocity(const Eigen::Vector3d& p) const;

@@ -452,8 +452,10 @@ StepResult SolveStep(const SliderProperties& slider, const ReducedFriction& fric
 
   // Stick when the impulse that stops the slider lies inside the ellipsoid (model.md).
   const Eigen::Vector3d p_stop = eq.StoppingImpulse();
-  bool far_outside = false;
-  if (eq.InsideEllipsoid(p_stop, &far_outside)) return Stick(state, dt_s, eq, p_stop);
+  bool far_outside = false;  // certainly beyond kNearStickBoundary
+  if (eq.InsideEllipsoid(p_stop, kNearStickBoundary, &far_outside)) {
+    return Stick(state, dt_s, eq, p_stop);
+  }
 
   // Domain limits of double (issue 5): p_n, a p_n, the momenta, V or the terms of the
   // scaled equations under- or overflow (far outside any physical slider: e.g.
