@@ -126,9 +126,12 @@ struct OnlineResult {
   /// change windows; 1 until four are in), as a quasi-likelihood scales its covariance: the
   /// change test's scale. docs/online.md.
   double variance_factor = 1;
-  /// The factors the intervals of a, b, c are widened by (their variances'): each
+  /// The factors the intervals of a, b, c are scaled by (their variances'): each
   /// parameter's own variance factor, from the windows' statistics in its directions, the
-  /// completed windows' and those under way; never below 1 (docs/online.md, "Calibration").
+  /// completed windows' and those under way, not below 0.25; before the windows say
+  /// anything, the mean NIS per degree of freedom, at least 1. An interval whose factor
+  /// comes from few degrees of freedom takes Student's t quantile for them
+  /// (ParameterEstimate::interval_quantile). docs/online.md, "Calibration".
   std::array<double, 3> interval_variance_factors{{1, 1, 1}};
   /// The change test runs (the filter has settled and its variance factor is known).
   bool change_test_armed = false;

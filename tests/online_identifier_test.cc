@@ -251,13 +251,15 @@ TEST(OnlineIdentifier, RaisesNoAlarmOnUnchangedLogs) {
 }
 
 // A filter that linearised far from the truth early can settle on a narrow interval orders
-// of magnitude off: on these two logs of the coverage suite's `outliers` condition (1% of
-// poses jump 5 mm), c ends about 175 and 195 times its truth. Such an answer is labelled: an
+// of magnitude off (the coverage suite's `outliers` condition: 1% of poses jump 5 mm). Such
+// an answer is labelled: an
 // estimate whose interval misses the truth by a factor 10 or more is marked suspect, saying
 // how far it is from where the filter started (plausibility.h), never ok.
-// Two logs of the coverage suite's `outliers` condition on which the filter alone runs off:
-// c ends a factor 100 or more from the truth, on a narrow interval.
-constexpr int kRunawayLogs[2] = {71, 116};
+// A log of the coverage suite's `outliers` condition on which the filter alone runs off: c
+// ends a factor 50 below the truth, on a narrow interval (the one of 1800 `outliers`,
+// `force-3%` and `users` logs since each row's step is limited, kMaxLogStepPerRow; logs 71
+// and 116, which ran off before, no longer do).
+constexpr int kRunawayLogs[1] = {396};
 
 TEST(OnlineIdentifier, AnEstimateThatRanOffIsMarkedSuspect) {
   OnlineOptions filter_alone;
@@ -280,7 +282,8 @@ TEST(OnlineIdentifier, AnEstimateThatRanOffIsMarkedSuspect) {
     // The logs still show what the test is about: c ran off.
     const ParameterEstimate& c = r.parameters[2];
     ASSERT_TRUE(c.identifiable) << "log " << index << ": " << c.reason;
-    EXPECT_GT(c.ci95_lo / made.truth[2], 10) << "log " << index;
+    EXPECT_GT(std::max(c.ci95_lo / made.truth[2], made.truth[2] / c.ci95_hi), 10)
+        << "log " << index;
   }
 }
 
