@@ -361,6 +361,7 @@ bool SolveGeneral(const StepEquations& eq, const StepOptions& options, bool near
     if (start.unique && !far_ecp && attempt(start.guess, kSpeculativeIterations, false)) {
       return true;
     }
+    // Where that fails, the usual guesses follow.
   }
   const Eigen::Vector4d decoupled = eq.DecoupledGuess();
   if (far_ecp &&
