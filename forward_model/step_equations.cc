@@ -218,7 +218,7 @@ double StepEquations::ConvergenceResidual(const Eigen::Vector4d& z, const Eigen:
   return std::max(normwise, ComponentwiseResidual(z, f));
 }
 
-bool StepEquations::ScalesRepresentable(std::string* why, bool with_equation_terms) const {
+bool StepEquations::ScalesRepresentableOneByOne(std::string* why, bool with_equation_terms) const {
   auto fail = [&](const char* what, double value) {
     if (why) *why = Printf("%s = %g is outside the normal range of double", what, value);
     return false;

@@ -122,6 +122,10 @@ class StepEquations {
   /// smaller than V (e.g. c |w| << V, or |v| << c |w|), as the paper-form residuals of
   /// SlidingEquationResiduals are (issue 5, docs/stability.md).
   double ComponentwiseResidual(const Eigen::Vector4d& z, const Eigen::Vector4d& f) const;
+  /// T_i of ComponentwiseResidual at the ellipsoid's size (without s tau_i); cached,
+  /// computed on the first call (for steps that slide). The solver calls it where other
+  /// work waits on a chain (issue 19's sixth round).
+  const Eigen::Vector3d& RowTerms() const;
   /// Largest of RelativeResidual and ComponentwiseResidual (the latter only evaluated once
   /// the former is below `tolerance`: it matters only near a root).
   double ConvergenceResidual(const Eigen::Vector4d& z, const Eigen::Vector4d& f,
@@ -130,7 +134,17 @@ class StepEquations {
   /// a p_n subnormal, zero or overflowed, or the momenta, tilting impulses or the free slip
   /// speed overflowed; with `with_equation_terms`, also the magnitudes of the scaled
   /// equations' terms (a domain limit of double precision, docs/stability.md).
-  bool ScalesRepresentable(std::string* why, bool with_equation_terms = false) const;
+  bool ScalesRepresentable(std::string* why, bool with_equation_terms = false) const {
+    // Every step asks (issue 19's sixth round): a sum of finite values is finite unless it
+    // overflows, and with an Inf or NaN among them it is not. The reasons one by one only
+    // where that fails.
+    if (!with_equation_terms && P_ >= std::numeric_limits<double>::min() &&
+        std::isfinite(((P_ + velocity_scale_) + (t_.ptx + t_.pty)) +
+                      ((t_.k(0) + t_.k(1)) + t_.k(2)))) {
+      return true;
+    }
+    return ScalesRepresentableOneByOne(why, with_equation_terms);
+  }
   /// |w| times the largest ECP offset the friction allows: the slip the spin about an ECP
   /// away from the CM adds, against the free slip speed V [m/s].
   double CouplingSpeed() const;
@@ -209,15 +223,14 @@ class StepEquations {
 
  private:
   Eigen::Vector4d DecoupledAt(double s) const;
+  /// ScalesRepresentable, each scale tested and named.
+  bool ScalesRepresentableOneByOne(std::string* why, bool with_equation_terms) const;
   /// LinearisedCouplingGuess's scalar step and its tau(s), from A = du/dtau at tau0 and
   /// r = A tau0 - u(tau0).
   bool SecularGuess(const Eigen::Matrix3d& A, double r0, double r1, double r2, double s,
                     Eigen::Vector4d* z) const;
   /// Fills the constants of the Jacobian below from t_ and P_.
   void PrecomputeJacobianTerms();
-  /// T_i of ComponentwiseResidual at the ellipsoid's size (without s tau_i); cached,
-  /// computed only for steps that slide.
-  const Eigen::Vector3d& RowTerms() const;
   StepTerms<double> t_;
   mutable Eigen::Vector3d row_terms_;
   mutable bool row_terms_ready_ = false;

@@ -284,6 +284,42 @@ bool NewtonFullSteps(const StepEquations& eq, const StepOptions& options, Eigen:
   return ok;
 }
 
+// The slip speed set by the spin about a far ECP (SolveGeneral).
+bool FarEcp(const StepEquations& eq) {
+  return eq.CouplingSpeed() > kFarEcpRatio * eq.velocity_scale();
+}
+
+// Where the sliding root is provably unique (issue 19), any guess and any path that
+// converge find the root the decoupled guess would: the coupling linearised about tau = 0
+// and again about that guess (LinearisedCouplingGuess; a median 3e-9 from the root on
+// step_benchmark's steps), then Newton's full steps (the line search's halvings only slow
+// it there). (Without coupling the decoupled guess is the root already.)
+struct CertifiedStart {
+  Eigen::Vector4d guess;
+  bool unique;   // UniqueSlidingRoot: Newton's full steps from the guess
+  bool far_ecp;  // FarEcp: the guess is not tried
+};
+
+// The tests between and after the guesses (issue 19's sixth round): each guess ends in a
+// chain of a few dozen dependent operations (a square root and two divisions in series),
+// and the tests, which depend on neither, run beside those chains instead of before them:
+// the componentwise test's row terms (cached for Newton's last test) and the far-ECP test
+// beside the first, the uniqueness test (the longest) beside the second and Newton's first
+// residual: about 30 ns of about 310 in step_benchmark (all of them after the second guess:
+// about 5 ns; the uniqueness test beside the first, the rest after the second: about 15).
+// The guesses are wasted where a test fails (3% of step_benchmark's steps).
+CertifiedStart LinearisedStart(const StepEquations& eq) {
+  CertifiedStart start;
+  if (!eq.LinearisedCouplingGuessAtRest(eq.DecoupledSlipLowerBound(), &start.guess)) {
+    start.guess = eq.DecoupledGuess(kRoughGuessTolerance, kRoughGuessAccept);
+  }
+  eq.RowTerms();
+  start.far_ecp = FarEcp(eq);
+  if (!eq.LinearisedCouplingGuess(&start.guess)) start.guess = eq.EcpVelocitySweep(start.guess);
+  start.unique = eq.UniqueSlidingRoot();
+  return start;
+}
+
 // Newton from the decoupled guess; where that fails (typically near the stick boundary,
 // where the decoupled problem sticks but the coupled one slides), from the stopping
 // impulse's direction; then from the ECP-velocity guess; last, continuation in the
@@ -316,20 +352,16 @@ bool SolveGeneral(const StepEquations& eq, const StepOptions& options, bool near
   // speed is set by the spin about the ECP, far from V, and the decoupled guess is off by
   // more than the whole velocity scale (issue 5, docs/stability.md). Try that guess first
   // there, last elsewhere.
-  const bool far_ecp = eq.CouplingSpeed() > kFarEcpRatio * eq.velocity_scale();
-  // Where the sliding root is provably unique (issue 19), any guess and any path that
-  // converge find the root the decoupled guess would: the coupling linearised about
-  // tau = 0 and again about that guess (LinearisedCouplingGuess; a median 3e-9 from the
-  // root on step_benchmark's steps), then Newton's full steps (the line search's halvings
-  // only slow it there). Where that fails, the usual guesses follow. (Without coupling the
-  // decoupled guess is the root already.)
-  if (!far_ecp && !eq.IsDecoupled() && eq.UniqueSlidingRoot()) {
-    Eigen::Vector4d guess;
-    if (!eq.LinearisedCouplingGuessAtRest(eq.DecoupledSlipLowerBound(), &guess)) {
-      guess = eq.DecoupledGuess(kRoughGuessTolerance, kRoughGuessAccept);
+  bool far_ecp = false;
+  if (eq.IsDecoupled()) {
+    far_ecp = FarEcp(eq);
+  } else {
+    const CertifiedStart start = LinearisedStart(eq);
+    far_ecp = start.far_ecp;
+    if (start.unique && !far_ecp && attempt(start.guess, kSpeculativeIterations, false)) {
+      return true;
     }
-    if (!eq.LinearisedCouplingGuess(&guess)) guess = eq.EcpVelocitySweep(guess);
-    if (attempt(guess, kSpeculativeIterations, false)) return true;
+    // Where that fails, the usual guesses follow.
   }
   const Eigen::Vector4d decoupled = eq.DecoupledGuess();
   if (far_ecp &&
