@@ -161,6 +161,12 @@ SegmentCost::SegmentCost(const Trajectory& log, int first_row, int last_row, int
   }
 }
 
+bool SegmentCost::Holds(const std::vector<char>& held_rows) const {
+  const auto held = [](char h) { return h != 0; };
+  if (delay_block_ >= 0) return std::any_of(held_rows.begin(), held_rows.end(), held);
+  return std::any_of(held_rows.begin() + first_, held_rows.begin() + last_, held);
+}
+
 bool SegmentCost::RawResiduals(double const* const* params, double* residuals,
                                double** jacobians) const {
   const std::vector<int32_t>& sizes = parameter_block_sizes();

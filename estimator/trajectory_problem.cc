@@ -771,6 +771,16 @@ Eigen::VectorXd TrajectoryProblem::SegmentResidualsWith(int segment,
   return r;
 }
 
+Eigen::VectorXd TrajectoryProblem::SegmentResiduals(int segment) const {
+  const TrajectorySegment& seg = segments_[segment];
+  auto* self = const_cast<TrajectoryProblem*>(this);  // BlocksOf hands out pointers only
+  const std::vector<double*> blocks = self->BlocksOf(self->segments_[segment]);
+  std::vector<const double*> params(blocks.begin(), blocks.end());
+  Eigen::VectorXd r(seg.cost->num_residuals());
+  if (!seg.cost->Residuals(params.data(), r.data(), false)) return Eigen::VectorXd();
+  return r;
+}
+
 std::vector<double> TrajectoryProblem::StandardErrors(const std::vector<bool>& free) {
   const FitInformation info = Information();
   return StandardErrorsFrom(info.fisher, info.sum_squares, info.residuals, free);

@@ -80,6 +80,10 @@ class SegmentCost final : public ceres::CostFunction {
   /// held-force variants (mismatch_nuisances.h), without a copy of the log. Null: the
   /// logged wrenches. `held_rows` must outlive the cost.
   void SetHeldRows(const std::vector<char>* held_rows) { held_rows_ = held_rows; }
+  /// Whether SetHeldRows(&held_rows) would change a wrench this segment simulates: a held
+  /// row among those whose intervals it steps over, or any held row where a fitted delay
+  /// reads rows beyond them.
+  bool Holds(const std::vector<char>& held_rows) const;
   const RowLoss& row_loss() const { return loss_; }
   /// The residuals alone, with or without the row loss (diagnostics, the seed scan).
   bool Residuals(double const* const* params, double* residuals, bool with_row_loss) const;

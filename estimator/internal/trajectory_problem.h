@@ -214,6 +214,11 @@ class TrajectoryProblem {
   /// fails. Safe to call for different segments concurrently.
   Eigen::VectorXd SegmentResidualsWith(int segment, const std::vector<char>* held_rows,
                                        int substeps) const;
+  /// The raw residuals of segment `segment` by its own cost, at the current state and
+  /// parameters (empty where a step fails): no simulation where the cost last evaluated this
+  /// very point, as Information() just did (its cache). Safe to call for different segments
+  /// concurrently.
+  Eigen::VectorXd SegmentResiduals(int segment) const;
 
   /// One-sigma errors of the free global parameters from Information() and the residual
   /// variance (0 where undetermined).
