@@ -232,6 +232,8 @@ class TrajectoryProblem {
   int StateParameters() const;
 
  private:
+  /// Whether the segments' costs keep their last Jacobian (kKeptJacobianBytes).
+  bool KeepsJacobians() const;
   TrajectoryProblem() = default;
   /// Segment of rows first_row..last_row of log `log`, starting at `state`, with its cost.
   TrajectorySegment NewSegment(int log, int first_row, int last_row,
