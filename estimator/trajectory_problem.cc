@@ -379,6 +379,35 @@ double TrajectoryProblem::RawCost() const {
   return std::isfinite(cost) ? cost : std::numeric_limits<double>::infinity();
 }
 
+double TrajectoryProblem::RawCostKeepingJacobians() const {
+  auto without_loss = [](const SegmentCost& cost) {
+    return cost.row_loss().kind == RobustLoss::kNone || !(cost.row_loss().scale > 0);
+  };
+  if (!KeepsJacobians() || !std::all_of(segments_.begin(), segments_.end(),
+                                        [&](const auto& seg) { return without_loss(*seg.cost); })) {
+    return RawCost();
+  }
+  // Each segment's residuals held at once: the problem's whole Jacobian fits in
+  // kKeptJacobianBytes, so its residuals do too.
+  std::vector<std::vector<double>> residuals(segments_.size());
+  auto* self = const_cast<TrajectoryProblem*>(this);  // BlocksOf hands out pointers only
+  ParallelFor(static_cast<int>(segments_.size()), options_.threads, [&](int k) {
+    const SegmentCost& cost = *segments_[k].cost;
+    const std::vector<double*> blocks = self->BlocksOf(self->segments_[k]);
+    std::vector<const double*> params(blocks.begin(), blocks.end());
+    std::vector<double>& r = residuals[k];
+    r.assign(cost.num_residuals(), 0.0);
+    if (cost.EvaluateKept(params.data(), r.data()).empty()) {
+      std::fill(r.begin(), r.end(), std::numeric_limits<double>::infinity());
+    }
+  });
+  double sum = 0;  // in RawCost's order
+  for (const std::vector<double>& r : residuals) {
+    for (double v : r) sum += v * v;
+  }
+  return std::isfinite(sum) ? sum : std::numeric_limits<double>::infinity();
+}
+
 namespace {
 
 // A segment's Gauss-Newton matrix at the solver's last evaluation with derivatives: a factor

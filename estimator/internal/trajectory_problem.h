@@ -189,6 +189,10 @@ class TrajectoryProblem {
                                const std::function<void(int, const std::vector<double>&)>& f) const;
   /// Sum of squares of the raw residuals; infinity if a segment fails.
   double RawCost() const;
+  /// RawCost, evaluated with derivatives where the problem keeps them
+  /// (SegmentCost::EvaluateKept): a solve starting at this point then evaluates nothing
+  /// at its iteration zero. Elsewhere RawCost itself.
+  double RawCostKeepingJacobians() const;
 
   /// Levenberg-Marquardt over the segment states and the free global parameters
   /// (free.size() == num_global()), stopping once the free ones settle (the callback in
