@@ -98,16 +98,21 @@ Eigen::MatrixXd MismatchDirections::operator()(int s) const {
   const int n = 3 * (seg.last_row - seg.first_row + 1);
   Eigen::MatrixXd X = Eigen::MatrixXd::Zero(n, kMismatchNuisances * problem_.num_logs());
   const int column = kMismatchNuisances * seg.log;
-  const Eigen::VectorXd base = problem_.SegmentResidualsWith(s, nullptr, substeps);
+  // The fit's own model at this point: Information() evaluated the segment's cost here just
+  // before asking, so its cache answers without a simulation.
+  const Eigen::VectorXd base = problem_.SegmentResiduals(s);
   if (base.size() != n) return X;
   const Eigen::VectorXd finer = problem_.SegmentResidualsWith(s, nullptr, 2 * substeps);
   if (finer.size() == n) X.col(column) = finer - base;
-  const Eigen::VectorXd hold = problem_.SegmentResidualsWith(s, &smooth_[seg.log], substeps);
-  if (hold.size() == n) X.col(column + 1) = hold - base;
-  if (Switches(seg.log)) {
-    const Eigen::VectorXd jump = problem_.SegmentResidualsWith(s, &jumps_[seg.log], substeps);
-    if (jump.size() == n) X.col(column + 2) = jump - base;
-  }
+  // A variant holding none of the segment's rows differently is its own model: a zero
+  // direction, without simulating it (on a smoothly pushed log, the switches' everywhere).
+  auto variant = [&](const std::vector<char>& held, int col) {
+    if (!seg.cost->Holds(held)) return;
+    const Eigen::VectorXd r = problem_.SegmentResidualsWith(s, &held, substeps);
+    if (r.size() == n) X.col(col) = r - base;
+  };
+  variant(smooth_[seg.log], column + 1);
+  if (Switches(seg.log)) variant(jumps_[seg.log], column + 2);
   ThroughRowLoss(seg.cost->row_loss(), base, &X);
   return X;
 }

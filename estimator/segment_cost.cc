@@ -161,6 +161,12 @@ SegmentCost::SegmentCost(const Trajectory& log, int first_row, int last_row, int
   }
 }
 
+bool SegmentCost::Holds(const std::vector<char>& held_rows) const {
+  const auto held = [](char h) { return h != 0; };
+  if (delay_block_ >= 0) return std::any_of(held_rows.begin(), held_rows.end(), held);
+  return std::any_of(held_rows.begin() + first_, held_rows.begin() + last_, held);
+}
+
 bool SegmentCost::RawResiduals(double const* const* params, double* residuals,
                                double** jacobians) const {
   const std::vector<int32_t>& sizes = parameter_block_sizes();
@@ -175,11 +181,13 @@ bool SegmentCost::RawResiduals(double const* const* params, double* residuals,
     }
     return true;
   };
-  if (!jacobians && same_as_last()) {
+  if ((!jacobians || jacobian_kept_) && same_as_last()) {
     std::copy(last_residuals_.begin(), last_residuals_.end(), residuals);
+    if (jacobians) CopyKeptJacobian(jacobians);
     return true;
   }
   last_params_.clear();
+  jacobian_kept_ = false;
   try {
     if (!Simulate(params, residuals, jacobians)) return false;
   } catch (const std::exception&) {
@@ -190,6 +198,37 @@ bool SegmentCost::RawResiduals(double const* const* params, double* residuals,
   }
   last_residuals_.assign(residuals, residuals + num_residuals());
   return true;
+}
+
+std::vector<double*> SegmentCost::KeptBlocks() const {
+  const std::vector<int32_t>& sizes = parameter_block_sizes();
+  size_t total = 0;
+  for (const int32_t size : sizes) total += static_cast<size_t>(num_residuals()) * size;
+  kept_jacobian_.resize(total);
+  std::vector<double*> blocks(sizes.size());
+  double* block = kept_jacobian_.data();
+  for (size_t b = 0; b < sizes.size(); ++b) {
+    blocks[b] = block;
+    block += static_cast<size_t>(num_residuals()) * sizes[b];
+  }
+  return blocks;
+}
+
+void SegmentCost::CopyKeptJacobian(double** jacobians) const {
+  const std::vector<double*> kept = KeptBlocks();
+  for (size_t b = 0; b < kept.size(); ++b) {
+    if (!jacobians[b] || jacobians[b] == kept[b]) continue;
+    std::copy(kept[b], kept[b] + static_cast<size_t>(num_residuals()) * parameter_block_sizes()[b],
+              jacobians[b]);
+  }
+}
+
+std::vector<const double*> SegmentCost::EvaluateKept(double const* const* params,
+                                                     double* residuals) const {
+  std::vector<double*> blocks = KeptBlocks();
+  if (!RawResiduals(params, residuals, blocks.data())) return {};
+  jacobian_kept_ = true;
+  return {blocks.begin(), blocks.end()};
 }
 
 bool SegmentCost::Evaluate(double const* const* params, double* residuals,

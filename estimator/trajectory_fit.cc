@@ -200,7 +200,9 @@ int SeedFromHeads(TrajectoryProblem* problem, const SeedCandidates& candidates,
   const TrajectoryProblem::Point at_seed = problem->point();
   const double cost_at_seed = problem->RawCost();
   problem->set_point(heads->point());
-  if (!(problem->RawCost() <= cost_at_seed)) problem->set_point(at_seed);
+  // With derivatives where kept: the next solve starts here, and its iteration zero then
+  // costs no pass.
+  if (!(problem->RawCostKeepingJacobians() <= cost_at_seed)) problem->set_point(at_seed);
   return iterations;
 }
 

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <functional>
 #include <limits>
+#include <numeric>
 #include <optional>
 #include <stdexcept>
 
@@ -48,6 +49,10 @@ constexpr double kStdErrRefresh = 0.25;
 constexpr double kSettleCheck = 1e-3;
 // ... this floor in their units (N or s): an offset of 1 mN or a delay of 1 ms.
 constexpr double kNuisanceSettleFloor = 1e-3;
+// A problem whose Jacobian (over every segment) fits in this many bytes keeps each
+// segment's last one (SegmentCost::EvaluateKept): 2 MB on estimator_benchmark's 10,000
+// rows; not on logs of more than about 150,000 rows, whose memory matters more.
+constexpr double kKeptJacobianBytes = 32.0 * (1 << 20);
 // A segment whose own information has a relative eigenvalue below this leaves part of its
 // state undetermined (typically the start velocity of a segment that begins stuck).
 constexpr double kRankDeficientSegment = 1e-12;
@@ -286,6 +291,15 @@ int TrajectoryProblem::Rows() const {
   return n;
 }
 
+bool TrajectoryProblem::KeepsJacobians() const {
+  double bytes = 0;
+  for (const TrajectorySegment& seg : segments_) {
+    const std::vector<int32_t>& sizes = seg.cost->parameter_block_sizes();
+    bytes += 8.0 * seg.cost->num_residuals() * std::accumulate(sizes.begin(), sizes.end(), 0);
+  }
+  return bytes <= kKeptJacobianBytes;
+}
+
 int TrajectoryProblem::StateParameters() const {
   int n = 0;
   for (const TrajectorySegment& seg : segments_) n += use_pose(seg.log) ? 6 : 3;
@@ -363,6 +377,35 @@ double TrajectoryProblem::RawCost() const {
     for (double v : r) cost += v * v;
   });
   return std::isfinite(cost) ? cost : std::numeric_limits<double>::infinity();
+}
+
+double TrajectoryProblem::RawCostKeepingJacobians() const {
+  auto without_loss = [](const SegmentCost& cost) {
+    return cost.row_loss().kind == RobustLoss::kNone || !(cost.row_loss().scale > 0);
+  };
+  if (!KeepsJacobians() || !std::all_of(segments_.begin(), segments_.end(),
+                                        [&](const auto& seg) { return without_loss(*seg.cost); })) {
+    return RawCost();
+  }
+  // Each segment's residuals held at once: the problem's whole Jacobian fits in
+  // kKeptJacobianBytes, so its residuals do too.
+  std::vector<std::vector<double>> residuals(segments_.size());
+  auto* self = const_cast<TrajectoryProblem*>(this);  // BlocksOf hands out pointers only
+  ParallelFor(static_cast<int>(segments_.size()), options_.threads, [&](int k) {
+    const SegmentCost& cost = *segments_[k].cost;
+    const std::vector<double*> blocks = self->BlocksOf(self->segments_[k]);
+    std::vector<const double*> params(blocks.begin(), blocks.end());
+    std::vector<double>& r = residuals[k];
+    r.assign(cost.num_residuals(), 0.0);
+    if (cost.EvaluateKept(params.data(), r.data()).empty()) {
+      std::fill(r.begin(), r.end(), std::numeric_limits<double>::infinity());
+    }
+  });
+  double sum = 0;  // in RawCost's order
+  for (const std::vector<double>& r : residuals) {
+    for (double v : r) sum += v * v;
+  }
+  return std::isfinite(sum) ? sum : std::numeric_limits<double>::infinity();
 }
 
 namespace {
@@ -484,8 +527,10 @@ class SettledCallback final : public ceres::IterationCallback {
 class CompressedSegmentCost final : public ceres::CostFunction {
  public:
   /// `last`, when given, receives every evaluation with derivatives (SegmentGaussNewton).
-  CompressedSegmentCost(const SegmentCost* cost, SegmentGaussNewton* last)
-      : cost_(cost), last_(last) {
+  /// `keep`: the segment's cost keeps each Jacobian (SegmentCost::EvaluateKept) where it
+  /// has no row loss, so that one at the same point later costs no simulation.
+  CompressedSegmentCost(const SegmentCost* cost, SegmentGaussNewton* last, bool keep)
+      : cost_(cost), last_(last), keep_(keep) {
     *mutable_parameter_block_sizes() = cost->parameter_block_sizes();
     for (const int32_t size : cost->parameter_block_sizes()) columns_ += size;
     set_num_residuals(std::min(cost->num_residuals(), columns_ + 1));
@@ -505,24 +550,18 @@ class CompressedSegmentCost final : public ceres::CostFunction {
       residuals[columns_] = r.norm();
       return true;
     }
-    // Every block's Jacobian, held ones too: Q must not depend on which blocks Ceres asks for.
-    std::vector<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>> block(
-        sizes.size());
-    std::vector<double*> all(sizes.size());
-    for (size_t b = 0; b < sizes.size(); ++b) {
-      block[b].resize(n, sizes[b]);
-      all[b] = block[b].data();
-    }
-    if (!cost_->Evaluate(params, r.data(), all.data())) return false;
+    std::vector<RowMajorMatrix> local;
+    const std::vector<const double*> block = EveryBlock(params, r.data(), &local);
+    if (block.empty()) return false;
     Eigen::MatrixXd J(n, columns_);
     for (size_t b = 0, col = 0; b < sizes.size(); col += sizes[b], ++b) {
-      J.middleCols(static_cast<Eigen::Index>(col), sizes[b]) = block[b];
+      J.middleCols(static_cast<Eigen::Index>(col), sizes[b]) =
+          Eigen::Map<const RowMajorMatrix>(block[b], n, sizes[b]);
     }
     if (n == num_residuals()) {  // not compressed: J itself is the factor
       std::copy(r.data(), r.data() + n, residuals);
       for (size_t b = 0; b < sizes.size(); ++b) {
-        if (jacobians[b])
-          std::copy(block[b].data(), block[b].data() + block[b].size(), jacobians[b]);
+        if (jacobians[b]) std::copy(block[b], block[b] + n * sizes[b], jacobians[b]);
       }
       *last_ = {std::move(J), false, r.squaredNorm(), n, true};
       return true;
@@ -552,8 +591,31 @@ class CompressedSegmentCost final : public ceres::CostFunction {
   }
 
  private:
+  using RowMajorMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+
+  // Every block's Jacobian, held ones too (Q must not depend on which blocks Ceres asks
+  // for), with the residuals into r: in the cost's own storage where it keeps them, else in
+  // `local`. Empty where a step fails.
+  std::vector<const double*> EveryBlock(double const* const* params, double* r,
+                                        std::vector<RowMajorMatrix>* local) const {
+    const RowLoss& loss = cost_->row_loss();
+    if (keep_ && (loss.kind == RobustLoss::kNone || !(loss.scale > 0))) {
+      return cost_->EvaluateKept(params, r);
+    }
+    const std::vector<int32_t>& sizes = parameter_block_sizes();
+    local->resize(sizes.size());
+    std::vector<double*> all(sizes.size());
+    for (size_t b = 0; b < sizes.size(); ++b) {
+      (*local)[b].resize(cost_->num_residuals(), sizes[b]);
+      all[b] = (*local)[b].data();
+    }
+    if (!cost_->Evaluate(params, r, all.data())) return {};
+    return {all.begin(), all.end()};
+  }
+
   const SegmentCost* cost_;
   SegmentGaussNewton* last_;
+  bool keep_;
   int columns_ = 0;
 };
 
@@ -564,9 +626,10 @@ ceres::Solver::Summary TrajectoryProblem::Solve(const std::vector<bool>& free, b
   ceres::Problem problem;  // owns the CompressedSegmentCosts, not the segments' costs
   auto* ordering = new ceres::ParameterBlockOrdering;
   std::vector<SegmentGaussNewton> last(segments_.size());
+  const bool keep = KeepsJacobians();
   for (size_t k = 0; k < segments_.size(); ++k) {
     TrajectorySegment& seg = segments_[k];
-    problem.AddResidualBlock(new CompressedSegmentCost(seg.cost.get(), &last[k]), nullptr,
+    problem.AddResidualBlock(new CompressedSegmentCost(seg.cost.get(), &last[k], keep), nullptr,
                              BlocksOf(seg));
     ordering->AddElementToGroup(seg.state.data(), 0);
     if (!use_pose(seg.log)) {
@@ -768,6 +831,16 @@ Eigen::VectorXd TrajectoryProblem::SegmentResidualsWith(int segment,
   std::vector<const double*> params(blocks.begin(), blocks.end());
   Eigen::VectorXd r(cost.num_residuals());
   if (!cost.Residuals(params.data(), r.data(), false)) return Eigen::VectorXd();
+  return r;
+}
+
+Eigen::VectorXd TrajectoryProblem::SegmentResiduals(int segment) const {
+  const TrajectorySegment& seg = segments_[segment];
+  auto* self = const_cast<TrajectoryProblem*>(this);  // BlocksOf hands out pointers only
+  const std::vector<double*> blocks = self->BlocksOf(self->segments_[segment]);
+  std::vector<const double*> params(blocks.begin(), blocks.end());
+  Eigen::VectorXd r(seg.cost->num_residuals());
+  if (!seg.cost->Residuals(params.data(), r.data(), false)) return Eigen::VectorXd();
   return r;
 }
 

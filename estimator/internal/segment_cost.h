@@ -80,6 +80,17 @@ class SegmentCost final : public ceres::CostFunction {
   /// held-force variants (mismatch_nuisances.h), without a copy of the log. Null: the
   /// logged wrenches. `held_rows` must outlive the cost.
   void SetHeldRows(const std::vector<char>* held_rows) { held_rows_ = held_rows; }
+  /// Whether SetHeldRows(&held_rows) would change a wrench this segment simulates: a held
+  /// row among those whose intervals it steps over, or any held row where a fitted delay
+  /// reads rows beyond them.
+  bool Holds(const std::vector<char>& held_rows) const;
+  /// The raw residuals and every block's Jacobian (row-major, n x the block's size) in the
+  /// cost's own storage, which it keeps: a later request for derivatives at the same
+  /// parameter values (bit for bit), the information at a solve's final point or a next
+  /// solve's iteration zero, then costs no simulation. Valid until the next evaluation;
+  /// empty where a step fails. Raw: for a cost without a row loss. The storage is a
+  /// Jacobian (8 bytes per residual and parameter) per segment, held until the cost goes.
+  std::vector<const double*> EvaluateKept(double const* const* params, double* residuals) const;
   const RowLoss& row_loss() const { return loss_; }
   /// The residuals alone, with or without the row loss (diagnostics, the seed scan).
   bool Residuals(double const* const* params, double* residuals, bool with_row_loss) const;
@@ -99,8 +110,13 @@ class SegmentCost final : public ceres::CostFunction {
   bool Simulate(double const* const* params, double* residuals, double** jacobians,
                 std::vector<PlanarState>* states = nullptr) const;
   /// Simulate, or the residuals of the last simulation when asked for no derivatives at
-  /// the same parameter values (bit for bit).
+  /// the same parameter values (bit for bit), or for derivatives where EvaluateKept last
+  /// evaluated there.
   bool RawResiduals(double const* const* params, double* residuals, double** jacobians) const;
+  /// The kept storage's blocks (sized on first use).
+  std::vector<double*> KeptBlocks() const;
+  /// Copies the kept Jacobian into every block `jacobians` asks for.
+  void CopyKeptJacobian(double** jacobians) const;
   void ApplyRowLoss(double* residuals, double** jacobians) const;
   /// The wrench held over row `row`'s interval before any nuisance: the logged one, or its
   /// mean with the next row's (SetHeldRows).
@@ -122,6 +138,10 @@ class SegmentCost final : public ceres::CostFunction {
   // same point (its projected line search, then the candidate point): the second costs
   // nothing. Same threading as warm_start_.
   mutable std::vector<double> last_params_, last_residuals_;
+  // EvaluateKept's Jacobian, every block, block after block; whether it is that at
+  // last_params_.
+  mutable std::vector<double> kept_jacobian_;
+  mutable bool jacobian_kept_ = false;
 };
 
 /// The cost of one shooting segment (rows first_row..last_row of `log`, which must outlive

@@ -189,6 +189,10 @@ class TrajectoryProblem {
                                const std::function<void(int, const std::vector<double>&)>& f) const;
   /// Sum of squares of the raw residuals; infinity if a segment fails.
   double RawCost() const;
+  /// RawCost, evaluated with derivatives where the problem keeps them
+  /// (SegmentCost::EvaluateKept): a solve starting at this point then evaluates nothing
+  /// at its iteration zero. Elsewhere RawCost itself.
+  double RawCostKeepingJacobians() const;
 
   /// Levenberg-Marquardt over the segment states and the free global parameters
   /// (free.size() == num_global()), stopping once the free ones settle (the callback in
@@ -214,6 +218,11 @@ class TrajectoryProblem {
   /// fails. Safe to call for different segments concurrently.
   Eigen::VectorXd SegmentResidualsWith(int segment, const std::vector<char>* held_rows,
                                        int substeps) const;
+  /// The raw residuals of segment `segment` by its own cost, at the current state and
+  /// parameters (empty where a step fails): no simulation where the cost last evaluated this
+  /// very point, as Information() just did (its cache). Safe to call for different segments
+  /// concurrently.
+  Eigen::VectorXd SegmentResiduals(int segment) const;
 
   /// One-sigma errors of the free global parameters from Information() and the residual
   /// variance (0 where undetermined).
@@ -227,6 +236,8 @@ class TrajectoryProblem {
   int StateParameters() const;
 
  private:
+  /// Whether the segments' costs keep their last Jacobian (kKeptJacobianBytes).
+  bool KeepsJacobians() const;
   TrajectoryProblem() = default;
   /// Segment of rows first_row..last_row of log `log`, starting at `state`, with its cost.
   TrajectorySegment NewSegment(int log, int first_row, int last_row,
