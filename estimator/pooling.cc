@@ -127,4 +127,16 @@ double StudentT95(double dof) {
   return boost::math::quantile(boost::math::complement(boost::math::students_t(dof), 0.025));
 }
 
+double StudentT95Fast(double dof) {
+  if (dof < kStudentT95ExpansionDof) return StudentT95(dof);
+  // Fisher (1926); Abramowitz & Stegun 26.7.5: t = z + g1/v + g2/v^2 + g3/v^3 + g4/v^4.
+  const double z = kZ95, z2 = z * z, z3 = z2 * z, z5 = z3 * z2, z7 = z5 * z2, z9 = z7 * z2;
+  const double g1 = (z3 + z) / 4;
+  const double g2 = (5 * z5 + 16 * z3 + 3 * z) / 96;
+  const double g3 = (3 * z7 + 19 * z5 + 17 * z3 - 15 * z) / 384;
+  const double g4 = (79 * z9 + 776 * z7 + 1482 * z5 - 1920 * z3 - 945 * z) / 92160;
+  const double u = 1 / dof;
+  return z + u * (g1 + u * (g2 + u * (g3 + u * g4)));
+}
+
 }  // namespace slideid
