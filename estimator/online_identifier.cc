@@ -899,7 +899,8 @@ struct OnlineIdentifier::Impl {
       p.identifiable = true;
       p.verdict = Verdict::kOk;
       p.value = std::exp(x(kPar + i));
-      p.stderr_value = p.value * sd;  // delta method, for the table
+      // The interval's, as ParameterEstimate has it: its half-width over kZ95 (delta method).
+      p.stderr_value = p.value * sd * q / kZ95;
       p.ci95_lo = lo;
       p.ci95_hi = hi;
       p.interval_quantile = q;
