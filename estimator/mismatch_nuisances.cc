@@ -18,7 +18,7 @@ double HorizontalForce(const AppliedWrench& w) { return std::hypot(w.fx, w.fy); 
 // weight changes between the two models, and the nuisance would then fit the noise of the
 // rows near the loss's scale.
 void ThroughRowLoss(const RowLoss& loss, const Eigen::VectorXd& r, Eigen::MatrixXd* X) {
-  if (loss.kind == RobustLoss::kNone || !(loss.scale > 0)) return;
+  if (!loss.active()) return;
   for (int i = 0; 3 * i < r.size(); ++i) {
     const Eigen::Vector3d row = r.segment<3>(3 * i);
     const auto [g, g_prime] = RowLossScalingAt(loss, row.squaredNorm());

@@ -83,11 +83,11 @@ constexpr double kMinJumpInformation = 1.0 / (0.5 * 0.5);
 /// The variance factor (Kappa) is read once this many degrees of freedom are in (four
 /// windows that determine all three parameters), and not below kMinKappa.
 constexpr int kMinKappaRanks = 12;
-/// Also the floor of the intervals' factors (IntervalKappa): where the filter's process
+/// Also the floor of the intervals' factors (CalibrationOf): where the filter's process
 /// noise exceeds what its rows carry, its own covariance is too wide (c covered the truth
 /// in 97-98% of exact-force logs with a floor of 1).
 constexpr double kMinKappa = 0.25;
-/// The intervals' variance factor (IntervalKappa) is read once this many degrees of freedom
+/// The intervals' variance factor (CalibrationOf) is read once this many degrees of freedom
 /// are in, over completed windows and those under way: a window's statistic sits a few
 /// rows after the filter settles, where a factor read only from four completed windows came
 /// 120 rows later, and short logs' early intervals were the filter's own (too narrow: c
@@ -356,7 +356,7 @@ struct OnlineIdentifier::Impl {
   double window_statistics = 0;  // sum of completed windows' likelihood ratios
   int window_ranks = 0;          // and of their degrees of freedom
   // The same per parameter: each direction's chi-square(1) term shared out by the squares of
-  // its eigenvector's components, and the shares' sums (IntervalKappa).
+  // its eigenvector's components, and the shares' sums (CalibrationOf).
   Eigen::Vector3d parameter_statistics = Eigen::Vector3d::Zero();
   Eigen::Vector3d parameter_weights = Eigen::Vector3d::Zero();
   Eigen::Vector3d open_statistics = Eigen::Vector3d::Zero(), open_weights = Eigen::Vector3d::Zero();
@@ -702,7 +702,7 @@ struct OnlineIdentifier::Impl {
       Eigen::Vector3d jump;
       int rank = 0;
       const bool complete = w.rows == options.change_window_rows;
-      // Windows under way count towards the intervals' variance factor (IntervalKappa).
+      // Windows under way count towards the intervals' variance factor (CalibrationOf).
       const bool open = !complete;
       const double raw =
           LikelihoodRatio(w, &jump, &rank, complete ? &parameter_statistics : &open_statistics,
@@ -758,41 +758,37 @@ struct OnlineIdentifier::Impl {
     return std::max(kMinKappa, window_statistics / window_ranks);
   }
 
-  // The variance factor of parameter i's interval: the mean likelihood ratio per degree of
-  // freedom in i's directions (each direction's chi-square(1) term shared out by the squares
-  // of its eigenvector's components), over the completed windows and those under way (from
-  // kMinChangeRows rows), once kMinIntervalRanks degrees of freedom are in (the interval
-  // then takes Student's t for them, IntervalDof); the overall factor, or the innovations'
-  // if larger, while i's directions weigh less than kMinParameterWeight; the innovations'
-  // (InnovationKappa, at least 1) before. Not below kMinKappa. docs/online.md, "Calibration".
-  double IntervalKappa(int i) const {
+  // What parameter i's interval is calibrated by: its variance factor, and the degrees of
+  // freedom the factor is read from (0: not from the windows).
+  struct IntervalCalibration {
+    double kappa = 1;
+    double dof = 0;
+  };
+
+  // The factor is the mean likelihood ratio per degree of freedom in i's directions (each
+  // direction's chi-square(1) term shared out by the squares of its eigenvector's
+  // components), over the completed windows and those under way (from kMinChangeRows rows),
+  // once kMinIntervalRanks degrees of freedom are in (the interval then takes Student's t
+  // for them); the overall factor, or the innovations' if larger, while i's directions weigh
+  // less than kMinParameterWeight; the innovations' (InnovationKappa, at least 1) before.
+  // Not below kMinKappa. docs/online.md, "Calibration".
+  IntervalCalibration CalibrationOf(int i) const {
     const int ranks = window_ranks + open_ranks;
-    if (ranks < kMinIntervalRanks) return std::max(1.0, InnovationKappa());
+    if (ranks < kMinIntervalRanks) return {std::max(1.0, InnovationKappa()), 0};
     const double weight = parameter_weights(i) + open_weights(i);
-    const double kappa =
-        weight >= kMinParameterWeight
-            ? (parameter_statistics(i) + open_statistics(i)) / weight
-            : std::max(InnovationKappa(), (window_statistics + open_total) / ranks);
-    return std::max(kMinKappa, kappa);
+    if (weight >= kMinParameterWeight) {
+      return {std::max(kMinKappa, (parameter_statistics(i) + open_statistics(i)) / weight), weight};
+    }
+    const double overall = (window_statistics + open_total) / ranks;
+    return {std::max(kMinKappa, std::max(InnovationKappa(), overall)), static_cast<double>(ranks)};
   }
 
-  // The degrees of freedom IntervalKappa(i) is read from (0: none, it is not read from the
-  // windows): the interval takes Student's t quantile for them, as a variance estimated
-  // from few degrees of freedom should.
-  double IntervalDof(int i) const {
-    const int ranks = window_ranks + open_ranks;
-    if (ranks < kMinIntervalRanks) return 0;
-    const double weight = parameter_weights(i) + open_weights(i);
-    return weight >= kMinParameterWeight ? weight : ranks;
-  }
-
-  // Student's t quantile for IntervalDof(i); kZ95 where the factor is not read from the
-  // windows, or after a takeover (the fit's covariance is calibrated). Below
-  // kStudentT95ExpansionDof, kept per parameter while its degrees of freedom stay the same:
-  // there a quantile costs microseconds (Boost's inverse incomplete beta), and three a row
-  // tripled the update's time.
-  double IntervalQuantile(int i) {
-    const double dof = IntervalDof(i);
+  // Student's t quantile for `dof` of parameter i's calibration; kZ95 where the factor is
+  // not read from the windows, or after a takeover (the fit's covariance is calibrated).
+  // Below kStudentT95ExpansionDof, kept per parameter while its degrees of freedom stay the
+  // same: there a quantile costs microseconds (Boost's inverse incomplete beta), and three a
+  // row tripled the update's time.
+  double IntervalQuantile(int i, double dof) {
     if (taken_over || dof <= 0) return kZ95;
     if (dof != quantile_dof[i]) {
       quantile_dof[i] = dof;
@@ -877,7 +873,11 @@ struct OnlineIdentifier::Impl {
     result.angle_noise_rad = sigma_theta;
     result.variance_factor = Kappa();
     result.force_noise_fraction = ForceNoiseFraction();
-    for (int i = 0; i < 3; ++i) result.interval_variance_factors[i] = IntervalKappa(i);
+    std::array<IntervalCalibration, 3> calibration;
+    for (int i = 0; i < 3; ++i) {
+      calibration[i] = CalibrationOf(i);
+      result.interval_variance_factors[i] = calibration[i].kappa;
+    }
     const Eigen::Vector3d interval_variance = IntervalVariances();
     for (int i = 0; i < 3; ++i) {
       ParameterEstimate& p = result.parameters[i];
@@ -888,7 +888,7 @@ struct OnlineIdentifier::Impl {
         continue;
       }
       const double sd = std::sqrt(std::max(0.0, interval_variance(i)));
-      const double q = IntervalQuantile(i);
+      const double q = IntervalQuantile(i, calibration[i].dof);
       const double lo = std::exp(x(kPar + i) - q * sd), hi = std::exp(x(kPar + i) + q * sd);
       if (!(hi / lo <= kMaxIntervalFactor)) {
         p.held_at = std::exp(x(kPar + i));
@@ -909,7 +909,7 @@ struct OnlineIdentifier::Impl {
   }
 
   // The variances of log a, b, c the intervals come from: the filter's, each widened by its
-  // factor (IntervalKappa); after a batch takeover, the fit's information plus what the
+  // factor (CalibrationOf); after a batch takeover, the fit's information plus what the
   // filter added since, only the latter widened: the batch fit's covariance is calibrated.
   Eigen::Vector3d IntervalVariances() const {
     const Eigen::Matrix3d Ppp = P.block<3, 3>(kPar, kPar);

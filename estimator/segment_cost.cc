@@ -234,14 +234,14 @@ std::vector<const double*> SegmentCost::EvaluateKept(double const* const* params
 bool SegmentCost::Evaluate(double const* const* params, double* residuals,
                            double** jacobians) const {
   if (!RawResiduals(params, residuals, jacobians)) return false;
-  if (loss_.kind != RobustLoss::kNone && loss_.scale > 0) ApplyRowLoss(residuals, jacobians);
+  if (loss_.active()) ApplyRowLoss(residuals, jacobians);
   return true;
 }
 
 bool SegmentCost::Residuals(double const* const* params, double* residuals,
                             bool with_row_loss) const {
   if (!RawResiduals(params, residuals, nullptr)) return false;
-  if (with_row_loss && loss_.kind != RobustLoss::kNone && loss_.scale > 0) {
+  if (with_row_loss && loss_.active()) {
     ApplyRowLoss(residuals, nullptr);
   }
   return true;

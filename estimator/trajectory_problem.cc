@@ -210,11 +210,9 @@ void TrajectoryProblem::StatesFrom(const TrajectoryProblem& other) {
   }
   for (auto& log_starts : starts) std::sort(log_starts.begin(), log_starts.end());
   std::vector<std::optional<Vector6>> found(segments_.size());
-  auto* source = const_cast<TrajectoryProblem*>(&other);  // BlocksOf hands out pointers only
   ParallelFor(static_cast<int>(other.segments_.size()), options_.threads, [&](int j) {
     const TrajectorySegment& seg = other.segments_[j];
-    const std::vector<double*> blocks = source->BlocksOf(source->segments_[j]);
-    std::vector<const double*> params(blocks.begin(), blocks.end());
+    const std::vector<const double*> params = other.ParametersOf(j);
     std::vector<PlanarState> simulated;
     if (!seg.cost->SimulatedStates(params.data(), &simulated)) return;
     // other's segments cover disjoint rows: each of this problem's starts is written once.
@@ -313,6 +311,12 @@ std::vector<double*> TrajectoryProblem::BlocksOf(TrajectorySegment& seg) {
   return blocks;
 }
 
+std::vector<const double*> TrajectoryProblem::ParametersOf(int segment) const {
+  auto* self = const_cast<TrajectoryProblem*>(this);  // BlocksOf hands out pointers only
+  const std::vector<double*> blocks = self->BlocksOf(self->segments_[segment]);
+  return {blocks.begin(), blocks.end()};
+}
+
 std::vector<int> TrajectoryProblem::GlobalColumnsOf(TrajectorySegment& seg) {
   const std::vector<double*> blocks = BlocksOf(seg);
   const std::vector<int32_t>& sizes = seg.cost->parameter_block_sizes();
@@ -334,10 +338,8 @@ std::vector<double> TrajectoryProblem::Residuals(bool raw) const {
     offsets[k + 1] = offsets[k] + segments_[k].cost->num_residuals();
   }
   std::vector<double> all(offsets.back(), 0.0);
-  auto* self = const_cast<TrajectoryProblem*>(this);  // BlocksOf hands out pointers only
   ParallelFor(static_cast<int>(segments_.size()), options_.threads, [&](int k) {
-    const std::vector<double*> blocks = self->BlocksOf(self->segments_[k]);
-    std::vector<const double*> params(blocks.begin(), blocks.end());
+    const std::vector<const double*> params = ParametersOf(k);
     double* out = all.data() + offsets[k];
     if (!segments_[k].cost->Residuals(params.data(), out, !raw)) {
       std::fill(out, out + segments_[k].cost->num_residuals(),
@@ -349,19 +351,25 @@ std::vector<double> TrajectoryProblem::Residuals(bool raw) const {
 
 void TrajectoryProblem::ForEachSegmentResiduals(
     bool raw, const std::function<void(int, const std::vector<double>&)>& f) const {
+  ForEachSegmentEvaluation([raw](const SegmentCost& cost, double const* const* params,
+                                 double* r) { return cost.Residuals(params, r, !raw); },
+                           f);
+}
+
+void TrajectoryProblem::ForEachSegmentEvaluation(
+    const SegmentEvaluation& evaluate,
+    const std::function<void(int, const std::vector<double>&)>& f) const {
   constexpr int kChunkSegments = 256;
   const int n = static_cast<int>(segments_.size());
   std::vector<std::vector<double>> chunk(std::min(n, kChunkSegments));
-  auto* self = const_cast<TrajectoryProblem*>(this);  // BlocksOf hands out pointers only
   for (int first = 0; first < n; first += kChunkSegments) {
     const int m = std::min(kChunkSegments, n - first);
     ParallelFor(m, options_.threads, [&](int j) {
       const SegmentCost& cost = *segments_[first + j].cost;
-      const std::vector<double*> blocks = self->BlocksOf(self->segments_[first + j]);
-      std::vector<const double*> params(blocks.begin(), blocks.end());
+      const std::vector<const double*> params = ParametersOf(first + j);
       std::vector<double>& r = chunk[j];
       r.assign(cost.num_residuals(), 0.0);
-      if (!cost.Residuals(params.data(), r.data(), !raw)) {
+      if (!evaluate(cost, params.data(), r.data())) {
         std::fill(r.begin(), r.end(), std::numeric_limits<double>::infinity());
       }
     });
@@ -369,43 +377,29 @@ void TrajectoryProblem::ForEachSegmentResiduals(
   }
 }
 
-double TrajectoryProblem::RawCost() const {
-  // The sum over Residuals(true) in its order, without a residual vector of the whole log
-  // (the seed scan takes many costs).
+double TrajectoryProblem::SumOfSquares(const SegmentEvaluation& evaluate) const {
+  // In the segments' order, without a residual vector of the whole log (the seed scan takes
+  // many costs).
   double cost = 0;
-  ForEachSegmentResiduals(true, [&](int, const std::vector<double>& r) {
+  ForEachSegmentEvaluation(evaluate, [&](int, const std::vector<double>& r) {
     for (double v : r) cost += v * v;
   });
   return std::isfinite(cost) ? cost : std::numeric_limits<double>::infinity();
 }
 
-double TrajectoryProblem::RawCostKeepingJacobians() const {
-  auto without_loss = [](const SegmentCost& cost) {
-    return cost.row_loss().kind == RobustLoss::kNone || !(cost.row_loss().scale > 0);
-  };
-  if (!KeepsJacobians() || !std::all_of(segments_.begin(), segments_.end(),
-                                        [&](const auto& seg) { return without_loss(*seg.cost); })) {
-    return RawCost();
-  }
-  // Each segment's residuals held at once: the problem's whole Jacobian fits in
-  // kKeptJacobianBytes, so its residuals do too.
-  std::vector<std::vector<double>> residuals(segments_.size());
-  auto* self = const_cast<TrajectoryProblem*>(this);  // BlocksOf hands out pointers only
-  ParallelFor(static_cast<int>(segments_.size()), options_.threads, [&](int k) {
-    const SegmentCost& cost = *segments_[k].cost;
-    const std::vector<double*> blocks = self->BlocksOf(self->segments_[k]);
-    std::vector<const double*> params(blocks.begin(), blocks.end());
-    std::vector<double>& r = residuals[k];
-    r.assign(cost.num_residuals(), 0.0);
-    if (cost.EvaluateKept(params.data(), r.data()).empty()) {
-      std::fill(r.begin(), r.end(), std::numeric_limits<double>::infinity());
-    }
+double TrajectoryProblem::RawCost() const {
+  return SumOfSquares([](const SegmentCost& cost, double const* const* params, double* r) {
+    return cost.Residuals(params, r, false);
   });
-  double sum = 0;  // in RawCost's order
-  for (const std::vector<double>& r : residuals) {
-    for (double v : r) sum += v * v;
-  }
-  return std::isfinite(sum) ? sum : std::numeric_limits<double>::infinity();
+}
+
+double TrajectoryProblem::RawCostKeepingJacobians() const {
+  const bool lossless = std::none_of(segments_.begin(), segments_.end(),
+                                     [](const auto& seg) { return seg.cost->row_loss().active(); });
+  if (!KeepsJacobians() || !lossless) return RawCost();
+  return SumOfSquares([](const SegmentCost& cost, double const* const* params, double* r) {
+    return !cost.EvaluateKept(params, r).empty();
+  });
 }
 
 namespace {
@@ -598,10 +592,7 @@ class CompressedSegmentCost final : public ceres::CostFunction {
   // `local`. Empty where a step fails.
   std::vector<const double*> EveryBlock(double const* const* params, double* r,
                                         std::vector<RowMajorMatrix>* local) const {
-    const RowLoss& loss = cost_->row_loss();
-    if (keep_ && (loss.kind == RobustLoss::kNone || !(loss.scale > 0))) {
-      return cost_->EvaluateKept(params, r);
-    }
+    if (keep_ && !cost_->row_loss().active()) return cost_->EvaluateKept(params, r);
     const std::vector<int32_t>& sizes = parameter_block_sizes();
     local->resize(sizes.size());
     std::vector<double*> all(sizes.size());
@@ -826,9 +817,7 @@ Eigen::VectorXd TrajectoryProblem::SegmentResidualsWith(int segment,
   SegmentCost cost(*logs_[seg.log], seg.first_row, seg.last_row, substeps, use_pose(seg.log),
                    FittedNuisances());
   cost.SetHeldRows(held_rows);
-  auto* self = const_cast<TrajectoryProblem*>(this);  // BlocksOf hands out pointers only
-  const std::vector<double*> blocks = self->BlocksOf(self->segments_[segment]);
-  std::vector<const double*> params(blocks.begin(), blocks.end());
+  const std::vector<const double*> params = ParametersOf(segment);
   Eigen::VectorXd r(cost.num_residuals());
   if (!cost.Residuals(params.data(), r.data(), false)) return Eigen::VectorXd();
   return r;
@@ -836,9 +825,7 @@ Eigen::VectorXd TrajectoryProblem::SegmentResidualsWith(int segment,
 
 Eigen::VectorXd TrajectoryProblem::SegmentResiduals(int segment) const {
   const TrajectorySegment& seg = segments_[segment];
-  auto* self = const_cast<TrajectoryProblem*>(this);  // BlocksOf hands out pointers only
-  const std::vector<double*> blocks = self->BlocksOf(self->segments_[segment]);
-  std::vector<const double*> params(blocks.begin(), blocks.end());
+  const std::vector<const double*> params = ParametersOf(segment);
   Eigen::VectorXd r(seg.cost->num_residuals());
   if (!seg.cost->Residuals(params.data(), r.data(), false)) return Eigen::VectorXd();
   return r;

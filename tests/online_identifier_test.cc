@@ -252,9 +252,9 @@ TEST(OnlineIdentifier, RaisesNoAlarmOnUnchangedLogs) {
 
 // A filter that linearised far from the truth early can settle on a narrow interval orders
 // of magnitude off (the coverage suite's `outliers` condition: 1% of poses jump 5 mm). Such
-// an answer is labelled: an
-// estimate whose interval misses the truth by a factor 10 or more is marked suspect, saying
-// how far it is from where the filter started (plausibility.h), never ok.
+// an answer is labelled: an estimate whose interval misses the truth by a factor 10 or more
+// is marked suspect, saying how far it is from where the filter started (plausibility.h),
+// never ok.
 // A log of the coverage suite's `outliers` condition on which the filter alone runs off: c
 // ends a factor 50 below the truth, on a narrow interval (the one of 1800 `outliers`,
 // `force-3%` and `users` logs since each row's step is limited, kMaxLogStepPerRow; logs 71
@@ -311,7 +311,7 @@ TEST(OnlineIdentifier, TheBatchCheckBringsBackAnEstimateThatRanOff) {
 // The check on a thread of its own: no update runs a fit, and the verdicts, applied when
 // they are in, bring the same runaways back. Which row a verdict lands on depends on the
 // machine's timing, and so do the last digits of the end: the test asks for what holds at
-// any timing, a takeover and estimates near the truth (the filter alone ends 100 times off),
+// any timing, a takeover and estimates near the truth (the filter alone ends 50 times off),
 // not the intervals' exact reach.
 TEST(OnlineIdentifier, TheBatchCheckOnItsOwnThreadBringsThemBackToo) {
   constexpr double kNear = 0.2;  // relative; the ordinary errors here are 0.1-3%

@@ -56,6 +56,8 @@ void DelayedOffsetWrenchJacobian(const Trajectory& log, int row, double delay_s,
 struct RowLoss {
   RobustLoss kind = RobustLoss::kNone;
   double scale = 0;  ///< a of Huber or Cauchy, in the residuals' units
+  /// Whether it changes any row: a robust kind with a positive scale.
+  bool active() const { return kind != RobustLoss::kNone && scale > 0; }
 };
 
 /// How the row loss scales a row of squared norm s: r~ = g r, with g' = dg/ds, so that a

@@ -245,6 +245,17 @@ class TrajectoryProblem {
   /// The sensor nuisances the options fit (parameter blocks of every segment's cost).
   SegmentNuisances FittedNuisances() const;
   std::vector<double*> BlocksOf(TrajectorySegment& seg);
+  /// BlocksOf(segments_[segment]), read only.
+  std::vector<const double*> ParametersOf(int segment) const;
+  /// Evaluates a segment's cost at its parameters into the residuals; false where it fails.
+  using SegmentEvaluation = std::function<bool(const SegmentCost&, double const* const*, double*)>;
+  /// ForEachSegmentResiduals with `evaluate` for the residuals.
+  void ForEachSegmentEvaluation(
+      const SegmentEvaluation& evaluate,
+      const std::function<void(int, const std::vector<double>&)>& f) const;
+  /// The sum of squares over every segment's `evaluate`, in the segments' order; infinity
+  /// if one fails.
+  double SumOfSquares(const SegmentEvaluation& evaluate) const;
   /// The indices in global_ of the global parameters `seg`'s cost takes, in block order
   /// (the columns of its Jacobian after the state's 6).
   std::vector<int> GlobalColumnsOf(TrajectorySegment& seg);
