@@ -14,6 +14,7 @@ json Parameter(const ParameterEstimate& p) {
   json out = {{"value", Number(p.value)},
               {"stderr", Number(p.stderr_value)},
               {"ci95", json::array({Number(p.ci95_lo), Number(p.ci95_hi)})},
+              {"interval_quantile", p.identifiable ? Number(p.interval_quantile) : json(nullptr)},
               {"verdict", ToString(p.verdict)}};
   if (!p.identifiable) out["held_at"] = Number(p.held_at);
   if (!p.reason.empty()) out["reason"] = p.reason;

@@ -9,10 +9,10 @@
 namespace slideid {
 
 /// One line of JSON, no newline: {"row", "t", "started", "e_t_mu": {"value", "stderr",
-/// "ci95", "verdict", "reason"}, "e_o_over_e_t", "e_r_over_e_t", "variance_factor", "nis",
-/// "batch_checks", "batch_takeovers", "changes", "change" (the change found at this row, or
-/// null)}. Numbers in the shortest
-/// form that reads back to the same double; NaN as null.
+/// "ci95", "interval_quantile", "verdict", "reason"}, "e_o_over_e_t", "e_r_over_e_t",
+/// "variance_factor", "nis", "batch_checks", "batch_takeovers", "changes", "change" (the change
+/// found at this row, or null)}. Numbers in the shortest form that reads back to the same double;
+/// NaN as null.
 std::string FormatOnlineJson(const OnlineResult& result);
 
 }  // namespace slideid

@@ -30,6 +30,7 @@ Json ParameterJson(const ParameterEstimate& p) {
   j["stderr"] = id ? NumberOrNull(p.stderr_value) : Json(nullptr);
   j["ci95"] = Json::array(
       {id ? NumberOrNull(p.ci95_lo) : Json(nullptr), id ? NumberOrNull(p.ci95_hi) : Json(nullptr)});
+  j["interval_quantile"] = id ? NumberOrNull(p.interval_quantile) : Json(nullptr);
   j["identifiable"] = id;
   j["verdict"] = ToString(p.verdict);
   j["reason"] = p.reason;
@@ -183,6 +184,14 @@ ParameterEstimate ReadParameter(const Json& j, const std::string& path) {
   p.value = Field(j, path, "value", NumberOrNaN);
   p.stderr_value = Field(j, path, "stderr", NumberOrNaN);
   ReadInterval(j, path, &p.ci95_lo, &p.ci95_hi);
+  // Optional: results written before it was (issue 21) read as z-based intervals.
+  if (j.contains("interval_quantile")) {
+    const std::string at = path + "/interval_quantile";
+    const double q = NumberOrNaN(j.at("interval_quantile"), at);
+    if (std::isfinite(q) && !(q >= kZ95))
+      Fail(at, "expected a quantile of at least 1.96, got " + Quoted(j.at("interval_quantile")));
+    if (std::isfinite(q)) p.interval_quantile = q;
+  }
   p.identifiable = Field(j, path, "identifiable", Boolean);
   p.verdict = Field(j, path, "verdict", ReadVerdict);
   p.reason = Field(j, path, "reason", Text);

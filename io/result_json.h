@@ -2,7 +2,8 @@
 // The identify result as JSON (`identify --json`; `plot-log --fit` reads it), written and
 // read with nlohmann-json. One object on one line:
 //   {"e_t_mu": {"value": 0.31, "stderr": 0.00012, "ci95": [0.3098, 0.3102],
-//    "identifiable": true, "verdict": "ok", "reason": "", "held_at": null, "note": "..."},
+//    "interval_quantile": 1.959963984540054, "identifiable": true, "verdict": "ok", "reason": "",
+//    "held_at": null, "note": "..."},
 //   "e_o_over_e_t": {...}, "e_r_over_e_t": {...}, "method": "trajectory",
 //   "status": "converged", "steps_used": 295, "steps_total": 300, "steps_excluded": 5,
 //   "steps_excluded_by_reason": {"sticking": 5}, "seconds": 0.006, "iterations": 12,
@@ -20,8 +21,11 @@
 //                "lower_bound": 0.21 or null}}
 // Keys in this order, ", " and ": " between items. Numbers are written in the shortest form
 // that reads back to the same double; a number that is not finite is written as null and
-// read back as NaN. A parameter that is not identifiable has null value, stderr and ci95,
-// and its held_at; an identifiable one has a null held_at.
+// read back as NaN. A parameter that is not identifiable has null value, stderr, ci95 and
+// interval_quantile, and its held_at; an identifiable one has a null held_at.
+// interval_quantile (ParameterEstimate::interval_quantile: Student's t where the interval's
+// variance is read from few degrees of freedom, else z) is optional when read: results
+// written without it read as z.
 
 #include <optional>
 #include <stdexcept>

@@ -79,6 +79,9 @@ TEST(IdentifyFollow, PrintsALinePerEveryNRowsWithTheOnlineIdentifiersEstimates) 
     ASSERT_TRUE(p.identifiable);
     EXPECT_EQ(last[ParameterName(i)]["value"].get<double>(), p.value) << ParameterName(i);
     EXPECT_EQ(last[ParameterName(i)]["ci95"][0].get<double>(), p.ci95_lo) << ParameterName(i);
+    // The quantile the interval took (t for a factor read from few degrees of freedom).
+    EXPECT_EQ(last[ParameterName(i)]["interval_quantile"].get<double>(), p.interval_quantile)
+        << ParameterName(i);
     EXPECT_EQ(last[ParameterName(i)]["verdict"], "ok");
   }
 }

@@ -54,6 +54,9 @@ void ExpectSameResult(const EstimateResult& expected, const EstimateResult& actu
     ExpectSameDouble(e.stderr_value, a.stderr_value, name + " stderr");
     ExpectSameDouble(e.ci95_lo, a.ci95_lo, name + " ci95_lo");
     ExpectSameDouble(e.ci95_hi, a.ci95_hi, name + " ci95_hi");
+    if (e.identifiable) {
+      ExpectSameDouble(e.interval_quantile, a.interval_quantile, name + " interval_quantile");
+    }
     ExpectSameDouble(e.held_at, a.held_at, name + " held_at");
     EXPECT_EQ(e.note, a.note) << name;
     EXPECT_EQ(e.verdict, a.verdict) << name;
@@ -158,29 +161,32 @@ EstimateResult Simple() {
 }
 
 TEST(ResultJson, KeepsTheDocumentedKeysOrderAndLayout) {
-  EXPECT_EQ(FormatJson(Simple()),
-            "{\"e_t_mu\": {\"value\": 0.25, \"stderr\": 0.5, \"ci95\": [-0.75, 1.25], "
-            "\"identifiable\": true, \"verdict\": \"ok\", \"reason\": \"\", \"held_at\": null, "
-            "\"note\": \"\"}, "
-            "\"e_o_over_e_t\": {\"value\": 1.5, \"stderr\": 0.125, \"ci95\": [1.25, 1.75], "
-            "\"identifiable\": true, \"verdict\": \"ok\", \"reason\": \"\", \"held_at\": null, "
-            "\"note\": \"error widened 2x\"}, "
-            "\"e_r_over_e_t\": {\"value\": null, \"stderr\": null, \"ci95\": [null, null], "
-            "\"identifiable\": false, \"verdict\": \"not identifiable\", "
-            "\"reason\": \"no rotation\", \"held_at\": 0.03125, \"note\": \"\"}, "
-            "\"method\": \"trajectory\", \"status\": \"converged\", \"steps_used\": 295, "
-            "\"steps_total\": 300, "
-            "\"steps_excluded\": 5, \"steps_excluded_by_reason\": {\"sticking\": 3, "
-            "\"between shooting segments\": 2}, \"seconds\": 0.5, \"iterations\": 12, "
-            "\"final_cost\": 2.0, \"converged\": true, \"message\": \"done\", "
-            "\"log_noise\": null, \"residual_rms\": null, \"nuisance\": {}, \"logs\": [], "
-            "\"heterogeneity\": {"
-            "\"e_t_mu\": {\"tested\": false, \"logs\": 0, \"q\": null, \"p_value\": null, "
-            "\"i2\": null, \"tau_log\": null, \"consistent\": true}, "
-            "\"e_o_over_e_t\": {\"tested\": false, \"logs\": 0, \"q\": null, \"p_value\": null, "
-            "\"i2\": null, \"tau_log\": null, \"consistent\": true}, "
-            "\"e_r_over_e_t\": {\"tested\": false, \"logs\": 0, \"q\": null, \"p_value\": null, "
-            "\"i2\": null, \"tau_log\": null, \"consistent\": true}}, \"mu_pusher\": null}");
+  EXPECT_EQ(
+      FormatJson(Simple()),
+      "{\"e_t_mu\": {\"value\": 0.25, \"stderr\": 0.5, \"ci95\": [-0.75, 1.25], "
+      "\"interval_quantile\": 1.959963984540054, \"identifiable\": true, \"verdict\": \"ok\", "
+      "\"reason\": \"\", \"held_at\": null, "
+      "\"note\": \"\"}, "
+      "\"e_o_over_e_t\": {\"value\": 1.5, \"stderr\": 0.125, \"ci95\": [1.25, 1.75], "
+      "\"interval_quantile\": 1.959963984540054, \"identifiable\": true, \"verdict\": \"ok\", "
+      "\"reason\": \"\", \"held_at\": null, "
+      "\"note\": \"error widened 2x\"}, "
+      "\"e_r_over_e_t\": {\"value\": null, \"stderr\": null, \"ci95\": [null, null], "
+      "\"interval_quantile\": null, \"identifiable\": false, \"verdict\": \"not identifiable\", "
+      "\"reason\": \"no rotation\", \"held_at\": 0.03125, \"note\": \"\"}, "
+      "\"method\": \"trajectory\", \"status\": \"converged\", \"steps_used\": 295, "
+      "\"steps_total\": 300, "
+      "\"steps_excluded\": 5, \"steps_excluded_by_reason\": {\"sticking\": 3, "
+      "\"between shooting segments\": 2}, \"seconds\": 0.5, \"iterations\": 12, "
+      "\"final_cost\": 2.0, \"converged\": true, \"message\": \"done\", "
+      "\"log_noise\": null, \"residual_rms\": null, \"nuisance\": {}, \"logs\": [], "
+      "\"heterogeneity\": {"
+      "\"e_t_mu\": {\"tested\": false, \"logs\": 0, \"q\": null, \"p_value\": null, "
+      "\"i2\": null, \"tau_log\": null, \"consistent\": true}, "
+      "\"e_o_over_e_t\": {\"tested\": false, \"logs\": 0, \"q\": null, \"p_value\": null, "
+      "\"i2\": null, \"tau_log\": null, \"consistent\": true}, "
+      "\"e_r_over_e_t\": {\"tested\": false, \"logs\": 0, \"q\": null, \"p_value\": null, "
+      "\"i2\": null, \"tau_log\": null, \"consistent\": true}}, \"mu_pusher\": null}");
 }
 
 TEST(ResultJson, BatchLinesWrapTheResultOrTheErrorWithTheFileFirst) {
@@ -284,6 +290,9 @@ TEST(ResultJson, ReadsBackRandomBitPatternsExactly) {
         r.parameters[i] = Identified(any_double(), any_double());
         r.parameters[i].ci95_lo = any_double();
         r.parameters[i].ci95_hi = any_double();
+        // Student's t quantiles from 1 degree of freedom (12.7) down to z.
+        r.parameters[i].interval_quantile =
+            kZ95 + std::uniform_real_distribution<double>(0.0, 11.0)(rng);
       } else {
         r.parameters[i] = Held(any_double(), "held");
       }
@@ -372,6 +381,30 @@ TEST(ResultJson, BadJsonNamesThePathOrTheLineAndColumn) {
             "identify JSON: /steps_excluded: 5 is not the sum of steps_excluded_by_reason (6)");
   EXPECT_EQ(ResultError(Replaced(good, "\"note\": \"\"", "\"note\": null")),
             "identify JSON: /e_t_mu/note: expected a string, got null");
+  EXPECT_EQ(ResultError(Replaced(good, "\"interval_quantile\": 1.959963984540054",
+                                 "\"interval_quantile\": 1.5")),
+            "identify JSON: /e_t_mu/interval_quantile: expected a quantile of at least 1.96, "
+            "got 1.5");
+  EXPECT_EQ(ResultError(Replaced(good, "\"interval_quantile\": 1.959963984540054",
+                                 "\"interval_quantile\": \"t\"")),
+            "identify JSON: /e_t_mu/interval_quantile: expected a number or null, got \"t\"");
+}
+
+// Results written before intervals carried their quantile read as z-based ones.
+TEST(ResultJson, AResultWithoutTheIntervalQuantileReadsAsZ) {
+  EstimateResult r = Simple();
+  r.parameters[kB].interval_quantile = 2.262157162740992;  // Student's t, 9 dof
+  const std::string json = FormatJson(r);
+  ASSERT_NE(json.find("\"interval_quantile\": 2.262157162740992"), std::string::npos) << json;
+  EXPECT_EQ(ParseResultJson(json).parameters[kB].interval_quantile, 2.262157162740992);
+  std::string old = json;
+  for (std::size_t at; (at = old.find("\"interval_quantile\": ")) != std::string::npos;) {
+    old.erase(at, old.find(", ", at) + 2 - at);
+  }
+  ASSERT_EQ(old.find("interval_quantile"), std::string::npos) << old;
+  const EstimateResult back = ParseResultJson(old);
+  for (int i = 0; i < 2; ++i) EXPECT_EQ(back.parameters[i].interval_quantile, kZ95);
+  ExpectSameDouble(r.parameters[kB].value, back.parameters[kB].value, "b value");
 }
 
 std::string IdentifyError(const std::string& json) {
