@@ -800,18 +800,29 @@ FitInformation TrajectoryProblem::Information(const std::function<Eigen::MatrixX
     if (!cost.Evaluate(params.data(), r.data(), jac.data())) return;
     share.columns = GlobalColumnsOf(seg);
     const int m = static_cast<int>(share.columns.size());
-    Eigen::MatrixXd Js =
+    const Eigen::MatrixXd X = extra ? (*extra)(k) : Eigen::MatrixXd();
+    const int x = extra && X.rows() == n ? static_cast<int>(X.cols()) : 0;
+    // The columns [J_s, J_g, X, r] side by side and their Gram matrix, from which every
+    // product below is read: one pass over the segment's rows instead of J_g and X
+    // projected row by row, n x (m + x) x 6 products and their copies (this function's own
+    // instructions on the benchmark log: 29M -> 18M).
+    Eigen::MatrixXd A(n, 6 + m + x + 1);
+    A.leftCols<6>() =
         Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, 6, Eigen::RowMajor>>(jac[0], n, 6);
     const bool pose = use_pose(seg.log);
-    if (!pose) Js.leftCols<3>().setZero();  // poses are not parameters then
-    Eigen::MatrixXd Jg(n, m);
-    int col = 0;
+    if (!pose) A.leftCols<3>().setZero();  // poses are not parameters then
+    int col = 6;
     for (size_t b = 1; b < blocks.size(); ++b) {
       for (int c = 0; c < sizes[b]; ++c, ++col) {
-        for (int i = 0; i < n; ++i) Jg(i, col) = jac[b][i * sizes[b] + c];
+        for (int i = 0; i < n; ++i) A(i, col) = jac[b][i * sizes[b] + c];
       }
     }
-    const Matrix66 Hss = Js.transpose() * Js;
+    if (x > 0) A.middleCols(6 + m, x) = X;
+    A.rightCols<1>() = Eigen::Map<const Eigen::VectorXd>(r.data(), n);
+    Eigen::MatrixXd gram = Eigen::MatrixXd::Zero(A.cols(), A.cols());
+    gram.selfadjointView<Eigen::Lower>().rankUpdate(A.transpose());
+    gram = gram.selfadjointView<Eigen::Lower>();
+    const Matrix66 Hss = gram.topLeftCorner<6, 6>();
     const int first_free = pose ? 0 : 3;
     const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(
         Hss.bottomRightCorner(6 - first_free, 6 - first_free));
@@ -819,19 +830,22 @@ FitInformation TrajectoryProblem::Information(const std::function<Eigen::MatrixX
         eig.eigenvalues()(0) > kRankDeficientSegment * eig.eigenvalues().maxCoeff();
     // Project the segment's state out of J_g: what the globals explain beyond it. A segment
     // whose state is not determined (at rest) gives them nothing; the pseudo-inverse keeps
-    // that from poisoning the sum.
+    // that from poisoning the sum. With P the pseudo-inverse and J_m = J_g - J_s P J_s^T J_g,
+    // J_m^T J_m = J_g^T J_g - (J_s^T J_g)^T P (J_s^T J_g) (P H_ss P = P), and the same for
+    // X and r.
     const Eigen::MatrixXd Hss_pinv = Hss.completeOrthogonalDecomposition().pseudoInverse();
-    const Eigen::MatrixXd Jm = Jg - Js * (Hss_pinv * (Js.transpose() * Jg));
-    const Eigen::Map<const Eigen::VectorXd> rv(r.data(), n);
-    share.h = Jm.transpose() * Jm;
-    share.score = Jm.transpose() * rv;
-    const Eigen::MatrixXd X = extra ? (*extra)(k) : Eigen::MatrixXd();
-    if (extra && X.rows() == n) {
-      const Eigen::MatrixXd Xm = X - Js * (Hss_pinv * (Js.transpose() * X));
-      share.extra_cross = Xm.transpose() * Jm;
-      share.extra_h = Xm.transpose() * Xm;
-      share.extra_score = Xm.transpose() * rv;
+    const int rest = m + x + 1;
+    const Eigen::MatrixXd cross = gram.topRightCorner(6, rest);  // J_s^T [J_g, X, r]
+    const Eigen::MatrixXd projected =
+        gram.bottomRightCorner(rest, rest) - cross.transpose() * (Hss_pinv * cross);
+    share.h = projected.topLeftCorner(m, m);
+    share.score = projected.block(0, m + x, m, 1);
+    if (x > 0) {
+      share.extra_cross = projected.block(m, 0, x, m);
+      share.extra_h = projected.block(m, m, x, x);
+      share.extra_score = projected.block(m, m + x, x, 1);
     }
+    const Eigen::Map<const Eigen::VectorXd> rv(r.data(), n);
     share.sum_squares = rv.squaredNorm();
     share.residuals = n;
     share.ok = true;
