@@ -781,6 +781,7 @@ ceres::Solver::Summary TrajectoryProblem::Solve(const std::vector<bool>& free, b
 
 FitInformation TrajectoryProblem::Information(const std::function<Eigen::MatrixXd(int)>* extra) {
   const int G = num_global();
+  const bool keep = KeepsJacobians();
   std::vector<SegmentShare> shares(segments_.size());
   ParallelFor(static_cast<int>(segments_.size()), options_.threads, [&](int k) {
     TrajectorySegment& seg = segments_[k];
@@ -790,14 +791,24 @@ FitInformation TrajectoryProblem::Information(const std::function<Eigen::MatrixX
     const std::vector<int32_t>& sizes = cost.parameter_block_sizes();
     std::vector<double*> blocks = BlocksOf(seg);
     std::vector<const double*> params(blocks.begin(), blocks.end());
-    std::vector<std::vector<double>> jac_storage(sizes.size());
-    std::vector<double*> jac(sizes.size());
-    for (size_t b = 0; b < sizes.size(); ++b) {
-      jac_storage[b].resize(static_cast<size_t>(n) * sizes[b]);
-      jac[b] = jac_storage[b].data();
-    }
     std::vector<double> r(n);
-    if (!cost.Evaluate(params.data(), r.data(), jac.data())) return;
+    // Where the segment keeps its Jacobian (and has no row loss, which the kept one is
+    // before), read it in place: at the fit's end point it is the solver's last, no copy.
+    std::vector<const double*> jac;
+    std::vector<std::vector<double>> jac_storage;
+    if (keep && !cost.row_loss().active()) {
+      jac = cost.EvaluateKept(params.data(), r.data());
+      if (jac.empty()) return;
+    } else {
+      jac_storage.resize(sizes.size());
+      std::vector<double*> out(sizes.size());
+      for (size_t b = 0; b < sizes.size(); ++b) {
+        jac_storage[b].resize(static_cast<size_t>(n) * sizes[b]);
+        out[b] = jac_storage[b].data();
+      }
+      if (!cost.Evaluate(params.data(), r.data(), out.data())) return;
+      jac.assign(out.begin(), out.end());
+    }
     share.columns = GlobalColumnsOf(seg);
     const int m = static_cast<int>(share.columns.size());
     const Eigen::MatrixXd X = extra ? (*extra)(k) : Eigen::MatrixXd();
