@@ -1,20 +1,25 @@
 // One default trajectory fit of estimator_benchmark's noisy poses-only log (10,000 steps, or
-// the argument's), on one thread: every solver iteration (stage, iteration, cost, step), the
-// estimates with their intervals, and the fit's CPU time. A fit to count instructions in
-// (docs/performance.md: valgrind --tool=callgrind --toggle-collect='slideid::Identify*'
-// build/bin/fit_trace) and to compare traces and estimates before and after a change.
+// the argument's; or the log file named, e.g. scripts/large_logs.sh's 1,000,000 rows), on one
+// thread: every solver iteration (stage, iteration, cost, step), the estimates with their
+// intervals, and the fit's CPU time. A fit to count instructions in (docs/performance.md:
+// valgrind --tool=callgrind --toggle-collect='slideid::Identify*' build/bin/fit_trace) and to
+// compare traces and estimates before and after a change.
 
 #include <cstdio>
 #include <cstdlib>
 #include <ctime>
+#include <string>
 
 #include "estimator/identify.h"
 #include "fixtures/synthetic_scenes.h"
+#include "io/push_log.h"
 
 int main(int argc, char** argv) {
   using namespace slideid;
-  const int steps = argc > 1 ? std::atoi(argv[1]) : 10000;
-  const Trajectory log = testing::NoisyLongPushLog(steps);
+  const std::string arg = argc > 1 ? argv[1] : "10000";
+  const bool is_file = arg.find_first_not_of("0123456789") != std::string::npos;
+  const Trajectory log =
+      is_file ? ReadPushLog(arg) : testing::NoisyLongPushLog(std::atoi(arg.c_str()));
   IdentifyOptions options;
   options.method = EstimatorMethod::kTrajectory;
   options.threads = 1;
