@@ -599,6 +599,25 @@ class SettledCallback final : public ceres::IterationCallback {
   int settled_ = 0;
 };
 
+// Every block's Jacobian of `cost` at `params` (row-major, n x the block's size), with the
+// residuals into r: in the cost's own storage where `keep` and the cost has no row loss
+// (SegmentCost::EvaluateKept, whose Jacobian is the raw one), else evaluated into `local`.
+// Empty where a step fails.
+std::vector<const double*> EveryBlockJacobian(const SegmentCost& cost, bool keep,
+                                              double const* const* params, double* r,
+                                              std::vector<std::vector<double>>* local) {
+  if (keep && !cost.row_loss().active()) return cost.EvaluateKept(params, r);
+  const std::vector<int32_t>& sizes = cost.parameter_block_sizes();
+  local->resize(sizes.size());
+  std::vector<double*> all(sizes.size());
+  for (size_t b = 0; b < sizes.size(); ++b) {
+    (*local)[b].resize(static_cast<size_t>(cost.num_residuals()) * sizes[b]);
+    all[b] = (*local)[b].data();
+  }
+  if (!cost.Evaluate(params, r, all.data())) return {};
+  return {all.begin(), all.end()};
+}
+
 // What Ceres sees of a segment: its n residuals r and n x m Jacobian J (m the parameters of
 // all its blocks) compressed by the thin QR J = Q R to m + 1 residuals [Q^T r; |r - Q Q^T r|]
 // with Jacobian [R; 0]. The cost (|r|^2), the gradient J^T r = R^T Q^T r, the Gauss-Newton
@@ -635,8 +654,10 @@ class CompressedSegmentCost final : public ceres::CostFunction {
       residuals[columns_] = r.norm();
       return true;
     }
-    std::vector<RowMajorMatrix> local;
-    const std::vector<const double*> block = EveryBlock(params, r.data(), &local);
+    // Every block's Jacobian, held ones too: Q must not depend on which blocks Ceres asks for.
+    std::vector<std::vector<double>> local;
+    const std::vector<const double*> block =
+        EveryBlockJacobian(*cost_, keep_, params, r.data(), &local);
     if (block.empty()) return false;
     Eigen::MatrixXd J(n, columns_);
     for (size_t b = 0, col = 0; b < sizes.size(); col += sizes[b], ++b) {
@@ -684,23 +705,6 @@ class CompressedSegmentCost final : public ceres::CostFunction {
 
  private:
   using RowMajorMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
-
-  // Every block's Jacobian, held ones too (Q must not depend on which blocks Ceres asks
-  // for), with the residuals into r: in the cost's own storage where it keeps them, else in
-  // `local`. Empty where a step fails.
-  std::vector<const double*> EveryBlock(double const* const* params, double* r,
-                                        std::vector<RowMajorMatrix>* local) const {
-    if (keep_ && !cost_->row_loss().active()) return cost_->EvaluateKept(params, r);
-    const std::vector<int32_t>& sizes = parameter_block_sizes();
-    local->resize(sizes.size());
-    std::vector<double*> all(sizes.size());
-    for (size_t b = 0; b < sizes.size(); ++b) {
-      (*local)[b].resize(cost_->num_residuals(), sizes[b]);
-      all[b] = (*local)[b].data();
-    }
-    if (!cost_->Evaluate(params, r, all.data())) return {};
-    return {all.begin(), all.end()};
-  }
 
   const SegmentCost* cost_;
   SegmentGaussNewton* last_;
@@ -824,23 +828,12 @@ FitInformation TrajectoryProblem::Information(const std::function<Eigen::MatrixX
     std::vector<double*> blocks = BlocksOf(seg);
     std::vector<const double*> params(blocks.begin(), blocks.end());
     std::vector<double> r(n);
-    // Where the segment keeps its Jacobian (and has no row loss, which the kept one is
-    // before), read it in place: at the fit's end point it is the solver's last, no copy.
-    std::vector<const double*> jac;
+    // Where the segment keeps its Jacobian, read in place: at the fit's end point it is the
+    // solver's last, no copy.
     std::vector<std::vector<double>> jac_storage;
-    if (keep && !cost.row_loss().active()) {
-      jac = cost.EvaluateKept(params.data(), r.data());
-      if (jac.empty()) return;
-    } else {
-      jac_storage.resize(sizes.size());
-      std::vector<double*> out(sizes.size());
-      for (size_t b = 0; b < sizes.size(); ++b) {
-        jac_storage[b].resize(static_cast<size_t>(n) * sizes[b]);
-        out[b] = jac_storage[b].data();
-      }
-      if (!cost.Evaluate(params.data(), r.data(), out.data())) return;
-      jac.assign(out.begin(), out.end());
-    }
+    const std::vector<const double*> jac =
+        EveryBlockJacobian(cost, keep, params.data(), r.data(), &jac_storage);
+    if (jac.empty()) return;
     share.columns = GlobalColumnsOf(seg);
     const int m = static_cast<int>(share.columns.size());
     const Eigen::MatrixXd X = extra ? (*extra)(k) : Eigen::MatrixXd();
