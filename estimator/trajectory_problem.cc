@@ -825,8 +825,7 @@ FitInformation TrajectoryProblem::Information(const std::function<Eigen::MatrixX
     const SegmentCost& cost = *seg.cost;
     const int n = cost.num_residuals();
     const std::vector<int32_t>& sizes = cost.parameter_block_sizes();
-    std::vector<double*> blocks = BlocksOf(seg);
-    std::vector<const double*> params(blocks.begin(), blocks.end());
+    const std::vector<const double*> params = ParametersOf(k);
     std::vector<double> r(n);
     // Where the segment keeps its Jacobian, read in place: at the fit's end point it is the
     // solver's last, no copy.
@@ -848,7 +847,7 @@ FitInformation TrajectoryProblem::Information(const std::function<Eigen::MatrixX
     const bool pose = use_pose(seg.log);
     if (!pose) A.leftCols<3>().setZero();  // poses are not parameters then
     int col = 6;
-    for (size_t b = 1; b < blocks.size(); ++b) {
+    for (size_t b = 1; b < sizes.size(); ++b) {
       for (int c = 0; c < sizes[b]; ++c, ++col) {
         for (int i = 0; i < n; ++i) A(i, col) = jac[b][i * sizes[b] + c];
       }
