@@ -9,6 +9,7 @@
 #include <optional>
 #include <stdexcept>
 
+#include "estimator/internal/gauss_newton_step.h"
 #include "estimator/parallel_for.h"
 
 namespace slideid {
@@ -34,16 +35,7 @@ constexpr double kParameterTolerance = 1e-10;
 // and on a log whose poses barely feel a parameter the gradient fell below 1e-14 with the
 // parameter still off by more than its interval. The tolerances above end every fit.
 constexpr double kGradientTolerance = 0.0;
-// SettledCallback: a free global parameter whose iteration step is below this fraction of
-// its standard error has settled (its estimate would not move its interval visibly)...
-constexpr double kSettledFraction = 0.02;
-// ... or, for the fit's last solve, one such iteration after which the Gauss-Newton step
-// would move every one by less than kSettledFraction too and lower the sum of squares,
-// states and globals together, by at most this many times the residuals' mean square:
-// what one parameter off by a standard error adds to it (see kStatisticalTolerance). The
-// states still creeping along the kinks (the 1,000,000-row log's last iteration lowered
-// it by about 4,600 mean squares, the benchmark's by 0.6) keep the taken second look.
-constexpr double kSettledDecrease = 1.0;
+// kSettledFraction, kSettledDecrease: estimator/internal/gauss_newton_step.h.
 // A stage that only has to bring the fit into the right basin for the next one (least
 // squares before the robust loss) settles at this fraction of a standard error: the next
 // stage starts within a fraction of an interval of its optimum either way.
@@ -443,31 +435,26 @@ void AddAtColumns(const std::vector<int>& columns, const Eigen::MatrixXd& h,
   }
 }
 
-// The globals' Gauss-Newton matrix (the information, marginalised over the segments'
-// states) and gradient, the sum of squares and the residuals, at the solver's last
-// evaluation with derivatives (from every segment's SegmentGaussNewton); and by how much
-// the states' own steps, the globals held, would lower the sum of squares.
-struct LastGaussNewton {
-  Eigen::MatrixXd fisher;
-  Eigen::VectorXd gradient;
-  double sum_squares = 0;
-  int residuals = 0;
-  double state_decrease = 0;
-};
+}  // namespace
 
-// The Gauss-Newton step from a LastGaussNewton: each free global's move (0 for the held
-// ones), and by how much the whole step, states and globals, would lower the sum of
-// squares: the states' own steps' decrease plus the globals' g^T H^-1 g of the
-// marginalised problem (block elimination of g^T (J^T J)^-1 g).
-struct GaussNewtonStep {
-  std::vector<double> moves;  ///< empty where the free globals' information is singular
-  double decrease = 0;
-};
+// h in the order Information() has always computed it, H_sr^T (P H_sr); the gradient and
+// the state's decrease in the order Solve's settle test did, H_rs (P g_s): each caller's
+// digits bit for bit. (That test's h was (H_rs P) H_sr, the same but for the last bits:
+// at most 8.5e-16 of h's largest element in fit_trace, whose output it leaves unchanged.)
+StateMarginal MarginaliseState(const Eigen::MatrixXd& H, const Eigen::VectorXd& gradient) {
+  const Matrix66 Hss = H.topLeftCorner<6, 6>();
+  const Eigen::MatrixXd Hss_pinv = Hss.completeOrthogonalDecomposition().pseudoInverse();
+  const int m = static_cast<int>(H.cols()) - 6;
+  const Eigen::MatrixXd cross = H.topRightCorner(6, m);  // H_sr
+  StateMarginal out;
+  out.h = H.bottomRightCorner(m, m) - cross.transpose() * (Hss_pinv * cross);
+  if (gradient.size() == 0) return out;
+  const Eigen::VectorXd state_step = Hss_pinv * gradient.head<6>();
+  out.gradient = gradient.tail(m) - H.bottomLeftCorner(m, 6) * state_step;
+  out.state_decrease = gradient.head<6>().dot(state_step);
+  return out;
+}
 
-// The size of each free global's move in the Gauss-Newton step from `at` (every segment's
-// state moving with it: the step of the marginalised problem), 0 for the held ones; empty
-// where the free globals' information is not positive definite. The step Ceres takes next
-// from there: Levenberg-Marquardt's damping is negligible once its steps succeed.
 GaussNewtonStep GaussNewtonMoves(const LastGaussNewton& at, const std::vector<bool>& free) {
   std::vector<int> idx;
   for (size_t i = 0; i < free.size(); ++i) {
@@ -488,6 +475,25 @@ GaussNewtonStep GaussNewtonMoves(const LastGaussNewton& at, const std::vector<bo
   for (int a = 0; a < n; ++a) out.moves[idx[a]] = std::abs(step(a));
   return out;
 }
+
+bool MovesWithin(const std::vector<double>& moves, const std::vector<bool>& free,
+                 const std::vector<double>& standard_errors, double fraction) {
+  if (moves.empty()) return false;
+  for (size_t i = 0; i < free.size(); ++i) {
+    if (free[i] && !(moves[i] <= fraction * standard_errors[i])) return false;
+  }
+  return true;
+}
+
+bool PredictedStepSettled(const LastGaussNewton& at, const std::vector<bool>& free,
+                          const std::vector<double>& standard_errors, double fraction) {
+  const GaussNewtonStep next = GaussNewtonMoves(at, free);
+  const double mean_square = at.sum_squares / std::max(1, at.residuals);
+  return MovesWithin(next.moves, free, standard_errors, fraction) &&
+         next.decrease <= kSettledDecrease * mean_square;
+}
+
+namespace {
 
 // Stops a solve once the free global parameters have settled: two successive successful
 // iterations each moved every one by less than kSettledFraction of its standard error, or,
@@ -559,14 +565,12 @@ class SettledCallback final : public ceres::IterationCallback {
       stderr_ = standard_errors_(*at);
       cost_at_stderr_ = it.cost;
     }
-    const bool settled = Within(moved);
+    const bool settled = MovesWithin(moved, free_, stderr_, fraction_);
     settled_ = settled ? settled_ + 1 : 0;
     bool done = settled_ >= 2;
     if (!done && settled && fraction_ <= kSettledFraction) {
       if (!at) at = gauss_newton_();
-      const GaussNewtonStep next = GaussNewtonMoves(*at, free_);
-      const double mean_square = at->sum_squares / std::max(1, at->residuals);
-      done = Within(next.moves) && next.decrease <= kSettledDecrease * mean_square;
+      done = PredictedStepSettled(*at, free_, stderr_, fraction_);
     }
     if (!done) return ceres::SOLVER_CONTINUE;
     if (settle_on_ && fraction_ > kSettledFraction && settle_on_()) {
@@ -578,15 +582,6 @@ class SettledCallback final : public ceres::IterationCallback {
   }
 
  private:
-  // Every free global's `moves` within fraction_ of its standard error (false if empty).
-  bool Within(const std::vector<double>& moves) const {
-    if (moves.empty()) return false;
-    for (size_t i = 0; i < free_.size(); ++i) {
-      if (free_[i] && !(moves[i] <= fraction_ * stderr_[i])) return false;
-    }
-    return true;
-  }
-
   TrajectoryProblem* problem_;
   std::vector<bool> free_;
   std::vector<double> last_;
@@ -784,15 +779,10 @@ ceres::Solver::Summary TrajectoryProblem::Solve(const std::vector<bool>& free, b
       } else {  // as Information() marginalises
         Eigen::MatrixXd F = last[k].factor;
         if (!use_pose(seg.log)) F.leftCols<3>().setZero();  // poses are not parameters then
-        const Eigen::MatrixXd H = F.transpose() * F;
-        const Eigen::VectorXd gradient = F.transpose() * last[k].rhs;
-        const int m = static_cast<int>(H.cols()) - 6;
-        const Eigen::MatrixXd Hss_pinv =
-            H.topLeftCorner(6, 6).completeOrthogonalDecomposition().pseudoInverse();
-        h = H.bottomRightCorner(m, m) -
-            H.bottomLeftCorner(m, 6) * Hss_pinv * H.topRightCorner(6, m);
-        g = gradient.tail(m) - H.bottomLeftCorner(m, 6) * (Hss_pinv * gradient.head<6>());
-        out.state_decrease += gradient.head<6>().dot(Hss_pinv * gradient.head<6>());
+        StateMarginal marginal = MarginaliseState(F.transpose() * F, F.transpose() * last[k].rhs);
+        h = std::move(marginal.h);
+        g = std::move(marginal.gradient);
+        out.state_decrease += marginal.state_decrease;
       }
       const std::vector<int> columns = GlobalColumnsOf(seg);
       AddAtColumns(columns, h, &out.fisher);
@@ -867,12 +857,8 @@ FitInformation TrajectoryProblem::Information(const std::function<Eigen::MatrixX
     // whose state is not determined (at rest) gives them nothing; the pseudo-inverse keeps
     // that from poisoning the sum. With P the pseudo-inverse and J_m = J_g - J_s P J_s^T J_g,
     // J_m^T J_m = J_g^T J_g - (J_s^T J_g)^T P (J_s^T J_g) (P H_ss P = P), and the same for
-    // X and r.
-    const Eigen::MatrixXd Hss_pinv = Hss.completeOrthogonalDecomposition().pseudoInverse();
-    const int rest = m + x + 1;
-    const Eigen::MatrixXd cross = gram.topRightCorner(6, rest);  // J_s^T [J_g, X, r]
-    const Eigen::MatrixXd projected =
-        gram.bottomRightCorner(rest, rest) - cross.transpose() * (Hss_pinv * cross);
+    // X and r: the Schur complement of the Gram matrix of [J_s, J_g, X, r].
+    const Eigen::MatrixXd projected = MarginaliseState(gram).h;  // over [J_g, X, r]
     share.h = projected.topLeftCorner(m, m);
     share.score = projected.block(0, m + x, m, 1);
     if (x > 0) {

@@ -6,11 +6,13 @@
 
 #include <cmath>
 #include <memory>
+#include <numeric>
 #include <random>
 
 #include "datasets/noise.h"
 #include "datasets/sensor_model.h"
 #include "estimator/closed_form.h"
+#include "estimator/internal/gauss_newton_step.h"
 #include "estimator/internal/segment_cost.h"
 #include "estimator/internal/trajectory_problem.h"
 #include "fixtures/jacobian_check.h"
@@ -322,6 +324,94 @@ TEST(TrajectoryFit, LogWithoutMotionEndsWithTooLittleExcitationSayingSo) {
   EXPECT_EQ(r.status, TerminationStatus::kTooLittleExcitation);
   EXPECT_FALSE(r.converged);
   EXPECT_NE(r.message.find("too little sliding"), std::string::npos) << r.message;
+}
+
+// Two exact factorisations of a well-conditioned 24 x 15 system (random normal entries)
+// agree to rounding times its condition number: far below this relative difference, which
+// a wrong block, sign or index would exceed by orders of magnitude.
+constexpr double kFactorisationRelTol = 1e-12;
+
+// The settle rule's Gauss-Newton step as the fit builds it (each segment's state
+// marginalised by MarginaliseState, the shares summed, GaussNewtonMoves) must be the exact
+// step of the whole problem solved at once: the least-squares solution of J d = -r over
+// every state and free global, by QR of the stacked Jacobian; its decrease, the fall of
+// |r + J d|^2. With a global held, its column leaves J and its move must be 0.
+TEST(TrajectoryFit, GaussNewtonMovesAreTheStepOfTheWholeProblem) {
+  constexpr int kSegments = 2, kRows = 12, kGlobals = 3, kStates = 6 * kSegments;
+  std::mt19937 rng(19);
+  std::normal_distribution<double> normal;
+  const auto random = [&](int rows, int cols) {
+    return Eigen::MatrixXd(rows, cols).unaryExpr([&](double) { return normal(rng); }).eval();
+  };
+  Eigen::MatrixXd J = Eigen::MatrixXd::Zero(kSegments * kRows, kStates + kGlobals);
+  for (int k = 0; k < kSegments; ++k) {
+    J.block(k * kRows, 6 * k, kRows, 6) = random(kRows, 6);
+    J.block(k * kRows, kStates, kRows, kGlobals) = random(kRows, kGlobals);
+  }
+  const Eigen::VectorXd r = random(kSegments * kRows, 1);
+  for (const std::vector<bool>& free : {std::vector<bool>{true, true, true}, {true, false, true}}) {
+    LastGaussNewton at{Eigen::MatrixXd::Zero(kGlobals, kGlobals), Eigen::VectorXd::Zero(kGlobals),
+                       r.squaredNorm(), static_cast<int>(r.size()), 0};
+    for (int k = 0; k < kSegments; ++k) {
+      Eigen::MatrixXd Jk(kRows, 6 + kGlobals);
+      Jk << J.block(k * kRows, 6 * k, kRows, 6), J.block(k * kRows, kStates, kRows, kGlobals);
+      const Eigen::VectorXd rk = r.segment(k * kRows, kRows);
+      const StateMarginal share = MarginaliseState(Jk.transpose() * Jk, Jk.transpose() * rk);
+      at.fisher += share.h;
+      at.gradient += share.gradient;
+      at.state_decrease += share.state_decrease;
+    }
+    const GaussNewtonStep step = GaussNewtonMoves(at, free);
+    ASSERT_EQ(step.moves.size(), free.size());
+    // J's columns of the states and the free globals (no Eigen 3.4 indexing: 3.3 builds it).
+    std::vector<int> kept(kStates);
+    std::iota(kept.begin(), kept.end(), 0);
+    for (int i = 0; i < kGlobals; ++i) {
+      if (free[i]) kept.push_back(kStates + i);
+    }
+    Eigen::MatrixXd Jf(J.rows(), static_cast<Eigen::Index>(kept.size()));
+    for (size_t c = 0; c < kept.size(); ++c) Jf.col(c) = J.col(kept[c]);
+    const Eigen::VectorXd d = Jf.colPivHouseholderQr().solve(-r);
+    const double decrease = r.squaredNorm() - (r + Jf * d).squaredNorm();
+    EXPECT_NEAR(step.decrease, decrease, kFactorisationRelTol * decrease);
+    const double largest = d.tail(d.size() - kStates).cwiseAbs().maxCoeff();
+    for (int i = 0, column = kStates; i < kGlobals; ++i) {
+      const double expected = free[i] ? std::abs(d(column++)) : 0.0;
+      EXPECT_NEAR(step.moves[i], expected, kFactorisationRelTol * largest) << i;
+    }
+  }
+}
+
+// The fit's last solve may end on a predicted step only where it is settled both ways:
+// every free global's move within kSettledFraction of its standard error, and a decrease
+// of at most kSettledDecrease mean squares. Consistent standard errors (sqrt(s^2 / f) for
+// a diagonal information f) make a settled globals' step lower the sum of squares by a few
+// 1e-4 mean squares at most, so, as in the fit, a large decrease can only come from the
+// states (state_decrease): the states still creeping must keep the solve going.
+TEST(TrajectoryFit, PredictedStepEndsTheSolveOnlyWhenItsMovesAndDecreaseAreSmall) {
+  const Eigen::Vector3d f(4e6, 1e4, 9e8);  // information of a, b, c, different scales
+  LastGaussNewton at{f.asDiagonal().toDenseMatrix(), Eigen::Vector3d::Zero(), 2.0, 1000, 0};
+  const double mean_square = at.sum_squares / at.residuals;
+  std::vector<double> se(3);
+  for (int i = 0; i < 3; ++i) se[i] = std::sqrt(mean_square / f(i));
+  // Gradient f_i * move_i: the Gauss-Newton step moves global i by move_i.
+  const auto moving = [&](double a_se, double b_se, double c_se) {
+    const Eigen::Vector3d moves(a_se * se[0], b_se * se[1], c_se * se[2]);
+    return Eigen::Vector3d(f.cwiseProduct(moves));
+  };
+  const std::vector<bool> all_free = {true, true, true};
+  const double half = 0.5 * kSettledFraction;
+  at.gradient = moving(half, -half, half);
+  EXPECT_TRUE(PredictedStepSettled(at, all_free, se, kSettledFraction));
+  at.state_decrease = 0.5 * kSettledDecrease * mean_square;
+  EXPECT_TRUE(PredictedStepSettled(at, all_free, se, kSettledFraction));
+  at.state_decrease = 2.0 * kSettledDecrease * mean_square;  // the states still creep
+  EXPECT_FALSE(PredictedStepSettled(at, all_free, se, kSettledFraction));
+  at.state_decrease = 0;
+  at.gradient = moving(half, 3 * half, half);  // b would still move 0.03 standard errors
+  EXPECT_FALSE(PredictedStepSettled(at, all_free, se, kSettledFraction));
+  // ... unless b is held: the rule looks at the free globals' moves only.
+  EXPECT_TRUE(PredictedStepSettled(at, {true, false, true}, se, kSettledFraction));
 }
 
 }  // namespace
