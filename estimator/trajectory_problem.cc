@@ -111,16 +111,16 @@ bool IsFreeSlide(const Trajectory& log) {
                      [](const TrajectorySample& s) { return s.applied.IsZero(); });
 }
 
+int IntervalsIn(double seconds, double interval_s) {
+  const double interval = interval_s > 0 && std::isfinite(interval_s) ? interval_s : 0.01;
+  return static_cast<int>(std::clamp(std::round(seconds / interval), 2.0, 1e6));
+}
+
 int TrajectorySegmentSteps(int rows, double interval_s, const TrajectoryOptions& options,
                            bool free_slide) {
   if (options.segment_steps > 0) return options.segment_steps;
-  // A log without a usable interval (one row, or equal times) is cut as a 100 Hz one.
-  const double interval = interval_s > 0 && std::isfinite(interval_s) ? interval_s : 0.01;
-  const auto intervals_in = [&](double seconds) {
-    return static_cast<int>(std::clamp(std::round(seconds / interval), 2.0, 1e6));
-  };
-  const int steps = std::clamp(rows / kTargetSegments, intervals_in(kMinAutoSegment_s),
-                               intervals_in(kMaxAutoSegment_s));
+  const int steps = std::clamp(rows / kTargetSegments, IntervalsIn(kMinAutoSegment_s, interval_s),
+                               IntervalsIn(kMaxAutoSegment_s, interval_s));
   if (free_slide) return steps;
   // A segment of s intervals holds s + 1 rows (CutSegments).
   const int for_robust = rows / kMinRobustSegments - 1;
@@ -175,7 +175,14 @@ TrajectoryProblem::TrajectoryProblem(const std::vector<const Trajectory*>& logs,
   }
 }
 
-std::unique_ptr<TrajectoryProblem> TrajectoryProblem::Heads(int steps) const {
+std::vector<int> TrajectoryProblem::HeadSteps(double seconds) const {
+  std::vector<int> steps;
+  for (const Trajectory* log : logs_) steps.push_back(IntervalsIn(seconds, MedianInterval(*log)));
+  return steps;
+}
+
+std::unique_ptr<TrajectoryProblem> TrajectoryProblem::Heads(double seconds) const {
+  const std::vector<int> steps = HeadSteps(seconds);
   std::unique_ptr<TrajectoryProblem> heads(new TrajectoryProblem);
   heads->logs_ = logs_;
   heads->options_ = options_;
@@ -185,7 +192,7 @@ std::unique_ptr<TrajectoryProblem> TrajectoryProblem::Heads(int steps) const {
   heads->delay_index_ = delay_index_;
   for (const TrajectorySegment& seg : segments_) {
     heads->segments_.push_back(heads->NewSegment(
-        seg.log, seg.first_row, std::min(seg.last_row, seg.first_row + steps), seg.state));
+        seg.log, seg.first_row, std::min(seg.last_row, seg.first_row + steps[seg.log]), seg.state));
   }
   return heads;
 }
@@ -249,10 +256,11 @@ SegmentNuisances TrajectoryProblem::FittedNuisances() const {
   return {t.fit_force_bias, t.fit_delay != DelayFit::kNone};
 }
 
-double TrajectoryProblem::HeadsFraction(int steps) const {
+double TrajectoryProblem::HeadsFraction(double seconds) const {
+  const std::vector<int> steps = HeadSteps(seconds);
   int rows = 0;
   for (const TrajectorySegment& seg : segments_) {
-    rows += std::min(seg.last_row - seg.first_row, steps) + 1;
+    rows += std::min(seg.last_row - seg.first_row, steps[seg.log]) + 1;
   }
   return static_cast<double>(rows) / Rows();
 }

@@ -81,16 +81,18 @@ TEST(SceneSuite, DefaultFitOnWidelyDrawnLogs) {
   EXPECT_LE(double(covered) / intervals, 0.99);
 }
 
-// The cross-check (TrajectoryOptions::cross_check): suite log 461, 205 rows of pushing a
-// ring at 250 Hz, fits b = 1.0207 [0.9994, 1.0424] for a truth of 1 over its default
-// segments, at the edge of its interval; a fit over segments 3 times as long gives 0.9988,
-// beyond both fits' errors, and the estimate is marked suspect instead of ok. (Until
-// 2026-11-27 this was log 471, a free slide of a flat box whose a was 264% off and whose
-// interval excluded the truth; since the white-noise floor under few segments its a is not
-// identifiable, as it should be.)
+// The cross-check (TrajectoryOptions::cross_check): suite log 623, 156 rows of pushing a
+// disk at 250 Hz, fits b = 1.314 [1.174, 1.470] for a truth of 1.135 over its default
+// segments, an interval that misses the truth; a fit over segments 3 times as long gives
+// 1.136, beyond both fits' errors, and the estimate is marked suspect instead of ok.
+// (Until 2026-11-27 this was log 471, a free slide of a flat box whose a was 264% off and
+// whose interval excluded the truth, and then log 461, whose b of 1.0207 [0.9994, 1.0424]
+// for a truth of 1 the long segments' fit put at 0.9988; since the heads of the seed stage
+// are in log time, that fit gives 1.0007, within both fits' errors, and 461's interval
+// holds the truth.)
 TEST(SceneSuite, CrossCheckMarksAnEstimateThatDependsOnTheSegmentation) {
-  const SuiteLog made = MakeSuiteLog(461);
-  ASSERT_EQ(made.log.samples.size(), 205u) << made.Describe();
+  const SuiteLog made = MakeSuiteLog(623);
+  ASSERT_EQ(made.log.samples.size(), 156u) << made.Describe();
   IdentifyOptions options;
   options.trajectory.cross_check = false;
   const EstimateResult unchecked = Identify(made.log, options);
@@ -125,9 +127,31 @@ TEST(SceneSuite, AParameterDeterminedOnlyByHoldingAnotherIsNotReportedAsKnown) {
 }
 
 // The same from the command line: identify marks the estimate, --no-cross-check does not.
+// The seed stage's segment heads are 0.2 s of log time (trajectory_fit.cc, kSeedHead_s).
+// Until 2026-11-27 they were 20 intervals at any rate: 20 ms at 1 kHz, where the poses'
+// noise hides the friction's curvature, and the fit of these two free slides at 1 kHz went
+// to another basin: log 9060 (0.8 mm noise) ended at a = 0.0006 and c = 4.6 m for a truth
+// of 0.18 and 0.016 m, both suspect; log 7458 at b 98% low, 11.8 standard errors off.
+TEST(SceneSuite, HighRateFreeSlidesAreSeededOverHeadsOfLogTime) {
+  for (const int index : {9060, 7458}) {
+    const SuiteLog made = MakeSuiteLog(index);
+    ASSERT_EQ(made.rate_hz, 1000) << made.Describe();
+    ASSERT_EQ(made.motion, SuiteMotion::kFreeSlide) << made.Describe();
+    const EstimateResult r = Identify(made.log, IdentifyOptions{});
+    ASSERT_TRUE(r.parameters[kA].identifiable) << index << ": " << r.parameters[kA].reason;
+    for (int i = 0; i < 3; ++i) {
+      const ParameterEstimate& p = r.parameters[i];
+      if (!p.identifiable) continue;
+      EXPECT_EQ(p.verdict, Verdict::kOk) << index << " " << ParameterName(i) << ": " << p.reason;
+      EXPECT_LT(std::abs(p.value - made.truth[i]), 3 * p.stderr_value)
+          << index << " " << ParameterName(i) << ": " << p.value << " against " << made.truth[i];
+    }
+  }
+}
+
 TEST(SceneSuite, IdentifyCrossChecksUnlessToldNot) {
-  const std::string log = testing::TempPath("suite_461.csv");
-  WritePushLog(MakeSuiteLog(461).log, log);
+  const std::string log = testing::TempPath("suite_623.csv");
+  WritePushLog(MakeSuiteLog(623).log, log);
   const testing::ToolRun checked = testing::RunTool("identify", "--log " + log);
   EXPECT_NE(checked.all().find("depends on how the log is cut"), std::string::npos)
       << checked.all();
