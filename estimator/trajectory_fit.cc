@@ -159,20 +159,25 @@ ReducedFriction SeedFriction(TrajectoryProblem* problem, const SeedCandidates& s
 }
 
 // The seed scan and a first least-squares fit run on the heads of the shooting segments:
-// their first kSeedHead_s of log time. From states seeded off noisy poses (a velocity a few
-// mm/s off) and a friction tens of percent off, the cost over whole 100-interval segments is
-// far from quadratic: the benchmark log's scan picked a = 0.52 for a truth of 0.35 (its b
-// seed was 40% off), and Levenberg-Marquardt spent 10 iterations with trust-region ratios
-// of 0.003-0.4 walking back. Over 0.2 s heads (20 intervals at 100 Hz, a fifth of the
-// rows) the same scan and fit land within 0.1% of the truth in 8 cheap iterations, with
-// every segment's state fitted to its first rows: the fit over whole segments starts in its
-// basin (there 3 iterations to settle instead of 10, 0.13 s for the whole fit instead of
-// 0.29 s). In log time, not rows, as the segments are (TrajectorySegmentSteps): a head
-// determines the friction through the curvature of its path, which noisy poses show only
-// over enough time. Until 2026-11-27 heads were 20 intervals at any rate: 20 ms at 1 kHz,
-// where 0.8 mm of noise hides the friction's curvature; scene suite log 9060 (a free slide
-// at 1 kHz) then ended at a = 0.0006 and c = 4.6 m for a truth of 0.18 and 0.016 m
-// (docs/scene-suite.md, "Heads in log time").
+// their first kSeedHeadSteps intervals, and at least kSeedHead_s of log time. From states
+// seeded off noisy poses (a velocity a few mm/s off) and a friction tens of percent off,
+// the cost over whole 100-interval segments is far from quadratic: the benchmark log's scan
+// picked a = 0.52 for a truth of 0.35 (its b seed was 40% off), and Levenberg-Marquardt
+// spent 10 iterations with trust-region ratios of 0.003-0.4 walking back. Over 20-interval
+// heads (a fifth of the rows) the same scan and fit land within 0.1% of the truth in 8
+// cheap iterations, with every segment's state fitted to its first rows: the fit over
+// whole segments starts in its basin (there 3 iterations to settle instead of 10, 0.13 s
+// for the whole fit instead of 0.29 s).
+constexpr int kSeedHeadSteps = 20;
+// A head shows the friction through the curvature of its path, which noisy poses show only
+// over enough time, as the segments' own length says (TrajectorySegmentSteps): 20
+// intervals are 20 ms at 1 kHz, where 0.8 mm of noise hides it. Until 2026-11-27 heads were
+// 20 intervals at any rate, and scene suite log 9060 (a free slide at 1 kHz) ended at
+// a = 0.0006 and c = 4.6 m for a truth of 0.18 and 0.016 m. 0.2 s is 20 intervals at
+// 100 Hz (logs up to 100 Hz as they were), 40 at 200 Hz, 200 at 1 kHz. (At least 0.1 s,
+// tried too, left 200 Hz logs as they were and put 3 more of 1400 suite logs in the best
+// basin, but the hold-out-like push at 250 Hz then missed the 1.5% goal, c -1.51%:
+// docs/scene-suite.md, "Heads in log time".)
 constexpr double kSeedHead_s = 0.2;
 // Heads holding more than this fraction of the rows save too little to be worth a stage.
 constexpr double kMaxHeadsFraction = 0.5;
@@ -188,11 +193,11 @@ void AppendTrace(const ceres::Solver::Summary& summary, const char* stage,
 // Seeds the problem's friction (returned in *seed) and states; returns the iterations spent.
 int SeedFromHeads(TrajectoryProblem* problem, const SeedCandidates& candidates,
                   ReducedFriction* seed, std::vector<SolverIteration>* trace) {
-  if (problem->HeadsFraction(kSeedHead_s) > kMaxHeadsFraction) {
+  if (problem->HeadsFraction(kSeedHead_s, kSeedHeadSteps) > kMaxHeadsFraction) {
     *seed = SeedFriction(problem, candidates);
     return 0;
   }
-  std::unique_ptr<TrajectoryProblem> heads = problem->Heads(kSeedHead_s);
+  std::unique_ptr<TrajectoryProblem> heads = problem->Heads(kSeedHead_s, kSeedHeadSteps);
   *seed = SeedFriction(heads.get(), candidates);
   // Delays held at zero, as in Fit's first stage (SeedDelays says why).
   std::vector<bool> free(heads->num_global(), true);

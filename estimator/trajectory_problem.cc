@@ -175,14 +175,16 @@ TrajectoryProblem::TrajectoryProblem(const std::vector<const Trajectory*>& logs,
   }
 }
 
-std::vector<int> TrajectoryProblem::HeadSteps(double seconds) const {
+std::vector<int> TrajectoryProblem::HeadSteps(double seconds, int min_steps) const {
   std::vector<int> steps;
-  for (const Trajectory* log : logs_) steps.push_back(IntervalsIn(seconds, MedianInterval(*log)));
+  for (const Trajectory* log : logs_) {
+    steps.push_back(std::max(min_steps, IntervalsIn(seconds, MedianInterval(*log))));
+  }
   return steps;
 }
 
-std::unique_ptr<TrajectoryProblem> TrajectoryProblem::Heads(double seconds) const {
-  const std::vector<int> steps = HeadSteps(seconds);
+std::unique_ptr<TrajectoryProblem> TrajectoryProblem::Heads(double seconds, int min_steps) const {
+  const std::vector<int> steps = HeadSteps(seconds, min_steps);
   std::unique_ptr<TrajectoryProblem> heads(new TrajectoryProblem);
   heads->logs_ = logs_;
   heads->options_ = options_;
@@ -256,8 +258,8 @@ SegmentNuisances TrajectoryProblem::FittedNuisances() const {
   return {t.fit_force_bias, t.fit_delay != DelayFit::kNone};
 }
 
-double TrajectoryProblem::HeadsFraction(double seconds) const {
-  const std::vector<int> steps = HeadSteps(seconds);
+double TrajectoryProblem::HeadsFraction(double seconds, int min_steps) const {
+  const std::vector<int> steps = HeadSteps(seconds, min_steps);
   int rows = 0;
   for (const TrajectorySegment& seg : segments_) {
     rows += std::min(seg.last_row - seg.first_row, steps[seg.log]) + 1;

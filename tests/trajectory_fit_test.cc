@@ -283,9 +283,15 @@ TEST(TrajectoryFit, SegmentCostReusesTheResidualsOfThePointItJustSimulatedAndNoO
 TEST(TrajectoryFit, HeadsAreEachSegmentsFirstIntervalsAndShareThePointOfTheProblem) {
   const Trajectory log = SimulateOrFail(testing::PushedSlider());
   TrajectoryProblem problem({&log}, Options(30));
-  const std::unique_ptr<TrajectoryProblem> heads = problem.Heads(0.1);
-  const int steps = IntervalsIn(0.1, MedianInterval(log));
-  ASSERT_EQ(steps, 10);  // a 100 Hz log
+  // 0.15 s of a 100 Hz log, 15 intervals, or at least 12.
+  const std::unique_ptr<TrajectoryProblem> heads = problem.Heads(0.15, 12);
+  const int steps = IntervalsIn(0.15, MedianInterval(log));
+  ASSERT_EQ(steps, 15);
+  const std::unique_ptr<TrajectoryProblem> at_least = problem.Heads(0.05, 12);
+  for (size_t k = 0; k < problem.segments().size(); ++k) {  // 0.05 s would be 5 intervals
+    const TrajectorySegment& seg = problem.segments()[k];
+    EXPECT_EQ(at_least->segments()[k].last_row, std::min(seg.last_row, seg.first_row + 12));
+  }
   ASSERT_EQ(heads->segments().size(), problem.segments().size());
   int head_rows = 0;
   for (size_t k = 0; k < problem.segments().size(); ++k) {
@@ -296,7 +302,7 @@ TEST(TrajectoryFit, HeadsAreEachSegmentsFirstIntervalsAndShareThePointOfTheProbl
     EXPECT_EQ(head.state, seg.state);
     head_rows += head.last_row - head.first_row + 1;
   }
-  EXPECT_DOUBLE_EQ(problem.HeadsFraction(0.1), double(head_rows) / problem.Rows());
+  EXPECT_DOUBLE_EQ(problem.HeadsFraction(0.15, 12), double(head_rows) / problem.Rows());
   TrajectoryProblem::Point moved = heads->point();
   moved.global[0] += 0.1;
   moved.states.back()[3] += 0.01;
@@ -315,7 +321,7 @@ TEST(TrajectoryFit, RecoversTheTruthWhenTheSegmentHeadsAreAtRest) {
   const Trajectory log = SimulateOrFail(scene);
   const IdentifyOptions options = Options(99);  // 100-row segments: rows 0-20 at rest
   TrajectoryProblem problem({&log}, options);
-  ASSERT_LE(problem.HeadsFraction(0.2), 0.5);
+  ASSERT_LE(problem.HeadsFraction(0.1, 20), 0.5);
   ExpectRecovers(scene, log, options);
 }
 

@@ -136,11 +136,12 @@ class TrajectoryProblem {
   /// std::invalid_argument when no log is long enough for one segment.
   TrajectoryProblem(const std::vector<const Trajectory*>& logs, const IdentifyOptions& options);
 
-  /// The same logs, options and global values over the first `seconds` of log time of
-  /// each of this problem's segments (IntervalsIn at its log's median interval; all of a
-  /// shorter one), the segments in the same order with the same states: a cheaper problem,
-  /// less nonlinear in the friction, whose fit seeds this one (set_point).
-  std::unique_ptr<TrajectoryProblem> Heads(double seconds) const;
+  /// The same logs, options and global values over the first `seconds` of log time, and
+  /// at least `min_steps` intervals, of each of this problem's segments (IntervalsIn at its
+  /// log's median interval; all of a shorter one), the segments in the same order with the
+  /// same states: a cheaper problem, less nonlinear in the friction, whose fit seeds this
+  /// one (set_point).
+  std::unique_ptr<TrajectoryProblem> Heads(double seconds, int min_steps) const;
   /// The same logs, options and global values cut into segments of `steps` intervals (the
   /// whole log when it is shorter), each segment's state read off this problem's simulated
   /// trajectory (StatesFrom): a second start of the fit, on a segmentation whose states
@@ -150,8 +151,8 @@ class TrajectoryProblem {
   /// where a segment of `other` (same logs) covers that row at other's current point;
   /// other segments keep theirs. Carries a fit from one segmentation to another.
   void StatesFrom(const TrajectoryProblem& other);
-  /// Rows of the segments' heads of `seconds` (as Heads) over Rows().
-  double HeadsFraction(double seconds) const;
+  /// Rows of the segments' heads (as Heads) over Rows().
+  double HeadsFraction(double seconds, int min_steps) const;
   /// Where the fit is: the global values and every segment's state. A point of a problem
   /// is a point of its Heads() and back (same globals, segments in the same order).
   struct Point {
@@ -243,8 +244,8 @@ class TrajectoryProblem {
   /// Whether the segments' costs keep their last Jacobian (kKeptJacobianBytes).
   bool KeepsJacobians() const;
   TrajectoryProblem() = default;
-  /// Per log, the intervals of a segment's head of `seconds` (Heads).
-  std::vector<int> HeadSteps(double seconds) const;
+  /// Per log, the intervals of a segment's head (Heads).
+  std::vector<int> HeadSteps(double seconds, int min_steps) const;
   /// Segment of rows first_row..last_row of log `log`, starting at `state`, with its cost.
   TrajectorySegment NewSegment(int log, int first_row, int last_row,
                                const Eigen::Matrix<double, 6, 1>& state) const;
