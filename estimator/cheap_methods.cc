@@ -23,6 +23,15 @@ LogSteps ReadLogSteps(const Trajectory& log, bool with_steps) {
   return s;
 }
 
+std::string RateTooHighNote(const std::vector<LogSteps>& logs) {
+  for (size_t k = 0; k < logs.size(); ++k) {
+    const std::string why = RateTooHighForItsNoise(*logs[k].log, logs[k].noise, logs[k].radius_m);
+    if (why.empty()) continue;
+    return "; " + (logs.size() > 1 ? "log " + std::to_string(k + 1) + ": " : std::string()) + why;
+  }
+  return "";
+}
+
 double ImpulseSnr(const LogSteps& s, const std::vector<int>& used, bool rotation) {
   std::vector<double> magnitudes;
   magnitudes.reserve(used.size());

@@ -30,6 +30,11 @@ struct LogSteps {
 /// ForEachStepObservation) and reads the noise of `log`.
 LogSteps ReadLogSteps(const Trajectory& log, bool with_steps = true);
 
+/// Why logs that move gave no sliding step (RateTooHighForItsNoise of the first log it
+/// applies to, "log k: " before it when there are several), as "; " and a clause to end a
+/// "too little sliding" message with; "" when no log is such.
+std::string RateTooHighNote(const std::vector<LogSteps>& logs);
+
 /// Friction impulse over its noise on the used steps `used` (indices into s.steps): the
 /// median of |(p_t, p_o)| / (m s_dv) (translation) or |p_r| / (I_z s_dw) (rotation),
 /// s_dv, s_dw the noise of v' - v, w' - w (StepNoise). Infinite on a log without noise,

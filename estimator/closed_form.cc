@@ -328,10 +328,11 @@ EstimateResult ClosedFormCore(const std::vector<const Trajectory*>& logs,
   if (c.steps_with_a < kMinStepsPerParameter) {
     result.status = TerminationStatus::kTooLittleExcitation;
     result.converged = false;
-    result.message =
-        "too little sliding to identify anything: " + std::to_string(c.steps_with_a) + " of " +
-        std::to_string(result.steps_total) + " steps give an estimate of a = e_t mu (need " +
-        std::to_string(kMinStepsPerParameter) + "); excluded: " + ExclusionSummary(result);
+    result.message = "too little sliding to identify anything: " + std::to_string(c.steps_with_a) +
+                     " of " + std::to_string(result.steps_total) +
+                     " steps give an estimate of a = e_t mu (need " +
+                     std::to_string(kMinStepsPerParameter) +
+                     "); excluded: " + ExclusionSummary(result) + RateTooHighNote(log_steps);
     return result;
   }
 

@@ -466,7 +466,7 @@ EstimateResult EquationErrorCore(const std::vector<const Trajectory*>& logs,
     result.converged = false;
     result.message =
         "too little sliding to identify anything: " + std::to_string(result.steps_used) + " of " +
-        std::to_string(result.steps_total) + " steps usable";
+        std::to_string(result.steps_total) + " steps usable" + RateTooHighNote(set.log_steps);
     return result;
   }
 

@@ -7,6 +7,7 @@
 
 #include "estimator/log_diagnostics.h"
 #include "estimator/robust_statistics.h"
+#include "forward_model/number_format.h"
 
 namespace slideid {
 namespace {
@@ -108,6 +109,49 @@ StepNoise ReadStepNoise(const Trajectory& log) {
   return n;
 }
 
+namespace {
+
+/// The rest threshold of SlidingStep [m/s].
+double RestSpeed(const StepNoise& noise, double radius_m) {
+  return kRestSpeedSigmas * std::sqrt(2 * noise.velocity_mps * noise.velocity_mps +
+                                      radius_m * radius_m * noise.spin_radps * noise.spin_radps);
+}
+
+}  // namespace
+
+std::string RateTooHighForItsNoise(const Trajectory& log, const StepNoise& noise, double radius_m) {
+  const double h = MedianInterval(log);
+  const double rest = RestSpeed(noise, radius_m);
+  if (!noise.differentiated || !(h > 0) || !(rest > 0)) return "";
+  const int k = static_cast<int>(std::lround(kMotionWindow_s / h));
+  if (k < 2) return "";
+  // Differentiated over k rows, the velocities' noise is k times smaller: so is rest.
+  const double window_rest = rest / k;
+  int windows = 0;
+  std::vector<double> moving;
+  for (size_t j = 0; j + k < log.samples.size(); j += k) {
+    bool gap = false;
+    for (size_t u = j + 1; u <= j + k; ++u) gap |= log.samples[u].mode == SampleMode::kStart;
+    const TrajectorySample& first = log.samples[j];
+    const TrajectorySample& last = log.samples[j + k];
+    const double span = last.t_s - first.t_s;
+    if (gap || !(span > 0)) continue;
+    const double vx = (last.state.x - first.state.x) / span;
+    const double vy = (last.state.y - first.state.y) / span;
+    const double w = (last.state.theta - first.state.theta) / span;
+    const double speed = std::sqrt(vx * vx + vy * vy + radius_m * radius_m * w * w);
+    ++windows;
+    if (speed > window_rest) moving.push_back(speed);
+  }
+  if (windows == 0 || 4 * static_cast<int>(moving.size()) < windows) return "";
+  return Printf(
+      "the log is not at rest: over %.0f ms windows its poses move at a median %.3g m/s (above "
+      "their noise in %zu of %d windows), but velocities differentiated between rows %.3g ms "
+      "apart carry so much of the poses' noise that a step passes for sliding only above "
+      "%.3g m/s (a high rate for noisy poses); the trajectory method fits the poses themselves",
+      1000 * kMotionWindow_s, Median(moving), moving.size(), windows, 1000 * h, rest);
+}
+
 bool SlidingStep(const StepObservation& step, const StepNoise& noise, double radius_m,
                  EstimateResult* result) {
   if (step.logged_stick) {
@@ -126,9 +170,7 @@ bool SlidingStep(const StepObservation& step, const StepNoise& noise, double rad
     result->Exclude("next to a force switch");
     return false;
   }
-  const double rest =
-      kRestSpeedSigmas * std::sqrt(2 * noise.velocity_mps * noise.velocity_mps +
-                                   radius_m * radius_m * noise.spin_radps * noise.spin_radps);
+  const double rest = RestSpeed(noise, radius_m);
   // Exact logs (no noise): only an exact 0 is rest.
   if (!(Speed(step.end, radius_m) > rest)) {
     result->Exclude("at rest (speed within the noise)");

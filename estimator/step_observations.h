@@ -100,4 +100,17 @@ constexpr double kRestSpeedSigmas = 3.0;
 bool SlidingStep(const StepObservation& step, const StepNoise& noise, double radius_m,
                  EstimateResult* result);
 
+/// Poses differentiated over windows of this much log time show whether a log whose steps
+/// all pass for rest moves (RateTooHighForItsNoise).
+constexpr double kMotionWindow_s = 0.05;
+
+/// Why a poses-only log can have no sliding step although it moves: velocities differentiated
+/// from one row to the next carry sqrt(2) s_q / h of noise, and at a high rate with noisy
+/// poses (1 kHz, 0.8 mm: 1.1 m/s) every step's speed is within the noise SlidingStep allows
+/// for. When the poses, differentiated over kMotionWindow_s windows (k rows: noise, and so
+/// the rest threshold, k times smaller), move in at least a quarter of the windows, a
+/// sentence saying so and what to do; "" otherwise (a log at rest, measured velocities, or
+/// a window of one row).
+std::string RateTooHighForItsNoise(const Trajectory& log, const StepNoise& noise, double radius_m);
+
 }  // namespace slideid
