@@ -275,6 +275,14 @@ TEST(PushAdvice, BadInputNamesTheOptionOrThePath) {
     return std::string("(no error)");
   };
   EXPECT_NE(message("{").find("not JSON"), std::string::npos) << message("{");
+  // Nested deeper than a recursive dump goes, or a number beyond a double: an error, not a
+  // crash (the message once quoted the value through nlohmann's recursive dump).
+  const std::string deep = std::string(200000, '[') + std::string(200000, ']');
+  EXPECT_EQ(message(deep), "advise-push: result JSON: expected an object (identify --json), got " +
+                               std::string(40, '[') + "...");
+  EXPECT_NE(message("{\"e_t_mu\": 1e999}").find("number overflow parsing '1e999'"),
+            std::string::npos)
+      << message("{\"e_t_mu\": 1e999}");
   const std::string ok_a = R"("e_t_mu": {"identifiable": true, "value": 0.4, "stderr": 0.01})";
   const std::string ok_b =
       R"("e_o_over_e_t": {"identifiable": true, "value": 1.3, "stderr": 0.02})";
