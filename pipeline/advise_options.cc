@@ -182,7 +182,10 @@ AdviseRequest ReadAdviseOptions(const po::variables_map& vm) {
   }
   r.options.log_rate_hz = Positive(vm, "rate");
   r.options.candidates.contact_points = vm["contact-points"].as<int>();
-  if (r.options.candidates.contact_points < 1) throw po::error("--contact-points must be >= 1");
+  // The upper limit keeps a run finite: each point is simulated for every direction and length.
+  if (r.options.candidates.contact_points < 1 || r.options.candidates.contact_points > 1000) {
+    throw po::error("--contact-points must be 1 to 1000");
+  }
   r.options.candidates.cone_fractions = List(vm, "cone-fractions");
   for (double f : r.options.candidates.cone_fractions) {
     if (!(f >= -1 && f <= 1)) throw po::error("--cone-fractions must each lie in [-1, 1]");

@@ -336,6 +336,11 @@ TEST(PushAdvice, BadInputNamesTheOptionOrThePath) {
       testing::RunTool("advise-push", "--patch 'disk 0.05' --lengths 0.03,x");
   EXPECT_EQ(lengths.code, 2);
   EXPECT_NE(lengths.err.find("--lengths"), std::string::npos) << lengths.err;
+  // A limit that keeps the run finite: a billion contact points ran for ever.
+  const testing::ToolRun points =
+      testing::RunTool("advise-push", "--patch 'disk 0.05' --contact-points 1000000000");
+  EXPECT_EQ(points.code, 2);
+  EXPECT_NE(points.err.find("--contact-points must be 1 to 1000"), std::string::npos) << points.err;
   const std::string missing = testing::TempPath("no_such_result.json");
   const testing::ToolRun no_file =
       testing::RunTool("advise-push", "--patch 'disk 0.05' --friction " + missing);
