@@ -25,8 +25,8 @@ constexpr double kSettledDecrease = 1.0;
 /// H) marginalised out, by the Schur complement with H_ss's pseudo-inverse (a state the
 /// segment does not determine, e.g. one at rest, adds nothing instead of poisoning it).
 struct StateMarginal {
-  Eigen::MatrixXd h;         ///< H_rr - H_rs H_ss^+ H_sr over the rest of H's columns
-  Eigen::VectorXd gradient;  ///< g_r - H_rs H_ss^+ g_s (empty without a gradient)
+  Eigen::MatrixXd h;          ///< H_rr - H_rs H_ss^+ H_sr over the rest of H's columns
+  Eigen::VectorXd gradient;   ///< g_r - H_rs H_ss^+ g_s (empty without a gradient)
   double state_decrease = 0;  ///< g_s^T H_ss^+ g_s: the state's own step's decrease
 };
 
