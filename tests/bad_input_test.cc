@@ -458,6 +458,11 @@ TEST(IdentifyOptions, UsageErrorsExitTwoNamingTheOption) {
       {"--log " + log + " --threads 1000000", "--threads"},
       {"--log " + log + " --max-iterations 0", "iterations"},
       {"--log " + log + " --max-gap-ratio nan", "--max-gap-ratio"},
+      // One file pooled twice would count its rows twice (intervals too narrow): named
+      // twice, or by another spelling of its path.
+      {"--log " + log + " --log " + log, "is the same file as '" + log + "'"},
+      {"--log " + log + " --logs " + testing::TempDirectory() + "/./options.csv",
+       "is the same file as '" + log + "'"},
       // Options that would change a trajectory fit do not apply to the other methods.
       {"--log " + log + " --method closed-form --segment 10", "--segment does not apply"},
       {"--log " + log + " --method equation-error --substeps 4", "--substeps does not apply"},
