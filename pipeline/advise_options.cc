@@ -119,6 +119,12 @@ AdviseRequest ReadAdviseOptions(const po::variables_map& vm) {
   r.slider.mass_kg = Positive(vm, "mass");
   r.slider.inertia_kgm2 =
       vm.count("inertia") ? Positive(vm, "inertia") : UniformInertia(r.patch, r.slider.mass_kg);
+  if (!(r.slider.inertia_kgm2 > 0 && std::isfinite(r.slider.inertia_kgm2))) {
+    // A patch of 1e300 m (or a mass of 1e300 kg) overflows the slab's inertia: every
+    // candidate then failed on NaN contact points.
+    throw po::error("--patch and --mass give a uniform slab's inertia of " +
+                    ShortNumber(r.slider.inertia_kgm2) + " kg m^2: give --inertia");
+  }
   r.slider.com_height_m = vm["com-height"].as<double>();
   if (!(r.slider.com_height_m >= 0 && std::isfinite(r.slider.com_height_m))) {
     throw po::error("--com-height must be >= 0");

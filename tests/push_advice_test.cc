@@ -336,6 +336,19 @@ TEST(PushAdvice, BadInputNamesTheOptionOrThePath) {
       testing::RunTool("advise-push", "--patch 'disk 0.05' --lengths 0.03,x");
   EXPECT_EQ(lengths.code, 2);
   EXPECT_NE(lengths.err.find("--lengths"), std::string::npos) << lengths.err;
+  // A candidate that cannot be simulated at all (here the pushes at the edge of a cone of
+  // mu_p = 1e300, whose step forces overflow) is a failed candidate ranked last; it ended
+  // the whole run with exit 1 and "SolveStep: applied.fx must be finite".
+  const testing::ToolRun wide_cone = testing::RunTool(
+      "advise-push", "--patch 'rectangle 0.12 0.08' --mu-pusher 1e300 --candidates 0 --json");
+  EXPECT_EQ(wide_cone.code, 0) << wide_cone.err;
+  EXPECT_EQ(wide_cone.err, "");
+  EXPECT_NE(wide_cone.out.find("\"simulated\":true"), std::string::npos) << wide_cone.out;
+  EXPECT_NE(wide_cone.out.find("\"simulated\":false"), std::string::npos) << wide_cone.out;
+  const testing::ToolRun huge_patch =
+      testing::RunTool("advise-push", "--patch 'rectangle 1e300 1e300'");
+  EXPECT_EQ(huge_patch.code, 2);
+  EXPECT_NE(huge_patch.err.find("give --inertia"), std::string::npos) << huge_patch.err;
   // A limit that keeps the run finite: a billion contact points ran for ever.
   const testing::ToolRun points =
       testing::RunTool("advise-push", "--patch 'disk 0.05' --contact-points 1000000000");
