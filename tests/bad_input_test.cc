@@ -545,6 +545,25 @@ TEST(NumericalFailure, FitCutOffByTheIterationLimitExitsThreeAndWritesNoResidual
   EXPECT_TRUE(Exists(residuals));
 }
 
+// A log of absurd magnitudes (an inertia of 1e-300 kg m^2: a unit error gone wild) pooled
+// with a good one overflows the model: the fit did not converge, exit 3 naming the logs. It
+// was exit 1 with "AssessIdentifiability: information matrix is not finite" (or "residual
+// variance must be finite"), naming no log.
+TEST(NumericalFailure, PooledLogThatOverflowsTheModelExitsThreeNamingTheLogs) {
+  const std::string good = std::string(SLIDEID_SOURCE_DIR) + "/datasets/logs/default_push.csv";
+  const std::string text = ReadText(good);
+  const std::regex inertia("# inertia = [^\n]*");
+  ASSERT_TRUE(std::regex_search(text, inertia)) << text.substr(0, 300);
+  const std::string absurd =
+      WriteFile("pool_absurd.csv", std::regex_replace(text, inertia, "# inertia = 1e-300"));
+  const ToolRun r = Identify("--log " + good + " --log " + absurd);
+  EXPECT_EQ(r.code, 3) << r.err;
+  EXPECT_TRUE(Contains(r.err, "identify: error: 2 logs: the trajectory fit did not converge"))
+      << r.err;
+  EXPECT_FALSE(Contains(r.err, "AssessIdentifiability")) << r.err;
+  EXPECT_TRUE(Contains(r.out, "NOT CONVERGED")) << r.out;
+}
+
 TEST(NumericalFailure, SimulateThatWouldTipExitsThreeAndWritesNoLog) {
   const std::string ini = WriteFile("tipping.ini", R"([slider]
 mass = 0.5
