@@ -562,6 +562,12 @@ TEST(NumericalFailure, PooledLogThatOverflowsTheModelExitsThreeNamingTheLogs) {
       << r.err;
   EXPECT_FALSE(Contains(r.err, "AssessIdentifiability")) << r.err;
   EXPECT_TRUE(Contains(r.out, "NOT CONVERGED")) << r.out;
+  // Alone it does not converge either, and its report says why without printing "inf" (its
+  // interval "spans a factor inf" did).
+  const ToolRun alone = Identify("--log " + absurd);
+  EXPECT_EQ(alone.code, 3) << alone.err;
+  EXPECT_TRUE(Contains(alone.out, "spans a factor over 1e308")) << alone.out;
+  ExpectNoNaN(alone);
 }
 
 TEST(NumericalFailure, SimulateThatWouldTipExitsThreeAndWritesNoLog) {
