@@ -824,8 +824,10 @@ void WarnAbsurdSlider(const ReadContext& ctx, const Metadata& meta, const Slider
       warn("inertia", "inertia = " + ShortNumber(s.inertia_kgm2) +
                           " kg m^2 gives a radius of "
                           "gyration sqrt(I/m) = " +
-                          ShortNumber(gyration) + " m, outside [" + ShortNumber(kMinGyration_m) +
-                          ", " + ShortNumber(kMaxGyration_m) +
+                          // A subnormal mass (1e-320 kg) overflows it: no "inf" in a message.
+                          (std::isfinite(gyration) ? ShortNumber(gyration) : "over 1e308") +
+                          " m, outside [" + ShortNumber(kMinGyration_m) + ", " +
+                          ShortNumber(kMaxGyration_m) +
                           "] m (inertia in kg m^2 about the vertical axis through the CM?)");
     }
   }

@@ -263,6 +263,15 @@ TEST(BadLog, AbsurdMagnitudesAreReadWithWarningsNamingLineAndColumn) {
   EXPECT_TRUE(has(path + ":1: mass = 20000 kg"));
   EXPECT_TRUE(has(path + ":2: inertia = 1e-05 kg m^2 gives a radius of gyration"));
   EXPECT_TRUE(has(path + ":6: column 'vx': from poses: 1000 m/s is beyond 100 m/s"));
+  // A subnormal mass overflows the radius of gyration: said in words, not as "inf".
+  report = {};
+  const std::string subnormal =
+      WriteFile("subnormal_mass.csv",
+                "# mass = 1e-320\n# inertia = 1e-3\n# com_height = 0.01\nt,x,y,theta\n0,0,0,0\n");
+  ReadPushLog(subnormal, {}, &report);
+  EXPECT_TRUE(has(subnormal + ":2: inertia = 0.001 kg m^2 gives a radius of gyration sqrt(I/m) = "
+                              "over 1e308 m"))
+      << ::testing::PrintToString(report.warnings);
   // Sensible values: no warnings.
   report = {};
   ReadPushLog(WriteFile("sensible.csv", std::string(kSliderMeta) + "t,x,y,theta\n0,0,0,0\n"), {},
