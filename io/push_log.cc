@@ -44,8 +44,12 @@ constexpr double kWarnGapRatio = 3.0;
 constexpr double kAbsurdPosition_m = 1e3;  // x, y, px, py, pz
 constexpr double kAbsurdSpeed_mps = 1e2;   // vx, vy, given or from poses
 constexpr double kAbsurdSpin_radps = 1e3;  // wz: 160 turns a second
-constexpr double kAbsurdForce_n = 1e5;     // fx, fy, fz
-constexpr double kAbsurdMoment_Nm = 1e5;   // tx, ty, tz
+// theta, unwrapped: 160,000 turns. Far beyond it a double cannot resolve a step's turn (at
+// 1e17 rad its spacing is 16 rad: every row the same heading), and the fits went on as if
+// the slider never turned.
+constexpr double kAbsurdHeading_rad = 1e6;
+constexpr double kAbsurdForce_n = 1e5;    // fx, fy, fz
+constexpr double kAbsurdMoment_Nm = 1e5;  // tx, ty, tz
 constexpr double kAbsurdMass_kg = 1e4;
 constexpr double kAbsurdComHeight_m = 1e2;
 // Theta in degrees (WarnThetaInDegrees): a jump between rows of 300-420 is a wrap at +-180
@@ -398,6 +402,7 @@ constexpr std::array<AbsurdLimit, kNumNumeric> MakeAbsurdLimits() {
   for (Col c : {kX, kY, kPx, kPy, kPz, kTipX, kTipY}) l[c] = {kAbsurdPosition_m, "m"};
   for (Col c : {kVx, kVy}) l[c] = {kAbsurdSpeed_mps, "m/s"};
   l[kWz] = {kAbsurdSpin_radps, "rad/s"};
+  l[kTheta] = {kAbsurdHeading_rad, "rad"};
   for (Col c : {kFx, kFy, kFz}) l[c] = {kAbsurdForce_n, "N"};
   for (Col c : {kTx, kTy, kTz}) l[c] = {kAbsurdMoment_Nm, "N m"};
   return l;

@@ -263,6 +263,14 @@ TEST(BadLog, AbsurdMagnitudesAreReadWithWarningsNamingLineAndColumn) {
   EXPECT_TRUE(has(path + ":1: mass = 20000 kg"));
   EXPECT_TRUE(has(path + ":2: inertia = 1e-05 kg m^2 gives a radius of gyration"));
   EXPECT_TRUE(has(path + ":6: column 'vx': from poses: 1000 m/s is beyond 100 m/s"));
+  // A heading offset by 1e17 rad (a broken logger's counter) reads as a slider that never
+  // turns (a double's spacing there is 16 rad): warned, as the other absurd magnitudes.
+  report = {};
+  const std::string heading = WriteFile(
+      "huge_heading.csv", std::string(kSliderMeta) + "t,x,y,theta\n0,0,0,1e17\n0.01,0,0,1e17\n");
+  ReadPushLog(heading, {}, &report);
+  EXPECT_TRUE(has(heading + ":5: column 'theta': 1e+17 rad is beyond 1e+06 rad"))
+      << ::testing::PrintToString(report.warnings);
   // A subnormal mass overflows the radius of gyration: said in words, not as "inf".
   report = {};
   const std::string subnormal =
