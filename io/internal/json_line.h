@@ -37,7 +37,9 @@ void AppendStart(const AnyJson& j, std::size_t max_chars, std::string* out) {
   for (auto it = j.begin(); it != j.end(); ++it) {
     if (out->size() > max_chars) return;
     if (it != j.begin()) *out += ',';
-    if (j.is_object()) *out += AnyJson(it.key()).dump() + ":";
+    if (j.is_object()) {
+      *out += AnyJson(it.key()).dump(-1, ' ', false, AnyJson::error_handler_t::replace) + ":";
+    }
     AppendStart(it.value(), max_chars, out);
   }
   if (out->size() <= max_chars) *out += j.is_object() ? '}' : ']';
