@@ -140,6 +140,26 @@ TEST(BadLog, NulByteIsAnErrorNamingItsLineInFilesAndInMemory) {
               "NUL byte");
 }
 
+// Old Mac line ends (CR alone) made the whole file one line: the error quoted all of it as
+// the value of its first metadata key (93 KB for a 600-row log). A carriage return inside a
+// line is now the error itself, in files and in memory alike; CRLF still reads.
+TEST(BadLog, CarriageReturnsAloneAreAnErrorNamingTheirLine) {
+  std::string text = std::string(kSliderMeta) + "t,x,y,theta\n0,0,0,0\n0.1,0,0,0\n";
+  std::replace(text.begin(), text.end(), '\n', '\r');
+  ExpectError("cr_only.csv", text, 1, "", "lines must end with LF or CRLF");
+  EXPECT_LT(std::string(ErrorOf("cr_only.csv", text).what()).size(), 300u);
+  try {
+    ParsePushLog(text, "memory.csv");
+    ADD_FAILURE() << "no LogError";
+  } catch (const LogError& e) {
+    EXPECT_EQ(e.line(), 1) << e.what();
+    EXPECT_TRUE(Contains(e.what(), "old Mac line ends")) << e.what();
+  }
+  // A stray CR in a row, after lines ending in CRLF: named by its line.
+  const std::string crlf = std::string(kSliderMeta) + "t,x,y,theta\r\n0,0,0,0\r\n0.1,0\r,0,0\r\n";
+  ExpectError("stray_cr.csv", crlf, 6, "", "a carriage return inside the line");
+}
+
 // A line of 16 MiB or more (fccp's block) is an error naming that line, in files and in
 // memory alike: io/text_lines, which every reader of a text file shares.
 TEST(BadLog, OverlongLineIsAnErrorNamingItsLineInFilesAndInMemory) {
