@@ -1,5 +1,7 @@
 #include "io/push_log.h"
 
+#include <sys/stat.h>
+
 #include <algorithm>
 #include <array>
 #include <cctype>
@@ -217,8 +219,14 @@ class RowLineCounter {
   std::size_t count_ = 0;
 };
 
-/// RowLineCounter over a file; 0 when it cannot be read (the reader then says why).
+/// RowLineCounter over a file; 0 when it cannot be read (the reader then says why) or is
+/// not a regular file. A pipe (--log <(zcat log.csv.gz), /dev/stdin, a named FIFO) must not
+/// be opened a second time: this pass took the rows beyond the reader's first 32 MiB from
+/// it (a 61 MB log read from <(cat) failed half-way, or could lose rows), and on a FIFO whose
+/// writer had finished it waited for ever.
 std::size_t CountRowLines(const std::string& path) {
+  struct stat status;
+  if (::stat(path.c_str(), &status) != 0 || !S_ISREG(status.st_mode)) return 0;
   std::FILE* file = std::fopen(path.c_str(), "rb");
   if (file == nullptr) return 0;
   RowLineCounter counter;

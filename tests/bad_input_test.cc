@@ -5,6 +5,7 @@
 // scene_test.cc; this file adds what they lack and runs the tools.
 
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -18,6 +19,7 @@
 #include <regex>
 #include <sstream>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "forward_model/constants.h"
@@ -158,6 +160,31 @@ TEST(BadLog, CarriageReturnsAloneAreAnErrorNamingTheirLine) {
   // A stray CR in a row, after lines ending in CRLF: named by its line.
   const std::string crlf = std::string(kSliderMeta) + "t,x,y,theta\r\n0,0,0,0\r\n0.1,0\r,0,0\r\n";
   ExpectError("stray_cr.csv", crlf, 6, "", "a carriage return inside the line");
+}
+
+// A log read from a pipe (--log <(zcat log.csv.gz), /dev/stdin, a named FIFO) is read once:
+// the reader's pass that counts rows to reserve for opened the path a second time and took
+// from the pipe whatever the reader had not yet read (its first 32 MiB): a 61 MB log failed
+// half-way ("expected 9 fields ..., found 8") and could have lost rows; on a FIFO whose
+// writer had finished, the second open waited for ever. 35 MB through a FIFO: every row.
+TEST(BadLog, ALogFromAPipeIsReadWholeOnce) {
+  const std::string fifo = testing::TempPath("pipe_log.csv");
+  ASSERT_EQ(mkfifo(fifo.c_str(), 0600), 0);
+  const int rows = 35000;
+  const std::string pad(1000, 'p');  // an unknown column: read past, with a note
+  std::thread writer([&] {
+    std::ofstream out(fifo);
+    out << kSliderMeta << "t,x,y,theta,pad\n";
+    for (int u = 0; u < rows; ++u) out << u * 0.01 << ",0,0,0," << pad << "\n";
+  });
+  std::size_t read = 0;
+  try {
+    read = ReadPushLog(fifo).samples.size();
+  } catch (const LogError& e) {
+    ADD_FAILURE() << e.what();
+  }
+  writer.join();
+  EXPECT_EQ(read, static_cast<std::size_t>(rows));
 }
 
 // A line of 16 MiB or more (fccp's block) is an error naming that line, in files and in
