@@ -321,6 +321,7 @@ IdentifyRequest ReadIdentifyOptions(const po::variables_map& vm) {
   if (vm.count("report")) r.report_path = vm["report"].as<std::string>();
   // Per-row residuals only where something writes them (48 MB of a 1e6-row log).
   r.options.identify.keep_residuals = !r.residuals_path.empty() || !r.report_path.empty();
+  r.options.keep_logs = !r.report_path.empty();  // the report draws the logs the fit read
   return r;
 }
 
