@@ -46,7 +46,12 @@ bool RandomProgramSpec::IsValid(std::string* why) const {
     if (why) *why = message;
     return false;
   };
-  if (count < 1) return fail("program: count = " + std::to_string(count) + ": must be >= 1");
+  // The upper limit keeps a run finite: a billion pushes would be drawn before the
+  // simulator's own limit on steps could refuse them.
+  if (count < 1 || count > kMaxCount) {
+    return fail("program: count = " + std::to_string(count) + ": must be 1 to " +
+                std::to_string(kMaxCount));
+  }
   if (force_n && !RangeOk(*force_n, false)) return fail("program: force range needs lo <= hi");
   if (!RangeOk(amplitude_fraction, true)) {
     return fail("program: amplitude range needs 0 <= lo <= hi");

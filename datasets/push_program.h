@@ -29,7 +29,8 @@ struct ValueRange {
 /// Pushes from all round the boundary give varied directions (b), the lever gives rotation
 /// (c), the rests stick-slip transitions. Unset ranges take defaults scaled to the slider.
 struct RandomProgramSpec {
-  int count = 6;  ///< number of pushes (>= 1)
+  int count = 6;  ///< number of pushes (1 to kMaxCount)
+  static constexpr int kMaxCount = 10000;
   std::uint64_t seed = 1;
   /// Constant part of the push [N]. Default: 1.1 to 1.6 times the sliding limit a m g.
   std::optional<ValueRange> force_n;

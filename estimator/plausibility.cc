@@ -8,6 +8,12 @@
 namespace slideid {
 namespace {
 
+// A number for a reason's text: %.3g, or "over 1e308" where it overflowed (an interval
+// of [6e-260, 1e258], the friction of a 1e308 kg slider), which printed as "inf".
+std::string Magnitude(double v) {
+  return std::isfinite(v) ? Printf("%.3g", v) : std::string("over 1e308");
+}
+
 void AddReason(ParameterEstimate* p, const std::string& reason) {
   p->verdict = Verdict::kSuspect;
   p->reason += (p->reason.empty() ? "" : "; ") + reason;
@@ -31,9 +37,9 @@ void JudgeEstimates(const PlausibilityContext& c, std::array<ParameterEstimate, 
       held.reason =
           p.ci95_lo > 0
               ? Printf(
-                    "its 95%% interval [%.3g, %.3g] spans a factor %.3g: the log does not "
+                    "its 95%% interval [%.3g, %.3g] spans a factor %s: the log does not "
                     "determine it",
-                    p.ci95_lo, p.ci95_hi, factor)
+                    p.ci95_lo, p.ci95_hi, Magnitude(factor).c_str())
               : Printf(
                     "its 95%% interval [%.3g, %.3g] reaches down to zero: the log does not "
                     "determine it",
@@ -63,9 +69,9 @@ void JudgeEstimates(const PlausibilityContext& c, std::array<ParameterEstimate, 
       for (const PushCapacity& log : c.logs) {
         const double friction = p.value * log.weight_n;
         if (log.max_push_n > 0 && friction > kFrictionOverPush * log.max_push_n) {
-          AddReason(&p, Printf("implies %.3g N of friction against a largest push of %.3g N: "
+          AddReason(&p, Printf("implies %s N of friction against a largest push of %.3g N: "
                                "the slider could not have slid",
-                               friction, log.max_push_n));
+                               Magnitude(friction).c_str(), log.max_push_n));
           break;
         }
       }

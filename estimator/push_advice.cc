@@ -232,9 +232,19 @@ CandidateAdvice EvaluatePush(const SliderProperties& slider, const ContactPatch&
                              const PushAdviceOptions& options) {
   CandidateAdvice out;
   out.push = push;
-  const Scene scene =
-      PushScene(slider, friction, patch, push, options.candidates, 1.0 / options.log_rate_hz);
-  const SimulationResult sim = Simulate(scene);
+  SimulationResult sim;
+  try {
+    const Scene scene =
+        PushScene(slider, friction, patch, push, options.candidates, 1.0 / options.log_rate_hz);
+    sim = Simulate(scene);
+  } catch (const std::invalid_argument& e) {
+    // A push that cannot be simulated at all (a step's force overflowing for a mu_p of
+    // 1e300, more steps than the simulator allows at --rate 1e9): a failed candidate, said
+    // in the table and exit code 3, not the bare "SolveStep: applied.fx must be finite" of
+    // exit 1 that ended the whole run.
+    out.failure = e.what();
+    return out;
+  }
   out.rows = static_cast<int>(sim.trajectory.samples.size());
   out.tip_touched = sim.summary.tip_stick_steps + sim.summary.tip_slide_steps > 0;
   if (!sim.trajectory.samples.empty()) {

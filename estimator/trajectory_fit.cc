@@ -1024,12 +1024,24 @@ FitInformation InformationOf(TrajectoryProblem* problem, const std::vector<bool>
   return problem->Information(&extra);
 }
 
+// The information and the residuals' sum of squares, what identifiability is judged by.
+bool Finite(const FitInformation& info) {
+  return info.fisher.allFinite() && std::isfinite(info.sum_squares);
+}
+
+enum class HoldOutcome {
+  kHeld,         ///< some friction parameter is left free
+  kNothingLeft,  ///< the logs determine no friction parameter
+  kNotFinite,    ///< the information or the sum of squares is not finite: the fit overflowed
+};
+
 // Stage 4, identifiability over every global parameter: what the logs do not determine is
-// held, and the rest refitted. False when no friction parameter is left.
-bool HoldStage(FitStages* f, HeldStage* held) {
+// held, and the rest refitted.
+HoldOutcome HoldStage(FitStages* f, HeldStage* held) {
   TrajectoryProblem& problem = *f->problem;
   held->correctable = CorrectableLogs(problem, f->topt);
   held->info = InformationOf(&problem, held->correctable);
+  if (!Finite(held->info)) return HoldOutcome::kNotFinite;
   const int G = problem.num_global();
   std::vector<double> max_stderr(G);
   for (int i = 0; i < G; ++i) max_stderr[i] = MaxStdErr(problem, i, f->diagnostics, f->topt);
@@ -1050,14 +1062,15 @@ bool HoldStage(FitStages* f, HeldStage* held) {
     if (!f->free[i]) problem.set_global(i, 0.0);
   }
   if (std::none_of(f->free.begin(), f->free.begin() + kFrictionGlobals, [](bool x) { return x; })) {
-    return false;
+    return HoldOutcome::kNothingLeft;
   }
   if (std::find(f->free.begin(), f->free.end(), false) != f->free.end()) {
     f->Solve(f->free, "refit, unidentifiable held");
     f->residual_scale = ResidualRowScale(problem);
     held->info = InformationOf(&problem, held->correctable);
+    if (!Finite(held->info)) return HoldOutcome::kNotFinite;
   }
-  return true;
+  return HoldOutcome::kHeld;
 }
 
 // What the interval stage found, per global parameter.
@@ -1263,7 +1276,22 @@ FitOutcome Fit(const std::vector<const Trajectory*>& logs, const IdentifyOptions
   LeastSquaresStage(start, &f);
   RobustStage(&f);
   HeldStage held;
-  if (!HoldStage(&f, &held)) {
+  const HoldOutcome hold = HoldStage(&f, &held);
+  if (hold == HoldOutcome::kNotFinite) {
+    // The model overflowed at the fit's end (a log of absurd magnitudes, e.g. an inertia of
+    // 1e-300 kg m^2, pooled with good ones): nothing to judge identifiability by. A fit that
+    // did not converge (exit 3), not the exception "AssessIdentifiability: information
+    // matrix is not finite" that named no log.
+    result.status = TerminationStatus::kNoConvergence;
+    result.converged = false;
+    result.message =
+        "the fit's information or residuals are not finite at its end (the "
+        "model overflowed: a log of absurd magnitudes?); " +
+        f.summary.BriefReport();
+    result.seconds = Seconds(t0);
+    return out;
+  }
+  if (hold == HoldOutcome::kNothingLeft) {
     return too_little(
         "too little sliding to identify anything: the log does not determine any friction "
         "parameter (it barely slides, or its noise is too large for its length: " +

@@ -29,6 +29,15 @@ std::string TempPattern(const std::string& path) {
 
 /// Creates the temporary of `path`; returns its descriptor, `temp` set to its name.
 int CreateTemp(const std::string& path, const std::string& what, std::string* temp) {
+  // The temporary is renamed over the path: over a device, a pipe or a socket (--out
+  // /dev/null, /dev/stdout) that would put a regular file in its place, as root even in
+  // /dev. Refuse before anything is written.
+  struct stat target;
+  if (::stat(path.c_str(), &target) == 0 && !S_ISREG(target.st_mode) && !S_ISDIR(target.st_mode)) {
+    throw FileWriteError(path, what,
+                         "not a regular file (a device, a pipe or a socket), which writing "
+                         "the file would replace: give the path of a file");
+  }
   *temp = TempPattern(path);
   const int fd = mkstemp(temp->data());
   if (fd < 0) {

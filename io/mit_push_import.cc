@@ -57,6 +57,8 @@ constexpr double kMaxAbsForceN = 1e5;
 // Most rows one log may have (a push window of 10^4 s at 100 Hz): beyond, the times are
 // not seconds, or the rate is absurd.
 constexpr double kMaxRows = 1e6;
+// The fewest rows an imported log may have: fewer leave the estimators no step to fit.
+constexpr int kMinRows = 3;
 // The tip speed is a central difference over +-20 ms: the robot's position noise (about
 // 1e-5 m) then makes at most 0.5 mm/s of speed noise, far below the still threshold, while
 // a push (0.1-0.2 s to reach its speed) is still resolved.
@@ -649,6 +651,13 @@ Rejection ChooseWindow(const Streams& s, const Push& push, const std::vector<Fro
         "push window of %.3g s at %.3g Hz: more rows than any push needs (times "
         "not in seconds?)",
         *end - *start, o.rate_hz);
+  }
+  // The other end: a log of one or two rows, which no estimator can use, was accepted.
+  if ((*end - *start) * o.rate_hz < kMinRows - 1) {
+    return Printf(
+        "push window of %.3g s at %.3g Hz: fewer than %d rows, too few to fit (--rate "
+        "in Hz?)",
+        *end - *start, o.rate_hz, kMinRows);
   }
   return std::nullopt;
 }

@@ -6,6 +6,7 @@
 
 #include "forward_model/constants.h"
 #include "forward_model/number_format.h"
+#include "io/internal/json_line.h"
 #include "io/result_json.h"
 
 namespace slideid {
@@ -30,7 +31,7 @@ const nlohmann::json& Member(const nlohmann::json& object, const std::string& pa
 /// A number, or NaN for null.
 double Number(const nlohmann::json& j, const std::string& path) {
   if (j.is_null()) return std::nan("");
-  if (!j.is_number()) Fail(path, "expected a number or null, got " + j.dump());
+  if (!j.is_number()) Fail(path, "expected a number or null, got " + json_line::Brief(j));
   return j.get<double>();
 }
 
@@ -44,11 +45,10 @@ AdviceResultInput ParseAdviceResult(const std::string& text) {
   nlohmann::json j;
   try {
     j = nlohmann::json::parse(text);
-  } catch (const nlohmann::json::parse_error& e) {
+  } catch (const nlohmann::json::exception& e) {  // a syntax error, or a number overflow
     Fail("", std::string("not JSON: ") + e.what());
   }
-  if (!j.is_object())
-    Fail("", "expected an object (identify --json), got " + j.dump().substr(0, 40));
+  if (!j.is_object()) Fail("", "expected an object (identify --json), got " + json_line::Brief(j));
   AdviceResultInput in;
   for (int i = 0; i < 3; ++i) {
     const std::string path = std::string("/") + ParameterName(i);
@@ -63,13 +63,13 @@ AdviceResultInput ParseAdviceResult(const std::string& text) {
       e.stderr_value = Number(Member(p, path, "stderr"), path + "/stderr");
       if (!(e.value > 0 && std::isfinite(e.value))) {
         Fail(path + "/value", "an identifiable parameter needs a positive value, got " +
-                                  Member(p, path, "value").dump());
+                                  json_line::Brief(Member(p, path, "value")));
       }
       if (!(e.stderr_value > 0 && std::isfinite(e.stderr_value))) {
         Fail(path + "/stderr",
              "an identifiable parameter needs a positive, finite standard "
              "error, got " +
-                 Member(p, path, "stderr").dump());
+                 json_line::Brief(Member(p, path, "stderr")));
       }
     } else if (p.contains("held_at")) {
       e.held_at = Number(p["held_at"], path + "/held_at");
@@ -79,7 +79,8 @@ AdviceResultInput ParseAdviceResult(const std::string& text) {
     const double rms = Number(j["residual_rms"], "/residual_rms");
     if (std::isfinite(rms)) {
       if (!(rms > 0))
-        Fail("/residual_rms", "expected a positive number, got " + j["residual_rms"].dump());
+        Fail("/residual_rms",
+             "expected a positive number, got " + json_line::Brief(j["residual_rms"]));
       in.pose_noise_m = rms / std::sqrt(3.0);
     }
   }
@@ -89,11 +90,11 @@ AdviceResultInput ParseAdviceResult(const std::string& text) {
       const double mu = Number(m["value"], "/mu_pusher/value");
       if (std::isfinite(mu)) {
         if (!(mu >= 0))
-          Fail("/mu_pusher/value", "expected a number >= 0, got " + m["value"].dump());
+          Fail("/mu_pusher/value", "expected a number >= 0, got " + json_line::Brief(m["value"]));
         in.mu_pusher = mu;
       }
     } else if (!m.is_object()) {
-      Fail("/mu_pusher", "expected an object or null, got " + m.dump());
+      Fail("/mu_pusher", "expected an object or null, got " + json_line::Brief(m));
     }
   }
   return in;

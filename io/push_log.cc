@@ -1,5 +1,7 @@
 #include "io/push_log.h"
 
+#include <sys/stat.h>
+
 #include <algorithm>
 #include <array>
 #include <cctype>
@@ -44,8 +46,12 @@ constexpr double kWarnGapRatio = 3.0;
 constexpr double kAbsurdPosition_m = 1e3;  // x, y, px, py, pz
 constexpr double kAbsurdSpeed_mps = 1e2;   // vx, vy, given or from poses
 constexpr double kAbsurdSpin_radps = 1e3;  // wz: 160 turns a second
-constexpr double kAbsurdForce_n = 1e5;     // fx, fy, fz
-constexpr double kAbsurdMoment_Nm = 1e5;   // tx, ty, tz
+// theta, unwrapped: 160,000 turns. Far beyond it a double cannot resolve a step's turn (at
+// 1e17 rad its spacing is 16 rad: every row the same heading), and the fits went on as if
+// the slider never turned.
+constexpr double kAbsurdHeading_rad = 1e6;
+constexpr double kAbsurdForce_n = 1e5;    // fx, fy, fz
+constexpr double kAbsurdMoment_Nm = 1e5;  // tx, ty, tz
 constexpr double kAbsurdMass_kg = 1e4;
 constexpr double kAbsurdComHeight_m = 1e2;
 // Theta in degrees (WarnThetaInDegrees): a jump between rows of 300-420 is a wrap at +-180
@@ -213,8 +219,14 @@ class RowLineCounter {
   std::size_t count_ = 0;
 };
 
-/// RowLineCounter over a file; 0 when it cannot be read (the reader then says why).
+/// RowLineCounter over a file; 0 when it cannot be read (the reader then says why) or is
+/// not a regular file. A pipe (--log <(zcat log.csv.gz), /dev/stdin, a named FIFO) must not
+/// be opened a second time: this pass took the rows beyond the reader's first 32 MiB from
+/// it (a 61 MB log read from <(cat) failed half-way, or could lose rows), and on a FIFO whose
+/// writer had finished it waited for ever.
 std::size_t CountRowLines(const std::string& path) {
+  struct stat status;
+  if (::stat(path.c_str(), &status) != 0 || !S_ISREG(status.st_mode)) return 0;
   std::FILE* file = std::fopen(path.c_str(), "rb");
   if (file == nullptr) return 0;
   RowLineCounter counter;
@@ -398,6 +410,7 @@ constexpr std::array<AbsurdLimit, kNumNumeric> MakeAbsurdLimits() {
   for (Col c : {kX, kY, kPx, kPy, kPz, kTipX, kTipY}) l[c] = {kAbsurdPosition_m, "m"};
   for (Col c : {kVx, kVy}) l[c] = {kAbsurdSpeed_mps, "m/s"};
   l[kWz] = {kAbsurdSpin_radps, "rad/s"};
+  l[kTheta] = {kAbsurdHeading_rad, "rad"};
   for (Col c : {kFx, kFy, kFz}) l[c] = {kAbsurdForce_n, "N"};
   for (Col c : {kTx, kTy, kTz}) l[c] = {kAbsurdMoment_Nm, "N m"};
   return l;
@@ -824,8 +837,10 @@ void WarnAbsurdSlider(const ReadContext& ctx, const Metadata& meta, const Slider
       warn("inertia", "inertia = " + ShortNumber(s.inertia_kgm2) +
                           " kg m^2 gives a radius of "
                           "gyration sqrt(I/m) = " +
-                          ShortNumber(gyration) + " m, outside [" + ShortNumber(kMinGyration_m) +
-                          ", " + ShortNumber(kMaxGyration_m) +
+                          // A subnormal mass (1e-320 kg) overflows it: no "inf" in a message.
+                          (std::isfinite(gyration) ? ShortNumber(gyration) : "over 1e308") +
+                          " m, outside [" + ShortNumber(kMinGyration_m) + ", " +
+                          ShortNumber(kMaxGyration_m) +
                           "] m (inertia in kg m^2 about the vertical axis through the CM?)");
     }
   }

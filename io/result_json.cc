@@ -14,7 +14,6 @@ namespace {
 using json_line::Json;
 using json_line::NumberOrNull;
 using json_line::Print;
-using json_line::Scalar;
 
 const char* const kPrefix = "identify JSON: ";
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
@@ -85,17 +84,15 @@ Json HeterogeneityJson(const Heterogeneity& h) {
   throw ResultJsonError(kPrefix + (path.empty() ? what : path + ": " + what));
 }
 
-std::string Quoted(const Json& j) {
-  std::string text = Scalar(j);
-  if (text.size() > kMaxQuoted) text = text.substr(0, kMaxQuoted) + "...";
-  return text;
-}
+// Never the whole dump: a file may nest arrays deeper than dump's recursion can go.
+std::string Quoted(const Json& j) { return json_line::Brief(j, kMaxQuoted); }
 
 Json Parse(const std::string& text) {
   try {
     return Json::parse(text);
-  } catch (const Json::parse_error& e) {
-    // "[json.exception.parse_error.101] parse error at line 1, column 5: ..."
+  } catch (const Json::exception& e) {
+    // "[json.exception.parse_error.101] parse error at line 1, column 5: ...", or
+    // "[json.exception.out_of_range.406] number overflow parsing '1e999'"
     const std::string what = e.what();
     const auto tag_end = what.find("] ");
     Fail("", tag_end == std::string::npos ? what : what.substr(tag_end + 2));
@@ -355,7 +352,8 @@ std::optional<BatchLineKey> ParseBatchLineKey(std::string_view line) {
 }
 
 EstimateResult ParseResultJson(const std::string& json) {
-  const Json root = Object(Parse(json), "");
+  const Json parsed = Parse(json);  // not copied: a copy recurses as deep as the nesting
+  const Json& root = Object(parsed, "");
   EstimateResult r;
   for (int i = 0; i < 3; ++i) r.parameters[i] = ReadParameter(root, i);
   r.method = ReadMethod(root);
@@ -411,7 +409,8 @@ EstimateResult ParseResultJson(const std::string& json) {
 }
 
 ReducedFriction ParseIdentifyJson(const std::string& json) {
-  const Json root = Object(Parse(json), "");
+  const Json parsed = Parse(json);  // not copied: a copy recurses as deep as the nesting
+  const Json& root = Object(parsed, "");
   const auto value_of = [&](int index) {
     const std::string name = ParameterName(index);
     const Json& p = Object(Member(root, "", name), "/" + name);

@@ -26,6 +26,18 @@ constexpr std::size_t kMaxLineBytes = std::size_t{1} << 24;
 
 /// What CheckedByteSource has seen. Kept outside it: fccp destroys its byte source as soon
 /// as a read reaches the end of a short file.
+/// `line` (its CRLF's CR already removed), or a LogError when a carriage return is left
+/// inside it: a file with old Mac line ends (CR only) read as one line, and the error then
+/// quoted the whole file as one metadata value (93 KB of message for a 600-row log).
+std::string_view WithoutBareCr(const std::string& name, int line_no, std::string_view line) {
+  if (line.find('\r') != std::string_view::npos) {
+    throw LogError(name, line_no, "",
+                   "a carriage return inside the line: the file seems to end its lines with CR "
+                   "alone (old Mac line ends); lines must end with LF or CRLF");
+  }
+  return line;
+}
+
 struct ByteCount {
   long long lines = 0;
   long long bytes = 0;
@@ -91,7 +103,7 @@ class FileLines : public TextLines {
     try {
       const char* line = reader_.next_line();
       if (line == nullptr) return std::nullopt;
-      return std::string_view(line);
+      return WithoutBareCr(name(), LineNumber(), line);
     } catch (const LogError&) {
       throw;
     } catch (const io::error::base& e) {  // a line longer than fccp's 16 MiB block
@@ -134,7 +146,7 @@ class MemoryLines : public TextLines {
       throw LogError(name(), line_, "", "NUL byte: not a text file (or one cut short by a crash)");
     }
     if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
-    return line;
+    return WithoutBareCr(name(), line_, line);
   }
   int LineNumber() const override { return line_; }
   bool EndsWithLineBreak() const override { return ends_with_newline_; }

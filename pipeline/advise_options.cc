@@ -119,6 +119,12 @@ AdviseRequest ReadAdviseOptions(const po::variables_map& vm) {
   r.slider.mass_kg = Positive(vm, "mass");
   r.slider.inertia_kgm2 =
       vm.count("inertia") ? Positive(vm, "inertia") : UniformInertia(r.patch, r.slider.mass_kg);
+  if (!(r.slider.inertia_kgm2 > 0 && std::isfinite(r.slider.inertia_kgm2))) {
+    // A patch of 1e300 m (or a mass of 1e300 kg) overflows the slab's inertia: every
+    // candidate then failed on NaN contact points.
+    throw po::error("--patch and --mass give a uniform slab's inertia of " +
+                    ShortNumber(r.slider.inertia_kgm2) + " kg m^2: give --inertia");
+  }
   r.slider.com_height_m = vm["com-height"].as<double>();
   if (!(r.slider.com_height_m >= 0 && std::isfinite(r.slider.com_height_m))) {
     throw po::error("--com-height must be >= 0");
@@ -182,7 +188,10 @@ AdviseRequest ReadAdviseOptions(const po::variables_map& vm) {
   }
   r.options.log_rate_hz = Positive(vm, "rate");
   r.options.candidates.contact_points = vm["contact-points"].as<int>();
-  if (r.options.candidates.contact_points < 1) throw po::error("--contact-points must be >= 1");
+  // The upper limit keeps a run finite: each point is simulated for every direction and length.
+  if (r.options.candidates.contact_points < 1 || r.options.candidates.contact_points > 1000) {
+    throw po::error("--contact-points must be 1 to 1000");
+  }
   r.options.candidates.cone_fractions = List(vm, "cone-fractions");
   for (double f : r.options.candidates.cone_fractions) {
     if (!(f >= -1 && f <= 1)) throw po::error("--cone-fractions must each lie in [-1, 1]");

@@ -56,6 +56,9 @@ FollowSummary FollowLog(std::istream& in, const std::string& source, const Follo
   int line_number = 0;
   while (std::getline(in, line)) {
     ++line_number;
+    // A byte-order mark, as a file's reader skips it (docs/log-format.md): left in, it
+    // would make the first metadata line the header.
+    if (line_number == 1 && line.compare(0, 3, "\xEF\xBB\xBF") == 0) line.erase(0, 3);
     if (!line.empty() && line.back() == '\r') line.pop_back();
     if (!have_header) {
       // Still in the metadata: comments, blank lines, then the header line.
@@ -105,6 +108,10 @@ FollowSummary FollowLog(std::istream& in, const std::string& source, const Follo
   }
   if (!have_header) {
     throw LogError(source, line_number, "", "no header line before the end of the input");
+  }
+  if (summary.rows == 0) {
+    // As a file's reader says it: a logger that stopped after its header identified nothing.
+    throw LogError(source, header_lines, "", "the header is not followed by any data row");
   }
   return summary;
 }

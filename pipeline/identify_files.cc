@@ -92,6 +92,7 @@ FileIdentifyResult IdentifyPushLogs(const std::vector<std::string>& paths,
                                     const FileIdentifyOptions& options) {
   FileIdentifyResult out;
   std::vector<LogResult> skipped;
+  std::vector<std::string> read_paths;  // of the logs read, in order
   std::vector<Trajectory> logs = ReadAll<Trajectory>(
       paths, options.skip_bad,
       [&](const std::string& path) {
@@ -101,12 +102,18 @@ FileIdentifyResult IdentifyPushLogs(const std::vector<std::string>& paths,
         for (const std::string& w : report.warnings) out.warnings.push_back(w);
         for (const std::string& n : report.notes) out.notes.push_back(path + ": " + n);
         if (paths.size() > 1) CheckPoolable(log, path);
+        read_paths.push_back(path);
         return log;
       },
       &skipped);
   out.truth = CommonTruth(logs);
   out.result = Identify(logs, options.identify);
   AppendSkipped(std::move(skipped), &out.result);
+  if (options.keep_logs) {
+    for (std::size_t k = 0; k < logs.size(); ++k) {
+      out.logs.emplace_back(read_paths[k], std::move(logs[k]));
+    }
+  }
   return out;
 }
 

@@ -6,6 +6,7 @@
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "estimator/estimate.h"
@@ -22,6 +23,9 @@ struct FileIdentifyOptions {
   /// A file that cannot be read, or that the method cannot use, is listed in result.logs
   /// as skipped (with the reason) instead of failing the whole run.
   bool skip_bad = false;
+  /// Keep the push logs read in the result (FileIdentifyResult::logs), for a report drawn
+  /// after the fit: a log from a pipe cannot be read a second time.
+  bool keep_logs = false;
 };
 
 /// The identification and what the readers said.
@@ -31,6 +35,8 @@ struct FileIdentifyResult {
   std::optional<ReducedFriction> truth;
   std::vector<std::string> warnings;  ///< likely mistakes, each naming its file
   std::vector<std::string> notes;     ///< plain facts, each naming its file
+  /// With keep_logs: each push log read, with its path (the skipped ones left out).
+  std::vector<std::pair<std::string, Trajectory>> logs;
 };
 
 /// A file that fails the whole run: its message names it (LogError and friends already do).

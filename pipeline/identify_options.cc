@@ -1,7 +1,10 @@
 #include "pipeline/identify_options.h"
 
+#include <sys/stat.h>
+
 #include <cmath>
 #include <initializer_list>
+#include <map>
 #include <utility>
 
 namespace slideid::cli {
@@ -204,6 +207,24 @@ void AddIdentifyOptions(po::options_description* options, po::options_descriptio
       "Ceres iterations per solve; a fit that needs more fails with exit code 3");
 }
 
+// One file named twice among the pooled logs (--log a.csv --logs DIR with a.csv in DIR,
+// ./a.csv and a.csv, a symbolic or hard link) would be pooled twice: its rows counted twice,
+// the intervals narrower by about sqrt(2) than its data allow, and the logs' agreement a
+// foregone conclusion. Files are compared by device and inode; one that cannot be read is
+// left to the reader's error.
+void RejectRepeatedFiles(const std::vector<std::string>& files) {
+  std::map<std::pair<dev_t, ino_t>, const std::string*> seen;
+  for (const std::string& file : files) {
+    struct stat s;
+    if (::stat(file.c_str(), &s) != 0) continue;
+    const auto [at, inserted] = seen.emplace(std::make_pair(s.st_dev, s.st_ino), &file);
+    if (!inserted) {
+      throw po::error("'" + file + "' is the same file as '" + *at->second +
+                      "': pooled twice, its rows would count twice and narrow the intervals");
+    }
+  }
+}
+
 // --batch and its companions; the batch's files, sharded.
 void ReadBatchOptions(const po::variables_map& vm, IdentifyRequest* r) {
   r->batch = true;
@@ -289,6 +310,7 @@ IdentifyRequest ReadIdentifyOptions(const po::variables_map& vm) {
   if (r.files.empty() && !r.batch) {
     throw po::error("the option '--log' (or '--logs') is required");
   }
+  if (!r.batch && !r.check) RejectRepeatedFiles(r.files);
   r.options.identify = ReadEstimatorOptions(vm);
   r.options.read = ReadLogOptions(vm);
   r.options.skip_bad = vm.count("skip-bad") > 0;
@@ -299,6 +321,7 @@ IdentifyRequest ReadIdentifyOptions(const po::variables_map& vm) {
   if (vm.count("report")) r.report_path = vm["report"].as<std::string>();
   // Per-row residuals only where something writes them (48 MB of a 1e6-row log).
   r.options.identify.keep_residuals = !r.residuals_path.empty() || !r.report_path.empty();
+  r.options.keep_logs = !r.report_path.empty();  // the report draws the logs the fit read
   return r;
 }
 

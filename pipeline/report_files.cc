@@ -104,7 +104,18 @@ ReportInputs GatherIdentifyReport(const std::vector<std::string>& paths,
                                   const FileIdentifyResult& run) {
   std::vector<ReportLog> logs;
   std::vector<std::string> warnings;
-  if (options.identify.method != EstimatorMethod::kQuasiStatic) {
+  if (options.identify.method != EstimatorMethod::kQuasiStatic && !run.logs.empty()) {
+    // The logs the fit read: a log from a pipe (--log <(zcat ...)) cannot be read again, and
+    // a second read was empty, leaving the log out of the page without a word.
+    for (const auto& [path, log] : run.logs) {
+      ReportLog l;
+      l.path = path;
+      l.name = FileName(path);
+      l.log = log;
+      l.log.source = l.name;
+      logs.push_back(std::move(l));
+    }
+  } else if (options.identify.method != EstimatorMethod::kQuasiStatic) {
     for (const std::string& path : paths) {
       ReportLog l;
       l.path = path;

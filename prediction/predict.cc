@@ -277,7 +277,7 @@ bool PredictionOptions::IsValid(std::string* why) const {
     if (why) *why = text;
     return false;
   };
-  if (substeps < 1) return fail("substeps must be >= 1");
+  if (substeps < 1 || substeps > kMaxSubsteps) return fail("substeps must be 1 to 1000");
   if (!(part_position_m > 0) || !(part_rotation_rad > 0)) {
     return fail("the parting thresholds must be > 0");
   }

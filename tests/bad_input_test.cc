@@ -5,6 +5,7 @@
 // scene_test.cc; this file adds what they lack and runs the tools.
 
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -18,6 +19,7 @@
 #include <regex>
 #include <sstream>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "forward_model/constants.h"
@@ -138,6 +140,51 @@ TEST(BadLog, NulByteIsAnErrorNamingItsLineInFilesAndInMemory) {
   ExpectError("zero_tail.csv",
               std::string(kSliderMeta) + "t,x,y,theta\n0,0,0,0\n" + std::string(64, '\0'), 6, "",
               "NUL byte");
+}
+
+// Old Mac line ends (CR alone) made the whole file one line: the error quoted all of it as
+// the value of its first metadata key (93 KB for a 600-row log). A carriage return inside a
+// line is now the error itself, in files and in memory alike; CRLF still reads.
+TEST(BadLog, CarriageReturnsAloneAreAnErrorNamingTheirLine) {
+  std::string text = std::string(kSliderMeta) + "t,x,y,theta\n0,0,0,0\n0.1,0,0,0\n";
+  std::replace(text.begin(), text.end(), '\n', '\r');
+  ExpectError("cr_only.csv", text, 1, "", "lines must end with LF or CRLF");
+  EXPECT_LT(std::string(ErrorOf("cr_only.csv", text).what()).size(), 300u);
+  try {
+    ParsePushLog(text, "memory.csv");
+    ADD_FAILURE() << "no LogError";
+  } catch (const LogError& e) {
+    EXPECT_EQ(e.line(), 1) << e.what();
+    EXPECT_TRUE(Contains(e.what(), "old Mac line ends")) << e.what();
+  }
+  // A stray CR in a row, after lines ending in CRLF: named by its line.
+  const std::string crlf = std::string(kSliderMeta) + "t,x,y,theta\r\n0,0,0,0\r\n0.1,0\r,0,0\r\n";
+  ExpectError("stray_cr.csv", crlf, 6, "", "a carriage return inside the line");
+}
+
+// A log read from a pipe (--log <(zcat log.csv.gz), /dev/stdin, a named FIFO) is read once:
+// the reader's pass that counts rows to reserve for opened the path a second time and took
+// from the pipe whatever the reader had not yet read (its first 32 MiB): a 61 MB log failed
+// half-way ("expected 9 fields ..., found 8") and could have lost rows; on a FIFO whose
+// writer had finished, the second open waited for ever. 35 MB through a FIFO: every row.
+TEST(BadLog, ALogFromAPipeIsReadWholeOnce) {
+  const std::string fifo = testing::TempPath("pipe_log.csv");
+  ASSERT_EQ(mkfifo(fifo.c_str(), 0600), 0);
+  const int rows = 35000;
+  const std::string pad(1000, 'p');  // an unknown column: read past, with a note
+  std::thread writer([&] {
+    std::ofstream out(fifo);
+    out << kSliderMeta << "t,x,y,theta,pad\n";
+    for (int u = 0; u < rows; ++u) out << u * 0.01 << ",0,0,0," << pad << "\n";
+  });
+  std::size_t read = 0;
+  try {
+    read = ReadPushLog(fifo).samples.size();
+  } catch (const LogError& e) {
+    ADD_FAILURE() << e.what();
+  }
+  writer.join();
+  EXPECT_EQ(read, static_cast<std::size_t>(rows));
 }
 
 // A line of 16 MiB or more (fccp's block) is an error naming that line, in files and in
@@ -263,6 +310,23 @@ TEST(BadLog, AbsurdMagnitudesAreReadWithWarningsNamingLineAndColumn) {
   EXPECT_TRUE(has(path + ":1: mass = 20000 kg"));
   EXPECT_TRUE(has(path + ":2: inertia = 1e-05 kg m^2 gives a radius of gyration"));
   EXPECT_TRUE(has(path + ":6: column 'vx': from poses: 1000 m/s is beyond 100 m/s"));
+  // A heading offset by 1e17 rad (a broken logger's counter) reads as a slider that never
+  // turns (a double's spacing there is 16 rad): warned, as the other absurd magnitudes.
+  report = {};
+  const std::string heading = WriteFile(
+      "huge_heading.csv", std::string(kSliderMeta) + "t,x,y,theta\n0,0,0,1e17\n0.01,0,0,1e17\n");
+  ReadPushLog(heading, {}, &report);
+  EXPECT_TRUE(has(heading + ":5: column 'theta': 1e+17 rad is beyond 1e+06 rad"))
+      << ::testing::PrintToString(report.warnings);
+  // A subnormal mass overflows the radius of gyration: said in words, not as "inf".
+  report = {};
+  const std::string subnormal =
+      WriteFile("subnormal_mass.csv",
+                "# mass = 1e-320\n# inertia = 1e-3\n# com_height = 0.01\nt,x,y,theta\n0,0,0,0\n");
+  ReadPushLog(subnormal, {}, &report);
+  EXPECT_TRUE(has(subnormal + ":2: inertia = 0.001 kg m^2 gives a radius of gyration sqrt(I/m) = "
+                              "over 1e308 m"))
+      << ::testing::PrintToString(report.warnings);
   // Sensible values: no warnings.
   report = {};
   ReadPushLog(WriteFile("sensible.csv", std::string(kSliderMeta) + "t,x,y,theta\n0,0,0,0\n"), {},
@@ -458,6 +522,11 @@ TEST(IdentifyOptions, UsageErrorsExitTwoNamingTheOption) {
       {"--log " + log + " --threads 1000000", "--threads"},
       {"--log " + log + " --max-iterations 0", "iterations"},
       {"--log " + log + " --max-gap-ratio nan", "--max-gap-ratio"},
+      // One file pooled twice would count its rows twice (intervals too narrow): named
+      // twice, or by another spelling of its path.
+      {"--log " + log + " --log " + log, "is the same file as '" + log + "'"},
+      {"--log " + log + " --logs " + testing::TempDirectory() + "/./options.csv",
+       "is the same file as '" + log + "'"},
       // Options that would change a trajectory fit do not apply to the other methods.
       {"--log " + log + " --method closed-form --segment 10", "--segment does not apply"},
       {"--log " + log + " --method equation-error --substeps 4", "--substeps does not apply"},
@@ -538,6 +607,31 @@ TEST(NumericalFailure, FitCutOffByTheIterationLimitExitsThreeAndWritesNoResidual
   const ToolRun ok = Identify("--log " + log + " --method equation-error --residuals " + residuals);
   EXPECT_EQ(ok.code, 0) << ok.err;
   EXPECT_TRUE(Exists(residuals));
+}
+
+// A log of absurd magnitudes (an inertia of 1e-300 kg m^2: a unit error gone wild) pooled
+// with a good one overflows the model: the fit did not converge, exit 3 naming the logs. It
+// was exit 1 with "AssessIdentifiability: information matrix is not finite" (or "residual
+// variance must be finite"), naming no log.
+TEST(NumericalFailure, PooledLogThatOverflowsTheModelExitsThreeNamingTheLogs) {
+  const std::string good = std::string(SLIDEID_SOURCE_DIR) + "/datasets/logs/default_push.csv";
+  const std::string text = ReadText(good);
+  const std::regex inertia("# inertia = [^\n]*");
+  ASSERT_TRUE(std::regex_search(text, inertia)) << text.substr(0, 300);
+  const std::string absurd =
+      WriteFile("pool_absurd.csv", std::regex_replace(text, inertia, "# inertia = 1e-300"));
+  const ToolRun r = Identify("--log " + good + " --log " + absurd);
+  EXPECT_EQ(r.code, 3) << r.err;
+  EXPECT_TRUE(Contains(r.err, "identify: error: 2 logs: the trajectory fit did not converge"))
+      << r.err;
+  EXPECT_FALSE(Contains(r.err, "AssessIdentifiability")) << r.err;
+  EXPECT_TRUE(Contains(r.out, "NOT CONVERGED")) << r.out;
+  // Alone it does not converge either, and its report says why without printing "inf" (its
+  // interval "spans a factor inf" did).
+  const ToolRun alone = Identify("--log " + absurd);
+  EXPECT_EQ(alone.code, 3) << alone.err;
+  EXPECT_TRUE(Contains(alone.out, "spans a factor over 1e308")) << alone.out;
+  ExpectNoNaN(alone);
 }
 
 TEST(NumericalFailure, SimulateThatWouldTipExitsThreeAndWritesNoLog) {

@@ -11,6 +11,7 @@
 #include <gtest/gtest.h>
 #include <signal.h>
 #include <spawn.h>
+#include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -18,6 +19,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <iostream>
 #include <map>
 #include <nlohmann/json.hpp>
@@ -207,6 +209,42 @@ TEST(AtomicFile, AWriterThatFailsLeavesTheOldFileAndNoTemporary) {
               std::string::npos)
         << e.what();
   }
+}
+
+// A path that is a device, a pipe or a socket is refused before anything is written: the
+// temporary renamed over it would have put a regular file in its place (as root, `simulate
+// --out /dev/full` replaced the device with the log). A FIFO stands in for the device here:
+// should the check ever go, the test fails without touching /dev.
+TEST(AtomicFile, ANonRegularFileIsRefusedAndLeftInPlace) {
+  const std::string dir = FreshDir("atomic_fifo");
+  const std::string fifo = dir + "/pipe.csv";
+  ASSERT_EQ(mkfifo(fifo.c_str(), 0600), 0);
+  const auto expect_refused = [&](const std::function<void()>& write) {
+    try {
+      write();
+      ADD_FAILURE() << "wrote over a FIFO";
+    } catch (const FileWriteError& e) {
+      EXPECT_EQ(e.path(), fifo);
+      EXPECT_NE(
+          std::string(e.what()).find("cannot write the table '" + fifo + "': not a regular file"),
+          std::string::npos)
+          << e.what();
+    }
+    EXPECT_TRUE(fs::is_fifo(fifo));
+    EXPECT_EQ(std::distance(fs::directory_iterator(dir), fs::directory_iterator()), 1);
+  };
+  expect_refused([&] { WriteFileAtomically(fifo, "the table", "new\n"); });
+  expect_refused([&] { StagedFile staged(fifo, "the table"); });
+  // The tools: exit 4 naming the file, the FIFO left a FIFO.
+  const std::string scene = testing::TempPath("fifo_scene.ini");
+  std::ofstream(scene) << "[slider]\nmass = 0.5\ninertia = 2e-4\ncom_height = 0.01\n"
+                          "[friction]\nmu = 0.3\ne_t = 1\ne_o = 1\ne_r = 0.01\n"
+                          "[patch]\nshape = disk\nradius = 0.05\n"
+                          "[initial]\nvx = 0.2\n[sim]\ndt = 0.01\nduration = 0.2\n";
+  const testing::ToolRun run = testing::RunTool("simulate", "--scene " + scene + " --out " + fifo);
+  EXPECT_EQ(run.code, 4) << run.all();
+  EXPECT_NE(run.err.find("'" + fifo + "': not a regular file"), std::string::npos) << run.err;
+  EXPECT_TRUE(fs::is_fifo(fifo));
 }
 
 TEST(FaultInjection, TwentyKillsAndResumesLoseAndDuplicateNothing) {

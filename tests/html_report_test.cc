@@ -4,13 +4,19 @@
 
 #include "report/html_report.h"
 
+#include <fcntl.h>
 #include <gtest/gtest.h>
 #include <stdlib.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
+#include <atomic>
+#include <chrono>
 #include <cmath>
 #include <fstream>
 #include <regex>
 #include <string>
+#include <thread>
 
 #include "estimator/log_check.h"
 #include "io/import_report_row.h"
@@ -18,6 +24,7 @@
 #include "pipeline/report_files.h"
 #include "report/html_text.h"
 #include "report/svg_plot.h"
+#include "tests/estimator_test_support.h"
 
 namespace slideid {
 namespace {
@@ -302,6 +309,37 @@ TEST(ReportFiles, LogBesideAnImportReportShowsItsRow) {
   ASSERT_EQ(in.logs[0].import_row.size(), 6u);
   EXPECT_EQ(in.logs[0].import_row[0].second, "push_7.json");
   EXPECT_NE(RenderHtmlReport(in).find("push_7.json"), std::string::npos);
+}
+
+// A log from a pipe (identify --log <(zcat log.csv.gz) --report r.html) is read once: the
+// report draws the logs the fit read (FileIdentifyOptions::keep_logs). It read them again,
+// got nothing from the spent pipe, and left the log out of the page without a word.
+TEST(ReportFiles, ALogFromAPipeIsInTheReport) {
+  const std::string fifo = testing::TempPath("report_pipe.csv");
+  ASSERT_EQ(mkfifo(fifo.c_str(), 0600), 0);
+  std::atomic<bool> done{false};
+  std::thread writer([&] {
+    {
+      std::ifstream in(std::string(SLIDEID_SOURCE_DIR) + "/datasets/logs/default_push.csv");
+      std::ofstream(fifo) << in.rdbuf();
+    }
+    // A second reader of the spent pipe gets an end of file, not a wait for ever: a
+    // writer that comes and goes (opening without a reader fails, ENXIO, and is retried).
+    while (!done) {
+      const int fd = open(fifo.c_str(), O_WRONLY | O_NONBLOCK);
+      if (fd >= 0) close(fd);
+      std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    }
+  });
+  const std::string html = testing::TempPath("report_pipe.html");
+  const testing::ToolRun run =
+      testing::RunTool("identify", "--log " + fifo + " --method closed-form --report " + html);
+  done = true;
+  writer.join();
+  EXPECT_EQ(run.code, 0) << run.err;
+  const std::string page = testing::ReadText(html);
+  EXPECT_NE(page.find("path of the CM"), std::string::npos) << page.substr(0, 2000);
+  EXPECT_NE(page.find("report_pipe.csv"), std::string::npos);
 }
 
 }  // namespace

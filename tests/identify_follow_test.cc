@@ -170,6 +170,23 @@ TEST(IdentifyFollow, ABadRowNamesItsLineOfTheStream) {
   EXPECT_NE(run.err.find(where), std::string::npos) << run.err << " (expected " << where << ")";
 }
 
+// A byte-order mark before the metadata is skipped, as a file's reader skips it (it made the
+// first metadata line the header); a stream that ends after its header is an error, as a
+// file that does (it exited 0 having printed nothing).
+TEST(IdentifyFollow, AByteOrderMarkIsSkippedAndAHeaderWithoutRowsIsAnError) {
+  const ShellRun plain = Shell("cat " + LogFile() + " | $IDENTIFY --follow --every 300");
+  ASSERT_EQ(plain.exit_code, 0) << plain.err;
+  const ShellRun bom = Shell("{ printf '\\357\\273\\277'; cat " + LogFile() +
+                             "; } | $IDENTIFY --follow --every 300");
+  ASSERT_EQ(bom.exit_code, 0) << bom.err;
+  EXPECT_EQ(bom.out, plain.out);
+  const ShellRun header_only = Shell("grep -v '^[0-9-]' " + LogFile() + " | $IDENTIFY --follow");
+  EXPECT_EQ(header_only.exit_code, 1) << header_only.err;
+  EXPECT_NE(header_only.err.find("the header is not followed by any data row"), std::string::npos)
+      << header_only.err;
+  EXPECT_EQ(header_only.out, "");
+}
+
 // `command` exits with `exit_code`, saying `text` on standard error.
 void ExpectFailure(const std::string& command, int exit_code, const std::string& text) {
   const ShellRun run = Shell(command);

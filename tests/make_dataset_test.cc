@@ -283,6 +283,10 @@ TEST(MakeDatasetTool, BadOptionsAreUsageErrors) {
   EXPECT_EQ(RunTool("make-dataset", "--count 1 --seed -4 --out " + dir), 2);
   EXPECT_EQ(RunTool("make-dataset", "--count 1 --write velocities --out " + dir), 2);
   EXPECT_EQ(RunTool("make-dataset", "--count 1 --out /proc/no/such/dir"), 4);
+  // A limit that keeps the run finite: a billion pushes were drawn for ever.
+  std::string output;
+  EXPECT_EQ(RunTool("make-dataset", "--count 1 --pushes 1000000000 --out " + dir, &output), 2);
+  EXPECT_NE(output.find("count = 1000000000: must be 1 to 10000"), std::string::npos) << output;
 }
 
 // ---- simulate's log options ----

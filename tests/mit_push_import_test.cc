@@ -322,6 +322,19 @@ TEST(MitPushImport, ShortPushIsRejectedAsTooShort) {
   ExpectRejected(Import(spec), "log too short: the push lasts");
 }
 
+// A rate that leaves the push window one or two rows (--rate 1e-300, or a rate meant per
+// minute) is rejected: such a log was "accepted" with one row, which nothing can fit.
+TEST(MitPushImport, RateThatLeavesTooFewRowsIsRejected) {
+  const MitPushRecording rec = MakeMitPushRecording(MitSynthSpec{}).recording;
+  MitImportOptions o = Options(MitSynthSpec{});
+  o.rate_hz = 1e-300;
+  ExpectRejected(ImportMitPush(rec, "s.json", o), "fewer than 3 rows, too few to fit");
+  o.rate_hz = 1.0;  // a push of well under 2 s
+  ExpectRejected(ImportMitPush(rec, "s.json", o), "fewer than 3 rows, too few to fit");
+  o.rate_hz = 100;
+  EXPECT_EQ(ImportMitPush(rec, "s.json", o).report.verdict, ImportVerdict::kAccepted);
+}
+
 TEST(MitPushImport, ForceAcrossTheContactNormalIsAnInconclusiveSign) {
   MitSynthSpec spec;
   spec.defects.force_frame_rad = kPi / 2;  // a sensor frame turned by 90 degrees

@@ -218,6 +218,15 @@ TEST(PlotLogTool, ExitCodesSayWhatWentWrong) {
                     &out),
             4);
   EXPECT_NE(out.find("gnuplot-nox"), std::string::npos) << out;
+  // A limit that keeps the replay finite, as identify's and predict's (a billion substeps
+  // per row ran for days).
+  EXPECT_EQ(RunTool("plot-log", log + " --out x.png --substeps 1000000000", &out), 2);
+  EXPECT_NE(out.find("--substeps must be 1 to 1000"), std::string::npos) << out;
+  // A bad --fit file is named, and nesting deeper than a recursive dump goes is no crash.
+  const std::string deep = ::testing::TempDir() + "/deep_fit_" + std::to_string(getpid()) + ".json";
+  std::ofstream(deep) << std::string(200000, '[') << std::string(200000, ']');
+  EXPECT_EQ(RunTool("plot-log", log + " --out x.png --fit " + deep, &out), 1);
+  EXPECT_NE(out.find(deep + ": identify JSON: expected an object"), std::string::npos) << out;
 }
 
 }  // namespace

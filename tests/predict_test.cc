@@ -235,6 +235,23 @@ TEST(PredictTool, PredictsFromOptionsAndWritesTheTrajectory) {
       testing::RunTool("predict", "--log " + log_path + " --mu 0.3 --b 1 --c 0.03");
   EXPECT_EQ(no_mu_p.code, 1);
   EXPECT_NE(no_mu_p.all().find("mu_p"), std::string::npos) << no_mu_p.all();
+  // A log that cannot be driven that way is named by its path (it was "the log").
+  Trajectory no_tip = Logged(scene, 10);
+  no_tip.measured.tip = false;
+  const std::string no_tip_path = testing::TempPath("predict_no_tip.csv");
+  WritePushLog(no_tip, no_tip_path);
+  const testing::ToolRun named =
+      testing::RunTool("predict", "--log " + no_tip_path +
+                                      " --mu 0.3 --b 1 --c 0.03 --mu-pusher 0.25 --drive pusher");
+  EXPECT_EQ(named.code, 1);
+  EXPECT_NE(named.err.find("predict: error: " + no_tip_path + ": the pusher drive needs"),
+            std::string::npos)
+      << named.err;
+  // A limit that keeps the run finite, as identify's: a billion substeps ran for days.
+  const testing::ToolRun substeps = testing::RunTool(
+      "predict", "--log " + log_path + " --mu 0.3 --b 1 --c 0.03 --mu-pusher 0.25 --substeps 1001");
+  EXPECT_EQ(substeps.code, 2);
+  EXPECT_NE(substeps.err.find("substeps must be 1 to 1000"), std::string::npos) << substeps.err;
 }
 
 }  // namespace

@@ -275,6 +275,14 @@ TEST(PushAdvice, BadInputNamesTheOptionOrThePath) {
     return std::string("(no error)");
   };
   EXPECT_NE(message("{").find("not JSON"), std::string::npos) << message("{");
+  // Nested deeper than a recursive dump goes, or a number beyond a double: an error, not a
+  // crash (the message once quoted the value through nlohmann's recursive dump).
+  const std::string deep = std::string(200000, '[') + std::string(200000, ']');
+  EXPECT_EQ(message(deep), "advise-push: result JSON: expected an object (identify --json), got " +
+                               std::string(40, '[') + "...");
+  EXPECT_NE(message("{\"e_t_mu\": 1e999}").find("number overflow parsing '1e999'"),
+            std::string::npos)
+      << message("{\"e_t_mu\": 1e999}");
   const std::string ok_a = R"("e_t_mu": {"identifiable": true, "value": 0.4, "stderr": 0.01})";
   const std::string ok_b =
       R"("e_o_over_e_t": {"identifiable": true, "value": 1.3, "stderr": 0.02})";
@@ -328,6 +336,24 @@ TEST(PushAdvice, BadInputNamesTheOptionOrThePath) {
       testing::RunTool("advise-push", "--patch 'disk 0.05' --lengths 0.03,x");
   EXPECT_EQ(lengths.code, 2);
   EXPECT_NE(lengths.err.find("--lengths"), std::string::npos) << lengths.err;
+  // A candidate that cannot be simulated at all (here the pushes at the edge of a cone of
+  // mu_p = 1e300, whose step forces overflow) is a failed candidate ranked last; it ended
+  // the whole run with exit 1 and "SolveStep: applied.fx must be finite".
+  const testing::ToolRun wide_cone = testing::RunTool(
+      "advise-push", "--patch 'rectangle 0.12 0.08' --mu-pusher 1e300 --candidates 0 --json");
+  EXPECT_EQ(wide_cone.code, 0) << wide_cone.err;
+  EXPECT_EQ(wide_cone.err, "");
+  EXPECT_NE(wide_cone.out.find("\"simulated\":true"), std::string::npos) << wide_cone.out;
+  EXPECT_NE(wide_cone.out.find("\"simulated\":false"), std::string::npos) << wide_cone.out;
+  const testing::ToolRun huge_patch =
+      testing::RunTool("advise-push", "--patch 'rectangle 1e300 1e300'");
+  EXPECT_EQ(huge_patch.code, 2);
+  EXPECT_NE(huge_patch.err.find("give --inertia"), std::string::npos) << huge_patch.err;
+  // A limit that keeps the run finite: a billion contact points ran for ever.
+  const testing::ToolRun points =
+      testing::RunTool("advise-push", "--patch 'disk 0.05' --contact-points 1000000000");
+  EXPECT_EQ(points.code, 2);
+  EXPECT_NE(points.err.find("--contact-points must be 1 to 1000"), std::string::npos) << points.err;
   const std::string missing = testing::TempPath("no_such_result.json");
   const testing::ToolRun no_file =
       testing::RunTool("advise-push", "--patch 'disk 0.05' --friction " + missing);

@@ -390,6 +390,32 @@ TEST(ResultJson, BadJsonNamesThePathOrTheLineAndColumn) {
             "identify JSON: /e_t_mu/interval_quantile: expected a number or null, got \"t\"");
 }
 
+// A result file nested deeper than a recursive dump can go (a broken or hostile writer), or
+// with a number beyond a double: an error naming what is wrong, never a crash (the message
+// once quoted the whole value through nlohmann's recursive dump: a stack overflow).
+TEST(ResultJson, DeeplyNestedOrOverflowingJsonIsAnErrorNotACrash) {
+  const int depth = 200000;
+  const std::string deep = std::string(depth, '[') + std::string(depth, ']');
+  EXPECT_EQ(ResultError(deep),
+            "identify JSON: expected an object, got " + std::string(40, '[') + "...");
+  const std::string deep_member =
+      "{\"e_t_mu\": " + std::string(depth, '[') + std::string(depth, ']') + "}";
+  EXPECT_EQ(ResultError(deep_member),
+            "identify JSON: /e_t_mu: expected an object, got " + std::string(40, '[') + "...");
+  // Short values are quoted whole, as before.
+  EXPECT_EQ(ResultError("{\"e_t_mu\": [[1], {\"a\": 2}]}"),
+            "identify JSON: /e_t_mu: expected an object, got [[1],{\"a\":2}]");
+  const std::string good = FormatJson(Simple());
+  EXPECT_EQ(ResultError(Replaced(good, "\"iterations\": 12", "\"iterations\": 1e999")),
+            "identify JSON: number overflow parsing '1e999'");
+  try {
+    ParseIdentifyJson("{\"e_t_mu\": 1e999}");
+    ADD_FAILURE() << "1e999 read";
+  } catch (const ResultJsonError& e) {
+    EXPECT_EQ(std::string(e.what()), "identify JSON: number overflow parsing '1e999'");
+  }
+}
+
 // Results written before intervals carried their quantile read as z-based ones.
 TEST(ResultJson, AResultWithoutTheIntervalQuantileReadsAsZ) {
   EstimateResult r = Simple();

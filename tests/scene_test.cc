@@ -111,6 +111,23 @@ TEST(Scene, DuplicateKeyAndBadSyntaxAreErrors) {
   ExpectError(SceneText("[initial]\nvx 3\n"), "invalid line 'vx 3'", "(line 19)");
 }
 
+// A byte-order mark (Notepad writes one) is skipped, as the log reader skips it; it was an
+// error: "invalid line '\xEF\xBB\xBF'". CRLF line ends read too. Line numbers are unchanged.
+TEST(Scene, AByteOrderMarkAndCrlfLineEndsAreRead) {
+  const Scene plain = ParseScene(SceneText(""), "scene.ini");
+  const Scene bom = ParseScene("\xEF\xBB\xBF" + SceneText(""), "scene.ini");
+  EXPECT_EQ(bom.slider.mass_kg, plain.slider.mass_kg);
+  EXPECT_EQ(bom.dt_s, plain.dt_s);
+  EXPECT_EQ(bom.duration_s, plain.duration_s);
+  EXPECT_EQ(ErrorOf("\xEF\xBB\xBF# a comment first\n" + SceneText("")), "");
+  std::string crlf = "\xEF\xBB\xBF" + SceneText("");
+  for (std::size_t at = crlf.find('\n'); at != std::string::npos; at = crlf.find('\n', at + 2)) {
+    crlf.replace(at, 1, "\r\n");
+  }
+  EXPECT_EQ(ParseScene(crlf, "scene.ini").slider.mass_kg, plain.slider.mass_kg);
+  ExpectError("\xEF\xBB\xBF" + SceneText("[foo]\nbar = 1\n"), "unknown key 'foo.bar'", "line 19");
+}
+
 TEST(Scene, PatchKeyIrrelevantToShapeIsAnError) {
   ExpectError(SceneText("", "[patch]\nshape = disk\nradius = 0.1\nwidth = 0.05\n"), "[patch] width",
               "not used by shape 'disk'");

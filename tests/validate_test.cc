@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <fstream>
 #include <sstream>
 
 #include "fixtures/pushed_square.h"
@@ -159,6 +160,28 @@ TEST(ValidateTool, WritesTheSummaryTheTableAndTheJson) {
   EXPECT_NE(testing::ReadText(json).find("\"fold_fits\""), std::string::npos);
   EXPECT_EQ(testing::RunTool("validate", "--logs " + dir + " --folds 2 --leave-one-out").code, 2);
   EXPECT_EQ(testing::RunTool("validate", "--folds 2").code, 2);
+}
+
+// A log of absurd magnitudes among good ones (the bundled log with '# inertia = 1e-300'):
+// its folds fail and say so, the others are predicted, and Ceres' pages about residual blocks
+// evaluating to NaN stay out of the output. validate died with "AssessIdentifiability:
+// information matrix is not finite" and printed those pages.
+TEST(ValidateTool, ALogOfAbsurdMagnitudesFailsItsFoldsWithoutNaNPages) {
+  const std::string dir = testing::NewDir("validate_absurd");
+  const std::string text =
+      testing::ReadText(std::string(SLIDEID_SOURCE_DIR) + "/datasets/logs/default_push.csv");
+  const auto at = text.find("# inertia = ");
+  ASSERT_NE(at, std::string::npos);
+  const std::string absurd =
+      text.substr(0, at) + "# inertia = 1e-300" + text.substr(text.find('\n', at));
+  for (const char* name : {"a.csv", "b.csv"}) std::ofstream(dir + "/" + name) << text;
+  std::ofstream(dir + "/c.csv") << absurd;
+  const testing::ToolRun run = testing::RunTool("validate", "--logs " + dir + " --drive force");
+  EXPECT_EQ(run.code, 0) << run.all();
+  EXPECT_NE(run.out.find("3 logs, 3 folds"), std::string::npos) << run.out;
+  EXPECT_NE(run.out.find("did not converge"), std::string::npos) << run.out;
+  EXPECT_EQ(run.err.find("Residual Block"), std::string::npos) << run.err;
+  EXPECT_EQ(run.err.find("nan"), std::string::npos) << run.err;
 }
 
 }  // namespace

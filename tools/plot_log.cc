@@ -65,7 +65,10 @@ int main(int argc, char** argv) {
     options.snapshot_every = vm["every"].as<int>();
     std::string why;
     if (!options.IsValid(&why)) throw po::error(why);
-    if (vm["substeps"].as<int>() < 1) throw po::error("--substeps must be >= 1");
+    // As identify's and predict's: a limit that keeps the replay finite.
+    if (vm["substeps"].as<int>() < 1 || vm["substeps"].as<int>() > 1000) {
+      throw po::error("--substeps must be 1 to 1000");
+    }
     if (vm.count("fit") && vm.count("prediction")) {
       throw po::error("--fit and --prediction exclude each other: draw one overlay");
     }
@@ -76,11 +79,17 @@ int main(int argc, char** argv) {
     std::optional<Trajectory> fit;
     std::string fit_label;
     if (vm.count("fit")) {
-      std::ifstream in(vm["fit"].as<std::string>());
-      if (!in) throw std::runtime_error(vm["fit"].as<std::string>() + ": cannot read");
+      const std::string path = vm["fit"].as<std::string>();
+      std::ifstream in(path);
+      if (!in) throw std::runtime_error(path + ": cannot read");
       std::stringstream json;
       json << in.rdbuf();
-      const ReducedFriction r = ParseIdentifyJson(json.str());
+      ReducedFriction r;
+      try {
+        r = ParseIdentifyJson(json.str());
+      } catch (const ResultJsonError& e) {
+        throw std::runtime_error(path + ": " + e.what());  // as predict and plot-fit name it
+      }
       const SimulationResult replay = ReplayLog(log, r, vm["substeps"].as<int>());
       if (!replay.summary.ok()) {
         std::cerr << "plot-log: replay: " << ToString(replay.summary.status) << ": "

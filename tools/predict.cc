@@ -79,7 +79,9 @@ int main(int argc, char** argv) {
     if (!vm.count("log")) throw po::error("the option '--log' is required");
     const cli::PredictRequest request = cli::ReadPredictOptions(vm);
     const std::string log_path = vm["log"].as<std::string>();
-    const PushLogFile file = ReadPushLogFile(log_path);
+    PushLogFile file = ReadPushLogFile(log_path);
+    // Named in the prediction's errors ("LOG: the force drive needs logged forces").
+    file.log.source = log_path;
     const Trajectory& log = file.log;
     PredictionOptions options = request.options;
     options.drive = cli::DriveFor(request, log);

@@ -4,6 +4,7 @@
 // form, a number that is not finite written as null. Internal to io/.
 
 #include <cmath>
+#include <cstddef>
 #include <nlohmann/json.hpp>
 #include <string>
 
@@ -19,6 +20,38 @@ inline Json NumberOrNull(double v) { return std::isfinite(v) ? Json(v) : Json(nu
 /// doubles in their shortest round-trip form.
 inline std::string Scalar(const Json& j) {
   return j.dump(-1, ' ', false, Json::error_handler_t::replace);
+}
+
+/// The start of `j` as Scalar writes it (nlohmann's compact dump), at least `max_chars`
+/// characters of it when it is longer: for a message quoting a value read from a file. Unlike
+/// dump, it stops there, so a value nested a million levels deep costs no deeper recursion
+/// than `max_chars` (each level writes a bracket) instead of overflowing the stack.
+template <typename AnyJson>
+void AppendStart(const AnyJson& j, std::size_t max_chars, std::string* out) {
+  if (out->size() > max_chars) return;
+  if (!j.is_structured()) {
+    *out += j.dump(-1, ' ', false, AnyJson::error_handler_t::replace);
+    return;
+  }
+  *out += j.is_object() ? '{' : '[';
+  for (auto it = j.begin(); it != j.end(); ++it) {
+    if (out->size() > max_chars) return;
+    if (it != j.begin()) *out += ',';
+    if (j.is_object()) {
+      *out += AnyJson(it.key()).dump(-1, ' ', false, AnyJson::error_handler_t::replace) + ":";
+    }
+    AppendStart(it.value(), max_chars, out);
+  }
+  if (out->size() <= max_chars) *out += j.is_object() ? '}' : ']';
+}
+
+/// At most `max_chars` characters of `j` as Scalar writes it, "..." marking a cut.
+template <typename AnyJson>
+std::string Brief(const AnyJson& j, std::size_t max_chars = 40) {
+  std::string text;
+  AppendStart(j, max_chars, &text);
+  if (text.size() > max_chars) text = text.substr(0, max_chars) + "...";
+  return text;
 }
 
 /// Appends `j` in the documented layout (nlohmann's compact dump has no spaces, its
