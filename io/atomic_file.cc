@@ -27,13 +27,17 @@ std::string TempPattern(const std::string& path) {
   return dir + "." + name + ".tmp-XXXXXX";
 }
 
+/// The path exists and is a device, a pipe or a socket (/dev/stdout, a FIFO): a stream,
+/// which no temporary may be renamed over (that would put a regular file in its place, as
+/// root even in /dev), and which has no half-written state to keep a reader from.
+bool IsStream(const std::string& path) {
+  struct stat target;
+  return ::stat(path.c_str(), &target) == 0 && !S_ISREG(target.st_mode) && !S_ISDIR(target.st_mode);
+}
+
 /// Creates the temporary of `path`; returns its descriptor, `temp` set to its name.
 int CreateTemp(const std::string& path, const std::string& what, std::string* temp) {
-  // The temporary is renamed over the path: over a device, a pipe or a socket (--out
-  // /dev/null, /dev/stdout) that would put a regular file in its place, as root even in
-  // /dev. Refuse before anything is written.
-  struct stat target;
-  if (::stat(path.c_str(), &target) == 0 && !S_ISREG(target.st_mode) && !S_ISDIR(target.st_mode)) {
+  if (IsStream(path)) {
     throw FileWriteError(path, what,
                          "not a regular file (a device, a pipe or a socket), which writing "
                          "the file would replace: give the path of a file");
@@ -116,6 +120,22 @@ FileWriteError::FileWriteError(const std::string& path, const std::string& what,
 
 void WriteFileAtomically(const std::string& path, const std::string& what,
                          const std::function<void(std::ostream&)>& write) {
+  if (IsStream(path)) {  // written in place: `simulate --out /dev/stdout | identify --follow`
+    const int fd = ::open(path.c_str(), O_WRONLY | O_CLOEXEC);
+    if (fd < 0) throw FileWriteError(path, what, Reason(errno));
+    FdBuf buffer(fd);
+    std::ostream out(&buffer);
+    try {
+      write(out);
+      out.flush();
+    } catch (...) {
+      ::close(fd);
+      throw;
+    }
+    ::close(fd);
+    if (buffer.error() != 0 || !out) throw FileWriteError(path, what, Reason(buffer.error()));
+    return;
+  }
   std::string temp;
   const int fd = CreateTemp(path, what, &temp);
   try {

@@ -32,7 +32,9 @@ class FileWriteError : public std::runtime_error {
 
 /// Writes `path` (described as `what`, e.g. "push log") atomically with what `write` puts
 /// on the stream. An exception from `write` propagates unchanged (the temporary removed, the
-/// path untouched); a failure to create, write, sync or rename throws FileWriteError.
+/// path untouched); a failure to create, write, sync or rename throws FileWriteError. A path
+/// that is a device, a pipe or a socket (/dev/stdout, a FIFO) is written in place, as the
+/// stream it is: no temporary is renamed over it.
 void WriteFileAtomically(const std::string& path, const std::string& what,
                          const std::function<void(std::ostream&)>& write);
 

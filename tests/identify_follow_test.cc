@@ -62,6 +62,20 @@ std::string LogFile() {
   return path;
 }
 
+// simulate writes its log to standard output as it would to a file (a stream is written in
+// place, and its summary then goes to standard error), so the two tools pipe together.
+TEST(IdentifyFollow, ReadsWhatSimulateWritesToStandardOutput) {
+  const std::string scene = std::string(SLIDEID_SOURCE_DIR) + "/datasets/scenes/default_push.ini";
+  const ShellRun run = Shell("set -o pipefail; ${IDENTIFY%/identify}/simulate --scene " + scene +
+                             " --out /dev/stdout | $IDENTIFY --follow --every 200");
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const std::vector<nlohmann::json> lines = Lines(run.out);
+  ASSERT_EQ(lines.size(), 3u) << run.out;  // 600 rows
+  EXPECT_EQ(lines.back()["row"], 599);
+  EXPECT_EQ(lines.back()["e_t_mu"]["verdict"], "ok") << lines.back().dump();
+  EXPECT_NE(run.err.find("wrote       /dev/stdout"), std::string::npos) << run.err;
+}
+
 TEST(IdentifyFollow, PrintsALinePerEveryNRowsWithTheOnlineIdentifiersEstimates) {
   const ShellRun run = Shell("cat " + LogFile() + " | $IDENTIFY --follow --every 50");
   ASSERT_EQ(run.exit_code, 0) << run.err;

@@ -2,6 +2,9 @@
 // push log (docs/log-format.md), sampled, with the columns and the noise that the
 // scene's [sim] log_every, [log] and [noise] (or the options) ask for.
 
+#include <sys/stat.h>
+#include <unistd.h>
+
 #include <cstdio>
 #include <iostream>
 
@@ -18,32 +21,41 @@ using namespace slideid;
 
 namespace {
 
-void PrintSummary(const SimulationResult& result, const Scene& scene) {
+void PrintSummary(const SimulationResult& result, const Scene& scene, std::FILE* to) {
   const SimulationSummary& s = result.summary;
   const PlanarState& last = result.trajectory.samples.back().state;
-  std::printf("scene       %s\n", scene.source.c_str());
-  std::printf("steps       %d (%d slide, %d stick), dt = %g s\n", s.steps, s.slide_steps,
-              s.stick_steps, scene.dt_s);
+  std::fprintf(to, "scene       %s\n", scene.source.c_str());
+  std::fprintf(to, "steps       %d (%d slide, %d stick), dt = %g s\n", s.steps, s.slide_steps,
+               s.stick_steps, scene.dt_s);
   if (scene.pusher) {
-    std::printf(
-        "pusher      tip sticking to the edge in %d steps, sliding along it in %d, "
-        "apart in %d\n",
-        s.tip_stick_steps, s.tip_slide_steps, s.steps - s.tip_stick_steps - s.tip_slide_steps);
+    std::fprintf(to,
+                 "pusher      tip sticking to the edge in %d steps, sliding along it in %d, "
+                 "apart in %d\n",
+                 s.tip_stick_steps, s.tip_slide_steps,
+                 s.steps - s.tip_stick_steps - s.tip_slide_steps);
   }
-  std::printf("final       t = %.4f s  x = %.6f m  y = %.6f m  theta = %.6f rad\n",
-              result.trajectory.samples.back().t_s, last.x, last.y, last.theta);
-  std::printf("            vx = %.6f m/s  vy = %.6f m/s  wz = %.6f rad/s\n", last.vx, last.vy,
-              last.wz);
+  std::fprintf(to, "final       t = %.4f s  x = %.6f m  y = %.6f m  theta = %.6f rad\n",
+               result.trajectory.samples.back().t_s, last.x, last.y, last.theta);
+  std::fprintf(to, "            vx = %.6f m/s  vy = %.6f m/s  wz = %.6f rad/s\n", last.vx, last.vy,
+               last.wz);
   if (s.rest_time_s >= 0) {
-    std::printf("at rest     from t = %.4f s at (%.6f, %.6f) m, theta = %.6f rad\n", s.rest_time_s,
-                last.x, last.y, last.theta);
+    std::fprintf(to, "at rest     from t = %.4f s at (%.6f, %.6f) m, theta = %.6f rad\n",
+                 s.rest_time_s, last.x, last.y, last.theta);
   } else {
-    std::printf("at rest     no: still moving at the end (run longer with --duration)\n");
+    std::fprintf(to, "at rest     no: still moving at the end (run longer with --duration)\n");
   }
-  std::printf("ECP margin  %.3f mm inside the patch hull at its closest\n",
-              -1e3 * s.max_hull_signed_distance_m);
-  std::printf("solver      max %d iterations, max relative residual %.2e\n", s.max_step_iterations,
-              s.max_step_residual);
+  std::fprintf(to, "ECP margin  %.3f mm inside the patch hull at its closest\n",
+               -1e3 * s.max_hull_signed_distance_m);
+  std::fprintf(to, "solver      max %d iterations, max relative residual %.2e\n",
+               s.max_step_iterations, s.max_step_residual);
+}
+
+// `--out` names the file standard output writes to (/dev/stdout, a pipe to another tool):
+// the summary then goes to standard error, and the output is the log alone.
+bool IsStandardOutput(const std::string& path) {
+  struct stat out, target;
+  return ::fstat(STDOUT_FILENO, &out) == 0 && ::stat(path.c_str(), &target) == 0 &&
+         out.st_dev == target.st_dev && out.st_ino == target.st_ino;
 }
 
 }  // namespace
@@ -100,22 +112,24 @@ int main(int argc, char** argv) {
                 << "\n";
       return tools::kExitNumerical;
     }
-    PrintSummary(result, scene);
+    std::FILE* summary =
+        vm.count("out") && IsStandardOutput(vm["out"].as<std::string>()) ? stderr : stdout;
+    PrintSummary(result, scene, summary);
     if (vm.count("out")) {
       const Trajectory log = MakeLog(result.trajectory, scene.log);
-      std::printf("log         %zu rows every %d steps, %s, push as %s, noise %s\n",
-                  log.samples.size(), scene.log.log_every, ToString(scene.log.motion),
-                  ToString(scene.log.push),
-                  scene.log.noise.IsZero() && !scene.log.noise.HasDefects()
-                      ? "none"
-                      : scene.log.noise.Describe().c_str());
+      std::fprintf(summary, "log         %zu rows every %d steps, %s, push as %s, noise %s\n",
+                   log.samples.size(), scene.log.log_every, ToString(scene.log.motion),
+                   ToString(scene.log.push),
+                   scene.log.noise.IsZero() && !scene.log.noise.HasDefects()
+                       ? "none"
+                       : scene.log.noise.Describe().c_str());
       try {
         WritePushLog(SimulatedLogFile(scene, log), vm["out"].as<std::string>());
       } catch (const std::exception& e) {
         std::cerr << "simulate: " << e.what() << "\n";
         return tools::kExitIo;
       }
-      std::printf("wrote       %s\n", vm["out"].as<std::string>().c_str());
+      std::fprintf(summary, "wrote       %s\n", vm["out"].as<std::string>().c_str());
     }
     return tools::kExitOk;
   });
