@@ -54,6 +54,8 @@ FollowSummary FollowLog(std::istream& in, const std::string& source, const Follo
   std::unique_ptr<OnlineIdentifier> identifier;
   std::optional<double> previous_theta;
   int line_number = 0;
+  const OnlineResult* last = nullptr;  // the last row's answer, and whether it went out
+  bool last_emitted = true;
   while (std::getline(in, line)) {
     ++line_number;
     // A byte-order mark, as a file's reader skips it (docs/log-format.md): left in, it
@@ -98,7 +100,9 @@ FollowSummary FollowLog(std::istream& in, const std::string& source, const Follo
       throw LogError(source, line_number, "", e.what());
     }
     ++summary.rows;
-    if (summary.rows % options.every == 0 || result->change_detected) {
+    last = result;
+    last_emitted = summary.rows % options.every == 0 || result->change_detected;
+    if (last_emitted) {
       ++summary.lines;
       if (!emit(FormatOnlineJson(*result))) {
         summary.reader_gone = true;
@@ -112,6 +116,11 @@ FollowSummary FollowLog(std::istream& in, const std::string& source, const Follo
   if (summary.rows == 0) {
     // As a file's reader says it: a logger that stopped after its header identified nothing.
     throw LogError(source, header_lines, "", "the header is not followed by any data row");
+  }
+  // The stream ended between two lines: the last row's estimate, the final one, still goes.
+  if (!last_emitted) {
+    ++summary.lines;
+    summary.reader_gone = !emit(FormatOnlineJson(*last));
   }
   return summary;
 }

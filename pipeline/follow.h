@@ -15,7 +15,9 @@ namespace slideid {
 
 struct FollowOptions {
   OnlineOptions online;
-  int every = 1;  ///< a line after every this many rows (and after a row with a change)
+  /// A line after every this many rows, after a row with a change, and after the last row
+  /// where the stream ends between two such lines.
+  int every = 1;
   SliderOverrides overrides;
   bool IsValid(std::string* why) const;
 };

@@ -173,8 +173,9 @@ void AddIdentifyOptions(po::options_description* options, po::options_descriptio
       "follow",
       "read one log from standard input as a logger writes it (metadata and header, then a "
       "row per line) and print the online estimate as a JSON line after each row "
-      "(docs/online.md)")("every", po::value<int>()->default_value(1)->value_name("N"),
-                          "with --follow: a line after every N rows (and at a change)")(
+      "(docs/online.md)")(
+      "every", po::value<int>()->default_value(1)->value_name("N"),
+      "with --follow: a line after every N rows (and at a change, and after the last row)")(
       "batch-check", po::value<int>()->default_value(128)->value_name("N"),
       "with --follow: check the online estimate against the trajectory fit of the rows so far "
       "after N, 2N, 4N ... rows, and take the fit's over where the filter ran off; an update "

@@ -70,10 +70,22 @@ TEST(IdentifyFollow, ReadsWhatSimulateWritesToStandardOutput) {
                              " --out /dev/stdout | $IDENTIFY --follow --every 200");
   ASSERT_EQ(run.exit_code, 0) << run.err;
   const std::vector<nlohmann::json> lines = Lines(run.out);
-  ASSERT_EQ(lines.size(), 3u) << run.out;  // 600 rows
-  EXPECT_EQ(lines.back()["row"], 599);
+  ASSERT_EQ(lines.size(), 4u) << run.out;  // 601 rows: after 200, 400, 600 and the last
+  EXPECT_EQ(lines.back()["row"], 600);
   EXPECT_EQ(lines.back()["e_t_mu"]["verdict"], "ok") << lines.back().dump();
   EXPECT_NE(run.err.find("wrote       /dev/stdout"), std::string::npos) << run.err;
+}
+
+// A stream that ends between two lines still gives its last row's estimate, the final one.
+TEST(IdentifyFollow, PrintsTheLastRowsEstimateWhereTheStreamEndsBetweenLines) {
+  const ShellRun run = Shell("cat " + LogFile() + " | $IDENTIFY --follow --every 200");
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const std::vector<nlohmann::json> lines = Lines(run.out);
+  ASSERT_EQ(lines.size(), 2u) << run.out;  // 300 rows
+  EXPECT_EQ(lines[0]["row"], 199);
+  EXPECT_EQ(lines[1]["row"], 299);
+  const ShellRun every = Shell("cat " + LogFile() + " | $IDENTIFY --follow --every 1 | tail -n 1");
+  EXPECT_EQ(nlohmann::json::parse(every.out), lines[1]);  // the same update, the same line
 }
 
 TEST(IdentifyFollow, PrintsALinePerEveryNRowsWithTheOnlineIdentifiersEstimates) {
