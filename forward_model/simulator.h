@@ -59,6 +59,12 @@ struct SimulationResult {
 /// scenes; numerical and physical failures are reported in the summary.
 SimulationResult Simulate(const Scene& scene, const SimulationOptions& options = {});
 
+/// The most forward-model steps per log interval the tools and options accept (identify's,
+/// predict's and plot-log's --substeps, PredictionOptions): steps far below any time scale of
+/// the motion make a run only slower, and a billion substeps a row of a 600-row log would
+/// run for days.
+constexpr int kMaxSubstepsPerInterval = 1000;
+
 /// Replays a log's pushes with given friction: from the first row's state, steps the forward
 /// model over each log interval (`substeps` equal steps) with that row's applied wrench held,
 /// the wrench as logged (world frame, so it does not turn with the replayed slider). Rows at

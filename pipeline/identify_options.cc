@@ -7,15 +7,16 @@
 #include <map>
 #include <utility>
 
+#include "forward_model/simulator.h"
+
 namespace slideid::cli {
 namespace {
 
 namespace po = boost::program_options;
 
-// Beyond these the fit only gets slower, never better: more Ceres threads than any machine
-// here has cores, and forward-model steps far below any time scale of the motion.
+// Beyond this the fit only gets slower, never better: more Ceres threads than any machine
+// here has cores (substeps: kMaxSubstepsPerInterval, forward_model/simulator.h).
 constexpr int kMaxThreads = 256;
-constexpr int kMaxSubsteps = 1000;
 
 template <typename Enum>
 Enum Choose(const po::variables_map& vm, const char* option,
@@ -85,8 +86,8 @@ IdentifyOptions ReadEstimatorOptions(const po::variables_map& vm) {
   if (!o.IsValid(&why)) throw po::error(why);
   if (o.threads > kMaxThreads)
     throw po::error("--threads must be <= " + std::to_string(kMaxThreads));
-  if (o.trajectory.substeps > kMaxSubsteps) {
-    throw po::error("--substeps must be <= " + std::to_string(kMaxSubsteps));
+  if (o.trajectory.substeps > kMaxSubstepsPerInterval) {
+    throw po::error("--substeps must be <= " + std::to_string(kMaxSubstepsPerInterval));
   }
   return o;
 }

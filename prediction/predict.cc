@@ -273,11 +273,13 @@ double RegisteredTipRadius(const Trajectory& log) {
 }
 
 bool PredictionOptions::IsValid(std::string* why) const {
-  auto fail = [why](const char* text) {
+  auto fail = [why](const std::string& text) {
     if (why) *why = text;
     return false;
   };
-  if (substeps < 1 || substeps > kMaxSubsteps) return fail("substeps must be 1 to 1000");
+  if (substeps < 1 || substeps > kMaxSubstepsPerInterval) {
+    return fail("substeps must be 1 to " + std::to_string(kMaxSubstepsPerInterval));
+  }
   if (!(part_position_m > 0) || !(part_rotation_rad > 0)) {
     return fail("the parting thresholds must be > 0");
   }

@@ -35,11 +35,8 @@ struct PredictionOptions {
   PredictionDrive drive = PredictionDrive::kPusher;
   /// Simulation steps per log interval (each interval divided evenly; an interval longer
   /// than the median, a gap in the record, gets this many per median interval in it).
-  /// 1 to kMaxSubsteps.
+  /// 1 to kMaxSubstepsPerInterval (forward_model/simulator.h).
   int substeps = 1;
-  /// The most substeps: as identify's --substeps, a limit that keeps a run finite (a
-  /// billion substeps per row of a 600-row log would run for days).
-  static constexpr int kMaxSubsteps = 1000;
   /// The prediction and the log part at the first row where the position error passes
   /// this [m] or the rotation error passes part_rotation_rad.
   double part_position_m = 5e-3;

@@ -65,9 +65,8 @@ int main(int argc, char** argv) {
     options.snapshot_every = vm["every"].as<int>();
     std::string why;
     if (!options.IsValid(&why)) throw po::error(why);
-    // As identify's and predict's: a limit that keeps the replay finite.
-    if (vm["substeps"].as<int>() < 1 || vm["substeps"].as<int>() > 1000) {
-      throw po::error("--substeps must be 1 to 1000");
+    if (vm["substeps"].as<int>() < 1 || vm["substeps"].as<int>() > kMaxSubstepsPerInterval) {
+      throw po::error("--substeps must be 1 to " + std::to_string(kMaxSubstepsPerInterval));
     }
     if (vm.count("fit") && vm.count("prediction")) {
       throw po::error("--fit and --prediction exclude each other: draw one overlay");
