@@ -15,6 +15,7 @@
 #include "forward_model/constants.h"
 #include "forward_model/number_format.h"
 #include "io/pusher_path_csv.h"
+#include "io/text_lines.h"
 
 namespace slideid {
 namespace {
@@ -664,9 +665,8 @@ LogSpec ReadLogSpec(const Reader& r, bool has_pushes) {
 }  // namespace
 
 LoggedScene ParseScene(const std::string& text, const std::string& source) {
-  // A byte-order mark, as Windows editors write one, is skipped as the log reader skips it
-  // (docs/log-format.md); left in, the first line was "invalid line '\xEF\xBB\xBF'".
-  const std::string ini_text = text.compare(0, 3, "\xEF\xBB\xBF") == 0 ? text.substr(3) : text;
+  // Left in, a byte-order mark made the first line "invalid line '\xEF\xBB\xBF'".
+  const std::string ini_text(text::WithoutByteOrderMark(text));
   const Layout layout = ScanLayout(ini_text);
   CheckPushSections(source, layout);
   const Reader r(source, ParseKeyValues(ini_text, source, layout), layout);

@@ -24,8 +24,6 @@ namespace {
 // held to the same limit, so both sources accept the same texts.
 constexpr std::size_t kMaxLineBytes = std::size_t{1} << 24;
 
-/// What CheckedByteSource has seen. Kept outside it: fccp destroys its byte source as soon
-/// as a read reaches the end of a short file.
 /// `line` (its CRLF's CR already removed), or a LogError when a carriage return is left
 /// inside it: a file with old Mac line ends (CR only) read as one line, and the error then
 /// quoted the whole file as one metadata value (93 KB of message for a 600-row log).
@@ -38,6 +36,8 @@ std::string_view WithoutBareCr(const std::string& name, int line_no, std::string
   return line;
 }
 
+/// What CheckedByteSource has seen. Kept outside it: fccp destroys its byte source as soon
+/// as a read reaches the end of a short file.
 struct ByteCount {
   long long lines = 0;
   long long bytes = 0;
@@ -126,11 +126,9 @@ class MemoryLines : public TextLines {
  public:
   MemoryLines(std::string_view text, const std::string& name)
       : TextLines(name),
-        rest_(text),
+        rest_(text::WithoutByteOrderMark(text)),
         empty_(text.empty()),
-        ends_with_newline_(!text.empty() && text.back() == '\n') {
-    if (rest_.substr(0, 3) == "\xEF\xBB\xBF") rest_.remove_prefix(3);
-  }
+        ends_with_newline_(!text.empty() && text.back() == '\n') {}
 
   std::optional<std::string_view> Next() override {
     if (rest_.empty()) return std::nullopt;
@@ -184,6 +182,10 @@ std::unique_ptr<TextLines> TextLines::FromMemory(std::string_view text, const st
 }
 
 namespace text {
+
+std::string_view WithoutByteOrderMark(std::string_view text) {
+  return text.substr(0, 3) == "\xEF\xBB\xBF" ? text.substr(3) : text;
+}
 
 std::string_view Trim(std::string_view s) {
   const auto first = s.find_first_not_of(" \t\r");

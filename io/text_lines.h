@@ -48,6 +48,10 @@ namespace text {
 /// `s` without leading and trailing blanks (space, tab, CR).
 std::string_view Trim(std::string_view s);
 
+/// `text` without a leading UTF-8 byte-order mark (as Windows editors write one): what every
+/// reader of a text skips before its first line (docs/log-format.md).
+std::string_view WithoutByteOrderMark(std::string_view text);
+
 /// A cell without surrounding blanks and without one pair of enclosing double quotes
 /// (spreadsheets quote text cells, such as a header's names).
 std::string_view Unquote(std::string_view cell);

@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "io/online_json.h"
+#include "io/text_lines.h"
 
 namespace slideid {
 namespace {
@@ -60,7 +61,7 @@ FollowSummary FollowLog(std::istream& in, const std::string& source, const Follo
     ++line_number;
     // A byte-order mark, as a file's reader skips it (docs/log-format.md): left in, it
     // would make the first metadata line the header.
-    if (line_number == 1 && line.compare(0, 3, "\xEF\xBB\xBF") == 0) line.erase(0, 3);
+    if (line_number == 1) line = std::string(text::WithoutByteOrderMark(line));
     if (!line.empty() && line.back() == '\r') line.pop_back();
     if (!have_header) {
       // Still in the metadata: comments, blank lines, then the header line.
