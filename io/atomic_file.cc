@@ -120,34 +120,21 @@ FileWriteError::FileWriteError(const std::string& path, const std::string& what,
 
 void WriteFileAtomically(const std::string& path, const std::string& what,
                          const std::function<void(std::ostream&)>& write) {
-  if (IsStream(path)) {  // written in place: `simulate --out /dev/stdout | identify --follow`
-    const int fd = ::open(path.c_str(), O_WRONLY | O_CLOEXEC);
-    if (fd < 0) throw FileWriteError(path, what, Reason(errno));
-    FdBuf buffer(fd);
-    std::ostream out(&buffer);
-    try {
-      write(out);
-      out.flush();
-    } catch (...) {
-      ::close(fd);
-      throw;
-    }
-    ::close(fd);
-    if (buffer.error() != 0 || !out) throw FileWriteError(path, what, Reason(buffer.error()));
-    return;
-  }
+  const bool stream = IsStream(path);  // written in place: `--out /dev/stdout | ...`
   std::string temp;
-  const int fd = CreateTemp(path, what, &temp);
+  const int fd =
+      stream ? ::open(path.c_str(), O_WRONLY | O_CLOEXEC) : CreateTemp(path, what, &temp);
+  if (fd < 0) throw FileWriteError(path, what, Reason(errno));
   try {
     FdBuf buffer(fd);
     std::ostream out(&buffer);
     write(out);
     out.flush();
     if (buffer.error() != 0 || !out) throw FileWriteError(path, what, Reason(buffer.error()));
-    SyncAndRename(fd, temp, path, what);
+    if (!stream) SyncAndRename(fd, temp, path, what);
   } catch (...) {
     ::close(fd);
-    std::remove(temp.c_str());
+    if (!stream) std::remove(temp.c_str());
     throw;
   }
   ::close(fd);

@@ -97,6 +97,16 @@ ReportInputs IdentifyReportOf(std::vector<ReportLog> logs, const FileIdentifyOpt
   return in;
 }
 
+// A push log read from `path`, named in the page by its file name.
+ReportLog FileReportLog(const std::string& path, Trajectory log) {
+  ReportLog l;
+  l.path = path;
+  l.name = FileName(path);
+  l.log = std::move(log);
+  l.log.source = l.name;
+  return l;
+}
+
 }  // namespace
 
 ReportInputs GatherIdentifyReport(const std::vector<std::string>& paths,
@@ -104,30 +114,19 @@ ReportInputs GatherIdentifyReport(const std::vector<std::string>& paths,
                                   const FileIdentifyResult& run) {
   std::vector<ReportLog> logs;
   std::vector<std::string> warnings;
-  if (options.identify.method != EstimatorMethod::kQuasiStatic && !run.logs.empty()) {
-    // The logs the fit read: a log from a pipe (--log <(zcat ...)) cannot be read again, and
-    // a second read was empty, leaving the log out of the page without a word.
-    for (const auto& [path, log] : run.logs) {
-      ReportLog l;
-      l.path = path;
-      l.name = FileName(path);
-      l.log = log;
-      l.log.source = l.name;
-      logs.push_back(std::move(l));
-    }
-  } else if (options.identify.method != EstimatorMethod::kQuasiStatic) {
-    for (const std::string& path : paths) {
-      ReportLog l;
-      l.path = path;
-      l.name = FileName(path);
-      try {
-        l.log = ReadPushLog(path, options.read);
-        l.log.source = l.name;
-      } catch (const std::exception& e) {
-        warnings.push_back("report: " + std::string(e.what()));
-        continue;
+  if (options.identify.method != EstimatorMethod::kQuasiStatic) {
+    // The logs the fit read, where it kept them: a log from a pipe (--log <(zcat ...))
+    // cannot be read again, and a second read was empty, leaving the log out of the page
+    // without a word.
+    for (const auto& [path, log] : run.logs) logs.push_back(FileReportLog(path, log));
+    if (run.logs.empty()) {
+      for (const std::string& path : paths) {
+        try {
+          logs.push_back(FileReportLog(path, ReadPushLog(path, options.read)));
+        } catch (const std::exception& e) {
+          warnings.push_back("report: " + std::string(e.what()));
+        }
       }
-      logs.push_back(std::move(l));
     }
   }
   return IdentifyReportOf(std::move(logs), options, run, warnings);
