@@ -94,6 +94,18 @@ void ExpectError(const std::string& name, const std::string& content, int line,
   EXPECT_TRUE(Contains(what, fragment)) << "wanted '" << fragment << "' in: " << what;
 }
 
+// The same text parsed in memory (the splitter beside fccp's file reader): its LogError names
+// `line` and says `fragment`.
+void ExpectMemoryError(const std::string& text, int line, const std::string& fragment) {
+  try {
+    ParsePushLog(text, "memory.csv");
+    ADD_FAILURE() << "no LogError";
+  } catch (const LogError& e) {
+    EXPECT_EQ(e.line(), line) << e.what();
+    EXPECT_TRUE(Contains(e.what(), fragment)) << "wanted '" << fragment << "' in: " << e.what();
+  }
+}
+
 TEST(BadLog, CellErrorsSayWhatIsWrongWithTheCell) {
   const std::string h = std::string(kSliderMeta) + "t,x,y,theta\n";
   ExpectError("empty_cell.csv", h + "0,0,,0\n", 5, "y", "is empty");
@@ -130,12 +142,7 @@ TEST(BadLog, NulByteIsAnErrorNamingItsLineInFilesAndInMemory) {
   const std::string text = std::string(kSliderMeta) + "t,x,y,theta\n0,0,0,0\n0.1,0,0,0" +
                            std::string(1, '\0') + "junk\n";
   ExpectError("nul.csv", text, 6, "", "NUL byte");
-  try {
-    ParsePushLog(text, "memory.csv");
-    ADD_FAILURE() << "no LogError";
-  } catch (const LogError& e) {
-    EXPECT_EQ(e.line(), 6) << e.what();
-  }
+  ExpectMemoryError(text, 6, "NUL byte");
   // A crash can leave a zero-filled tail after the last complete line.
   ExpectError("zero_tail.csv",
               std::string(kSliderMeta) + "t,x,y,theta\n0,0,0,0\n" + std::string(64, '\0'), 6, "",
@@ -150,13 +157,7 @@ TEST(BadLog, CarriageReturnsAloneAreAnErrorNamingTheirLine) {
   std::replace(text.begin(), text.end(), '\n', '\r');
   ExpectError("cr_only.csv", text, 1, "", "lines must end with LF or CRLF");
   EXPECT_LT(std::string(ErrorOf("cr_only.csv", text).what()).size(), 300u);
-  try {
-    ParsePushLog(text, "memory.csv");
-    ADD_FAILURE() << "no LogError";
-  } catch (const LogError& e) {
-    EXPECT_EQ(e.line(), 1) << e.what();
-    EXPECT_TRUE(Contains(e.what(), "old Mac line ends")) << e.what();
-  }
+  ExpectMemoryError(text, 1, "old Mac line ends");
   // A stray CR in a row, after lines ending in CRLF: named by its line.
   const std::string crlf = std::string(kSliderMeta) + "t,x,y,theta\r\n0,0,0,0\r\n0.1,0\r,0,0\r\n";
   ExpectError("stray_cr.csv", crlf, 6, "", "a carriage return inside the line");
@@ -193,13 +194,7 @@ TEST(BadLog, OverlongLineIsAnErrorNamingItsLineInFilesAndInMemory) {
   const std::string text = std::string(kSliderMeta) + "t,x,y,theta\n0,0,0,0\n" +
                            std::string(std::size_t{1} << 24, '1') + "\n";
   ExpectError("long_line.csv", text, 6, "", "");
-  try {
-    ParsePushLog(text, "memory.csv");
-    ADD_FAILURE() << "no LogError";
-  } catch (const LogError& e) {
-    EXPECT_EQ(e.line(), 6) << e.what();
-    EXPECT_TRUE(Contains(e.what(), "longer than")) << e.what();
-  }
+  ExpectMemoryError(text, 6, "longer than");
 }
 
 TEST(BadLog, DirectoryIsAnErrorSayingSo) {

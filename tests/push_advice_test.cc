@@ -322,20 +322,15 @@ TEST(PushAdvice, BadInputNamesTheOptionOrThePath) {
   EXPECT_THROW(KnowledgeFromPrior(bad_prior, patch), std::invalid_argument);
 
   // The tool: usage errors name the option (exit 2), a bad file names the file (exit 1).
-  const testing::ToolRun no_patch = testing::RunTool("advise-push", "--mass 1");
-  EXPECT_EQ(no_patch.code, 2);
-  EXPECT_NE(no_patch.err.find("--patch"), std::string::npos) << no_patch.err;
-  const testing::ToolRun bad_patch = testing::RunTool("advise-push", "--patch 'triangle 1'");
-  EXPECT_EQ(bad_patch.code, 2);
-  EXPECT_NE(bad_patch.err.find("--patch"), std::string::npos) << bad_patch.err;
-  const testing::ToolRun criterion =
-      testing::RunTool("advise-push", "--patch 'disk 0.05' --criterion best");
-  EXPECT_EQ(criterion.code, 2);
-  EXPECT_NE(criterion.err.find("--criterion"), std::string::npos) << criterion.err;
-  const testing::ToolRun lengths =
-      testing::RunTool("advise-push", "--patch 'disk 0.05' --lengths 0.03,x");
-  EXPECT_EQ(lengths.code, 2);
-  EXPECT_NE(lengths.err.find("--lengths"), std::string::npos) << lengths.err;
+  const auto expect_error = [](const std::string& args, int code, const std::string& fragment) {
+    const testing::ToolRun run = testing::RunTool("advise-push", args);
+    EXPECT_EQ(run.code, code) << args;
+    EXPECT_NE(run.err.find(fragment), std::string::npos) << args << ": " << run.err;
+  };
+  expect_error("--mass 1", 2, "--patch");
+  expect_error("--patch 'triangle 1'", 2, "--patch");
+  expect_error("--patch 'disk 0.05' --criterion best", 2, "--criterion");
+  expect_error("--patch 'disk 0.05' --lengths 0.03,x", 2, "--lengths");
   // A candidate that cannot be simulated at all (here the pushes at the edge of a cone of
   // mu_p = 1e300, whose step forces overflow) is a failed candidate ranked last; it ended
   // the whole run with exit 1 and "SolveStep: applied.fx must be finite".
@@ -345,20 +340,12 @@ TEST(PushAdvice, BadInputNamesTheOptionOrThePath) {
   EXPECT_EQ(wide_cone.err, "");
   EXPECT_NE(wide_cone.out.find("\"simulated\":true"), std::string::npos) << wide_cone.out;
   EXPECT_NE(wide_cone.out.find("\"simulated\":false"), std::string::npos) << wide_cone.out;
-  const testing::ToolRun huge_patch =
-      testing::RunTool("advise-push", "--patch 'rectangle 1e300 1e300'");
-  EXPECT_EQ(huge_patch.code, 2);
-  EXPECT_NE(huge_patch.err.find("give --inertia"), std::string::npos) << huge_patch.err;
+  expect_error("--patch 'rectangle 1e300 1e300'", 2, "give --inertia");
   // A limit that keeps the run finite: a billion contact points ran for ever.
-  const testing::ToolRun points =
-      testing::RunTool("advise-push", "--patch 'disk 0.05' --contact-points 1000000000");
-  EXPECT_EQ(points.code, 2);
-  EXPECT_NE(points.err.find("--contact-points must be 1 to 1000"), std::string::npos) << points.err;
+  expect_error("--patch 'disk 0.05' --contact-points 1000000000", 2,
+               "--contact-points must be 1 to 1000");
   const std::string missing = testing::TempPath("no_such_result.json");
-  const testing::ToolRun no_file =
-      testing::RunTool("advise-push", "--patch 'disk 0.05' --friction " + missing);
-  EXPECT_EQ(no_file.code, 1);
-  EXPECT_NE(no_file.err.find(missing), std::string::npos) << no_file.err;
+  expect_error("--patch 'disk 0.05' --friction " + missing, 1, missing);
   const std::string broken = testing::TempPath("broken_result.json");
   std::ofstream(broken) << bad_stderr;
   const testing::ToolRun bad_file =
