@@ -46,9 +46,11 @@ struct OnlineOptions {
   /// degrees of freedom of completed change windows); 3% before, and again after a change.
   double force_noise_fraction = 0;
   /// Process noise: an acceleration [m/s^2] (and that over the radius of gyration, in
-  /// rad/s^2) that the model may miss in any row: a continuous motion against backward-Euler
-  /// steps, force interpolation. Keeps the filter from trusting its own model further than
-  /// the trajectory fit's shooting segments do.
+  /// rad/s^2) that the model may miss: a continuous motion against backward-Euler steps,
+  /// force interpolation. White: over a 10 ms row it moves the velocity by this times 10 ms
+  /// (1 sigma), over a row of h by sqrt(h / 10 ms) as much, so the allowance per second is
+  /// the same at any log rate. Keeps the filter from trusting its own model further than the
+  /// trajectory fit's shooting segments do.
   double model_acceleration_mps2 = 0.05;
   /// The prior of (a, b, c) before any row: (0.15, 1, L) with L the radius of gyration,
   /// each within a factor exp(prior_log_sigma) (1 sigma).

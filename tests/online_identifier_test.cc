@@ -17,6 +17,7 @@
 #include "datasets/coverage_conditions.h"
 #include "datasets/dataset.h"
 #include "datasets/noise.h"
+#include "datasets/scene_suite.h"
 #include "datasets/sensor_model.h"
 #include "estimator/identify.h"
 #include "forward_model/simulator.h"
@@ -131,6 +132,49 @@ TEST(OnlineIdentifier, EndsInsideTheBatchFitsIntervalAndItsIntervalsHoldTheTruth
     }
     EXPECT_GE(double(within[i]) / compared[i], kWithinBatch) << ParameterName(i);
   }
+}
+
+// Logs of the scene suite (datasets/scene_suite.h) at 1 kHz, beyond the coverage suite's
+// 100 Hz: the process noise's acceleration is a white noise, the same allowance per second
+// at any rate. Until it was (2026-11-27) each row took the acceleration times its own length,
+// a tenth of the allowance per second at 1 kHz.
+TEST(OnlineIdentifier, ItsIntervalsHoldTheTruthAtOneKilohertzToo) {
+  // The first kHighRateLogs logs at 1 kHz of the suite drawn with at most kMaxRows rows (0.1
+  // to 1.5 s), with the batch check; all three parameters pooled. Measured when written:
+  // 121 of 135 intervals (89.6%) hold the truth at the end, against 115 of 139 (82.7%) with
+  // the allowance per row. Not the 95% of a calibrated interval: on held-out 1 kHz logs of
+  // the suite (7000-7699 and 12000-12299, up to 10,000 rows) the end's intervals hold it in
+  // 95-96% (a), 93-94% (b) and 88-89% (c) of logs, and short logs are the harder part
+  // (docs/online.md). The bar is what those 597 held-out intervals give, 92.8%, less two
+  // binomial standard errors of 135 (2 x 2.2%): the allowance per row fails it.
+  constexpr int kHighRateLogs = 50, kMaxRows = 1500;
+  constexpr double kCoverageLow = 0.883;
+  int covered = 0, counted = 0, drawn = 0;
+  for (int index = 0; drawn < kHighRateLogs; ++index) {
+    SceneSuiteLimits limits;
+    limits.max_rows = kMaxRows;
+    const SuiteLog made = MakeSuiteLog(index, kSceneSuiteSeed, limits);
+    if (made.rate_hz != 1000) continue;
+    ++drawn;
+    const std::vector<OnlineResult> online =
+        RunOnline(made.log, OnlineOptions{}, {static_cast<int>(made.log.samples.size()) - 1});
+    ASSERT_EQ(online.size(), 1u);
+    for (int i = 0; i < 3; ++i) {
+      const ParameterEstimate& p = online[0].parameters[i];
+      if (!p.identifiable) continue;
+      ++counted;
+      const bool in = p.ci95_lo <= made.truth[i] && made.truth[i] <= p.ci95_hi;
+      covered += in;
+      if (!in)
+        std::printf("suite log %d %s: %g [%g, %g] against %g\n", index, ParameterName(i), p.value,
+                    p.ci95_lo, p.ci95_hi, made.truth[i]);
+    }
+  }
+  std::printf("1 kHz logs: %d of %d intervals hold the truth\n", covered, counted);
+  // Not bought by abstaining: at least five of every six identified (c is not, in a few
+  // logs of 0.1-0.2 s).
+  ASSERT_GE(6 * counted, 5 * 3 * kHighRateLogs);
+  EXPECT_GE(double(covered) / counted, kCoverageLow);
 }
 
 // A log of one slider whose surface changes halfway: `first` (logged exactly, ending at
