@@ -131,6 +131,7 @@ int RunFollowCommand(const cli::IdentifyRequest& request) {
   options.every = request.follow_every;
   options.online.batch_check_first_rows = request.follow_batch_check_rows;
   options.overrides = request.options.read.overrides;
+  options.warn = [](const std::string& w) { std::cerr << "identify: warning: " << w << "\n"; };
   const FollowSummary summary =
       FollowLog(std::cin, "<stdin>", options, [](const std::string& line) {
         std::cout << line << '\n' << std::flush;
