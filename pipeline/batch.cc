@@ -22,8 +22,8 @@ namespace {
 /// Why the identification of one file must not be used ("" when it may), naming the file,
 /// as the identify tool's error for it would.
 std::string FileFailure(const std::string& file, const EstimateResult& result) {
-  if (result.status == TerminationStatus::kTooLittleExcitation) {
-    return file + ": " + result.message;
+  if (const std::string nothing = NothingIdentified(result); !nothing.empty()) {
+    return file + ": " + nothing;
   }
   const std::string failure = NumericalFailure(result);
   return failure.empty() ? "" : file + ": " + failure;

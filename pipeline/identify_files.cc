@@ -145,6 +145,22 @@ FileIdentifyResult IdentifyPairFiles(const std::vector<std::string>& paths,
 
 }  // namespace
 
+std::string NothingIdentified(const EstimateResult& result) {
+  if (result.status == TerminationStatus::kTooLittleExcitation) return result.message;
+  std::vector<std::string> reasons;
+  for (const ParameterEstimate& p : result.parameters) {
+    if (p.identifiable) return "";
+    if (std::find(reasons.begin(), reasons.end(), p.reason) == reasons.end()) {
+      reasons.push_back(p.reason);
+    }
+  }
+  std::string why = "no friction parameter is identifiable";
+  for (size_t k = 0; k < reasons.size(); ++k) {
+    if (!reasons[k].empty()) why += (k == 0 ? ": " : "; ") + reasons[k];
+  }
+  return why;
+}
+
 std::string NumericalFailure(const EstimateResult& result) {
   const std::string fit = std::string("the ") + ToString(result.method) + " fit";
   if (!result.converged) return fit + " did not converge (" + result.message + ")";

@@ -51,6 +51,11 @@ class FileError : public std::runtime_error {
 FileIdentifyResult IdentifyFiles(const std::vector<std::string>& paths,
                                  const FileIdentifyOptions& options);
 
+/// Why `result` identifies nothing, or "" when it identifies something: the status too
+/// little excitation (its message), or no friction parameter identifiable whatever the
+/// method (their reasons, each once). The tools' exit 1, bad input (README, "Exit codes").
+std::string NothingIdentified(const EstimateResult& result);
+
 /// Why `result` must not be used (a numerical failure: no convergence, a non-finite
 /// estimate), or "" when it may.
 std::string NumericalFailure(const EstimateResult& result);

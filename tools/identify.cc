@@ -225,8 +225,8 @@ int main(int argc, char** argv) {
     }
     const EstimateResult& result = run.result;
     const std::string what = Describe(request.files);
-    if (result.status == TerminationStatus::kTooLittleExcitation) {
-      throw tools::BadInput(what + ": " + result.message);
+    if (const std::string nothing = NothingIdentified(result); !nothing.empty()) {
+      throw tools::BadInput(what + ": " + nothing);
     }
     std::cout << (request.json ? FormatJson(result) + "\n"
                                : FormatReport(result, run.truth, request.verbose));
