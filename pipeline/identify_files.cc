@@ -147,6 +147,8 @@ FileIdentifyResult IdentifyPairFiles(const std::vector<std::string>& paths,
 
 std::string NothingIdentified(const EstimateResult& result) {
   if (result.status == TerminationStatus::kTooLittleExcitation) return result.message;
+  // A fit that did not converge is a numerical failure (exit 3) whatever it left identifiable.
+  if (!result.converged) return "";
   std::vector<std::string> reasons;
   for (const ParameterEstimate& p : result.parameters) {
     if (p.identifiable) return "";

@@ -52,8 +52,9 @@ FileIdentifyResult IdentifyFiles(const std::vector<std::string>& paths,
                                  const FileIdentifyOptions& options);
 
 /// Why `result` identifies nothing, or "" when it identifies something: the status too
-/// little excitation (its message), or no friction parameter identifiable whatever the
-/// method (their reasons, each once). The tools' exit 1, bad input (README, "Exit codes").
+/// little excitation (its message), or a converged fit of any method in which no friction
+/// parameter is identifiable (their reasons, each once). The tools' exit 1, bad input
+/// (README, "Exit codes"); a fit that did not converge is NumericalFailure's.
 std::string NothingIdentified(const EstimateResult& result);
 
 /// Why `result` must not be used (a numerical failure: no convergence, a non-finite
