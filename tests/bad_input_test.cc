@@ -605,10 +605,10 @@ TEST(NumericalFailure, FitCutOffByTheIterationLimitExitsThreeAndWritesNoResidual
 }
 
 // A log of absurd magnitudes (an inertia of 1e-300 kg m^2: a unit error gone wild) pooled
-// with a good one overflows the model: the fit did not converge, exit 3 naming the logs. It
-// was exit 1 with "AssessIdentifiability: information matrix is not finite" (or "residual
-// variance must be finite"), naming no log.
-TEST(NumericalFailure, PooledLogThatOverflowsTheModelExitsThreeNamingTheLogs) {
+// with a good one overflows the model at the pooled fit's start: bad input, exit 1, naming
+// the log and its numbers. It was exit 1 with "AssessIdentifiability: information matrix is
+// not finite" naming no log, then a fit that did not converge (exit 3) naming "2 logs".
+TEST(NumericalFailure, PooledLogThatOverflowsTheModelIsBadInputNamingIt) {
   const std::string good = std::string(SLIDEID_SOURCE_DIR) + "/datasets/logs/default_push.csv";
   const std::string text = ReadText(good);
   const std::regex inertia("# inertia = [^\n]*");
@@ -616,17 +616,58 @@ TEST(NumericalFailure, PooledLogThatOverflowsTheModelExitsThreeNamingTheLogs) {
   const std::string absurd =
       WriteFile("pool_absurd.csv", std::regex_replace(text, inertia, "# inertia = 1e-300"));
   const ToolRun r = Identify("--log " + good + " --log " + absurd);
-  EXPECT_EQ(r.code, 3) << r.err;
-  EXPECT_TRUE(Contains(r.err, "identify: error: 2 logs: the trajectory fit did not converge"))
+  EXPECT_EQ(r.code, 1) << r.err;
+  EXPECT_TRUE(Contains(r.err,
+                       "identify: error: 2 logs: pool_absurd.csv: the numbers are outside "
+                       "the range the model can handle"))
       << r.err;
+  EXPECT_TRUE(Contains(r.err, "inertia 1e-300 kg m^2")) << r.err;
   EXPECT_FALSE(Contains(r.err, "AssessIdentifiability")) << r.err;
-  EXPECT_TRUE(Contains(r.out, "NOT CONVERGED")) << r.out;
-  // Alone it does not converge either, and its report says why without printing "inf" (its
-  // interval "spans a factor inf" did).
+  // Alone its fit starts, overflows at its end and does not converge (exit 3); its report says why
+  // without printing "inf" (its interval "spans a factor inf" did).
   const ToolRun alone = Identify("--log " + absurd);
   EXPECT_EQ(alone.code, 3) << alone.err;
   EXPECT_TRUE(Contains(alone.out, "spans a factor over 1e308")) << alone.out;
   ExpectNoNaN(alone);
+}
+
+// Logs whose numbers overflow the model at the fit's start (a gravity of 1e-300, forces
+// times 1e12): bad input, exit 1, saying so and naming the log and its numbers, alone or
+// pooled with a good log. They were "too little sliding" (exit 1) alone and, pooled, a fit
+// that did not converge (exit 3) or again "too little sliding" naming no log.
+TEST(IdentifyBadLog, LogWhoseNumbersOverflowTheModelAtTheStartExitsOneNamingIt) {
+  const std::string good = std::string(SLIDEID_SOURCE_DIR) + "/datasets/logs/default_push.csv";
+  const std::string text = ReadText(good);
+  const std::regex gravity("# gravity = [^\n]*");
+  ASSERT_TRUE(std::regex_search(text, gravity));
+  const std::string tiny_g =
+      WriteFile("tiny_gravity.csv", std::regex_replace(text, gravity, "# gravity = 1e-300"));
+  Trajectory log = ReadPushLog(good);
+  for (TrajectorySample& s : log.samples) {  // the moments of the forces too: fz is 0
+    for (double* f : {&s.applied.fx, &s.applied.fy, &s.applied.tx, &s.applied.ty, &s.applied.tz}) {
+      *f *= 1e12;
+    }
+  }
+  const std::string huge_f = testing::TempDirectory() + "/huge_forces.csv";
+  WritePushLog(log, huge_f);
+  for (const auto& [path, number] : {std::pair{tiny_g, "gravity 1e-300 m/s^2"},
+                                     std::pair{huge_f, "largest push 6.11964e+12 N"}}) {
+    const std::string name = std::filesystem::path(path).filename().string();
+    for (const std::string& logs : {"--log " + path, "--log " + good + " --log " + path}) {
+      const ToolRun r = Identify(logs);
+      EXPECT_EQ(r.code, 1) << logs << ": " << r.err;
+      EXPECT_TRUE(Contains(r.err,
+                           "the numbers are outside the range the model can handle: its "
+                           "simulated motion overflows"))
+          << r.err;
+      EXPECT_TRUE(Contains(r.err, number)) << r.err;
+      if (logs.find(good) != std::string::npos) {
+        EXPECT_TRUE(Contains(r.err, "2 logs: " + name + ": the numbers")) << r.err;
+      }
+      EXPECT_FALSE(Contains(r.err, "too little sliding")) << r.err;
+      ExpectNoNaN(r);
+    }
+  }
 }
 
 TEST(NumericalFailure, SimulateThatWouldTipExitsThreeAndWritesNoLog) {
