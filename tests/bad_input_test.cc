@@ -617,9 +617,12 @@ TEST(NumericalFailure, PooledLogThatOverflowsTheModelIsBadInputNamingIt) {
       WriteFile("pool_absurd.csv", std::regex_replace(text, inertia, "# inertia = 1e-300"));
   const ToolRun r = Identify("--log " + good + " --log " + absurd);
   EXPECT_EQ(r.code, 1) << r.err;
+  EXPECT_TRUE(Contains(r.err, "identify: error: " + absurd +
+                                  ": identifies nothing on its own (its fit did not converge)"))
+      << r.err;
   EXPECT_TRUE(Contains(r.err,
-                       "identify: error: 2 logs: pool_absurd.csv: the numbers are outside "
-                       "the range the model can handle"))
+                       "pool_absurd.csv: the numbers are outside the range the model can "
+                       "handle"))
       << r.err;
   EXPECT_TRUE(Contains(r.err, "inertia 1e-300 kg m^2")) << r.err;
   EXPECT_FALSE(Contains(r.err, "AssessIdentifiability")) << r.err;
@@ -652,7 +655,6 @@ TEST(IdentifyBadLog, LogWhoseNumbersOverflowTheModelAtTheStartExitsOneNamingIt) 
   WritePushLog(log, huge_f);
   for (const auto& [path, number] : {std::pair{tiny_g, "gravity 1e-300 m/s^2"},
                                      std::pair{huge_f, "largest push 6.11964e+12 N"}}) {
-    const std::string name = std::filesystem::path(path).filename().string();
     for (const std::string& logs : {"--log " + path, "--log " + good + " --log " + path}) {
       const ToolRun r = Identify(logs);
       EXPECT_EQ(r.code, 1) << logs << ": " << r.err;
@@ -661,13 +663,41 @@ TEST(IdentifyBadLog, LogWhoseNumbersOverflowTheModelAtTheStartExitsOneNamingIt) 
                            "simulated motion overflows"))
           << r.err;
       EXPECT_TRUE(Contains(r.err, number)) << r.err;
-      if (logs.find(good) != std::string::npos) {
-        EXPECT_TRUE(Contains(r.err, "2 logs: " + name + ": the numbers")) << r.err;
+      if (logs.find(good) != std::string::npos) {  // the log that spoils the pooled fit
+        EXPECT_TRUE(Contains(
+            r.err, "identify: error: " + path + ": identifies nothing on its own (the numbers"))
+            << r.err;
       }
       EXPECT_FALSE(Contains(r.err, "too little sliding")) << r.err;
       ExpectNoNaN(r);
     }
   }
+}
+
+// A good log pooled with one whose heading is 1e17 rad (its rows all read the same: it
+// identifies nothing, and its residuals swamp the good log's) identified nothing, naming no
+// log. Now the broken log fails the run, named with why; with --skip-bad it is skipped, with
+// a warning, and the good log's fit is the answer.
+TEST(IdentifyBadLog, ALogThatSpoilsAPooledFitIsNamedOrSkipped) {
+  const std::string good = std::string(SLIDEID_SOURCE_DIR) + "/datasets/logs/default_push.csv";
+  Trajectory log = ReadPushLog(good);
+  for (TrajectorySample& s : log.samples) s.state.theta += 1e17;
+  const std::string broken = testing::TempDirectory() + "/heading_1e17.csv";
+  WritePushLog(log, broken);
+  const ToolRun r = Identify("--log " + good + " --log " + broken);
+  EXPECT_EQ(r.code, 1) << r.err;
+  EXPECT_TRUE(Contains(r.err, "identify: error: " + broken + ": identifies nothing on its own"))
+      << r.err;
+  EXPECT_TRUE(Contains(r.err, "the reader warned: " + broken + ":")) << r.err;
+  const ToolRun skipped = Identify("--log " + good + " --log " + broken + " --skip-bad");
+  EXPECT_EQ(skipped.code, 0) << skipped.err;
+  EXPECT_TRUE(Contains(skipped.err, "identify: warning: " + broken + ": skipped: ")) << skipped.err;
+  EXPECT_TRUE(Contains(skipped.out, "heading_1e17.csv: skipped (identifies nothing"))
+      << skipped.out;
+  const ToolRun alone = Identify("--log " + good);
+  ASSERT_EQ(alone.code, 0);
+  const std::string table = alone.out.substr(0, alone.out.find("(e_t_mu ="));
+  EXPECT_TRUE(Contains(skipped.out, table)) << skipped.out;  // the good log's own estimates
 }
 
 TEST(NumericalFailure, SimulateThatWouldTipExitsThreeAndWritesNoLog) {
