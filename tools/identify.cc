@@ -2,7 +2,6 @@
 // sliding object from one push log or several (docs/log-format.md; exit codes and
 // what counts as bad input: docs/robustness.md).
 
-#include <glog/logging.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -204,9 +203,8 @@ int main(int argc, char** argv) {
       return tools::FlushStdout("identify");
     }
     const cli::IdentifyRequest request = cli::ReadIdentifyOptions(vm);
-    // Ceres logs a page per residual block that evaluates to NaN at a trial point of a
-    // fit; the result says how the fit ended, so keep those pages for --verbose.
-    if (!request.verbose) FLAGS_minloglevel = google::GLOG_ERROR;
+    // Ceres' own lines (estimator/ceres_logging.h) are for --verbose only.
+    if (request.verbose) SetCeresLogging(false);
     if (request.batch) return RunBatchCommand(request);
     if (request.check) return RunCheckCommand(request);
     if (request.follow) return RunFollowCommand(request);
