@@ -329,6 +329,39 @@ TEST(BadLog, AbsurdMagnitudesAreReadWithWarningsNamingLineAndColumn) {
   EXPECT_TRUE(report.warnings.empty()) << ::testing::PrintToString(report.warnings);
 }
 
+// Logged velocities that disagree with the poses' differences (vx in cm/s, wz of the wrong
+// sign) are warned of, naming the column and its first row; a simulated log's own velocities,
+// noise-free or with motion-capture noise on the poses, are not.
+TEST(BadLog, VelocitiesThatDisagreeWithThePosesAreWarnedOf) {
+  Trajectory log = testing::SimulateOrFail(testing::PushedSlider());
+  ASSERT_TRUE(log.measured.pose && log.measured.velocity);
+  Trajectory noisy = log;
+  std::mt19937 random(7);
+  std::normal_distribution<double> noise(0, 3e-4);
+  for (TrajectorySample& s : noisy.samples) s.state.x += noise(random);
+  for (const Trajectory* good : {&log, &noisy}) {
+    const std::string path = testing::TempDirectory() + "/velocities_ok.csv";
+    WritePushLog(*good, path);
+    LogReadReport report;
+    ReadPushLog(path, {}, &report);
+    EXPECT_TRUE(report.warnings.empty()) << ::testing::PrintToString(report.warnings);
+  }
+  Trajectory bad = log;
+  for (TrajectorySample& s : bad.samples) {
+    s.state.vx *= 1e2;  // cm/s, within the absurd-magnitude limit
+    s.state.wz = -s.state.wz;
+  }
+  const std::string path = testing::TempDirectory() + "/velocities_bad.csv";
+  WritePushLog(bad, path);
+  LogReadReport report;
+  ReadPushLog(path, {}, &report);
+  ASSERT_EQ(report.warnings.size(), 2u) << ::testing::PrintToString(report.warnings);
+  const std::regex warned(std::regex_replace(path, std::regex("[.]"), "[.]") +
+                          ":[0-9]+: column '(vx|wz)': the logged velocity disagrees with the "
+                          "poses' differences .* intervals, first here by .*tolerance.*");
+  for (const std::string& w : report.warnings) EXPECT_TRUE(std::regex_match(w, warned)) << w;
+}
+
 TEST(BadLog, DerivedValuesThatOverflowAreErrors) {
   ExpectError("theta_overflow.csv",
               std::string(kSliderMeta) + "t,x,y,theta\n0,0,0,1e308\n0.1,0,0,-1e308\n", 6, "theta",
