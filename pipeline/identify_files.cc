@@ -165,8 +165,8 @@ FileIdentifyResult IdentifyPushLogs(const std::vector<std::string>& paths,
         return log;
       },
       &skipped);
-  out.truth = CommonTruth(logs);
   out.result = IdentifyWithoutSpoilingLogs(&logs, &read_paths, options, &skipped, &out.warnings);
+  out.truth = CommonTruth(logs);  // of the logs fitted, without those that spoilt the pool
   AppendSkipped(std::move(skipped), &out.result);
   if (options.keep_logs) {
     for (std::size_t k = 0; k < logs.size(); ++k) {
@@ -309,8 +309,8 @@ FileIdentifyResult IdentifyReadLogs(std::vector<Trajectory> logs,
     throw FileError(logs.empty() ? "no logs to identify"
                                  : "every log was skipped: nothing left to identify");
   }
-  out.truth = CommonTruth(kept);
   out.result = IdentifyWithoutSpoilingLogs(&kept, &kept_names, options, &skipped, &out.warnings);
+  out.truth = CommonTruth(kept);  // of the logs fitted, without those that spoilt the pool
   AppendSkipped(std::move(skipped), &out.result);
   return out;
 }
