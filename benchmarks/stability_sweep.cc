@@ -20,8 +20,6 @@
 // A benchmark program, not a tool: it is longer than a tool's 150 lines because the grids
 // and their bookkeeping are the program; nothing here is library logic.
 
-#include <glog/logging.h>
-
 #include <Eigen/Core>
 #include <algorithm>
 #include <chrono>
@@ -40,6 +38,7 @@
 
 #include "benchmarks/bench_args.h"
 #include "datasets/sensor_model.h"
+#include "estimator/ceres_logging.h"
 #include "estimator/identify.h"
 #include "fixtures/scaled_scenes.h"
 #include "fixtures/synthetic_scenes.h"
@@ -771,7 +770,7 @@ Options ParseOptions(int argc, char** argv) {
 }
 
 int Main(int argc, char** argv) {
-  FLAGS_minloglevel = google::GLOG_ERROR;  // Ceres' covariance warnings are not results
+  SetCeresLogging();  // Ceres' covariance warnings are not results
   Options options;
   try {
     options = ParseOptions(argc, argv);

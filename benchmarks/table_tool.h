@@ -2,12 +2,12 @@
 // What the benchmark tools that write tables and CSV (coverage, error_vs_time) share: a
 // number formatted for a cell, and their main.
 
-#include <glog/logging.h>
-
 #include <cmath>
 #include <cstdio>
 #include <exception>
 #include <string>
+
+#include "estimator/ceres_logging.h"
 
 namespace slideid {
 namespace bench {
@@ -22,9 +22,7 @@ inline std::string Fmt(const char* fmt, double v) {
 
 /// Runs a tool's `main`, printing an exception as "tool: what" and returning 1 for it.
 inline int RunTableTool(const char* tool, int (*main)(int, char**), int argc, char** argv) {
-  // Ceres logs a page for every residual block that evaluates to NaN (the equation-error fit
-  // on noisy logs does); the results record how each fit ended, so keep only errors.
-  FLAGS_minloglevel = google::GLOG_ERROR;
+  SetCeresLogging();  // the results record how each fit ended
   try {
     return main(argc, argv);
   } catch (const std::exception& e) {

@@ -14,12 +14,12 @@ std::string Magnitude(double v) {
   return std::isfinite(v) ? Printf("%.3g", v) : std::string("over 1e308");
 }
 
-void AddReason(ParameterEstimate* p, const std::string& reason) {
+}  // namespace
+
+void MarkSuspect(ParameterEstimate* p, const std::string& reason) {
   p->verdict = Verdict::kSuspect;
   p->reason += (p->reason.empty() ? "" : "; ") + reason;
 }
-
-}  // namespace
 
 void JudgeEstimates(const PlausibilityContext& c, std::array<ParameterEstimate, 3>* parameters) {
   const double floor = std::isfinite(c.model_floor) ? c.model_floor : 0.0;
@@ -57,21 +57,21 @@ void JudgeEstimates(const PlausibilityContext& c, std::array<ParameterEstimate, 
     p.verdict = Verdict::kOk;
     p.reason.clear();
     if (mismatch > kMismatchRatio) {
-      AddReason(&p, floor > 0 ? Printf("residuals %.3g times the log's own noise and the "
-                                       "model's discretisation together (model mismatch: "
-                                       "%.3g against %.3g)",
-                                       mismatch, c.residual_rms, std::hypot(c.log_noise, floor))
-                              : Printf("residuals %.3g times the log's own noise (model "
-                                       "mismatch: %.3g against %.3g)",
-                                       mismatch, c.residual_rms, c.log_noise));
+      MarkSuspect(&p, floor > 0 ? Printf("residuals %.3g times the log's own noise and the "
+                                         "model's discretisation together (model mismatch: "
+                                         "%.3g against %.3g)",
+                                         mismatch, c.residual_rms, std::hypot(c.log_noise, floor))
+                                : Printf("residuals %.3g times the log's own noise (model "
+                                         "mismatch: %.3g against %.3g)",
+                                         mismatch, c.residual_rms, c.log_noise));
     }
     if (i == kA) {
       for (const PushCapacity& log : c.logs) {
         const double friction = p.value * log.weight_n;
         if (log.max_push_n > 0 && friction > kFrictionOverPush * log.max_push_n) {
-          AddReason(&p, Printf("implies %s N of friction against a largest push of %.3g N: "
-                               "the slider could not have slid",
-                               Magnitude(friction).c_str(), log.max_push_n));
+          MarkSuspect(&p, Printf("implies %s N of friction against a largest push of %.3g N: "
+                                 "the slider could not have slid",
+                                 Magnitude(friction).c_str(), log.max_push_n));
           break;
         }
       }
@@ -79,11 +79,12 @@ void JudgeEstimates(const PlausibilityContext& c, std::array<ParameterEstimate, 
     const double v = std::log(p.value);
     if (std::abs(v - std::log(c.lower[i])) < kAtBoundLog ||
         std::abs(v - std::log(c.upper[i])) < kAtBoundLog) {
-      AddReason(&p, Printf("at a bound of the search range [%.3g, %.3g]", c.lower[i], c.upper[i]));
+      MarkSuspect(&p,
+                  Printf("at a bound of the search range [%.3g, %.3g]", c.lower[i], c.upper[i]));
     }
     if (c.seed[i] > 0 && std::abs(v - std::log(c.seed[i])) > std::log(kSeedFactor)) {
-      AddReason(&p, Printf("%.3g times the seed %.3g the fit started from", p.value / c.seed[i],
-                           c.seed[i]));
+      MarkSuspect(&p, Printf("%.3g times the seed %.3g the fit started from", p.value / c.seed[i],
+                             c.seed[i]));
     }
   }
 }

@@ -14,6 +14,7 @@
 
 #include <array>
 #include <limits>
+#include <string>
 #include <vector>
 
 #include "estimator/estimate.h"
@@ -59,6 +60,10 @@ struct PlausibilityContext {
                         std::numeric_limits<double>::infinity(),
                         std::numeric_limits<double>::infinity()};
 };
+
+/// Makes `p` suspect, adding `reason` to any it has (the checks below, and identify
+/// --follow's rows after a warning of the log reader).
+void MarkSuspect(ParameterEstimate* p, const std::string& reason);
 
 /// Sets the verdict (and reason) of every parameter: kNotIdentifiable ones stay so; an
 /// identifiable one whose interval spans more than kMaxIntervalFactor becomes not

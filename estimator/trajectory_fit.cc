@@ -1015,6 +1015,39 @@ void RobustStage(FitStages* f) {
   f->residual_scale = ResidualRowScale(problem);
 }
 
+// The slider's numbers and the largest push of `log`: where an overflow comes from.
+std::string Magnitudes(const Trajectory& log) {
+  double push = 0;
+  for (const TrajectorySample& s : log.samples) {
+    push = std::max(push, std::hypot(s.applied.fx, s.applied.fy));
+  }
+  const SliderProperties& m = log.slider;
+  return Printf("mass %g kg, inertia %g kg m^2, gravity %g m/s^2, largest push %g N", m.mass_kg,
+                m.inertia_kgm2, m.gravity_mps2, push);
+}
+
+// Why the fit cannot even start, or "": its first solve failed (Ceres could not evaluate the
+// residuals at its start) and a log's simulated motion is not finite there. Such a log's
+// numbers are beyond what the model can handle in doubles (a gravity of 1e-300, forces
+// times 1e12), not short of sliding, which is what the identifiability stage made of it.
+std::string OverflowAtStart(const FitStages& f) {
+  if (f.summary.termination_type != ceres::FAILURE) return "";
+  const TrajectoryProblem& problem = *f.problem;
+  const TrajectorySegment* first = nullptr;
+  problem.ForEachSegmentResiduals(true, [&](int j, const std::vector<double>& r) {
+    const bool finite = std::all_of(r.begin(), r.end(), [](double v) { return std::isfinite(v); });
+    if (!first && !finite) first = &problem.segments()[j];
+  });
+  if (!first) return "";
+  const Trajectory& log = problem.log(first->log);
+  return (problem.num_logs() > 1 ? LogName(log, first->log) + ": " : std::string()) +
+         "the numbers are outside the range the model can handle: its simulated motion "
+         "overflows (is not finite) at the fit's start, from row " +
+         std::to_string(first->first_row) +
+         " (t = " + ShortNumber(log.samples[first->first_row].t_s) + " s) on (" + Magnitudes(log) +
+         "; a unit error?)";
+}
+
 // What the identifiability stage found.
 struct HeldStage {
   std::vector<ParameterIdentifiability> verdict;  ///< per global parameter
@@ -1284,6 +1317,9 @@ FitOutcome Fit(const std::vector<const Trajectory*>& logs, const IdentifyOptions
 
   SeedStage(start, &f);
   LeastSquaresStage(start, &f);
+  if (const std::string overflow = OverflowAtStart(f); !overflow.empty()) {
+    return too_little(overflow);
+  }
   RobustStage(&f);
   HeldStage held;
   const HoldOutcome hold = HoldStage(&f, &held);

@@ -17,7 +17,9 @@
 #include <ostream>
 #include <string_view>
 #include <system_error>
+#include <tuple>
 
+#include "estimator/robust_statistics.h"
 #include "forward_model/constants.h"
 #include "forward_model/contact_patch.h"
 #include "forward_model/number_format.h"
@@ -631,6 +633,85 @@ void WarnThetaInDegrees(const ReadContext& ctx, const Trajectory& tr,
           "in radians"));
 }
 
+/// Logged velocities against the poses' backward differences (docs/log-format.md: what the
+/// model means by a row's velocity), per channel. A velocity sampled at t differs from the
+/// interval's mean velocity by at most its change over the interval where the motion is
+/// monotone, so an interval disagrees where |v - (q - q_prev) / dt| exceeds |v - v_prev|
+/// plus kVelocityNoiseSigmas times the noise of both (each from the median absolute change
+/// of its own series: white noise's changes have sqrt(3) and sqrt(2) times its spread).
+/// More than kVelocityDisagreeFraction of the intervals disagreeing is a unit, sign or frame
+/// error (mm/s, the body frame), not noise or an impact: warned of at its first row.
+constexpr double kVelocityNoiseSigmas = 4;
+constexpr double kVelocityDisagreeFraction = 0.1;
+
+/// The spread of white noise whose changes (`changes`, absolute) are `change_factor`
+/// (sqrt(3) or sqrt(2)) times as wide as it: from their median.
+double NoiseOfChanges(std::vector<double> changes, double change_factor) {
+  return changes.empty() ? 0.0 : Median(std::move(changes)) / (0.6745 * change_factor);
+}
+
+/// One velocity column against the poses' differences: how many intervals disagree, and the
+/// first.
+struct VelocityDisagreement {
+  std::size_t count = 0, first = 0;
+  double gap = 0, tolerance = 0;  ///< at the first
+};
+
+/// `v` of the logged states against `from_poses` over the intervals ending at `rows`.
+VelocityDisagreement CompareVelocity(const Trajectory& tr, const std::vector<std::size_t>& rows,
+                                     const std::vector<PlanarState>& from_poses,
+                                     double PlanarState::*v) {
+  const auto logged = [&](std::size_t u) { return tr.samples[u].state.*v; };
+  std::vector<double> change_d, change_v;
+  for (std::size_t k = 1; k < rows.size(); ++k) {
+    const std::size_t u = rows[k];
+    if (rows[k - 1] + 1 != u) continue;  // a change within one run only
+    change_d.push_back(std::abs(from_poses[u].*v - from_poses[u - 1].*v));
+    change_v.push_back(std::abs(logged(u) - logged(u - 1)));
+  }
+  const double noise = kVelocityNoiseSigmas * (NoiseOfChanges(change_d, std::sqrt(3.0)) +
+                                               NoiseOfChanges(change_v, std::sqrt(2.0)));
+  VelocityDisagreement d;
+  for (std::size_t u : rows) {
+    const double gap = std::abs(logged(u) - from_poses[u].*v);
+    const double tolerance = std::abs(logged(u) - logged(u - 1)) + noise +
+                             1e-9 * (std::abs(logged(u)) + std::abs(from_poses[u].*v)) + 1e-12;
+    if (!(gap > tolerance) || d.count++ > 0) continue;
+    d.first = u;
+    d.gap = gap;
+    d.tolerance = tolerance;
+  }
+  return d;
+}
+
+void WarnVelocitiesAgainstPoses(const ReadContext& ctx, const Trajectory& tr,
+                                const std::vector<int>& lines) {
+  std::vector<std::size_t> rows;  // intervals: rows whose previous row is in their run
+  for (std::size_t u = 1; u < tr.samples.size(); ++u) {
+    if (!StartsRun(tr, u)) rows.push_back(u);
+  }
+  if (rows.size() < 3) return;
+  std::vector<PlanarState> from_poses(tr.samples.size());
+  for (std::size_t u : rows) from_poses[u] = StateWithPoseVelocity(tr, u);
+  const std::array<std::tuple<Col, Col, double PlanarState::*>, 3> channels = {
+      {{kVx, kX, &PlanarState::vx}, {kVy, kY, &PlanarState::vy}, {kWz, kTheta, &PlanarState::wz}}};
+  for (const auto& [column, pose, v] : channels) {
+    const VelocityDisagreement d = CompareVelocity(tr, rows, from_poses, v);
+    if (d.count <= kVelocityDisagreeFraction * rows.size()) continue;
+    const std::string name = kColumnNames[column], unit = kAbsurdLimits[column].unit;
+    ctx.report.warnings.push_back(text::Located(
+        ctx.path, lines[d.first], name,
+        "the logged velocity disagrees with the poses' differences (" +
+            std::string(kColumnNames[pose]) + " - previous) / (t - previous) in " +
+            std::to_string(d.count) + " of " + std::to_string(rows.size()) +
+            " intervals, first here by " + Printf("%.3g", d.gap) + " " + unit + " (tolerance " +
+            Printf("%.3g", d.tolerance) + " " + unit + ": the change of " + name +
+            " over the interval plus " + ShortNumber(kVelocityNoiseSigmas) +
+            " times the noise of both); a unit, sign or frame error? The fits use the logged "
+            "velocities"));
+  }
+}
+
 /// Time gaps (docs/robustness.md): the model holds a row's force over the interval to the
 /// next row and takes one backward-Euler step across it, so an interval many times the
 /// median one is a hole in the log, not a sample. Above options.max_gap_ratio medians it is
@@ -918,7 +999,11 @@ PushLogFile ReadFromLines(const ReadContext& ctx, TextLines& in) {
   CheckTimeGaps(ctx, trajectory, lines);
   NoteRuns(ctx, trajectory);
   WarnThetaInDegrees(ctx, trajectory, lines);
-  if (!header.Has(kVx)) VelocitiesFromPoses(ctx, trajectory, lines);
+  if (!header.Has(kVx)) {
+    VelocitiesFromPoses(ctx, trajectory, lines);
+  } else if (header.Has(kX)) {
+    WarnVelocitiesAgainstPoses(ctx, trajectory, lines);
+  }
   NoteUnknownColumns(ctx);
   return file;
 }

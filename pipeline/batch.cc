@@ -3,6 +3,7 @@
 #include <atomic>
 #include <chrono>
 #include <exception>
+#include <filesystem>
 #include <fstream>
 #include <iterator>
 #include <map>
@@ -22,11 +23,25 @@ namespace {
 /// Why the identification of one file must not be used ("" when it may), naming the file,
 /// as the identify tool's error for it would.
 std::string FileFailure(const std::string& file, const EstimateResult& result) {
-  if (result.status == TerminationStatus::kTooLittleExcitation) {
-    return file + ": " + result.message;
+  if (const std::string nothing = NothingIdentified(result); !nothing.empty()) {
+    return file + ": " + nothing;
   }
   const std::string failure = NumericalFailure(result);
   return failure.empty() ? "" : file + ": " + failure;
+}
+
+/// The SHA-256 that identifies `file` on resume, or "" where it cannot be taken (a line
+/// without one is fitted again on resume). Only a regular file is hashed: a pipe
+/// (--batch <(cat log.csv)) can be read only once, and that is the log reader's (hashing
+/// it first left the reader an empty pipe: "no header line").
+std::string ResumeHash(const std::string& file) {
+  std::error_code error;
+  if (!std::filesystem::is_regular_file(file, error)) return "";
+  try {
+    return Sha256OfFile(file);
+  } catch (const std::exception&) {
+    return "";  // unreadable: the fit says why
+  }
 }
 
 /// The rows of the logs a result fitted.
@@ -93,12 +108,7 @@ BatchSummary RunBatch(const std::vector<std::string>& files, const BatchOptions&
       long long rows = 0;
       bool ok = false;
       // The hash of what is about to be read: a change after this is fitted again on resume.
-      std::string sha256;
-      try {
-        sha256 = Sha256OfFile(files[k]);
-      } catch (const std::exception&) {
-        // Unreadable: the fit says why, and without a hash its line is redone on resume.
-      }
+      const std::string sha256 = ResumeHash(files[k]);
       try {
         const FileIdentifyResult r = IdentifyFiles({files[k]}, options.identify);
         const std::string error = FileFailure(files[k], r.result);
@@ -169,13 +179,7 @@ BatchResults ReadBatchResults(const std::string& path, const std::vector<std::st
       continue;
     }
     if (batch.count(key->file)) {
-      if (!hashes.count(key->file)) {
-        try {
-          hashes[key->file] = Sha256OfFile(key->file);
-        } catch (const std::exception&) {
-          hashes[key->file] = "";  // unreadable now: fitted again (its error line says why)
-        }
-      }
+      if (!hashes.count(key->file)) hashes[key->file] = ResumeHash(key->file);
       if (key->sha256.empty() || key->sha256 != hashes[key->file]) {
         seen.erase(key->file);
         drop(number, key->file +

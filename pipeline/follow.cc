@@ -3,8 +3,10 @@
 #include <cmath>
 #include <memory>
 #include <optional>
+#include <set>
 #include <stdexcept>
 
+#include "estimator/plausibility.h"
 #include "io/online_json.h"
 #include "io/text_lines.h"
 
@@ -29,6 +31,60 @@ std::string Unlocated(const LogError& e) {
   while (start < message.size() && (message[start] == ':' || message[start] == ' ')) ++start;
   return message.substr(start);
 }
+
+// A warning of the reader on the one-row text at the stream's line `line_number`: its line
+// there (after the header's) is not the stream's; the header's own lines are.
+std::string AtStreamLine(const std::string& warning, const std::string& source, int header_lines,
+                         int line_number) {
+  const std::string prefix = source + ":";
+  if (warning.compare(0, prefix.size(), prefix) != 0) return warning;
+  const size_t colon = warning.find(':', prefix.size());
+  if (colon == std::string::npos) return warning;
+  const std::string digits = warning.substr(prefix.size(), colon - prefix.size());
+  if (digits.empty() || digits.find_first_not_of("0123456789") != std::string::npos ||
+      std::stoll(digits) <= header_lines) {
+    return warning;
+  }
+  return prefix + std::to_string(line_number) + warning.substr(colon);
+}
+
+// What makes two warnings the same over a stream: a row's by its column (each column's
+// first absurd row is warned of, as the file's reader does), the header's by its text (it
+// is read again with every row).
+std::string WarningKey(const std::string& warning) {
+  const size_t at = warning.find("column '");
+  if (at == std::string::npos) return warning;
+  return warning.substr(at, warning.find('\'', at + 8) - at);
+}
+
+// The reader's warnings over a stream: each passed on once; the first makes every later
+// answer doubtful.
+struct StreamWarnings {
+  std::set<std::string> seen;
+  std::string first;
+
+  void Add(const LogReadReport& report, const std::string& source, int header_lines,
+           int line_number, const FollowOptions& options) {
+    for (const std::string& w : report.warnings) {
+      const std::string located = AtStreamLine(w, source, header_lines, line_number);
+      if (!seen.insert(WarningKey(located)).second) continue;
+      if (first.empty()) first = located;
+      if (options.warn) options.warn(located);
+    }
+  }
+
+  // `result`'s line, its ok verdicts suspect after a warning.
+  std::string Json(const OnlineResult& result) const {
+    if (first.empty()) return FormatOnlineJson(result);
+    OnlineResult doubted = result;
+    const std::string why = "the log reader warned: " + first;
+    for (ParameterEstimate& p : doubted.parameters) {
+      if (p.verdict == Verdict::kOk) MarkSuspect(&p, why);
+    }
+    if (doubted.mu_pusher.verdict == Verdict::kOk) MarkSuspect(&doubted.mu_pusher, why);
+    return FormatOnlineJson(doubted);
+  }
+};
 
 }  // namespace
 
@@ -57,6 +113,7 @@ FollowSummary FollowLog(std::istream& in, const std::string& source, const Follo
   int line_number = 0;
   const OnlineResult* last = nullptr;  // the last row's answer, and whether it went out
   bool last_emitted = true;
+  StreamWarnings warnings;
   while (std::getline(in, line)) {
     ++line_number;
     // A byte-order mark, as a file's reader skips it (docs/log-format.md): left in, it
@@ -73,8 +130,9 @@ FollowSummary FollowLog(std::istream& in, const std::string& source, const Follo
     if (line.empty()) continue;
     const std::string text = header + line + "\n";
     Trajectory one;
+    LogReadReport report;
     try {
-      one = ParsePushLog(text, source, read);
+      one = ParsePushLog(text, source, read, &report);
     } catch (const LogError& e) {
       if (e.line() <= header_lines) throw;  // about the header: its lines are the stream's
       throw LogError(source, line_number, e.column(), Unlocated(e));
@@ -82,6 +140,7 @@ FollowSummary FollowLog(std::istream& in, const std::string& source, const Follo
     if (one.samples.size() != 1) {
       throw LogError(source, line_number, "", "expected one row on the line");
     }
+    warnings.Add(report, source, header_lines, line_number, options);
     TrajectorySample row = one.samples.front();
     // A lone row reads as a run's first; only the mode column can say so here.
     if (!one.measured.mode) row.mode = SampleMode::kSlide;
@@ -105,7 +164,7 @@ FollowSummary FollowLog(std::istream& in, const std::string& source, const Follo
     last_emitted = summary.rows % options.every == 0 || result->change_detected;
     if (last_emitted) {
       ++summary.lines;
-      if (!emit(FormatOnlineJson(*result))) {
+      if (!emit(warnings.Json(*result))) {
         summary.reader_gone = true;
         return summary;
       }
@@ -121,7 +180,7 @@ FollowSummary FollowLog(std::istream& in, const std::string& source, const Follo
   // The stream ended between two lines: the last row's estimate, the final one, still goes.
   if (!last_emitted) {
     ++summary.lines;
-    summary.reader_gone = !emit(FormatOnlineJson(*last));
+    summary.reader_gone = !emit(warnings.Json(*last));
   }
   return summary;
 }

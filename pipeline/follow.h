@@ -19,6 +19,9 @@ struct FollowOptions {
   /// where the stream ends between two such lines.
   int every = 1;
   SliderOverrides overrides;
+  /// Gets each of the log reader's warnings (LogReadReport::warnings: absurd magnitudes, a
+  /// unit error?) once, located at the stream's line; none when empty.
+  std::function<void(const std::string&)> warn;
   bool IsValid(std::string* why) const;
 };
 
@@ -32,8 +35,10 @@ struct FollowSummary {
 /// Reads `in` (named `source` in messages) line by line: `# key = value` metadata and the
 /// header (docs/log-format.md), then rows, each parsed as the log reader parses a row of a
 /// file. `emit` gets each JSON line (no newline) and returns false when it could not be
-/// written (the reader went away): reading stops there. Throws LogError for bad input
-/// (naming the stream's line), std::invalid_argument for invalid options.
+/// written (the reader went away): reading stops there. After the reader's first warning
+/// every ok verdict handed on is suspect, its reason that warning: a heading of 1e17 rad
+/// reads as a slider that never turns, which the file's fit calls not identifiable. Throws LogError
+/// for bad input (naming the stream's line), std::invalid_argument for invalid options.
 FollowSummary FollowLog(std::istream& in, const std::string& source, const FollowOptions& options,
                         const std::function<bool(const std::string&)>& emit);
 

@@ -88,6 +88,65 @@ void AppendSkipped(std::vector<LogResult> skipped, EstimateResult* result) {
                       std::make_move_iterator(skipped.end()));
 }
 
+// Why a log's own fit within a pooled one identifies nothing usable, or "": NothingIdentified,
+// or a fit that did not converge (an inertia of 1e-300 overflows at its end).
+std::string NothingOfItsOwn(const LogResult& log) {
+  if (!log.skipped && log.status == TerminationStatus::kNoConvergence) {
+    return "its fit did not converge";
+  }
+  return NothingIdentified(log);
+}
+
+// The logs of a pooled `result` that identify nothing on their own while another log does:
+// when the pooled fit identifies nothing, they spoilt it (a heading of 1e17 rad whose rows
+// all read the same outweighs a good log). Empty otherwise, and when no log identifies
+// anything on its own (nothing to tell the spoilt from the spoiling).
+std::vector<size_t> SpoilingLogs(const EstimateResult& result) {
+  if (result.logs.size() < 2 || NothingIdentified(result).empty()) return {};
+  std::vector<size_t> spoiling;
+  for (size_t k = 0; k < result.logs.size(); ++k) {
+    if (!NothingOfItsOwn(result.logs[k]).empty()) spoiling.push_back(k);
+  }
+  if (spoiling.size() == result.logs.size()) return {};
+  return spoiling;
+}
+
+// Identify(logs), named `names`, as the pooling rule for logs that cannot be pooled has it
+// (CheckPoolable): a log that spoilt a pooled fit (SpoilingLogs) fails the run with a
+// FileError naming it and why, or with skip_bad is listed as skipped, with a warning, and
+// the other logs are fitted again without it.
+EstimateResult IdentifyWithoutSpoilingLogs(std::vector<Trajectory>* logs,
+                                           std::vector<std::string>* names,
+                                           const FileIdentifyOptions& options,
+                                           std::vector<LogResult>* skipped,
+                                           std::vector<std::string>* warnings) {
+  EstimateResult result = Identify(*logs, options.identify);
+  const std::vector<size_t> spoiling = SpoilingLogs(result);
+  if (spoiling.empty()) return result;
+  for (size_t k : spoiling) {
+    const std::string own = NothingOfItsOwn(result.logs[k]);
+    const std::string pooled = NothingIdentified(result);
+    std::string why = "identifies nothing on its own (" + own +
+                      "), and pooled with logs that do, it leaves the fit identifying nothing";
+    if (pooled.find(own) == std::string::npos) why += " (" + pooled + ")";
+    // The reader's warning on it, if any, is the likeliest cause; an error would lose it.
+    const auto warned = std::find_if(warnings->begin(), warnings->end(), [&](const std::string& w) {
+      return w.compare(0, (*names)[k].size() + 1, (*names)[k] + ":") == 0;
+    });
+    if (warned != warnings->end()) why += "; the reader warned: " + *warned;
+    if (!options.skip_bad) {
+      throw FileError((*names)[k] + ": " + why + ": leave it out, or skip it (--skip-bad)");
+    }
+    warnings->push_back((*names)[k] + ": skipped: " + why);
+    skipped->push_back(Skipped((*names)[k], why));
+  }
+  for (auto k = spoiling.rbegin(); k != spoiling.rend(); ++k) {
+    logs->erase(logs->begin() + static_cast<std::ptrdiff_t>(*k));
+    names->erase(names->begin() + static_cast<std::ptrdiff_t>(*k));
+  }
+  return Identify(*logs, options.identify);
+}
+
 FileIdentifyResult IdentifyPushLogs(const std::vector<std::string>& paths,
                                     const FileIdentifyOptions& options) {
   FileIdentifyResult out;
@@ -106,8 +165,8 @@ FileIdentifyResult IdentifyPushLogs(const std::vector<std::string>& paths,
         return log;
       },
       &skipped);
-  out.truth = CommonTruth(logs);
-  out.result = Identify(logs, options.identify);
+  out.result = IdentifyWithoutSpoilingLogs(&logs, &read_paths, options, &skipped, &out.warnings);
+  out.truth = CommonTruth(logs);  // of the logs fitted, without those that spoilt the pool
   AppendSkipped(std::move(skipped), &out.result);
   if (options.keep_logs) {
     for (std::size_t k = 0; k < logs.size(); ++k) {
@@ -144,6 +203,38 @@ FileIdentifyResult IdentifyPairFiles(const std::vector<std::string>& paths,
 }
 
 }  // namespace
+
+namespace {
+
+// NothingIdentified of a fit's status, message and parameters: a pooled fit's or a log's own.
+std::string NothingIdentified(TerminationStatus status, const std::string& message,
+                              const std::array<ParameterEstimate, 3>& parameters) {
+  if (status == TerminationStatus::kTooLittleExcitation) return message;
+  // A fit that did not converge is a numerical failure (exit 3) whatever it left identifiable.
+  if (status == TerminationStatus::kNoConvergence) return "";
+  std::vector<std::string> reasons;
+  for (const ParameterEstimate& p : parameters) {
+    if (p.identifiable) return "";
+    if (std::find(reasons.begin(), reasons.end(), p.reason) == reasons.end()) {
+      reasons.push_back(p.reason);
+    }
+  }
+  std::string why = "no friction parameter is identifiable";
+  for (size_t k = 0; k < reasons.size(); ++k) {
+    if (!reasons[k].empty()) why += (k == 0 ? ": " : "; ") + reasons[k];
+  }
+  return why;
+}
+
+}  // namespace
+
+std::string NothingIdentified(const EstimateResult& result) {
+  return NothingIdentified(result.status, result.message, result.parameters);
+}
+
+std::string NothingIdentified(const LogResult& log) {
+  return log.skipped ? "" : NothingIdentified(log.status, log.message, log.parameters);
+}
 
 std::string NumericalFailure(const EstimateResult& result) {
   const std::string fit = std::string("the ") + ToString(result.method) + " fit";
@@ -201,12 +292,14 @@ FileIdentifyResult IdentifyReadLogs(std::vector<Trajectory> logs,
   FileIdentifyResult out;
   std::vector<LogResult> skipped;
   std::vector<Trajectory> kept;
+  std::vector<std::string> kept_names;
   for (size_t k = 0; k < logs.size(); ++k) {
     const std::string name =
         logs[k].source.empty() ? "log " + std::to_string(k + 1) : logs[k].source;
     try {
       if (logs.size() > 1) CheckPoolable(logs[k], name);
       kept.push_back(std::move(logs[k]));
+      kept_names.push_back(name);
     } catch (const FileError& e) {
       if (!options.skip_bad) throw;
       skipped.push_back(Skipped(name, e.what()));
@@ -216,8 +309,8 @@ FileIdentifyResult IdentifyReadLogs(std::vector<Trajectory> logs,
     throw FileError(logs.empty() ? "no logs to identify"
                                  : "every log was skipped: nothing left to identify");
   }
-  out.truth = CommonTruth(kept);
-  out.result = Identify(kept, options.identify);
+  out.result = IdentifyWithoutSpoilingLogs(&kept, &kept_names, options, &skipped, &out.warnings);
+  out.truth = CommonTruth(kept);  // of the logs fitted, without those that spoilt the pool
   AppendSkipped(std::move(skipped), &out.result);
   return out;
 }

@@ -51,6 +51,14 @@ class FileError : public std::runtime_error {
 FileIdentifyResult IdentifyFiles(const std::vector<std::string>& paths,
                                  const FileIdentifyOptions& options);
 
+/// Why `result` identifies nothing, or "" when it identifies something: the status too
+/// little excitation (its message), or a converged fit of any method in which no friction
+/// parameter is identifiable (their reasons, each once). The tools' exit 1, bad input
+/// (README, "Exit codes"); a fit that did not converge is NumericalFailure's.
+std::string NothingIdentified(const EstimateResult& result);
+/// The same of a log's own fit within a pooled one ("" for a skipped log).
+std::string NothingIdentified(const LogResult& log);
+
 /// Why `result` must not be used (a numerical failure: no convergence, a non-finite
 /// estimate), or "" when it may.
 std::string NumericalFailure(const EstimateResult& result);

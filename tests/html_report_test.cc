@@ -336,7 +336,10 @@ TEST(ReportFiles, ALogFromAPipeIsInTheReport) {
       testing::RunTool("identify", "--log " + fifo + " --method closed-form --report " + html);
   done = true;
   writer.join();
-  EXPECT_EQ(run.code, 0) << run.err;
+  // The closed form identifies nothing on the bundled log's noisy poses (exit 1); the report
+  // is written whatever the fit's outcome.
+  EXPECT_EQ(run.code, 1) << run.err;
+  EXPECT_NE(run.err.find("no friction parameter is identifiable"), std::string::npos) << run.err;
   const std::string page = testing::ReadText(html);
   EXPECT_NE(page.find("path of the CM"), std::string::npos) << page.substr(0, 2000);
   EXPECT_NE(page.find("report_pipe.csv"), std::string::npos);

@@ -213,6 +213,40 @@ TEST(IdentifyFollow, AByteOrderMarkIsSkippedAndAHeaderWithoutRowsIsAnError) {
   EXPECT_EQ(header_only.out, "");
 }
 
+// A heading of 1e17 rad (a unit error) leaves every row's theta the same: the file's reader
+// warns of it and the fit identifies nothing. The stream's reader warns as the file's does,
+// at the same line, once, and no answer after it is ok (c came out "ok" before).
+TEST(IdentifyFollow, WarnsAsTheFilesReaderDoesAndDoubtsTheAnswersAfter) {
+  Trajectory log = ReadPushLog(LogFile());
+  for (TrajectorySample& s : log.samples) s.state.theta += 1e17;
+  const std::string path =
+      ::testing::TempDir() + "/follow_theta_" + std::to_string(getpid()) + ".csv";
+  WritePushLog(log, path);
+  LogReadReport file_report;
+  ReadPushLog(path, {}, &file_report);
+  ASSERT_EQ(file_report.warnings.size(), 1u);
+  const std::string file_warning = file_report.warnings[0];  // "path:27: column 'theta': ..."
+  const std::string at = file_warning.substr(path.size(), file_warning.find(" rad ") - path.size());
+
+  const ShellRun run = Shell("$IDENTIFY --follow --every 100 < " + path);
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const size_t warned = run.err.find("identify: warning: <stdin>" + at + " rad is beyond");
+  EXPECT_NE(warned, std::string::npos) << run.err << " (expected <stdin>" << at << ")";
+  EXPECT_EQ(run.err.find("identify: warning", warned + 1), std::string::npos)
+      << "once: " << run.err;
+  const std::vector<nlohmann::json> lines = Lines(run.out);
+  ASSERT_FALSE(lines.empty());
+  for (const nlohmann::json& line : lines) {
+    for (int i = 0; i < 3; ++i) {
+      const nlohmann::json& p = line[ParameterName(i)];
+      EXPECT_NE(p["verdict"], "ok") << line.dump();
+      if (p["verdict"] == "suspect") {
+        EXPECT_NE(p["reason"].get<std::string>().find("theta"), std::string::npos) << p.dump();
+      }
+    }
+  }
+}
+
 // `command` exits with `exit_code`, saying `text` on standard error.
 void ExpectFailure(const std::string& command, int exit_code, const std::string& text) {
   const ShellRun run = Shell(command);

@@ -2,7 +2,6 @@
 // sliding object from one push log or several (docs/log-format.md; exit codes and
 // what counts as bad input: docs/robustness.md).
 
-#include <glog/logging.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -131,6 +130,7 @@ int RunFollowCommand(const cli::IdentifyRequest& request) {
   options.every = request.follow_every;
   options.online.batch_check_first_rows = request.follow_batch_check_rows;
   options.overrides = request.options.read.overrides;
+  options.warn = [](const std::string& w) { std::cerr << "identify: warning: " << w << "\n"; };
   const FollowSummary summary =
       FollowLog(std::cin, "<stdin>", options, [](const std::string& line) {
         std::cout << line << '\n' << std::flush;
@@ -203,9 +203,8 @@ int main(int argc, char** argv) {
       return tools::FlushStdout("identify");
     }
     const cli::IdentifyRequest request = cli::ReadIdentifyOptions(vm);
-    // Ceres logs a page per residual block that evaluates to NaN at a trial point of a
-    // fit; the result says how the fit ended, so keep those pages for --verbose.
-    if (!request.verbose) FLAGS_minloglevel = google::GLOG_ERROR;
+    // Ceres' own lines (estimator/ceres_logging.h) are for --verbose only.
+    if (request.verbose) SetCeresLogging(false);
     if (request.batch) return RunBatchCommand(request);
     if (request.check) return RunCheckCommand(request);
     if (request.follow) return RunFollowCommand(request);
@@ -224,8 +223,8 @@ int main(int argc, char** argv) {
     }
     const EstimateResult& result = run.result;
     const std::string what = Describe(request.files);
-    if (result.status == TerminationStatus::kTooLittleExcitation) {
-      throw tools::BadInput(what + ": " + result.message);
+    if (const std::string nothing = NothingIdentified(result); !nothing.empty()) {
+      throw tools::BadInput(what + ": " + nothing);
     }
     std::cout << (request.json ? FormatJson(result) + "\n"
                                : FormatReport(result, run.truth, request.verbose));

@@ -10,6 +10,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "estimator/ceres_logging.h"
 #include "forward_model/constants.h"
 #include "forward_model/number_format.h"
 
@@ -53,6 +54,7 @@ inline int FlushStdout(const char* tool) {
 /// kExitNumerical itself, never exceptions.
 template <typename Body>
 int RunTool(const char* tool, Body body) {
+  SetCeresLogging();  // every tool quiet; identify --verbose asks for Ceres' own lines
   try {
     return body();
   } catch (const boost::program_options::error& e) {

@@ -2,8 +2,6 @@
 // Each fold is fitted pooled on the other logs and predicts its own pushes; the pushes'
 // own fits (an oracle) and the textbook friction are predicted beside it.
 
-#include <glog/logging.h>
-
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -87,10 +85,6 @@ int main(int argc, char** argv) {
       return tools::FlushStdout("validate");
     }
     if (!vm.count("logs")) throw po::error("the option '--logs' is required");
-    // As identify without --verbose: Ceres' page per residual block that evaluates to NaN
-    // at a trial point ("Residuals: -2.359 ... -nan -nan") is not for the user; the folds'
-    // results say how each fit ended.
-    FLAGS_minloglevel = google::GLOG_ERROR;
     std::vector<Trajectory> logs;
     for (const std::string& path : ExpandFiles(vm["logs"].as<std::string>())) {
       try {

@@ -3,13 +3,12 @@
 // (the tools' messages), a numerical failure slideid.NumericalError, a file that cannot be
 // written OSError; a bad input never ends the interpreter.
 
-#include <glog/logging.h>
-
 #include <algorithm>
 #include <new>
 #include <regex>
 
 #include "core.h"
+#include "estimator/ceres_logging.h"
 
 namespace slideid::python {
 namespace {
@@ -92,9 +91,7 @@ PYBIND11_MODULE(_core, m) {
   namespace sp = slideid::python;
   m.doc() = "slideid's compiled core; use the slideid package.";
   m.attr("__version__") = SLIDEID_VERSION;
-  // Ceres logs a page per residual block that evaluates to NaN at a trial point of a fit;
-  // the result says how the fit ended (as identify without --verbose).
-  FLAGS_minloglevel = google::GLOG_ERROR;
+  slideid::SetCeresLogging();  // as the tools: the results say how each fit ended
   sp::RegisterExceptions(m);
   sp::BindLog(m);
   sp::BindIdentify(m);
