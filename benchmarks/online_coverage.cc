@@ -32,6 +32,7 @@
 #include <vector>
 
 #include "benchmarks/bench_args.h"
+#include "benchmarks/table_tool.h"
 #include "datasets/coverage_conditions.h"
 #include "datasets/scene_suite.h"
 #include "estimator/identify.h"
@@ -254,61 +255,59 @@ void RunAll(int count, int threads, bool batch, const Make& make,
   for (std::thread& t : pool) t.join();
 }
 
+int Main(int argc, char** argv) {
+  int logs = 100, threads = 1, suite_first = -1;
+  bool batch = true;
+  std::vector<std::string> names;
+  bench::Args args(argc, argv);
+  while (args.Next()) {
+    if (args.Is("--logs")) {
+      logs = args.Integer(1);
+    } else if (args.Is("--threads")) {
+      threads = args.Integer(1);
+    } else if (args.Is("--no-batch")) {
+      batch = false;
+    } else if (args.Is("--scene-suite")) {
+      suite_first = args.Integer(0);
+    } else if (args.Is("--conditions")) {
+      std::stringstream list(args.Value());
+      std::string name;
+      while (std::getline(list, name, ',')) names.push_back(name);
+    } else {
+      std::fprintf(stderr,
+                   "usage: online_coverage [--logs N] [--conditions A,B | --scene-suite FIRST] "
+                   "[--threads N] [--no-batch]\n");
+      return 2;
+    }
+  }
+  PrintHeader(suite_first >= 0 ? "scene suite logs" : "condition");
+  if (suite_first >= 0) {
+    std::map<std::string, Tally> tallies;
+    RunAll(
+        logs, threads, batch, [&](int k) { return FromSuite(suite_first + k); }, &tallies);
+    for (const std::string& group : SuiteGroups()) {
+      if (tallies.count(group)) PrintRow(group, tallies[group]);
+    }
+    return 0;
+  }
+  std::vector<CoverageCondition> conditions;
+  if (names.empty()) {
+    conditions = CoverageConditions();
+  } else {
+    for (const std::string& n : names) conditions.push_back(FindCoverageCondition(n));
+  }
+  for (const CoverageCondition& c : conditions) {
+    std::map<std::string, Tally> tallies;
+    RunAll(
+        logs, threads, batch, [&](int k) { return FromCondition(c, k); }, &tallies);
+    PrintRow(c.name, tallies[c.name]);
+  }
+  return 0;
+}
+
 }  // namespace
 }  // namespace slideid
 
 int main(int argc, char** argv) {
-  using namespace slideid;
-  int logs = 100, threads = 1, suite_first = -1;
-  bool batch = true;
-  std::vector<std::string> names;
-  try {
-    bench::Args args(argc, argv);
-    while (args.Next()) {
-      if (args.Is("--logs")) {
-        logs = args.Integer(1);
-      } else if (args.Is("--threads")) {
-        threads = args.Integer(1);
-      } else if (args.Is("--no-batch")) {
-        batch = false;
-      } else if (args.Is("--scene-suite")) {
-        suite_first = args.Integer(0);
-      } else if (args.Is("--conditions")) {
-        std::stringstream list(args.Value());
-        std::string name;
-        while (std::getline(list, name, ',')) names.push_back(name);
-      } else {
-        std::fprintf(stderr,
-                     "usage: online_coverage [--logs N] [--conditions A,B | --scene-suite FIRST] "
-                     "[--threads N] [--no-batch]\n");
-        return 2;
-      }
-    }
-    PrintHeader(suite_first >= 0 ? "scene suite logs" : "condition");
-    if (suite_first >= 0) {
-      std::map<std::string, Tally> tallies;
-      RunAll(
-          logs, threads, batch, [&](int k) { return FromSuite(suite_first + k); }, &tallies);
-      for (const std::string& group : SuiteGroups()) {
-        if (tallies.count(group)) PrintRow(group, tallies[group]);
-      }
-      return 0;
-    }
-    std::vector<CoverageCondition> conditions;
-    if (names.empty()) {
-      conditions = CoverageConditions();
-    } else {
-      for (const std::string& n : names) conditions.push_back(FindCoverageCondition(n));
-    }
-    for (const CoverageCondition& c : conditions) {
-      std::map<std::string, Tally> tallies;
-      RunAll(
-          logs, threads, batch, [&](int k) { return FromCondition(c, k); }, &tallies);
-      PrintRow(c.name, tallies[c.name]);
-    }
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "online_coverage: %s\n", e.what());
-    return 1;
-  }
-  return 0;
+  return slideid::bench::RunTableTool("online_coverage", slideid::Main, argc, argv);
 }
