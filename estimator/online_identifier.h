@@ -142,6 +142,8 @@ struct OnlineResult {
   /// Rows at which the filter had lost the motion (20 sigma off on 3 rows in a row) and
   /// restarted it from the poses, widening what it knew of the parameters.
   int relocations = 0;
+  /// Times the rows so far were filtered again from a better linearisation (early in a log).
+  int relinearisations = 0;
   int failed_steps = 0;  ///< rows whose step did not converge (the filter restarted its velocity)
   /// The batch check (OnlineOptions::batch_check_first_rows): fits run, and those the
   /// filter took over from (it had run off); the rows the last one taken covered.
@@ -173,6 +175,8 @@ class OnlineIdentifier {
 
  private:
   struct Impl;
+  static void Init(const Trajectory& metadata, const OnlineOptions& options, Impl* impl);
+  void Relinearise();
   std::unique_ptr<Impl> impl_;
 };
 
