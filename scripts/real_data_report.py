@@ -164,6 +164,7 @@ def estimates(rows):
     out = ["| push | rows | peak force N | a | b | c | identify |", "|---|---|---|---|---|---|---|"]
     values = {p[1]: [] for p in PARAMETERS}
     failures = 0
+    nothing = 0
     suspects = 0
     for r in sorted(accepted, key=lambda r: push_name(r["source"])):
         result, code, error = fit_of(r["output"])
@@ -179,19 +180,23 @@ def estimates(rows):
                 cells.append("not identifiable")
             else:
                 cells.append("-")
-        if code != 0:
+        if code != 0 and result:
+            nothing += 1  # exit 1 with the result: it identifies nothing (said per parameter)
+        elif code != 0:
             failures += 1
         if suspect_reason(result):
             suspects += 1
         reason = suspect_reason(result)
         status = ("suspect: " + reason if reason else "ok") if code == 0 else \
-            "exit {}: {}".format(code, error.replace("|", "/")[:120])
+            "exit {}: {}".format(code, re.sub(r"^identify: error: .*?\.csv: ", "", error)
+                                 .replace("|", "/")[:120])
         out.append("| {} | {} | {} | {} |".format(push_name(r["source"]), r["rows"],
                                                   fmt(number(r["peak_force_n"])), " | ".join(cells) + " | " + status))
     out += ["", "Values with their 95% intervals and verdicts as identify reports them (a = e_t mu, "
             "b = e_o/e_t, c = e_r/e_t; ? = suspect, with the first reason in the last column; an "
-            "estimate without a mark is ok). identify failed on {} of {} logs; {} of them have "
-            "suspect estimates.".format(failures, len(accepted), suspects), ""]
+            "estimate without a mark is ok). identify failed on {} of {} logs; {} identify nothing (exit "
+            "1, the reasons per parameter); {} have suspect estimates.".format(
+                failures, len(accepted), nothing, suspects), ""]
     out += ["Spread over the pushes (identifiable estimates only):", ""]
     for key, name, scale, unit in PARAMETERS:
         out.append("- {}{}: {}".format(name, " [mm]" if unit else "", spread(values[name])))

@@ -197,6 +197,9 @@ TEST(IdentifyTool, EveryMethodExitsOneWhenNothingIsIdentifiable) {
                            "the friction impulse of a step is only"),
                 std::string::npos)
           << method << ": " << o.out;
+      // The result is printed first, each parameter's reason with it (--json: its keys).
+      EXPECT_NE(o.out.find("not identifiable"), std::string::npos) << method << json;
+      if (*json) EXPECT_NE(o.out.find("\"e_r_over_e_t\""), std::string::npos) << o.out;
     }
   }
   EXPECT_EQ(RunIdentify("--log " + log).exit_code, 0);  // the trajectory fit identifies all

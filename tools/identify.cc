@@ -223,11 +223,14 @@ int main(int argc, char** argv) {
     }
     const EstimateResult& result = run.result;
     const std::string what = Describe(request.files);
-    if (const std::string nothing = NothingIdentified(result); !nothing.empty()) {
-      throw tools::BadInput(what + ": " + nothing);
-    }
+    // Printed whatever the outcome, as the report is: a fit that identifies nothing says why
+    // per parameter (and --json keeps its documented keys) before the exit code says so.
     std::cout << (request.json ? FormatJson(result) + "\n"
                                : FormatReport(result, run.truth, request.verbose));
+    if (const std::string nothing = NothingIdentified(result); !nothing.empty()) {
+      std::cout.flush();
+      throw tools::BadInput(what + ": " + nothing);
+    }
     if (const std::string failure = NumericalFailure(result); !failure.empty()) {
       std::cerr << "identify: error: " << what << ": " << failure << "; no residuals written\n";
       return tools::kExitNumerical;
