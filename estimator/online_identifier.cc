@@ -60,10 +60,10 @@ constexpr double kHalfNormalMedian = 0.6744897501960817;
 constexpr double kStartSpeedSigma_mps = 0.3;
 /// The row over which OnlineOptions::model_acceleration_mps2 moves the velocity by that
 /// acceleration times the row (1 sigma) [s]: a 100 Hz row, the rate it was set at. Over a row
-/// of h it moves it by sqrt(h / this) as much. (Until 2026-11-27 every row took the
+/// of h it moves it by sqrt(h / this) as much. (Before 2026-11-28 every row took the
 /// acceleration times its own length, so a 1 kHz log had a tenth of the allowance per second
-/// of a 100 Hz log, and its intervals held the truth in 75-88% of the scene suite's 1 kHz
-/// logs: docs/online.md.)
+/// of a 100 Hz log, and at the end c's intervals held the truth in 75-76% of the scene
+/// suite's held-out 1 kHz logs: docs/online.md.)
 constexpr double kModelAccelerationRow_s = 0.01;
 /// A row whose innovation exceeds this NIS (the 1e-4 tail of chi-square(3)) is weighted
 /// down as Huber weights a residual (an outlier of motion capture: a marker swap).

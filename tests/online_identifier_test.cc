@@ -136,7 +136,7 @@ TEST(OnlineIdentifier, EndsInsideTheBatchFitsIntervalAndItsIntervalsHoldTheTruth
 
 // Logs of the scene suite (datasets/scene_suite.h) at 1 kHz, beyond the coverage suite's
 // 100 Hz: the process noise's acceleration is a white noise, the same allowance per second
-// at any rate. Until it was (2026-11-27) each row took the acceleration times its own length,
+// at any rate. Before 2026-11-28 each row took the acceleration times its own length,
 // a tenth of the allowance per second at 1 kHz.
 TEST(OnlineIdentifier, ItsIntervalsHoldTheTruthAtOneKilohertzToo) {
   // The first kHighRateLogs logs at 1 kHz of the suite drawn with at most kMaxRows rows (0.1
