@@ -121,9 +121,10 @@ constexpr double kChangeRankFraction = 1e-8;
 /// whose a is too low slides and is pulled up by the poses.
 constexpr double kPriorA = 0.15;
 /// The rows at which the filter is run again over the rows so far, linearised from where it
-/// has got to (OnlineIdentifier::Relinearise): twice and four times warmup_rows. Before the
-/// first batch check (batch_check_first_rows), so a replay runs no fit.
-constexpr int kRelineariseWarmups[] = {2, 4};
+/// has got to (OnlineIdentifier::Relinearise), in half warm-ups (warmup_rows / 2): 1.5, 2, 3
+/// and 4 warm-ups, each a third to a half more rows than the last. Before the first batch
+/// check (batch_check_first_rows), so a replay runs no fit.
+constexpr int kRelineariseHalfWarmups[] = {3, 4, 6, 8};
 
 bool Fail(std::string* why, const std::string& text) {
   if (why) *why = text;
@@ -1149,10 +1150,10 @@ const OnlineResult& OnlineIdentifier::Update(const TrajectorySample& row) {
   if (m.replaying) return m.result;
   const int rows = m.result.rows;
   const int last_replay_rows =
-      kRelineariseWarmups[std::size(kRelineariseWarmups) - 1] * m.options.warmup_rows;
+      kRelineariseHalfWarmups[std::size(kRelineariseHalfWarmups) - 1] * m.options.warmup_rows / 2;
   if (rows <= last_replay_rows) m.early_rows.push_back(row);
-  for (int w : kRelineariseWarmups) {
-    if (rows == w * m.options.warmup_rows) {
+  for (int w : kRelineariseHalfWarmups) {
+    if (rows == w * m.options.warmup_rows / 2) {
       Relinearise();  // may replace *impl_: `m` is not used after it
       break;
     }
@@ -1166,7 +1167,7 @@ const OnlineResult& OnlineIdentifier::Update(const TrajectorySample& row) {
 // error in it, and it decays only as rows come. On a noise-free free slide of the scene suite
 // (log 12112: a flat box thrown spinning at 17 rad/s, 200 Hz) the estimate of a was 6% over
 // the truth 20 rows in and 1.2% over 120 rows in, where started at the truth it stays there.
-// So at kRelineariseWarmups the rows so far are filtered again from the start, the prior's
+// So at kRelineariseHalfWarmups the rows so far are filtered again from the start, the prior's
 // mean moved to the estimate (which linearises the early rows there), and the result
 // corrected back to the prior's own mean: for a linear model the posterior mean moves by
 // P_.p Sigma0^-1 (m0 - m1) when the prior mean of the parameters moves from m1 to m0
