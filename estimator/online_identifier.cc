@@ -1175,8 +1175,10 @@ const OnlineResult& OnlineIdentifier::Update(const TrajectorySample& row) {
 // are no larger in sum than the first pass's (a linearisation that explains the rows better).
 void OnlineIdentifier::Relinearise() {
   Impl& first = *impl_;
+  // Not after a change, a relocation or a batch check (with batch_check_first_rows under the
+  // replays' rows): a replay would run its fit again, or start from another surface's rows.
   if (!first.result.started || first.result.change_detected || !first.result.changes.empty() ||
-      first.taken_over || first.result.relocations > 0) {
+      first.result.batch_checks > 0 || first.result.relocations > 0) {
     return;
   }
   auto replay = std::make_unique<Impl>();
