@@ -402,11 +402,10 @@ struct OnlineIdentifier::Impl {
   std::optional<PusherFrictionStream> tip;  // mu_p, where the log has the tip
   // Relinearisation (OnlineIdentifier::Relinearise): the log's metadata and its rows so far,
   // kept while a replay may come; the prior mean of (log a, log b, log c) the filter's own
-  // prior has (prior_mean, which a replay moves to linearise from there); the replays done.
+  // prior has (prior_mean, which a replay moves to linearise from there).
   Trajectory metadata;
   std::vector<TrajectorySample> early_rows;
   Eigen::Vector3d own_prior_mean = Eigen::Vector3d::Zero();
-  int relinearisations = 0;
   bool replaying = false;
 
   void ReadNoise() {
@@ -1200,8 +1199,7 @@ void OnlineIdentifier::Relinearise() {
       prior_information * (again.own_prior_mean - again.prior_mean.segment<3>(kPar));
   again.x += again.P.middleCols<3>(kPar) * back;
   again.early_rows = std::move(replay->early_rows);
-  again.relinearisations = replay->relinearisations + 1;
-  again.result.relinearisations = again.relinearisations;
+  again.result.relinearisations = replay->result.relinearisations + 1;
   again.Report();
 }
 

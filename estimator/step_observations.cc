@@ -131,7 +131,7 @@ std::string RateTooHighForItsNoise(const Trajectory& log, const StepNoise& noise
   std::vector<double> moving;
   for (size_t j = 0; j + k < log.samples.size(); j += k) {
     bool gap = false;
-    for (size_t u = j + 1; u <= j + k; ++u) gap |= log.samples[u].mode == SampleMode::kStart;
+    for (size_t u = j + 1; u <= j + k; ++u) gap |= StartsRun(log, u);
     const TrajectorySample& first = log.samples[j];
     const TrajectorySample& last = log.samples[j + k];
     const double span = last.t_s - first.t_s;

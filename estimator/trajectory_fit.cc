@@ -1015,15 +1015,11 @@ void RobustStage(FitStages* f) {
   f->residual_scale = ResidualRowScale(problem);
 }
 
-// The slider's numbers and the largest push of `log`: where an overflow comes from.
-std::string Magnitudes(const Trajectory& log) {
-  double push = 0;
-  for (const TrajectorySample& s : log.samples) {
-    push = std::max(push, std::hypot(s.applied.fx, s.applied.fy));
-  }
-  const SliderProperties& m = log.slider;
+// The slider's numbers and the largest push of a log (its diagnostics'): where an overflow
+// comes from.
+std::string Magnitudes(const SliderProperties& m, double max_push_n) {
   return Printf("mass %g kg, inertia %g kg m^2, gravity %g m/s^2, largest push %g N", m.mass_kg,
-                m.inertia_kgm2, m.gravity_mps2, push);
+                m.inertia_kgm2, m.gravity_mps2, max_push_n);
 }
 
 // Why the fit cannot even start, or "": its first solve failed (Ceres could not evaluate the
@@ -1044,8 +1040,8 @@ std::string OverflowAtStart(const FitStages& f) {
          "the numbers are outside the range the model can handle: its simulated motion "
          "overflows (is not finite) at the fit's start, from row " +
          std::to_string(first->first_row) +
-         " (t = " + ShortNumber(log.samples[first->first_row].t_s) + " s) on (" + Magnitudes(log) +
-         "; a unit error?)";
+         " (t = " + ShortNumber(log.samples[first->first_row].t_s) + " s) on (" +
+         Magnitudes(log.slider, f.diagnostics[first->log].max_push_n) + "; a unit error?)";
 }
 
 // What the identifiability stage found.

@@ -645,9 +645,9 @@ constexpr double kVelocityNoiseSigmas = 4;
 constexpr double kVelocityDisagreeFraction = 0.1;
 
 /// The spread of white noise whose changes (`changes`, absolute) are `change_factor`
-/// (sqrt(3) or sqrt(2)) times as wide as it: from their median.
+/// (sqrt(3) or sqrt(2)) times as wide as it: from their median (the MAD's scale).
 double NoiseOfChanges(std::vector<double> changes, double change_factor) {
-  return changes.empty() ? 0.0 : Median(std::move(changes)) / (0.6745 * change_factor);
+  return changes.empty() ? 0.0 : kMadToSigma * Median(std::move(changes)) / change_factor;
 }
 
 /// One velocity column against the poses' differences: how many intervals disagree, and the

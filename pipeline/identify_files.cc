@@ -123,9 +123,9 @@ EstimateResult IdentifyWithoutSpoilingLogs(std::vector<Trajectory>* logs,
   EstimateResult result = Identify(*logs, options.identify);
   const std::vector<size_t> spoiling = SpoilingLogs(result);
   if (spoiling.empty()) return result;
+  const std::string pooled = NothingIdentified(result);
   for (size_t k : spoiling) {
     const std::string own = NothingOfItsOwn(result.logs[k]);
-    const std::string pooled = NothingIdentified(result);
     std::string why = "identifies nothing on its own (" + own +
                       "), and pooled with logs that do, it leaves the fit identifying nothing";
     if (pooled.find(own) == std::string::npos) why += " (" + pooled + ")";
