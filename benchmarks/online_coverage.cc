@@ -19,6 +19,7 @@
 // SLIDEID_ONLINE_Z=1 prints each log's standardized errors (log(value / truth) over the
 // interval's standard error) at the four points, and the rows of the last batch takeover.
 
+#include <algorithm>
 #include <array>
 #include <atomic>
 #include <cmath>
@@ -145,6 +146,37 @@ void Trace(const MadeLog& made, int index, int rows, const std::vector<OnlineRes
   }
 }
 
+// OnlineOptions as the experiment hooks set them (the file's comment).
+OnlineOptions HookedOptions() {
+  OnlineOptions options;
+  options.detect_changes = !std::getenv("SLIDEID_ONLINE_NO_CHANGES");
+  if (const char* v = std::getenv("SLIDEID_ONLINE_FORCE"))
+    options.force_noise_fraction = std::atof(v);
+  if (const char* v = std::getenv("SLIDEID_ONLINE_ACC"))
+    options.model_acceleration_mps2 = std::atof(v);
+  if (const char* v = std::getenv("SLIDEID_ONLINE_BATCH_CHECK"))
+    options.batch_check_first_rows = std::atoi(v);
+  return options;
+}
+
+// SLIDEID_ONLINE_TRACE=K: every 5th row of log K, run again row by row, on stderr.
+void TraceRows(const MadeLog& made, int index, const OnlineOptions& options) {
+  const char* trace = std::getenv("SLIDEID_ONLINE_TRACE");
+  if (!trace || std::atoi(trace) != index) return;
+  const std::vector<OnlineResult> all = RunOnline(made.log, options);
+  for (size_t u = 0; u < all.size(); u += 5) {
+    const OnlineResult& r = all[u];
+    const TrajectorySample& row = made.log.samples[u];
+    std::fprintf(stderr,
+                 "%zu t %.2f f %.3f %.3f | %.4g %.4g %.4g held %.4g %.4g %.4g nis %.3g v %.4f "
+                 "%.4f %.4f\n",
+                 u, r.t_s, row.applied.fx, row.applied.fy, r.parameters[0].value,
+                 r.parameters[1].value, r.parameters[2].value, r.parameters[0].held_at,
+                 r.parameters[1].held_at, r.parameters[2].held_at, r.nis, r.state.vx, r.state.vy,
+                 r.state.wz);
+  }
+}
+
 void RunLog(const MadeLog& made, int index, bool batch, std::map<std::string, Tally>* tallies,
             std::mutex* mutex) {
   const std::string& name = made.name;
@@ -154,30 +186,9 @@ void RunLog(const MadeLog& made, int index, bool batch, std::map<std::string, Ta
   std::vector<OnlineResult> results;
   bool failed = false;
   try {
-    OnlineOptions options;
-    options.detect_changes = !std::getenv("SLIDEID_ONLINE_NO_CHANGES");
-    if (const char* v = std::getenv("SLIDEID_ONLINE_FORCE"))
-      options.force_noise_fraction = std::atof(v);
-    if (const char* v = std::getenv("SLIDEID_ONLINE_ACC"))
-      options.model_acceleration_mps2 = std::atof(v);
-    if (const char* v = std::getenv("SLIDEID_ONLINE_BATCH_CHECK"))
-      options.batch_check_first_rows = std::atoi(v);
+    const OnlineOptions options = HookedOptions();
     results = RunOnline(made.log, options, keep);
-    if (const char* trace = std::getenv("SLIDEID_ONLINE_TRACE");
-        trace && std::atoi(trace) == index) {
-      const std::vector<OnlineResult> all = RunOnline(made.log, options);
-      for (size_t u = 0; u < all.size(); u += 5) {
-        const OnlineResult& r = all[u];
-        const TrajectorySample& row = made.log.samples[u];
-        std::fprintf(stderr,
-                     "%zu t %.2f f %.3f %.3f | %.4g %.4g %.4g held %.4g %.4g %.4g nis %.3g v %.4f "
-                     "%.4f %.4f\n",
-                     u, r.t_s, row.applied.fx, row.applied.fy, r.parameters[0].value,
-                     r.parameters[1].value, r.parameters[2].value, r.parameters[0].held_at,
-                     r.parameters[1].held_at, r.parameters[2].held_at, r.nis, r.state.vx,
-                     r.state.vy, r.state.wz);
-      }
-    }
+    TraceRows(made, index, options);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "%s log %d: %s\n", name.c_str(), index, e.what());
     failed = true;
@@ -287,6 +298,10 @@ int Main(int argc, char** argv) {
         logs, threads, batch, [&](int k) { return FromSuite(suite_first + k); }, &tallies);
     for (const std::string& group : SuiteGroups()) {
       if (tallies.count(group)) PrintRow(group, tallies[group]);
+    }
+    for (const auto& [group, tally] : tallies) {  // a rate the list does not name
+      const auto& listed = SuiteGroups();
+      if (std::find(listed.begin(), listed.end(), group) == listed.end()) PrintRow(group, tally);
     }
     return 0;
   }
