@@ -102,7 +102,31 @@ struct SegmentShare {
   Eigen::VectorXd extra_score;
   double sum_squares = 0;
   int residuals = 0;
+  std::array<Eigen::MatrixXd, 3> channel_h;  ///< m x m, when asked for
+  std::array<double, 3> channel_sum_squares{};
 };
+
+/// Each residual channel's share of a segment's information, J_m^T J_m over the channel's
+/// rows (every third, from `channel`), with J_m = J_g - J_s P (J_s^T J_g) the globals'
+/// columns projected as MarginaliseState does (P the pseudo-inverse of J_s^T J_s): A holds
+/// [J_s, J_g, ...] and `gram` its Gram matrix.
+void ChannelShares(const Eigen::MatrixXd& A, const Eigen::MatrixXd& gram, int m,
+                   SegmentShare* share) {
+  const Matrix66 Hss = gram.topLeftCorner<6, 6>();
+  const Eigen::MatrixXd state_part =
+      Hss.completeOrthogonalDecomposition().pseudoInverse() * gram.block(0, 6, 6, m);
+  const Eigen::MatrixXd projected = A.middleCols(6, m) - A.leftCols<6>() * state_part;
+  const Eigen::Index n = A.rows();
+  for (int c = 0; c < 3; ++c) {
+    share->channel_h[c] = Eigen::MatrixXd::Zero(m, m);
+    double ss = 0;
+    for (Eigen::Index i = c; i < n; i += 3) {
+      share->channel_h[c].noalias() += projected.row(i).transpose() * projected.row(i);
+      ss += A(i, A.cols() - 1) * A(i, A.cols() - 1);
+    }
+    share->channel_sum_squares[c] = ss;
+  }
+}
 
 }  // namespace
 
@@ -818,6 +842,7 @@ ceres::Solver::Summary TrajectoryProblem::Solve(const std::vector<bool>& free, b
 FitInformation TrajectoryProblem::Information(const std::function<Eigen::MatrixXd(int)>* extra) {
   const int G = num_global();
   const bool keep = KeepsJacobians();
+  const bool per_channel = static_cast<int>(segments_.size()) < kWhiteFloorClusters;
   std::vector<SegmentShare> shares(segments_.size());
   ParallelFor(static_cast<int>(segments_.size()), options_.threads, [&](int k) {
     TrajectorySegment& seg = segments_[k];
@@ -876,6 +901,7 @@ FitInformation TrajectoryProblem::Information(const std::function<Eigen::MatrixX
       share.extra_h = projected.block(m, m, x, x);
       share.extra_score = projected.block(m, m + x, x, 1);
     }
+    if (per_channel) ChannelShares(A, gram, m, &share);
     const Eigen::Map<const Eigen::VectorXd> rv(r.data(), n);
     share.sum_squares = rv.squaredNorm();
     share.residuals = n;
@@ -884,6 +910,7 @@ FitInformation TrajectoryProblem::Information(const std::function<Eigen::MatrixX
 
   FitInformation info;
   info.fisher = Eigen::MatrixXd::Zero(G, G);
+  if (per_channel) info.channel_fisher.assign(3, Eigen::MatrixXd::Zero(G, G));
   info.segment_score_outer = Eigen::MatrixXd::Zero(G, G);
   info.log_score_outer = Eigen::MatrixXd::Zero(G, G);
   std::vector<Eigen::VectorXd> log_score(logs_.size(), Eigen::VectorXd::Zero(G));
@@ -897,6 +924,10 @@ FitInformation TrajectoryProblem::Information(const std::function<Eigen::MatrixX
     Eigen::MatrixXd h = Eigen::MatrixXd::Zero(G, G);
     AddAtColumns(s.columns, s.h, &h);
     info.fisher += h;
+    for (int c = 0; per_channel && c < 3; ++c) {
+      AddAtColumns(s.columns, s.channel_h[c], &info.channel_fisher[c]);
+      info.channel_sum_squares[c] += s.channel_sum_squares[c];
+    }
     SegmentInformation si{segments_[k].log,
                           std::move(h),
                           g,

@@ -132,13 +132,15 @@ TEST(SceneSuite, AParameterDeterminedOnlyByHoldingAnotherIsNotReportedAsKnown) {
 // noise hides the friction's curvature, and the fit of these two free slides at 1 kHz went
 // to another basin: log 9060 (0.8 mm noise) ended at a = 0.0006 and c = 4.6 m for a truth
 // of 0.18 and 0.016 m, both suspect; log 7458 at b 98% low, 11.8 standard errors off.
+// (7458's a, 46% high, has an interval spanning a factor 7 since the white-noise interval
+// takes each channel's own noise (2026-11-28): not determined by its 0.18 s of slide.)
 TEST(SceneSuite, HighRateFreeSlidesAreSeededOverHeadsOfLogTime) {
   for (const int index : {9060, 7458}) {
     const SuiteLog made = MakeSuiteLog(index);
     ASSERT_EQ(made.rate_hz, 1000) << made.Describe();
     ASSERT_EQ(made.motion, SuiteMotion::kFreeSlide) << made.Describe();
     const EstimateResult r = Identify(made.log, IdentifyOptions{});
-    ASSERT_TRUE(r.parameters[kA].identifiable) << index << ": " << r.parameters[kA].reason;
+    ASSERT_TRUE(r.parameters[kB].identifiable) << index << ": " << r.parameters[kB].reason;
     for (int i = 0; i < 3; ++i) {
       const ParameterEstimate& p = r.parameters[i];
       if (!p.identifiable) continue;
@@ -263,6 +265,53 @@ TEST(SceneSuite, AFreeSlideInLongSegmentsIsMorePreciseAndItsIntervalsStillHold) 
                 ParameterName(i), 100 * ours, 100 * theirs);
     EXPECT_LE(ours, theirs / 2) << ParameterName(i);
   }
+}
+
+// The white-noise interval of a log fitted in few segments weighs each residual channel by
+// its own noise. The hold-out-like free slide's heading (3 mrad times L = 3.5 cm: 0.11 mm)
+// is five times finer than its position (0.5 mm); one variance pooled over the three
+// channels understated the position's, on which a and b rest, and overstated the heading's,
+// on which c does. Two ways of the same spread: over 150 noise draws of one slide, the
+// estimates' own spread (log units) over the intervals' standard error (RMS). Measured when
+// written: a, b, c 0.98, 1.00, 0.75 with each channel's noise (c's interval also carries the
+// time step's allowance); 1.16, 1.21, 0.48 with one variance; 427 of 450 intervals held the
+// truth (416 before).
+TEST(SceneSuite, TheWhiteNoiseIntervalTakesEachChannelsOwnNoise) {
+  LoggedScene scene =
+      LoadScene(std::string(SLIDEID_SOURCE_DIR) + "/datasets/scenes/holdout_free_disk.ini");
+  const ReducedFriction truth = scene.friction.reduced();
+  const SimulationResult sim = Simulate(scene);
+  ASSERT_TRUE(sim.summary.ok()) << sim.summary.message;
+  constexpr int kDraws = 150;
+  std::array<std::vector<double>, 3> log_error, log_stderr;
+  int estimates = 0, covered = 0;
+  for (int seed = 1000; seed < 1000 + kDraws; ++seed) {
+    scene.log.noise.seed = seed;
+    const EstimateResult r = Identify(MakeLog(sim.trajectory, scene.log), IdentifyOptions{});
+    for (int i = 0; i < 3; ++i) {
+      const ParameterEstimate& p = r.parameters[i];
+      ASSERT_TRUE(p.identifiable) << ParameterName(i) << ": " << p.reason;
+      ASSERT_NE(p.note.find("treats the residuals as independent"), std::string::npos) << p.note;
+      log_error[i].push_back(std::log(p.value / truth[i]));
+      log_stderr[i].push_back(std::log(p.ci95_hi / p.ci95_lo) / (2 * p.interval_quantile));
+      ++estimates;
+      covered += p.ci95_lo <= truth[i] && truth[i] <= p.ci95_hi;
+    }
+  }
+  for (int i = 0; i < 3; ++i) {
+    double mean = 0, spread = 0, rms_stderr = 0;
+    for (double e : log_error[i]) mean += e / kDraws;
+    for (double e : log_error[i]) spread += (e - mean) * (e - mean) / (kDraws - 1);
+    for (double s : log_stderr[i]) rms_stderr += s * s / kDraws;
+    const double ratio = std::sqrt(spread / rms_stderr);
+    std::printf("%s: estimates spread %.3g (log), intervals' standard error %.3g: ratio %.2f\n",
+                ParameterName(i), std::sqrt(spread), std::sqrt(rms_stderr), ratio);
+    // The ratio's own sampling error over 150 draws is about 6%.
+    EXPECT_GT(ratio, 0.65) << ParameterName(i);
+    EXPECT_LT(ratio, 1.15) << ParameterName(i);
+  }
+  std::printf("%d of %d intervals hold the truth\n", covered, estimates);
+  EXPECT_GE(covered, estimates * 91 / 100);
 }
 
 TEST(SceneSuite, HoldOutLikePushAt250HzComesOutWithinItsIntervalsAndOnePointFivePercent) {

@@ -76,6 +76,11 @@ constexpr double kMaxAutoSegment_s = 1.0;
 constexpr int kMinRobustSegments = 5;
 /// A short log's segments are shortened to give it kMinRobustSegments, down to this.
 constexpr int kMinShortSegmentSteps = 10;
+/// Below this many segments the fit's intervals lean on the white-noise covariance (alone
+/// below kMinRobustSegments, as a floor under the cluster-robust one up to here:
+/// trajectory_fit.cc), so Information() also gives each residual channel's share of the
+/// information (FitInformation::channel_fisher).
+constexpr int kWhiteFloorClusters = 8;
 
 /// Residuals below this [m or m/s] are rounding, not noise: a log whose noise is below it
 /// needs no robust loss (and a zero scale would make the loss degenerate).
@@ -128,6 +133,14 @@ struct FitInformation {
   int logs = 0;                                 ///< logs with at least one such segment
   double sum_squares = 0;                       ///< of the (row-loss) residuals used
   int residuals = 0;
+  /// Per residual channel (x, y, L theta; or v_x, v_y, L w_z), over problems of fewer than
+  /// kWhiteFloorClusters segments (empty otherwise): the G x G information of that
+  /// channel's rows, J~_c^T J~_c with J~ projected as for `fisher` (the three sum to it),
+  /// and the sum of squares of its residuals. A log's channels need not be equally noisy
+  /// (motion capture's heading times L is often several times finer than its position),
+  /// and one variance for all then misstates the white-noise covariance.
+  std::vector<Eigen::MatrixXd> channel_fisher;
+  std::array<double, 3> channel_sum_squares{};
 };
 
 class TrajectoryProblem {
