@@ -125,6 +125,13 @@ constexpr double kPriorA = 0.15;
 /// and 4 warm-ups, each a third to a half more rows than the last. Before the first batch
 /// check (batch_check_first_rows), so a replay runs no fit.
 constexpr int kRelineariseHalfWarmups[] = {3, 4, 6, 8};
+/// A batch check's fit that determines a parameter ok more than this many standard errors
+/// (the two estimates' variances added) from the filter's marks the filter's suspect until
+/// the next check (but a takeover, batch_check_sigmas, moves it there instead). Two
+/// calibrated estimates of the same rows lie so far apart in 0.27% of logs, or less where
+/// their errors are correlated.
+constexpr double kCheckDoubtSigmas = 3.0;
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 bool Fail(std::string* why, const std::string& text) {
   if (why) *why = text;
@@ -279,10 +286,19 @@ struct LogParameterGaussian {
   std::size_t rows = 0;
 };
 
-/// The trajectory fit of `log` for the batch check; nothing where it does not find a, b and
-/// c all ok (or refuses the rows: too short, say).
-std::optional<LogParameterGaussian> FitRowsSoFar(const Trajectory& log, int substeps,
-                                                 bool correct_mismatch) {
+/// What a batch check's fit says: its Gaussian where it finds a, b and c all ok, and per
+/// parameter, where it is ok, its log value and the interval's standard error (NaN
+/// otherwise).
+struct BatchCheckFit {
+  std::optional<LogParameterGaussian> gaussian;
+  Eigen::Vector3d log_value = Eigen::Vector3d::Constant(kNaN);
+  Eigen::Vector3d log_sd = Eigen::Vector3d::Constant(kNaN);
+  std::size_t rows = 0;
+};
+
+/// The batch check's Gaussian (FitRowsSoFar), and the per-parameter part of `out`.
+std::optional<LogParameterGaussian> GaussianOfFit(const Trajectory& log, int substeps,
+                                                  bool correct_mismatch, BatchCheckFit* out) {
   IdentifyOptions o;
   o.method = EstimatorMethod::kTrajectory;
   o.threads = 1;
@@ -296,16 +312,19 @@ std::optional<LogParameterGaussian> FitRowsSoFar(const Trajectory& log, int subs
     return std::nullopt;
   }
   if (!fit.converged) return std::nullopt;
-  LogParameterGaussian g;
-  g.rows = log.samples.size();
-  Eigen::Vector3d sd;
   for (int i = 0; i < 3; ++i) {
     const ParameterEstimate& p = fit.parameters[i];
-    if (p.verdict != Verdict::kOk) return std::nullopt;
-    g.mean(i) = std::log(p.value);
-    sd(i) = std::log(p.ci95_hi / p.ci95_lo) / (2 * kZ95);  // the interval's, t widened
-    if (!(sd(i) > 0) || !std::isfinite(sd(i) + g.mean(i))) return std::nullopt;
+    if (p.verdict != Verdict::kOk) continue;
+    const double sd = std::log(p.ci95_hi / p.ci95_lo) / (2 * kZ95);  // the interval's, t widened
+    if (!(sd > 0) || !std::isfinite(sd + std::log(p.value))) continue;
+    out->log_value(i) = std::log(p.value);
+    out->log_sd(i) = sd;
   }
+  LogParameterGaussian g;
+  g.rows = log.samples.size();
+  const Eigen::Vector3d sd = out->log_sd;
+  if (!sd.allFinite()) return std::nullopt;
+  g.mean = out->log_value;
   for (int i = 0; i < 3; ++i) {
     for (int j = 0; j < 3; ++j) {
       const double r = i == j ? 1.0 : fit.correlation[i][j];
@@ -314,6 +333,15 @@ std::optional<LogParameterGaussian> FitRowsSoFar(const Trajectory& log, int subs
     }
   }
   return g;
+}
+
+/// The trajectory fit of `log` for the batch check; no Gaussian where it does not find a, b
+/// and c all ok (or refuses the rows: too short, say).
+BatchCheckFit FitRowsSoFar(const Trajectory& log, int substeps, bool correct_mismatch) {
+  BatchCheckFit out;
+  out.rows = log.samples.size();
+  out.gaussian = GaussianOfFit(log, substeps, correct_mismatch, &out);
+  return out;
 }
 
 }  // namespace
@@ -395,8 +423,11 @@ struct OnlineIdentifier::Impl {
   std::size_t next_check_rows = 0;
   // A check on its own thread (OnlineOptions::batch_check_thread), and the surface (counted
   // by changes found) whose rows it fits.
-  std::future<std::optional<LogParameterGaussian>> pending_check;
+  std::future<BatchCheckFit> pending_check;
   int surface = 0, pending_surface = 0;
+  // Per parameter, why the last check's fit doubts the filter's estimate (empty: it does
+  // not): marked suspect until a later check finds no doubt (MarkWhatTheCheckDoubts).
+  std::array<std::string, 3> check_doubt;
   bool taken_over = false;
   Eigen::Matrix3d takeover_information = Eigen::Matrix3d::Zero();
   std::optional<PusherFrictionStream> tip;  // mu_p, where the log has the tip
@@ -679,6 +710,7 @@ struct OnlineIdentifier::Impl {
     recent.clear();
     lost_rows = 0;
     ++surface;
+    check_doubt = {};
     if (options.batch_check_first_rows > 0) {
       batch_log.samples.clear();
       for (const auto& r : again) batch_log.samples.push_back(r.second);
@@ -938,6 +970,19 @@ struct OnlineIdentifier::Impl {
       p.interval_quantile = q;
     }
     JudgeEstimates(Plausibility(), &result.parameters);
+    MarkWhatTheCheckDoubts();
+  }
+
+  // Where the last check's fit and the filter disagree (kCheckDoubtSigmas) without a
+  // takeover, one of them is wrong: the filter's estimate is marked suspect (not withdrawn:
+  // the fit of a prefix cut within a push is the less reliable of the two as often).
+  void MarkWhatTheCheckDoubts() {
+    for (int i = 0; i < 3; ++i) {
+      ParameterEstimate& p = result.parameters[i];
+      if (check_doubt[i].empty() || p.verdict != Verdict::kOk) continue;
+      p.verdict = Verdict::kSuspect;
+      p.reason = check_doubt[i];
+    }
   }
 
   // The variances of log a, b, c the intervals come from: the filter's, each widened by its
@@ -994,10 +1039,7 @@ struct OnlineIdentifier::Impl {
       }
     }
     ++result.batch_checks;
-    if (const std::optional<LogParameterGaussian> fit =
-            FitRowsSoFar(batch_log, options.substeps, options.fit_mismatch)) {
-      TakeOverIfApart(*fit);
-    }
+    ApplyCheck(FitRowsSoFar(batch_log, options.substeps, options.fit_mismatch));
   }
 
   // The verdict of a check run on its thread, once it is in (`wait`: waiting for it).
@@ -1005,25 +1047,42 @@ struct OnlineIdentifier::Impl {
     if (!pending_check.valid()) return;
     if (!wait && pending_check.wait_for(std::chrono::seconds(0)) != std::future_status::ready)
       return;
-    const std::optional<LogParameterGaussian> fit = pending_check.get();
+    const BatchCheckFit fit = pending_check.get();
     // A fit of the rows before a change found since says nothing of the new surface.
-    if (fit && pending_surface == surface) TakeOverIfApart(*fit);
+    if (pending_surface == surface) ApplyCheck(fit);
+  }
+
+  void ApplyCheck(const BatchCheckFit& fit) {
+    const bool took_over = fit.gaussian && TakeOverIfApart(*fit.gaussian);
+    const std::string rows = std::to_string(fit.rows);
+    for (int i = 0; i < 3; ++i) {
+      check_doubt[i].clear();
+      if (took_over) continue;
+      const double sd = std::sqrt(fit.log_sd(i) * fit.log_sd(i) + P(kPar + i, kPar + i));
+      const double apart = std::abs(fit.log_value(i) - x(kPar + i)) / sd;
+      if (apart > kCheckDoubtSigmas) {  // false for a parameter the fit did not find ok
+        check_doubt[i] = Printf(
+            "a trajectory fit of the first %s rows (the last batch check) lies %.1f standard "
+            "errors from the filter's estimate",
+            rows, apart);
+      }
+    }
   }
 
   // Where the fit and the filter lie more than batch_check_sigmas apart in a parameter, the
   // filter ran off: it takes the fit's estimate and covariance. Otherwise it goes on as it
   // was (taking the fit's every time ties the online estimate to fits of a prefix, whose
   // intervals on a few segments are less reliable than the filter's: docs/online.md).
-  void TakeOverIfApart(const LogParameterGaussian& fit) {
+  bool TakeOverIfApart(const LogParameterGaussian& fit) {
     bool apart = false;
     for (int i = 0; i < 3; ++i) {
       const double sd = std::sqrt(fit.covariance(i, i) + P(kPar + i, kPar + i));
       apart |= std::abs(fit.mean(i) - x(kPar + i)) > options.batch_check_sigmas * sd;
     }
-    if (!apart) return;
+    if (!apart) return false;
     const Eigen::LDLT<Eigen::Matrix3d> c(fit.covariance);
-    if (c.info() != Eigen::Success || !c.isPositive()) return;
-    if (!TakeParameters(fit.mean, fit.covariance)) return;
+    if (c.info() != Eigen::Success || !c.isPositive()) return false;
+    if (!TakeParameters(fit.mean, fit.covariance)) return false;
     takeover_information = c.solve(Eigen::Matrix3d::Identity());
     taken_over = true;
     ++result.batch_takeovers;
@@ -1031,6 +1090,7 @@ struct OnlineIdentifier::Impl {
     // The change windows' signatures are of the filter before its parameters moved.
     windows.clear();
     ClearOpenWindows();
+    return true;
   }
 
   // The parameters' marginal becomes N(mean, covariance); the other states' conditional on

@@ -105,8 +105,10 @@ struct OnlineResult {
   int rows = 0;          ///< rows received
   double t_s = 0;        ///< time of the last row [s]
   bool started = false;  ///< the filter runs (warm-up done)
-  /// a, b, c with intervals exp(log +- z95 sigma) and verdicts: ok, or not identifiable
-  /// while the interval spans more than kMaxIntervalFactor (the prior's width).
+  /// a, b, c with intervals exp(log +- z95 sigma) and verdicts: ok; not identifiable while
+  /// the interval spans more than kMaxIntervalFactor (the prior's width); suspect where the
+  /// batch fit's plausibility checks fail, or where the last batch check's fit lies more
+  /// than 3 standard errors from the estimate without taking it over (the reason says).
   std::array<ParameterEstimate, 3> parameters;
   /// mu_p, the tip-edge friction, where the log has the tip's path, its radius and the
   /// outline (examined): the batch fit's estimate (estimator/pusher_friction.h) from the rows

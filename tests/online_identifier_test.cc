@@ -150,7 +150,7 @@ TEST(OnlineIdentifier, ItsIntervalsHoldTheTruthAtOneKilohertzToo) {
   // binomial standard errors of 135 (2 x 2.2%): the allowance per row fails it.
   constexpr int kHighRateLogs = 50, kMaxRows = 1500;
   constexpr double kCoverageLow = 0.883;
-  int covered = 0, counted = 0, drawn = 0;
+  int covered = 0, counted = 0, drawn = 0, missed_ok = 0, covered_suspect = 0;
   for (int index = 0; drawn < kHighRateLogs; ++index) {
     SceneSuiteLimits limits;
     limits.max_rows = kMaxRows;
@@ -166,12 +166,18 @@ TEST(OnlineIdentifier, ItsIntervalsHoldTheTruthAtOneKilohertzToo) {
       ++counted;
       const bool in = p.ci95_lo <= made.truth[i] && made.truth[i] <= p.ci95_hi;
       covered += in;
+      const bool ok = p.verdict == Verdict::kOk;
+      missed_ok += !in && ok;
+      covered_suspect += in && !ok;
       if (!in)
-        std::printf("suite log %d %s: %g [%g, %g] against %g\n", index, ParameterName(i), p.value,
-                    p.ci95_lo, p.ci95_hi, made.truth[i]);
+        std::printf("suite log %d %s: %g [%g, %g] against %g, %s\n", index, ParameterName(i),
+                    p.value, p.ci95_lo, p.ci95_hi, made.truth[i], ToString(p.verdict));
     }
   }
-  std::printf("1 kHz logs: %d of %d intervals hold the truth\n", covered, counted);
+  std::printf(
+      "1 kHz logs: %d of %d intervals hold the truth; %d misses marked ok, %d holding it "
+      "marked suspect\n",
+      covered, counted, missed_ok, covered_suspect);
   // Not bought by abstaining: at least five of every six identified (c is not, in a few
   // logs of 0.1-0.2 s).
   ASSERT_GE(6 * counted, 5 * 3 * kHighRateLogs);
@@ -353,6 +359,37 @@ TEST(OnlineIdentifier, AnEstimateThatRanOffIsMarkedSuspect) {
     EXPECT_GT(std::max(c.ci95_lo / made.truth[2], made.truth[2] / c.ci95_hi), 10)
         << "log " << index;
   }
+}
+
+// Scene suite log 100 drawn to 1500 rows: a tall box pushed for 0.157 s at 1 kHz that
+// hardly moves (1 mm, 0.03 rad). The filter ends with b = 3.9 [2.3, 6.7] against a truth
+// of 1.51; the trajectory fit of its first 128 rows (the batch check) finds b = 0.70 [0.43,
+// 1.15], 4.5 standard errors away (the two variances added), under the takeover's 5. One of
+// the two is wrong, so the filter's b is marked suspect; before 2026-11-28 it was ok.
+// (Its a and c, also off by a factor 2.5-3, stay ok: the fit determines neither, and a
+// filter's estimate that no fit of its rows determines is as often right: docs/online.md.)
+TEST(OnlineIdentifier, AnEstimateTheBatchChecksFitDisagreesWithIsMarkedSuspect) {
+  SceneSuiteLimits limits;
+  limits.max_rows = 1500;
+  const SuiteLog made = MakeSuiteLog(100, kSceneSuiteSeed, limits);
+  ASSERT_EQ(made.log.samples.size(), 157u) << made.Describe();
+  OnlineIdentifier id(made.log, OnlineOptions{});
+  for (const TrajectorySample& row : made.log.samples) id.Update(row);
+  const OnlineResult& r = id.result();
+  ASSERT_EQ(r.batch_checks, 1);
+  ASSERT_EQ(r.batch_takeovers, 0);
+  const ParameterEstimate& b = r.parameters[kB];
+  ASSERT_TRUE(b.identifiable) << b.reason;
+  ASSERT_GT(b.ci95_lo, made.truth[kB]) << "the case the test is about: b's interval misses";
+  EXPECT_EQ(b.verdict, Verdict::kSuspect);
+  EXPECT_NE(b.reason.find("first 128 rows (the last batch check) lies"), std::string::npos)
+      << b.reason;
+  // Without the check there is nothing to disagree with.
+  OnlineOptions no_check;
+  no_check.batch_check_first_rows = 0;
+  OnlineIdentifier alone(made.log, no_check);
+  for (const TrajectorySample& row : made.log.samples) alone.Update(row);
+  EXPECT_EQ(alone.result().parameters[kB].verdict, Verdict::kOk);
 }
 
 // The same logs with the batch check (the default): the trajectory fit of the rows so far
