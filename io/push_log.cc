@@ -24,6 +24,7 @@
 #include "forward_model/contact_patch.h"
 #include "forward_model/number_format.h"
 #include "io/atomic_file.h"
+#include "io/row_times.h"
 #include "io/text_lines.h"
 
 namespace slideid {
@@ -762,6 +763,30 @@ void CheckTimeGaps(const ReadContext& ctx, const Trajectory& tr, const std::vect
   }
 }
 
+/// Row times that jitter around a regular sampling (io/row_times.h): put on a regular grid
+/// with LogReadOptions::regular_times, warned of otherwise. Before velocities come from the
+/// poses, which divide by the intervals.
+void CheckRowTimes(const ReadContext& ctx, Trajectory& tr, const std::vector<int>& lines) {
+  const RowTimesSpread s = MeasureRowTimes(tr);
+  if (ctx.options.regular_times) {
+    PutRowsOnRegularTimes(&tr);
+    ctx.report.notes.push_back(Printf(
+        "rows put on a regular grid per run (--regular-times): their intervals varied %.3g%% "
+        "around %.4g s",
+        100 * s.spread, s.median_interval_s));
+    return;
+  }
+  if (!TimesLookStampedOnArrival(s)) return;
+  ctx.report.warnings.push_back(text::Located(
+      ctx.path, lines.size() > 1 ? lines[1] : lines[0], "t",
+      Printf("the intervals between rows vary %.0f%% around %.4g s, while the poses move as if "
+             "sampled regularly (over %d moving rows their steps follow the intervals by a "
+             "factor %.2f, where rows sampled at their times give about 1): the times look "
+             "stamped on arrival, and the fits, which take them as exact, are biased by them; "
+             "--regular-times puts each run's rows on a regular grid",
+             100 * s.spread, s.median_interval_s, s.moving_rows, s.step_slope)));
+}
+
 /// Rows marked `start` after the first split the log into runs; say so, for a user who did
 /// not know the mode column does that.
 void NoteRuns(const ReadContext& ctx, const Trajectory& tr) {
@@ -998,6 +1023,7 @@ PushLogFile ReadFromLines(const ReadContext& ctx, TextLines& in) {
   ReadSamples(ctx, in, header, trajectory, lines, known[0]);
   CheckTimeGaps(ctx, trajectory, lines);
   NoteRuns(ctx, trajectory);
+  CheckRowTimes(ctx, trajectory, lines);
   WarnThetaInDegrees(ctx, trajectory, lines);
   if (!header.Has(kVx)) {
     VelocitiesFromPoses(ctx, trajectory, lines);

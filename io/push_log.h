@@ -42,6 +42,9 @@ struct LogReadOptions {
   /// An interval between rows longer than this many times the median interval is an error
   /// (the model holds the force across it: docs/robustness.md); 0 or less: no limit.
   double max_gap_ratio = 10.0;
+  /// Put each run's rows on a regular grid (io/row_times.h), for a logger that samples
+  /// regularly and stamps the rows on arrival; without it such times are warned of.
+  bool regular_times = false;
 };
 
 /// What the reader noticed that is not an error.

@@ -113,6 +113,7 @@ LogReadOptions ReadLogOptions(const po::variables_map& vm) {
   o.overrides.gravity_mps2 = PhysicalOption(vm, "gravity", false);
   o.max_gap_ratio = vm["max-gap-ratio"].as<double>();
   if (std::isnan(o.max_gap_ratio)) throw po::error("--max-gap-ratio must be a number");
+  o.regular_times = vm.count("regular-times") > 0;
   return o;
 }
 
@@ -205,6 +206,10 @@ void AddIdentifyOptions(po::options_description* options, po::options_descriptio
       "max-gap-ratio", po::value<double>()->default_value(10.0)->value_name("R"),
       "an interval between rows longer than R times the median one is an error (the force "
       "is held across it); 0 accepts any gap")(
+      "regular-times",
+      "put each run's rows on a regular grid (its first time plus k times its mean "
+      "interval): for a logger that samples regularly but stamps rows on arrival, whose "
+      "jittered times the reader warns of")(
       "max-iterations", po::value<int>()->default_value(100)->value_name("N"),
       "Ceres iterations per solve; a fit that needs more fails with exit code 3");
 }

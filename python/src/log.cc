@@ -16,9 +16,9 @@ namespace po = boost::program_options;
 
 namespace {
 
-/// The keywords of read_log: identify's slider overrides and largest gap.
-const std::vector<std::string> kReadKeywords = {"mass", "inertia", "com_height", "gravity",
-                                                "max_gap_ratio"};
+/// The keywords of read_log: identify's slider overrides, largest gap and regular times.
+const std::vector<std::string> kReadKeywords = {"mass",    "inertia",       "com_height",
+                                                "gravity", "max_gap_ratio", "regular_times"};
 
 LogReadOptions ReadOptionsFromKeywords(const std::string& function, const py::dict& keywords) {
   po::options_description general, advanced;

@@ -221,3 +221,28 @@ def test_reader_warnings_are_issued_once_and_kept_in_the_result(tmp_path):
     with pytest.warns(slideid.SlideidWarning, match="intervals longer"):
         result = slideid.identify(path)
     assert result.warnings == cli_warnings != []
+
+
+def test_times_stamped_on_arrival_are_warned_of_and_put_back_on_a_grid(tmp_path):
+    # The bundled log with each row stamped up to 3 ms off its sampling time (in order).
+    text = DEFAULT_LOG.read_text().splitlines()
+    meta = [l for l in text if l.startswith("#")]
+    rows = [l.split(",") for l in text[len(meta) + 1:]]
+    rng = np.random.default_rng(5)
+    previous = 0.0
+    for k, row in enumerate(rows[1:], start=1):
+        t = max(float(row[0]) + rng.normal(0.0, 0.003), previous + 1e-4)
+        row[0] = repr(t)
+        previous = t
+    path = tmp_path / "stamped.csv"
+    path.write_text("\n".join(meta + [text[len(meta)]] + [",".join(r) for r in rows]) + "\n")
+    with pytest.warns(slideid.SlideidWarning, match="--regular-times"):
+        jittered = slideid.read_log(path)
+    assert np.std(np.diff(jittered.t)) > 0.002
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        regular = slideid.read_log(path, regular_times=True)
+    assert np.ptp(np.diff(regular.t)) < 1e-9
+    reference = slideid.identify(DEFAULT_LOG)
+    result = slideid.identify(path, regular_times=True)
+    assert result.e_t_mu.value == pytest.approx(reference.e_t_mu.value, rel=1e-3)
