@@ -24,6 +24,7 @@
 #include "forward_model/contact_patch.h"
 #include "forward_model/number_format.h"
 #include "io/atomic_file.h"
+#include "io/force_work.h"
 #include "io/row_times.h"
 #include "io/text_lines.h"
 
@@ -787,6 +788,33 @@ void CheckRowTimes(const ReadContext& ctx, Trajectory& tr, const std::vector<int
              100 * s.spread, s.median_interval_s, s.moving_rows, s.step_slope)));
 }
 
+/// A force that does not push the object the way it moves (io/force_work.h): its sign or
+/// its frame is likely wrong. The fits use it as logged.
+void WarnForceAgainstMotion(const ReadContext& ctx, const Trajectory& tr) {
+  const ForceWork w = MeasureForceWork(tr);
+  if (w.rows < kMinForceWorkRows) return;
+  const double share = double(w.positive) / w.rows;
+  if (share >= kForceWorkMinPositiveShare) return;
+  const double in_object_frame = double(w.positive_in_object_frame) / w.rows;
+  const std::string why =
+      1 - share >= 1 - kForceWorkMinPositiveShare && in_object_frame < 0.5
+          ? "its sign looks flipped (a sensor's reading of the force on the pusher, the "
+            "reaction?): the force on the object is wanted"
+      : in_object_frame > 1 - kForceWorkMinPositiveShare
+          ? Printf(
+                "read in the object's own frame (rotated by theta into world axes) it "
+                "would do positive work in %.0f%% of them: world axes are wanted",
+                100 * in_object_frame)
+          : "a sign or frame error?";
+  ctx.report.warnings.push_back(text::Located(
+      ctx.path, 0, "",
+      Printf("columns 'fx', 'fy': the force does negative work on the object in %d of the %d rows "
+             "where it "
+             "pushes and the contact point moves (a pusher does positive work): %s. The fits "
+             "use it as logged",
+             w.rows - w.positive, w.rows, why.c_str())));
+}
+
 /// Rows marked `start` after the first split the log into runs; say so, for a user who did
 /// not know the mode column does that.
 void NoteRuns(const ReadContext& ctx, const Trajectory& tr) {
@@ -1024,6 +1052,7 @@ PushLogFile ReadFromLines(const ReadContext& ctx, TextLines& in) {
   CheckTimeGaps(ctx, trajectory, lines);
   NoteRuns(ctx, trajectory);
   CheckRowTimes(ctx, trajectory, lines);
+  WarnForceAgainstMotion(ctx, trajectory);
   WarnThetaInDegrees(ctx, trajectory, lines);
   if (!header.Has(kVx)) {
     VelocitiesFromPoses(ctx, trajectory, lines);

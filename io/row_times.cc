@@ -4,17 +4,17 @@
 #include <cmath>
 #include <vector>
 
+#include "estimator/log_diagnostics.h"
+
 namespace slideid {
 namespace {
 
 // MAD to the standard deviation of a normal distribution.
 constexpr double kMadToSigma = 1.482602218505602;
 // A row moves well clear of the poses' noise where its neighbours' median step is this many
-// times that noise (from the positions' third differences), so that the noise moves its
-// relative step by a tenth at most.
+// times that noise (estimator/log_diagnostics.h: index-based, so jittered times do not
+// enter), so that the noise moves its relative step by a tenth at most.
 constexpr double kMovingOverNoise = 10.0;
-// Third differences of white noise have variance 20 sigma^2.
-constexpr double kThirdDifferenceVariance = 20.0;
 // The neighbours a row's step is compared with: this many on each side, within its run.
 constexpr int kStepNeighbours = 2;
 
@@ -62,19 +62,7 @@ RowTimesSpread MeasureRowTimes(const Trajectory& log) {
     const PlanarState& b = log.samples[u].state;
     step[u] = std::hypot(b.x - a.x, b.y - a.y);
   }
-  // The positions' noise, from their third differences within runs (index-based: jittered
-  // times do not enter).
-  std::vector<double> third;
-  for (std::size_t u = 3; u < n; ++u) {
-    if (StartsRun(log, u) || StartsRun(log, u - 1) || StartsRun(log, u - 2)) continue;
-    auto d3 = [&](double PlanarState::*c) {
-      return log.samples[u].state.*c - 3 * log.samples[u - 1].state.*c +
-             3 * log.samples[u - 2].state.*c - log.samples[u - 3].state.*c;
-    };
-    third.push_back(std::abs(d3(&PlanarState::x)));
-    third.push_back(std::abs(d3(&PlanarState::y)));
-  }
-  const double noise = kMadToSigma * Median(third) / std::sqrt(kThirdDifferenceVariance);
+  const double noise = DiagnoseLog(log).pose_noise_m;  // NaN: no row counts as moving
   std::vector<double> local(n, std::numeric_limits<double>::quiet_NaN());
   for (std::size_t u = 1; u < n; ++u) {
     std::vector<double> around;

@@ -1,0 +1,40 @@
+#include "io/force_work.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "estimator/log_diagnostics.h"
+
+namespace slideid {
+
+ForceWork MeasureForceWork(const Trajectory& log) {
+  ForceWork w;
+  if (!log.measured.pose || !log.measured.force) return w;
+  const LogDiagnostics d = DiagnoseLog(log);
+  if (!(d.max_push_n > 0)) return w;
+  const double noise = std::isfinite(d.pose_noise_m) ? d.pose_noise_m : 0.0;
+  for (std::size_t u = 0; u + 1 < log.samples.size(); ++u) {
+    if (StartsRun(log, u + 1)) continue;
+    const TrajectorySample& a = log.samples[u];
+    const TrajectorySample& b = log.samples[u + 1];
+    const double fx = a.applied.fx, fy = a.applied.fy;
+    if (!(std::hypot(fx, fy) >= kForceWorkPushFraction * d.max_push_n)) continue;
+    // The contact point's travel over the interval, as a point fixed on the object: the
+    // CM's plus the turn of its arm from the CM.
+    const bool at_point = a.push_point_world.has_value();
+    const double rx = at_point ? a.push_point_world->x() - a.state.x : 0.0;
+    const double ry = at_point ? a.push_point_world->y() - a.state.y : 0.0;
+    const double turn = b.state.theta - a.state.theta;
+    const double c = std::cos(turn), s = std::sin(turn);
+    const double dx = b.state.x - a.state.x + (c * rx - s * ry - rx);
+    const double dy = b.state.y - a.state.y + (s * rx + c * ry - ry);
+    if (!(std::hypot(dx, dy) > kForceWorkMovingOverNoise * noise)) continue;
+    ++w.rows;
+    w.positive += fx * dx + fy * dy > 0;
+    const double ch = std::cos(a.state.theta), sh = std::sin(a.state.theta);
+    w.positive_in_object_frame += (ch * fx - sh * fy) * dx + (sh * fx + ch * fy) * dy > 0;
+  }
+  return w;
+}
+
+}  // namespace slideid
