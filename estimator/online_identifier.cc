@@ -1052,6 +1052,9 @@ struct OnlineIdentifier::Impl {
     if (pending_surface == surface) ApplyCheck(fit);
   }
 
+  // A check's verdict: the fit taken over where the filter ran off (TakeOverIfApart),
+  // otherwise the doubt it casts on each parameter the fit finds ok (kCheckDoubtSigmas),
+  // which replaces the last check's.
   void ApplyCheck(const BatchCheckFit& fit) {
     const bool took_over = fit.gaussian && TakeOverIfApart(*fit.gaussian);
     const std::string rows = std::to_string(fit.rows);

@@ -437,8 +437,16 @@ void WarnAbsurd(const ReadContext& ctx, const std::array<MagnitudeTally, kNumNum
   }
 }
 
-/// Parses one data line into `row`; `cells` is scratch space reused across rows.
-void ParseRow(const ReadContext& ctx, const Header& h, std::string_view line, int line_no,
+/// Whether a cell says the value is missing: empty or NaN, as loggers write a dropout.
+bool IsMissing(std::string_view cell) {
+  if (!cell.empty() && (cell.front() == '-' || cell.front() == '+')) cell.remove_prefix(1);
+  return cell.empty() || ((cell.size() == 3) && (cell[0] == 'n' || cell[0] == 'N') &&
+                          (cell[1] == 'a' || cell[1] == 'A') && (cell[2] == 'n' || cell[2] == 'N'));
+}
+
+/// Parses one data line into `row`; `cells` is scratch space reused across rows. False for
+/// a row with a missing cell that LogReadOptions::missing_as_gaps lets the reader drop.
+bool ParseRow(const ReadContext& ctx, const Header& h, std::string_view line, int line_no,
               std::vector<std::string_view>& cells, RawRow& row) {
   SplitCells(line, cells);
   if (static_cast<int>(cells.size()) != h.num_fields) {
@@ -451,7 +459,13 @@ void ParseRow(const ReadContext& ctx, const Header& h, std::string_view line, in
     if (!h.Has(static_cast<Col>(c))) continue;
     const std::string_view cell = cells[h.field[c]];
     if (const char* why = ParseCell(cell, &row.v[c])) {
-      ctx.Fail(line_no, kColumnNames[c], "'" + std::string(cell) + "' " + why);
+      if (!IsMissing(cell))
+        ctx.Fail(line_no, kColumnNames[c], "'" + std::string(cell) + "' " + why);
+      if (ctx.options.missing_as_gaps) return false;
+      ctx.Fail(line_no, kColumnNames[c],
+               "'" + std::string(cell) + "' " + why +
+                   "; a dropout? --missing-as-gaps drops such rows and starts a new run after "
+                   "them");
     }
   }
   if (h.mode_field >= 0) {
@@ -461,6 +475,7 @@ void ParseRow(const ReadContext& ctx, const Header& h, std::string_view line, in
       ctx.Fail(line_no, kModeColumn, "'" + std::string(cell) + "' is not start, slide or stick");
     }
   }
+  return true;
 }
 
 /// Shifts `theta` by a multiple of 2 pi so that theta - prev lies in (-pi, pi]; a value
@@ -543,13 +558,19 @@ void ReadSamples(const ReadContext& ctx, TextLines& in, const Header& h, Traject
   double prev_t = 0.0, prev_theta = 0.0, prev_raw_theta = 0.0;
   int prev_line = 0, unwrapped = 0;
   int degree_wraps = 0, first_degree_wrap = 0;  // jumps of about 360: a wrap at +-180 degrees
+  int dropped = 0, first_dropped = 0;           // rows with a missing cell (missing_as_gaps)
+  bool gap_before = false;                      // a row was dropped since the last one kept
   while (const auto raw = in.Next()) {
     const std::string_view line = Trim(*raw);
     // fccp's comment policy would skip '#' lines anywhere; only those before the header
     // are metadata, later ones are plain comments.
     if (line.empty() || line.front() == '#') continue;
     const int line_no = in.LineNumber();
-    ParseRow(ctx, h, line, line_no, cells, row);
+    if (!ParseRow(ctx, h, line, line_no, cells, row)) {
+      if (dropped++ == 0) first_dropped = line_no;
+      gap_before = true;
+      continue;
+    }
     const bool first = lines.empty();
     if (!first && !(row.v[kT] > prev_t)) {
       ctx.Fail(line_no, "t",
@@ -584,6 +605,8 @@ void ReadSamples(const ReadContext& ctx, TextLines& in, const Header& h, Traject
       }
     }
     trajectory.samples.push_back(RowSample(row, h, com_height, first));
+    if (gap_before) trajectory.samples.back().mode = SampleMode::kStart;
+    gap_before = false;
     if (steps) trajectory.steps.push_back(RowStep(row));
     if (!IsFinite(trajectory.samples.back().applied)) {
       ctx.Fail(line_no, h.Has(kPx) ? "px" : "tx",
@@ -601,6 +624,12 @@ void ReadSamples(const ReadContext& ctx, TextLines& in, const Header& h, Traject
         "theta looks like degrees: it jumps by about 360 between rows (a wrap at +-180 "
         "degrees; " +
             std::to_string(degree_wraps) + " such jumps): give theta in radians"));
+  }
+  if (dropped > 0) {
+    ctx.report.notes.push_back(
+        Printf("%d rows with a missing cell dropped (--missing-as-gaps), the first on line %d; "
+               "the row after each dropout starts a new run",
+               dropped, first_dropped));
   }
   if (lines.empty()) ctx.Fail(h.line, "", "the header is not followed by any data row");
   if (unwrapped > 0) {

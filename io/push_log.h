@@ -45,6 +45,9 @@ struct LogReadOptions {
   /// Put each run's rows on a regular grid (io/row_times.h), for a logger that samples
   /// regularly and stamps the rows on arrival; without it such times are warned of.
   bool regular_times = false;
+  /// Drop a row with a missing cell (empty or NaN: a motion-capture dropout) and start a new
+  /// run at the next row, as a gap marked `start` would, instead of failing on it.
+  bool missing_as_gaps = false;
 };
 
 /// What the reader noticed that is not an error.

@@ -114,6 +114,7 @@ LogReadOptions ReadLogOptions(const po::variables_map& vm) {
   o.max_gap_ratio = vm["max-gap-ratio"].as<double>();
   if (std::isnan(o.max_gap_ratio)) throw po::error("--max-gap-ratio must be a number");
   o.regular_times = vm.count("regular-times") > 0;
+  o.missing_as_gaps = vm.count("missing-as-gaps") > 0;
   return o;
 }
 
@@ -210,6 +211,9 @@ void AddIdentifyOptions(po::options_description* options, po::options_descriptio
       "put each run's rows on a regular grid (its first time plus k times its mean "
       "interval): for a logger that samples regularly but stamps rows on arrival, whose "
       "jittered times the reader warns of")(
+      "missing-as-gaps",
+      "drop a row with an empty or NaN cell (a motion-capture dropout) and start a new run "
+      "at the next row, instead of failing on it")(
       "max-iterations", po::value<int>()->default_value(100)->value_name("N"),
       "Ceres iterations per solve; a fit that needs more fails with exit code 3");
 }

@@ -296,6 +296,43 @@ TEST(PushLog, RowsMarkedStartAfterAGapSplitTheLogIntoRuns) {
   }
 }
 
+// Motion-capture dropouts written as empty or NaN cells: an error that names the line and
+// column and says what to do; with missing_as_gaps (identify --missing-as-gaps) the rows go
+// and the row after each dropout starts a run, as a marked gap would. "1.2abc" and "inf"
+// stay errors: they are not a missing value.
+TEST(PushLog, RowsWithMissingCellsAreErrorsOrGapsWhenAskedFor) {
+  const std::string text = std::string(kSliderMeta) + "t,x,y,theta\n" +
+                           "0,0,0,0\n0.01,0.001,0,0.01\n0.02,0.002,0,0.02\n0.03,,,\n"
+                           "0.04,NaN,0,0.04\n0.05,0.005,0,0.05\n0.06,0.006,0,0.06\n"
+                           "0.07,0.007,-nan,0.07\n0.08,0.008,0,0.08\n0.09,0.009,0,0.09\n";
+  ExpectLogError("dropouts.csv", text, 8, "x");
+  try {
+    ReadPushLog(TempDirectory() + "/dropouts.csv");
+  } catch (const LogError& e) {
+    EXPECT_NE(std::string(e.what()).find("--missing-as-gaps"), std::string::npos) << e.what();
+  }
+  LogReadOptions gaps;
+  gaps.missing_as_gaps = true;
+  LogReadReport report;
+  const Trajectory tr = ReadPushLog(TempDirectory() + "/dropouts.csv", gaps, &report);
+  ASSERT_EQ(tr.samples.size(), 7u);
+  const std::vector<std::pair<int, int>> runs = {{0, 2}, {3, 4}, {5, 6}};
+  EXPECT_EQ(Runs(tr), runs);
+  EXPECT_EQ(tr.samples[3].t_s, 0.05);
+  EXPECT_EQ(tr.samples[3].state.vx, 0.0);  // a run's first velocity from poses is unknown
+  EXPECT_NEAR(tr.samples[4].state.vx, 0.1, kRecomputeTol);
+  bool noted = false;
+  for (const auto& note : report.notes) {
+    noted = noted || note.find("3 rows with a missing cell dropped") != std::string::npos;
+  }
+  EXPECT_TRUE(noted);
+  for (const char* bad : {"1.2abc", "inf"}) {
+    std::string other = text;
+    other.replace(other.find("NaN"), 3, bad);
+    ExpectLogError("not_missing.csv", other, 9, "x", gaps);
+  }
+}
+
 TEST(PushLog, PushPointAddsRCrossFIncludingTiltingMoments) {
   // CM at (1, 2, 0.08); force (3, -1, 0.5) at (0.9, 2.2, 0.15): r = (-0.1, 0.2, 0.07).
   const std::string path =

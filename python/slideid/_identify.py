@@ -130,7 +130,7 @@ def identify(logs, method="trajectory", *, strict=False, **options):
     does. logs: a Log, a path, or a list of either (not mixed); with method="quasi-static",
     paths of wrench-twist pair files. options are identify's options: segment, substeps,
     loss, fit_force_bias, fit_delay ("shared" or "per-log"), max_delay, threads,
-    max_iterations, skip_bad, max_gap_ratio, regular_times, and mass, inertia, com_height, gravity, which
+    max_iterations, skip_bad, max_gap_ratio, regular_times, missing_as_gaps, and mass, inertia, com_height, gravity, which
     override the logs' metadata; report=PATH also writes identify --report's HTML page there.
 
     Raises slideid.InputError (a ValueError) for bad input and for logs that determine no

@@ -124,16 +124,18 @@ class Log:
 
 
 def read_log(path, *, mass=None, inertia=None, com_height=None, gravity=None,
-             max_gap_ratio=None, regular_times=None):
+             max_gap_ratio=None, regular_times=None, missing_as_gaps=None):
     """Reads a push log (CSV, log-format.md). The keywords override its metadata, as
     identify's options do; max_gap_ratio is identify's --max-gap-ratio (10 by default, 0: no
     limit); regular_times=True is --regular-times (each run's rows on a regular grid, for a
-    logger that stamps rows on arrival, which the reader warns of). Raises slideid.InputError (a ValueError) naming the file, line and column of what
+    logger that stamps rows on arrival, which the reader warns of); missing_as_gaps=True is
+    --missing-as-gaps (a row with an empty or NaN cell dropped, the next one starting a run).
+    Raises slideid.InputError (a ValueError) naming the file, line and column of what
     is wrong; slideid.MissingFileError (also a FileNotFoundError) for a file that does not
     exist."""
     options = {"mass": mass, "inertia": inertia, "com_height": com_height,
                "gravity": gravity, "max_gap_ratio": max_gap_ratio,
-               "regular_times": regular_times}
+               "regular_times": regular_times, "missing_as_gaps": missing_as_gaps}
     with missing_files_named([os.fspath(path)]):
         handle = _core.read_log(os.fspath(path), **{k: v for k, v in options.items()
                                                       if v is not None})

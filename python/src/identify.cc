@@ -26,14 +26,15 @@ const std::vector<std::string> kNotKeywords = {"log",     "logs",   "json",  "re
 
 /// Whether the keywords ask for a log to be read differently from how it was.
 bool ChangesReading(const po::variables_map& vm) {
-  for (const char* option : {"mass", "inertia", "com-height", "gravity", "regular-times"}) {
+  for (const char* option :
+       {"mass", "inertia", "com-height", "gravity", "regular-times", "missing-as-gaps"}) {
     if (vm.count(option)) return true;
   }
   return !vm["max-gap-ratio"].defaulted();
 }
 
 /// `log` read again from its text with `options` (slider overrides, largest gap, regular
-/// times), as the
+/// times, dropouts), as the
 /// file it makes would be read with them.
 Trajectory Reread(const PushLogFile& file, const LogReadOptions& options, FileIdentifyResult* run) {
   const Trajectory& log = file.log;

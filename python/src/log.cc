@@ -16,9 +16,11 @@ namespace po = boost::program_options;
 
 namespace {
 
-/// The keywords of read_log: identify's slider overrides, largest gap and regular times.
-const std::vector<std::string> kReadKeywords = {"mass",    "inertia",       "com_height",
-                                                "gravity", "max_gap_ratio", "regular_times"};
+/// The keywords of read_log: identify's slider overrides and how rows are read (largest
+/// gap, regular times, dropouts as gaps).
+const std::vector<std::string> kReadKeywords = {"mass",           "inertia",       "com_height",
+                                                "gravity",        "max_gap_ratio", "regular_times",
+                                                "missing_as_gaps"};
 
 LogReadOptions ReadOptionsFromKeywords(const std::string& function, const py::dict& keywords) {
   po::options_description general, advanced;

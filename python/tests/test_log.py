@@ -246,3 +246,20 @@ def test_times_stamped_on_arrival_are_warned_of_and_put_back_on_a_grid(tmp_path)
     reference = slideid.identify(DEFAULT_LOG)
     result = slideid.identify(path, regular_times=True)
     assert result.e_t_mu.value == pytest.approx(reference.e_t_mu.value, rel=1e-3)
+
+
+def test_dropouts_are_errors_or_gaps_when_asked_for(tmp_path):
+    text = DEFAULT_LOG.read_text().splitlines()
+    meta = [l for l in text if l.startswith("#")]
+    rows = [l.split(",") for l in text[len(meta) + 1:]]
+    for k in (100, 101, 300):
+        rows[k][1:4] = ["nan", "nan", "nan"]
+    path = tmp_path / "dropouts.csv"
+    path.write_text("\n".join(meta + [text[len(meta)]] + [",".join(r) for r in rows]) + "\n")
+    with pytest.raises(slideid.InputError, match="missing-as-gaps"):
+        slideid.read_log(path)
+    log = slideid.read_log(path, missing_as_gaps=True)
+    assert log.rows == 598
+    assert list(log.mode).count("start") == 3
+    result = slideid.identify(path, missing_as_gaps=True)
+    assert result.e_t_mu.value == pytest.approx(0.4, rel=0.01)
