@@ -631,7 +631,11 @@ void ReadSamples(const ReadContext& ctx, TextLines& in, const Header& h, Traject
                "the row after each dropout starts a new run",
                dropped, first_dropped));
   }
-  if (lines.empty()) ctx.Fail(h.line, "", "the header is not followed by any data row");
+  if (lines.empty() && !(dropped > 0 && ctx.options.allow_no_rows)) {
+    ctx.Fail(h.line, "",
+             dropped > 0 ? "every data row has a missing cell (dropped: --missing-as-gaps)"
+                         : "the header is not followed by any data row");
+  }
   if (unwrapped > 0) {
     ctx.report.notes.push_back("theta unwrapped: " + std::to_string(unwrapped) +
                                " rows shifted by multiples of 2 pi");

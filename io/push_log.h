@@ -48,6 +48,9 @@ struct LogReadOptions {
   /// Drop a row with a missing cell (empty or NaN: a motion-capture dropout) and start a new
   /// run at the next row, as a gap marked `start` would, instead of failing on it.
   bool missing_as_gaps = false;
+  /// With missing_as_gaps, a text whose rows were all dropped reads as a log without rows
+  /// instead of an error: a stream read one row at a time (identify --follow).
+  bool allow_no_rows = false;
 };
 
 /// What the reader noticed that is not an error.

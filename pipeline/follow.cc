@@ -103,7 +103,9 @@ FollowSummary FollowLog(std::istream& in, const std::string& source, const Follo
   LogReadOptions read;
   read.overrides = options.overrides;
   read.max_gap_ratio = 0;  // one row at a time: no median interval to hold a gap against
-  std::string header;      // the metadata and the header line, as the reader wants them
+  read.missing_as_gaps = read.allow_no_rows = options.missing_as_gaps;
+  bool gap_before = false;  // a row was dropped since the last one filtered
+  std::string header;       // the metadata and the header line, as the reader wants them
   bool have_header = false;
   int header_lines = 0;
   std::string line;
@@ -137,6 +139,11 @@ FollowSummary FollowLog(std::istream& in, const std::string& source, const Follo
       if (e.line() <= header_lines) throw;  // about the header: its lines are the stream's
       throw LogError(source, line_number, e.column(), Unlocated(e));
     }
+    if (one.samples.empty() && options.missing_as_gaps) {
+      ++summary.dropped_rows;
+      gap_before = true;
+      continue;
+    }
     if (one.samples.size() != 1) {
       throw LogError(source, line_number, "", "expected one row on the line");
     }
@@ -144,6 +151,9 @@ FollowSummary FollowLog(std::istream& in, const std::string& source, const Follo
     TrajectorySample row = one.samples.front();
     // A lone row reads as a run's first; only the mode column can say so here.
     if (!one.measured.mode) row.mode = SampleMode::kSlide;
+    // After a dropout the motion starts afresh (no step across the hole), as after a gap.
+    if (gap_before && identifier) row.mode = SampleMode::kStart;
+    gap_before = false;
     if (previous_theta) row.state.theta = Unwrapped(row.state.theta, *previous_theta);
     previous_theta = row.state.theta;
     if (!identifier) {

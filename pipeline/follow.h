@@ -19,6 +19,9 @@ struct FollowOptions {
   /// where the stream ends between two such lines.
   int every = 1;
   SliderOverrides overrides;
+  /// Drop a row with an empty or NaN cell (a motion-capture dropout) and start the motion
+  /// afresh at the next row (LogReadOptions::missing_as_gaps), instead of failing.
+  bool missing_as_gaps = false;
   /// Gets each of the log reader's warnings (LogReadReport::warnings: absurd magnitudes, a
   /// unit error?) once, located at the stream's line; none when empty.
   std::function<void(const std::string&)> warn;
@@ -29,6 +32,7 @@ struct FollowOptions {
 struct FollowSummary {
   int rows = 0;              ///< rows read
   int lines = 0;             ///< lines handed on
+  int dropped_rows = 0;      ///< rows dropped for a missing cell (missing_as_gaps)
   bool reader_gone = false;  ///< `emit` said the reader went away; the rest was not read
 };
 

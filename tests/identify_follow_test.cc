@@ -112,6 +112,51 @@ TEST(IdentifyFollow, PrintsALinePerEveryNRowsWithTheOnlineIdentifiersEstimates) 
   }
 }
 
+// A motion-capture dropout in the stream (rows with NaN poses): an error naming its line
+// that says what to do, or with --missing-as-gaps the rows dropped and the motion started
+// afresh after each dropout. The same estimates as the identifier fed the file read with
+// the same option (each row after a dropout starting a run).
+TEST(IdentifyFollow, DropoutsAreAnErrorOrGapsWhenAskedFor) {
+  std::istringstream in(Slurp(LogFile()));
+  std::string text, line;
+  int data_row = -1;
+  while (std::getline(in, line)) {
+    if (data_row >= 0) ++data_row;
+    if (data_row < 0 && !line.empty() && line[0] != '#') data_row = 0;  // the header
+    if (data_row == 100 || data_row == 101 || data_row == 200) {
+      std::vector<std::string> cells;
+      std::istringstream row(line);
+      for (std::string c; std::getline(row, c, ',');) cells.push_back(c);
+      cells[1] = cells[2] = cells[3] = "nan";  // x, y, theta
+      line = cells[0];
+      for (size_t c = 1; c < cells.size(); ++c) line += "," + cells[c];
+    }
+    text += line + "\n";
+  }
+  const std::string path = ::testing::TempDir() + "/dropouts_" + std::to_string(getpid()) + ".csv";
+  std::ofstream(path) << text;
+  const ShellRun failed = Shell("cat " + path + " | $IDENTIFY --follow --every 300");
+  EXPECT_EQ(failed.exit_code, 1) << failed.err;
+  EXPECT_NE(failed.err.find("--missing-as-gaps"), std::string::npos) << failed.err;
+  const ShellRun run =
+      Shell("cat " + path + " | $IDENTIFY --follow --every 300 --missing-as-gaps --verbose");
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  EXPECT_NE(run.err.find("3 dropped (a missing cell)"), std::string::npos) << run.err;
+  const std::vector<nlohmann::json> lines = Lines(run.out);
+  ASSERT_FALSE(lines.empty());
+  LogReadOptions gaps;
+  gaps.missing_as_gaps = true;
+  const Trajectory log = ReadPushLog(path, gaps);
+  ASSERT_EQ(log.samples.size(), 297u);
+  OnlineIdentifier id(log);
+  for (const TrajectorySample& row : log.samples) id.Update(row);
+  for (int i = 0; i < 3; ++i) {
+    const ParameterEstimate& p = id.result().parameters[i];
+    ASSERT_TRUE(p.identifiable) << ParameterName(i);
+    EXPECT_EQ(lines.back()[ParameterName(i)]["value"].get<double>(), p.value) << ParameterName(i);
+  }
+}
+
 // --batch-check N: the identifier's batch check from N rows (0: none); each line counts the
 // checks and the takeovers.
 TEST(IdentifyFollow, BatchCheckOptionSetsTheIdentifiersCheck) {

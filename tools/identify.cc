@@ -130,6 +130,7 @@ int RunFollowCommand(const cli::IdentifyRequest& request) {
   options.every = request.follow_every;
   options.online.batch_check_first_rows = request.follow_batch_check_rows;
   options.overrides = request.options.read.overrides;
+  options.missing_as_gaps = request.options.read.missing_as_gaps;
   options.warn = [](const std::string& w) { std::cerr << "identify: warning: " << w << "\n"; };
   const FollowSummary summary =
       FollowLog(std::cin, "<stdin>", options, [](const std::string& line) {
@@ -138,6 +139,9 @@ int RunFollowCommand(const cli::IdentifyRequest& request) {
       });
   if (request.verbose) {
     std::cerr << "identify: note: " << summary.rows << " rows, " << summary.lines << " lines"
+              << (summary.dropped_rows > 0
+                      ? ", " + std::to_string(summary.dropped_rows) + " dropped (a missing cell)"
+                      : std::string())
               << (summary.reader_gone ? ", the reader went away" : "") << "\n";
   }
   return tools::kExitOk;
