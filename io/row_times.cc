@@ -5,25 +5,17 @@
 #include <vector>
 
 #include "estimator/log_diagnostics.h"
+#include "estimator/robust_statistics.h"
 
 namespace slideid {
 namespace {
 
-// MAD to the standard deviation of a normal distribution.
-constexpr double kMadToSigma = 1.482602218505602;
 // A row moves well clear of the poses' noise where its neighbours' median step is this many
 // times that noise (estimator/log_diagnostics.h: index-based, so jittered times do not
 // enter), so that the noise moves its relative step by a tenth at most.
 constexpr double kMovingOverNoise = 10.0;
 // The neighbours a row's step is compared with: this many on each side, within its run.
 constexpr int kStepNeighbours = 2;
-
-double Median(std::vector<double> v) {
-  if (v.empty()) return std::numeric_limits<double>::quiet_NaN();
-  const auto mid = v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2);
-  std::nth_element(v.begin(), mid, v.end());
-  return *mid;
-}
 
 // Slope of y on x by least squares (NaN where x does not vary).
 double Slope(const std::vector<double>& x, const std::vector<double>& y) {

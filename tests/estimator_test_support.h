@@ -67,6 +67,14 @@ inline std::string ReadText(const std::string& path) {
   return text.str();
 }
 
+/// Whether any of `lines` (a reader's warnings or notes, say) contains `what`.
+inline bool AnyLineContains(const std::vector<std::string>& lines, const std::string& what) {
+  for (const std::string& line : lines) {
+    if (line.find(what) != std::string::npos) return true;
+  }
+  return false;
+}
+
 /// Whether gnuplot runs here (the plotting tests skip without it).
 inline bool HaveGnuplot() { return std::system("gnuplot --version > /dev/null 2>&1") == 0; }
 

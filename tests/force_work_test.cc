@@ -14,20 +14,13 @@ namespace {
 
 const std::string kBundledLog = std::string(SLIDEID_SOURCE_DIR) + "/datasets/logs/default_push.csv";
 
-bool Contains(const std::vector<std::string>& lines, const std::string& what) {
-  for (const std::string& l : lines) {
-    if (l.find(what) != std::string::npos) return true;
-  }
-  return false;
-}
-
 // The bundled log's pushes do positive work in every row that pushes a moving contact.
 TEST(ForceWork, APusherDoesPositiveWork) {
   LogReadReport report;
   const ForceWork w = MeasureForceWork(ReadPushLog(kBundledLog, {}, &report));
   EXPECT_GE(w.rows, 100);
   EXPECT_EQ(w.positive, w.rows);
-  EXPECT_FALSE(Contains(report.warnings, "negative work"));
+  EXPECT_FALSE(testing::AnyLineContains(report.warnings, "negative work"));
 }
 
 // The same force with its sign flipped (a sensor reading the force on the pusher) does
@@ -45,8 +38,9 @@ TEST(ForceWork, AFlippedForceIsWarnedOf) {
   WritePushLog(log, path);
   LogReadReport report;
   ReadPushLog(path, {}, &report);
-  EXPECT_TRUE(Contains(report.warnings, "its sign looks flipped")) << report.warnings.size();
-  EXPECT_TRUE(Contains(report.warnings, "columns 'fx', 'fy'"));
+  EXPECT_TRUE(testing::AnyLineContains(report.warnings, "its sign looks flipped"))
+      << report.warnings.size();
+  EXPECT_TRUE(testing::AnyLineContains(report.warnings, "columns 'fx', 'fy'"));
 }
 
 // Two ways of one reading: the bundled force rotated into the object's frame, read "in the

@@ -34,13 +34,6 @@ Trajectory StampedOnArrival(double jitter, unsigned seed) {
   return log;
 }
 
-bool Contains(const std::vector<std::string>& lines, const std::string& what) {
-  for (const std::string& l : lines) {
-    if (l.find(what) != std::string::npos) return true;
-  }
-  return false;
-}
-
 // Stamps jittered by 20% of the interval: the spread reads about sqrt(2) x 20%, and the
 // poses' steps do not follow the intervals (slope near 0).
 TEST(RowTimes, StampsJitteringAroundARegularSamplingAreToldApart) {
@@ -85,7 +78,7 @@ TEST(RowTimes, RowsTrulySampledAtIrregularTimesAreLeftAlone) {
   WritePushLog(irregular, path);
   LogReadReport report;
   ReadPushLog(path, {}, &report);
-  EXPECT_FALSE(Contains(report.warnings, "stamped on arrival"));
+  EXPECT_FALSE(testing::AnyLineContains(report.warnings, "stamped on arrival"));
 }
 
 // The reader warns of jittered stamps, naming the option; with it the rows go back on a
@@ -100,14 +93,16 @@ TEST(RowTimes, TheReaderWarnsOfJitteredStampsAndRegularTimesUndoThem) {
     WritePushLog(StampedOnArrival(0.3, seed), path);
     LogReadReport report;
     ReadPushLog(path, {}, &report);
-    EXPECT_TRUE(Contains(report.warnings, "the times look stamped on arrival")) << seed;
-    EXPECT_TRUE(Contains(report.warnings, "--regular-times")) << seed;
+    EXPECT_TRUE(testing::AnyLineContains(report.warnings, "the times look stamped on arrival"))
+        << seed;
+    EXPECT_TRUE(testing::AnyLineContains(report.warnings, "--regular-times")) << seed;
     LogReadOptions regular;
     regular.regular_times = true;
     LogReadReport regular_report;
     const Trajectory log = ReadPushLog(path, regular, &regular_report);
-    EXPECT_FALSE(Contains(regular_report.warnings, "stamped on arrival")) << seed;
-    EXPECT_TRUE(Contains(regular_report.notes, "rows put on a regular grid")) << seed;
+    EXPECT_FALSE(testing::AnyLineContains(regular_report.warnings, "stamped on arrival")) << seed;
+    EXPECT_TRUE(testing::AnyLineContains(regular_report.notes, "rows put on a regular grid"))
+        << seed;
     EXPECT_LT(MeasureRowTimes(log).spread, 1e-6);
     const EstimateResult r = Identify(log, IdentifyOptions{});
     for (int i = 0; i < 3; ++i) {
