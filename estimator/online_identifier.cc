@@ -278,27 +278,21 @@ Trajectory MetadataOf(const Trajectory& log) {
   return m;
 }
 
-/// What the trajectory fit says of log a, log b, log c: its estimates and their covariance
-/// (from its intervals, t widened, and its correlations), and the rows it fitted.
-struct LogParameterGaussian {
-  Eigen::Vector3d mean;
-  Eigen::Matrix3d covariance;
-  std::size_t rows = 0;
-};
-
-/// What a batch check's fit says: its Gaussian where it finds a, b and c all ok, and per
-/// parameter, where it is ok, its log value and the interval's standard error (NaN
-/// otherwise).
+/// What a batch check's trajectory fit says of log a, log b, log c: per parameter the fit
+/// finds ok, its log value and its interval's standard error (t widened; NaN for the
+/// others), and where it finds all three ok their covariance (with the fit's correlations).
 struct BatchCheckFit {
-  std::optional<LogParameterGaussian> gaussian;
   Eigen::Vector3d log_value = Eigen::Vector3d::Constant(kNaN);
   Eigen::Vector3d log_sd = Eigen::Vector3d::Constant(kNaN);
-  std::size_t rows = 0;
+  std::optional<Eigen::Matrix3d> covariance;
+  std::size_t rows = 0;  ///< the rows it fitted
 };
 
-/// The batch check's Gaussian (FitRowsSoFar), and the per-parameter part of `out`.
-std::optional<LogParameterGaussian> GaussianOfFit(const Trajectory& log, int substeps,
-                                                  bool correct_mismatch, BatchCheckFit* out) {
+/// The trajectory fit of `log` for the batch check; no parameter and no covariance where the
+/// fit refuses the rows (too short, say) or does not converge.
+BatchCheckFit FitRowsSoFar(const Trajectory& log, int substeps, bool correct_mismatch) {
+  BatchCheckFit out;
+  out.rows = log.samples.size();
   IdentifyOptions o;
   o.method = EstimatorMethod::kTrajectory;
   o.threads = 1;
@@ -309,38 +303,27 @@ std::optional<LogParameterGaussian> GaussianOfFit(const Trajectory& log, int sub
   try {
     fit = Identify(log, o);
   } catch (const std::exception&) {
-    return std::nullopt;
+    return out;
   }
-  if (!fit.converged) return std::nullopt;
+  if (!fit.converged) return out;
   for (int i = 0; i < 3; ++i) {
     const ParameterEstimate& p = fit.parameters[i];
     if (p.verdict != Verdict::kOk) continue;
     const double sd = std::log(p.ci95_hi / p.ci95_lo) / (2 * kZ95);  // the interval's, t widened
     if (!(sd > 0) || !std::isfinite(sd + std::log(p.value))) continue;
-    out->log_value(i) = std::log(p.value);
-    out->log_sd(i) = sd;
+    out.log_value(i) = std::log(p.value);
+    out.log_sd(i) = sd;
   }
-  LogParameterGaussian g;
-  g.rows = log.samples.size();
-  const Eigen::Vector3d sd = out->log_sd;
-  if (!sd.allFinite()) return std::nullopt;
-  g.mean = out->log_value;
+  if (!out.log_sd.allFinite()) return out;
+  Eigen::Matrix3d covariance;
   for (int i = 0; i < 3; ++i) {
     for (int j = 0; j < 3; ++j) {
       const double r = i == j ? 1.0 : fit.correlation[i][j];
-      if (!std::isfinite(r)) return std::nullopt;
-      g.covariance(i, j) = r * sd(i) * sd(j);
+      if (!std::isfinite(r)) return out;
+      covariance(i, j) = r * out.log_sd(i) * out.log_sd(j);
     }
   }
-  return g;
-}
-
-/// The trajectory fit of `log` for the batch check; no Gaussian where it does not find a, b
-/// and c all ok (or refuses the rows: too short, say).
-BatchCheckFit FitRowsSoFar(const Trajectory& log, int substeps, bool correct_mismatch) {
-  BatchCheckFit out;
-  out.rows = log.samples.size();
-  out.gaussian = GaussianOfFit(log, substeps, correct_mismatch, &out);
+  out.covariance = covariance;
   return out;
 }
 
@@ -1052,40 +1035,38 @@ struct OnlineIdentifier::Impl {
     if (pending_surface == surface) ApplyCheck(fit);
   }
 
-  // A check's verdict: the fit taken over where the filter ran off (TakeOverIfApart),
-  // otherwise the doubt it casts on each parameter the fit finds ok (kCheckDoubtSigmas),
-  // which replaces the last check's.
+  // A check's verdict. Where the fit finds a, b and c ok and the filter's estimate of one
+  // lies more than batch_check_sigmas from the fit's, the filter ran off: it takes the fit's
+  // estimate and covariance (TakeOver). Otherwise it goes on as it was (taking the fit's
+  // every time ties the online estimate to fits of a prefix, whose intervals on a few
+  // segments are less reliable than the filter's: docs/online.md), and each parameter the
+  // fit finds ok more than kCheckDoubtSigmas away is doubted, replacing the last check's
+  // doubts. Distances in standard errors, the two estimates' variances added.
   void ApplyCheck(const BatchCheckFit& fit) {
-    const bool took_over = fit.gaussian && TakeOverIfApart(*fit.gaussian);
+    Eigen::Vector3d apart;  // NaN where the fit has no estimate
+    for (int i = 0; i < 3; ++i) {
+      const double sd = std::sqrt(fit.log_sd(i) * fit.log_sd(i) + P(kPar + i, kPar + i));
+      apart(i) = std::abs(fit.log_value(i) - x(kPar + i)) / sd;
+    }
+    const bool took_over =
+        fit.covariance && apart.maxCoeff() > options.batch_check_sigmas && TakeOver(fit);
     const std::string rows = std::to_string(fit.rows);
     for (int i = 0; i < 3; ++i) {
       check_doubt[i].clear();
-      if (took_over) continue;
-      const double sd = std::sqrt(fit.log_sd(i) * fit.log_sd(i) + P(kPar + i, kPar + i));
-      const double apart = std::abs(fit.log_value(i) - x(kPar + i)) / sd;
-      if (apart > kCheckDoubtSigmas) {  // false for a parameter the fit did not find ok
-        check_doubt[i] = Printf(
-            "a trajectory fit of the first %s rows (the last batch check) lies %.1f standard "
-            "errors from the filter's estimate",
-            rows, apart);
-      }
+      if (took_over || !(apart(i) > kCheckDoubtSigmas)) continue;
+      check_doubt[i] = Printf(
+          "a trajectory fit of the first %s rows (the last batch check) lies %.1f standard "
+          "errors from the filter's estimate",
+          rows, apart(i));
     }
   }
 
-  // Where the fit and the filter lie more than batch_check_sigmas apart in a parameter, the
-  // filter ran off: it takes the fit's estimate and covariance. Otherwise it goes on as it
-  // was (taking the fit's every time ties the online estimate to fits of a prefix, whose
-  // intervals on a few segments are less reliable than the filter's: docs/online.md).
-  bool TakeOverIfApart(const LogParameterGaussian& fit) {
-    bool apart = false;
-    for (int i = 0; i < 3; ++i) {
-      const double sd = std::sqrt(fit.covariance(i, i) + P(kPar + i, kPar + i));
-      apart |= std::abs(fit.mean(i) - x(kPar + i)) > options.batch_check_sigmas * sd;
-    }
-    if (!apart) return false;
-    const Eigen::LDLT<Eigen::Matrix3d> c(fit.covariance);
+  // The filter takes the fit's estimate and covariance of the parameters; false where the
+  // covariance is not positive definite (nothing taken).
+  bool TakeOver(const BatchCheckFit& fit) {
+    const Eigen::LDLT<Eigen::Matrix3d> c(*fit.covariance);
     if (c.info() != Eigen::Success || !c.isPositive()) return false;
-    if (!TakeParameters(fit.mean, fit.covariance)) return false;
+    if (!TakeParameters(fit.log_value, *fit.covariance)) return false;
     takeover_information = c.solve(Eigen::Matrix3d::Identity());
     taken_over = true;
     ++result.batch_takeovers;
