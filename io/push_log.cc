@@ -459,13 +459,13 @@ bool ParseRow(const ReadContext& ctx, const Header& h, std::string_view line, in
     if (!h.Has(static_cast<Col>(c))) continue;
     const std::string_view cell = cells[h.field[c]];
     if (const char* why = ParseCell(cell, &row.v[c])) {
-      if (!IsMissing(cell))
-        ctx.Fail(line_no, kColumnNames[c], "'" + std::string(cell) + "' " + why);
-      if (ctx.options.missing_as_gaps) return false;
+      const bool missing = IsMissing(cell);
+      if (missing && ctx.options.missing_as_gaps) return false;
       ctx.Fail(line_no, kColumnNames[c],
                "'" + std::string(cell) + "' " + why +
-                   "; a dropout? --missing-as-gaps drops such rows and starts a new run after "
-                   "them");
+                   (missing ? "; a dropout? --missing-as-gaps drops such rows and starts a new "
+                              "run after them"
+                            : ""));
     }
   }
   if (h.mode_field >= 0) {
@@ -829,8 +829,9 @@ void WarnForceAgainstMotion(const ReadContext& ctx, const Trajectory& tr) {
   const double share = double(w.positive) / w.rows;
   if (share >= kForceWorkMinPositiveShare) return;
   const double in_object_frame = double(w.positive_in_object_frame) / w.rows;
+  // Under kForceWorkMinPositiveShare as logged: which other reading would do the work.
   const std::string why =
-      1 - share >= 1 - kForceWorkMinPositiveShare && in_object_frame < 0.5
+      in_object_frame < 0.5
           ? "its sign looks flipped (a sensor's reading of the force on the pusher, the "
             "reaction?): the force on the object is wanted"
       : in_object_frame > 1 - kForceWorkMinPositiveShare
@@ -841,10 +842,9 @@ void WarnForceAgainstMotion(const ReadContext& ctx, const Trajectory& tr) {
           : "a sign or frame error?";
   ctx.report.warnings.push_back(text::Located(
       ctx.path, 0, "",
-      Printf("columns 'fx', 'fy': the force does negative work on the object in %d of the %d rows "
-             "where it "
-             "pushes and the contact point moves (a pusher does positive work): %s. The fits "
-             "use it as logged",
+      Printf("columns 'fx', 'fy': the force does negative work on the object in %d of the %d "
+             "rows where it pushes and the contact point moves (a pusher does positive "
+             "work): %s. The fits use it as logged",
              w.rows - w.positive, w.rows, why.c_str())));
 }
 
