@@ -8,6 +8,7 @@
 #include <utility>
 
 #include "forward_model/simulator.h"
+#include "pipeline/log_read_cli_options.h"
 
 namespace slideid::cli {
 namespace {
@@ -92,38 +93,12 @@ IdentifyOptions ReadEstimatorOptions(const po::variables_map& vm) {
   return o;
 }
 
-/// The value of a physical option, checked like the log's metadata would be.
-std::optional<double> PhysicalOption(const po::variables_map& vm, const char* option,
-                                     bool zero_allowed) {
-  if (!vm.count(option)) return std::nullopt;
-  const double value = vm[option].as<double>();
-  if (!std::isfinite(value) || value < 0.0 || (!zero_allowed && value == 0.0)) {
-    throw po::error(
-        std::string("--") + option + " = " + std::to_string(value) +
-        (zero_allowed ? ": must be a finite number >= 0" : ": must be a finite number > 0"));
-  }
-  return value;
-}
-
-LogReadOptions ReadLogOptions(const po::variables_map& vm) {
-  LogReadOptions o;
-  o.overrides.mass_kg = PhysicalOption(vm, "mass", false);
-  o.overrides.inertia_kgm2 = PhysicalOption(vm, "inertia", false);
-  o.overrides.com_height_m = PhysicalOption(vm, "com-height", true);
-  o.overrides.gravity_mps2 = PhysicalOption(vm, "gravity", false);
-  o.max_gap_ratio = vm["max-gap-ratio"].as<double>();
-  if (std::isnan(o.max_gap_ratio)) throw po::error("--max-gap-ratio must be a number");
-  o.regular_times = vm.count("regular-times") > 0;
-  o.missing_as_gaps = vm.count("missing-as-gaps") > 0;
-  return o;
-}
-
 }  // namespace
 
 FileIdentifyOptions ReadFileIdentifyOptions(const po::variables_map& vm) {
   FileIdentifyOptions o;
   o.identify = ReadEstimatorOptions(vm);
-  o.read = ReadLogOptions(vm);
+  o.read = ReadLogReadOptions(vm);
   o.skip_bad = vm.count("skip-bad") > 0;
   return o;
 }
@@ -134,12 +109,9 @@ void AddIdentifyOptions(po::options_description* options, po::options_descriptio
       "push log (CSV, log format); repeat it to pool several logs of one slider on one "
       "surface. With --method quasi-static: wrench-twist pairs (CSV)")(
       "logs", po::value<std::vector<std::string>>()->value_name("DIR|GLOB"),
-      "every *.csv file of a directory, or the files a quoted glob names (repeatable)")(
-      "mass", po::value<double>()->value_name("KG"), "slider mass; overrides the logs'")(
-      "inertia", po::value<double>()->value_name("KG_M2"),
-      "moment of inertia about the vertical axis through the CM; overrides the logs'")(
-      "com-height", po::value<double>()->value_name("M"), "CM height; overrides the logs'")(
-      "gravity", po::value<double>()->value_name("M_S2"), "gravity; overrides the logs' (9.81)")(
+      "every *.csv file of a directory, or the files a quoted glob names (repeatable)");
+  AddLogReadOptions(options, advanced);
+  options->add_options()(
       "method", po::value<std::string>()->default_value("trajectory"),
       "closed-form (Appendix A per step, median), equation-error (Ceres fit of the friction "
       "impulses), trajectory (Ceres fit of the simulated trajectory) or quasi-static (Ceres "
@@ -204,16 +176,6 @@ void AddIdentifyOptions(po::options_description* options, po::options_descriptio
       "trajectory only: forward-model steps per log interval (1 to 1000)")(
       "max-delay", po::value<double>()->default_value(0.1)->value_name("S"),
       "with --fit-delay: the largest delay searched [s]")(
-      "max-gap-ratio", po::value<double>()->default_value(10.0)->value_name("R"),
-      "an interval between rows longer than R times the median one is an error (the force "
-      "is held across it); 0 accepts any gap")(
-      "regular-times",
-      "put each run's rows on a regular grid (its first time plus k times its mean "
-      "interval): for a logger that samples regularly but stamps rows on arrival, whose "
-      "jittered times the reader warns of")(
-      "missing-as-gaps",
-      "drop a row with an empty or NaN cell (a motion-capture dropout) and start a new run "
-      "at the next row, instead of failing on it")(
       "max-iterations", po::value<int>()->default_value(100)->value_name("N"),
       "Ceres iterations per solve; a fit that needs more fails with exit code 3");
 }
@@ -277,7 +239,7 @@ void ReadFollowOptions(const po::variables_map& vm, IdentifyRequest* r) {
   if (r->follow_every < 1) throw po::error("--every must be >= 1");
   r->follow_batch_check_rows = vm["batch-check"].as<int>();
   if (r->follow_batch_check_rows < 0) throw po::error("--batch-check must be >= 0");
-  r->options.read = ReadLogOptions(vm);
+  r->options.read = ReadLogReadOptions(vm);
   r->verbose = vm.count("verbose") > 0;
 }
 
@@ -323,7 +285,7 @@ IdentifyRequest ReadIdentifyOptions(const po::variables_map& vm) {
   }
   if (!r.batch && !r.check) RejectRepeatedFiles(r.files);
   r.options.identify = ReadEstimatorOptions(vm);
-  r.options.read = ReadLogOptions(vm);
+  r.options.read = ReadLogReadOptions(vm);
   r.options.skip_bad = vm.count("skip-bad") > 0;
   r.json = vm.count("json") > 0;
   r.verbose = vm.count("verbose") > 0;

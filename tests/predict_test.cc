@@ -5,7 +5,11 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cctype>
 #include <cmath>
+#include <fstream>
+#include <string>
 
 #include "datasets/sensor_model.h"
 #include "fixtures/pushed_square.h"
@@ -252,6 +256,48 @@ TEST(PredictTool, PredictsFromOptionsAndWritesTheTrajectory) {
       "predict", "--log " + log_path + " --mu 0.3 --b 1 --c 0.03 --mu-pusher 0.25 --substeps 1001");
   EXPECT_EQ(substeps.code, 2);
   EXPECT_NE(substeps.err.find("substeps must be 1 to 1000"), std::string::npos) << substeps.err;
+}
+
+// A log with a motion-capture dropout (a row with empty cells): predict names the line and
+// column and says what to do, as identify does; with --missing-as-gaps (the reader's
+// option, shared by the tools that read logs) it predicts the push from the other rows, as
+// far off as from the whole log. validate and plot-log take the same options.
+TEST(PredictTool, ALogWithADropoutIsAnErrorOrAGapWhenAskedFor) {
+  const Scene scene = PushedSquare();
+  const std::string whole_path = testing::TempPath("predict_whole.csv");
+  WritePushLog(Logged(scene, 10), whole_path);
+  std::ifstream in(whole_path);
+  std::string text, line;
+  int data_rows = 0;
+  while (std::getline(in, line)) {
+    const bool data = !line.empty() && line[0] != '#' && std::isdigit(line[0]);
+    if (data && ++data_rows == 40) {  // the time kept, every other cell empty
+      line = line.substr(0, line.find(',')) +
+             std::string(std::count(line.begin(), line.end(), ','), ',');
+    }
+    text += line + "\n";
+  }
+  const std::string path = testing::WriteFile("predict_dropout.csv", text);
+  const std::string friction = " --mu 0.3 --b 1.2 --c 0.035 --mu-pusher 0.25 --json";
+  const testing::ToolRun failed = testing::RunTool("predict", "--log " + path + friction);
+  EXPECT_EQ(failed.code, 1) << failed.all();
+  EXPECT_NE(failed.err.find("--missing-as-gaps"), std::string::npos) << failed.err;
+  const testing::ToolRun gaps =
+      testing::RunTool("predict", "--log " + path + friction + " --missing-as-gaps");
+  ASSERT_EQ(gaps.code, 0) << gaps.all();
+  const testing::ToolRun whole = testing::RunTool("predict", "--log " + whole_path + friction);
+  ASSERT_EQ(whole.code, 0) << whole.all();
+  auto final_error = [](const std::string& json) {
+    const std::size_t at = json.find("\"final_position_m\":");
+    return at == std::string::npos ? -1.0 : std::stod(json.substr(at + 19));
+  };
+  EXPECT_GT(final_error(whole.out), 0) << whole.out;
+  EXPECT_NEAR(final_error(gaps.out), final_error(whole.out), 1e-3) << gaps.out;
+  for (const char* tool : {"validate", "plot-log"}) {
+    const testing::ToolRun help = testing::RunTool(tool, "--help");
+    EXPECT_NE(help.out.find("--missing-as-gaps"), std::string::npos) << tool;
+    EXPECT_NE(help.out.find("--regular-times"), std::string::npos) << tool;
+  }
 }
 
 }  // namespace

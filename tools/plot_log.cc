@@ -11,6 +11,7 @@
 #include "forward_model/simulator.h"
 #include "io/push_log.h"
 #include "io/result_json.h"
+#include "pipeline/log_read_cli_options.h"
 #include "pipeline/picture_cli_options.h"
 #include "plots/log_plot.h"
 #include "tools/tool_support.h"
@@ -42,6 +43,7 @@ int main(int argc, char** argv) {
         "rows between patch snapshots (0: about 16 over the log)");
     cli::AddPictureOptions(&opts, defaults, "picture height [px]",
                            "title above the figure (default: the log's file name)");
+    cli::AddLogReadOptions(&opts, &opts);
     po::positional_options_description positional;
     positional.add("log", 1);
     po::variables_map vm;
@@ -72,7 +74,7 @@ int main(int argc, char** argv) {
       throw po::error("--fit and --prediction exclude each other: draw one overlay");
     }
 
-    LogReadOptions read;
+    LogReadOptions read = cli::ReadLogReadOptions(vm);
     read.require_slider_properties = vm.count("fit") > 0;  // the replay needs them
     const Trajectory log = ReadPushLog(log_path, read);
     std::optional<Trajectory> fit;

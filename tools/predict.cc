@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "io/push_log.h"
+#include "pipeline/log_read_cli_options.h"
 #include "pipeline/predict_options.h"
 #include "tools/tool_support.h"
 
@@ -62,6 +63,7 @@ int main(int argc, char** argv) {
         "write the predicted trajectory as a push log")(
         "json", "print the errors as one JSON object instead of the table");
     cli::AddPredictOptions(&opts);
+    cli::AddLogReadOptions(&opts, &opts);
     po::variables_map vm;
     po::store(po::parse_command_line(argc, argv, opts), vm);
     po::notify(vm);
@@ -79,7 +81,7 @@ int main(int argc, char** argv) {
     if (!vm.count("log")) throw po::error("the option '--log' is required");
     const cli::PredictRequest request = cli::ReadPredictOptions(vm);
     const std::string log_path = vm["log"].as<std::string>();
-    PushLogFile file = ReadPushLogFile(log_path);
+    PushLogFile file = ReadPushLogFile(log_path, cli::ReadLogReadOptions(vm));
     // Named in the prediction's errors ("LOG: the force drive needs logged forces").
     file.log.source = log_path;
     const Trajectory& log = file.log;

@@ -11,6 +11,7 @@
 #include "io/atomic_file.h"
 #include "io/push_log.h"
 #include "pipeline/identify_files.h"
+#include "pipeline/log_read_cli_options.h"
 #include "pipeline/predict_options.h"
 #include "pipeline/report_files.h"
 #include "plots/validate_plot.h"
@@ -73,6 +74,7 @@ int main(int argc, char** argv) {
         "log the logged and predicted path and the error against time, the check before "
         "fitting, the command line and the timings (docs/identify.md)");
     cli::AddValidateOptions(&opts);
+    cli::AddLogReadOptions(&opts, &opts);
     po::variables_map vm;
     po::store(po::parse_command_line(argc, argv, opts), vm);
     po::notify(vm);
@@ -85,10 +87,11 @@ int main(int argc, char** argv) {
       return tools::FlushStdout("validate");
     }
     if (!vm.count("logs")) throw po::error("the option '--logs' is required");
+    const LogReadOptions read = cli::ReadLogReadOptions(vm);
     std::vector<Trajectory> logs;
     for (const std::string& path : ExpandFiles(vm["logs"].as<std::string>())) {
       try {
-        logs.push_back(ReadPushLog(path));
+        logs.push_back(ReadPushLog(path, read));
         if (logs.back().source.empty()) logs.back().source = path;
       } catch (const std::exception& e) {
         if (!vm.count("skip-bad")) throw;
