@@ -15,6 +15,7 @@
 #include <limits>
 #include <memory>
 #include <ostream>
+#include <sstream>
 #include <string_view>
 #include <system_error>
 #include <tuple>
@@ -133,6 +134,8 @@ struct Metadata {
   std::optional<std::string> patch;
   int patch_line = 0;
   std::optional<std::pair<double, int>> tip_radius;  // (value, line)
+  /// The CM in the frame whose pose the log gives [m, body axes], and its line.
+  std::optional<std::pair<Eigen::Vector2d, int>> cm_offset;
   std::vector<std::pair<std::string, std::string>> extra;
 };
 
@@ -244,6 +247,22 @@ std::size_t CountRowLines(const std::string& path) {
   return failed ? 0 : counter.count();
 }
 
+/// `cm_offset`'s value: two finite numbers, DX DY [m], separated by blanks or a comma.
+Eigen::Vector2d ParseCmOffset(const ReadContext& ctx, const std::string& value, int line_no) {
+  std::string spaced = value;
+  std::replace(spaced.begin(), spaced.end(), ',', ' ');
+  std::istringstream in(spaced);
+  std::string dx, dy, extra;
+  in >> dx >> dy;
+  const auto x = ParseFiniteNumber(dx), y = ParseFiniteNumber(dy);
+  if (!x || !y || (in >> extra)) {
+    ctx.Fail(line_no, "",
+             "metadata 'cm_offset': '" + value +
+                 "' is not two numbers DX DY (m: the CM in the frame of the logged pose)");
+  }
+  return {*x, *y};
+}
+
 /// Adds one `# ...` comment line to the metadata when it has the `key = value` form.
 void ParseCommentLine(const ReadContext& ctx, std::string_view line, int line_no, Metadata& meta) {
   line.remove_prefix(1);  // '#'
@@ -263,6 +282,9 @@ void ParseCommentLine(const ReadContext& ctx, std::string_view line, int line_no
       ctx.Fail(line_no, "", "metadata 'tip_radius': '" + value + "' is not a number >= 0 (m)");
     }
     meta.tip_radius = std::make_pair(*number, line_no);
+  } else if (key == "cm_offset") {
+    if (meta.cm_offset) ctx.Fail(line_no, "", "metadata 'cm_offset' given twice");
+    meta.cm_offset = std::make_pair(ParseCmOffset(ctx, value, line_no), line_no);
   } else if (Contains(kSliderKeys, key) || Contains(kTruthKeys, key)) {
     if (meta.numbers.count(key)) ctx.Fail(line_no, "", "metadata '" + key + "' given twice");
     const auto number = ParseFiniteNumber(value);
@@ -539,11 +561,28 @@ bool IsFinite(const AppliedWrench& w) {
          std::isfinite(w.ty) && std::isfinite(w.tz);
 }
 
+/// Moves a row's pose (and velocity, where logged) from the tracked frame to the CM, which
+/// sits at `offset` in that frame: p_cm = p + R(theta) offset, v_cm = v + w x (R(theta)
+/// offset). Before the moments r x f are taken about it.
+void MoveToCm(const Header& h, const Eigen::Vector2d& offset, RawRow& row) {
+  auto& v = row.v;
+  const double c = std::cos(v[kTheta]), s = std::sin(v[kTheta]);
+  const double rx = c * offset.x() - s * offset.y(), ry = s * offset.x() + c * offset.y();
+  v[kX] += rx;
+  v[kY] += ry;
+  if (h.Has(kVx)) {
+    v[kVx] -= v[kWz] * ry;
+    v[kVy] += v[kWz] * rx;
+  }
+}
+
 /// Reads the data rows one at a time into trajectory.samples (the line of each in `lines`),
 /// checking each as it comes: strictly increasing t, a positive normal force m g - fz
-/// (log-format.md: fz reduces it) when the mass is known, finite moments, theta unwrapped.
+/// (log-format.md: fz reduces it) when the mass is known, finite moments, theta unwrapped;
+/// with `cm_offset`, each pose moved to the CM (MoveToCm).
 void ReadSamples(const ReadContext& ctx, TextLines& in, const Header& h, Trajectory& trajectory,
-                 std::vector<int>& lines, bool mass_known) {
+                 std::vector<int>& lines, bool mass_known,
+                 const std::optional<Eigen::Vector2d>& cm_offset) {
   const double weight = trajectory.slider.mass_kg * trajectory.slider.gravity_mps2;
   const double com_height = trajectory.slider.com_height_m;
   std::vector<std::string_view> cells;
@@ -604,6 +643,7 @@ void ReadSamples(const ReadContext& ctx, TextLines& in, const Header& h, Traject
         tally[c].Add(row.v[c], line_no);
       }
     }
+    if (cm_offset) MoveToCm(h, *cm_offset, row);
     trajectory.samples.push_back(RowSample(row, h, com_height, first));
     if (gap_before) trajectory.samples.back().mode = SampleMode::kStart;
     gap_before = false;
@@ -1080,8 +1120,20 @@ PushLogFile ReadFromLines(const ReadContext& ctx, TextLines& in) {
   ResolveTruth(ctx, meta, file);
   trajectory.measured = PresentColumns(header);
 
+  std::optional<Eigen::Vector2d> cm_offset;
+  if (meta.cm_offset) {
+    if (!header.Has(kX)) {
+      ctx.Fail(meta.cm_offset->second, "",
+               "metadata 'cm_offset' needs the pose columns x, y, theta: it moves the logged "
+               "pose to the CM");
+    }
+    cm_offset = meta.cm_offset->first;
+    ctx.report.notes.push_back("poses moved to the CM, at (" + ShortNumber(cm_offset->x()) + ", " +
+                               ShortNumber(cm_offset->y()) +
+                               ") m in the logged pose's frame (cm_offset)");
+  }
   std::vector<int> lines;  // the file line of each sample, for messages
-  ReadSamples(ctx, in, header, trajectory, lines, known[0]);
+  ReadSamples(ctx, in, header, trajectory, lines, known[0], cm_offset);
   CheckTimeGaps(ctx, trajectory, lines);
   NoteRuns(ctx, trajectory);
   CheckRowTimes(ctx, trajectory, lines);
