@@ -13,10 +13,10 @@
 // A plain program (each run is one log); logs are made and run on --threads threads.
 // Experiment hooks (environment): SLIDEID_ONLINE_VERBOSE=1 prints each log's end on stderr,
 // SLIDEID_ONLINE_TRACE=K every 5th row of log K; SLIDEID_ONLINE_NO_CHANGES=1 turns change
-// detection off; SLIDEID_ONLINE_FORCE and SLIDEID_ONLINE_ACC set the process noise
-// (OnlineOptions::force_noise_fraction, model_acceleration_mps2);
-// SLIDEID_ONLINE_BATCH_CHECK=N sets OnlineOptions::batch_check_first_rows (0: off);
-// SLIDEID_ONLINE_Z=1 prints each log's standardized errors (log(value / truth) over the
+// detection off, SLIDEID_ONLINE_NO_CONFIRM=1 the confirmation of changes; SLIDEID_ONLINE_FORCE and
+// SLIDEID_ONLINE_ACC set the process noise (OnlineOptions::force_noise_fraction,
+// model_acceleration_mps2); SLIDEID_ONLINE_BATCH_CHECK=N sets OnlineOptions::batch_check_first_rows
+// (0: off); SLIDEID_ONLINE_Z=1 prints each log's standardized errors (log(value / truth) over the
 // interval's standard error) at the four points, and the rows of the last batch takeover.
 
 #include <algorithm>
@@ -136,9 +136,10 @@ void Trace(const MadeLog& made, int index, int rows, const std::vector<OnlineRes
       std::fprintf(stderr, " %.5g [%.5g %.5g] (truth %.5g; batch %.5g)", p.value, p.ci95_lo,
                    p.ci95_hi, made.truth[i], fit ? fit->parameters[i].value : 0.0);
     }
-    std::fprintf(stderr, " failed %d changes %zu noise %.3g %.3g force %.3g kappa %.3g",
-                 r.failed_steps, r.changes.size(), r.pose_noise_m, r.angle_noise_rad,
-                 r.force_noise_fraction, r.variance_factor);
+    std::fprintf(stderr,
+                 " failed %d changes %zu withdrawn %d noise %.3g %.3g force %.3g kappa %.3g",
+                 r.failed_steps, r.changes.size(), r.withdrawn_changes, r.pose_noise_m,
+                 r.angle_noise_rad, r.force_noise_fraction, r.variance_factor);
     for (const FrictionChange& c : r.changes)
       std::fprintf(stderr, " [row %d at %d stat %.1f ratio %.3f %.3f %.3f]", c.row, c.detected_row,
                    c.statistic, c.ratio[0], c.ratio[1], c.ratio[2]);
@@ -150,6 +151,7 @@ void Trace(const MadeLog& made, int index, int rows, const std::vector<OnlineRes
 OnlineOptions HookedOptions() {
   OnlineOptions options;
   options.detect_changes = !std::getenv("SLIDEID_ONLINE_NO_CHANGES");
+  options.confirm_changes = !std::getenv("SLIDEID_ONLINE_NO_CONFIRM");
   if (const char* v = std::getenv("SLIDEID_ONLINE_FORCE"))
     options.force_noise_fraction = std::atof(v);
   if (const char* v = std::getenv("SLIDEID_ONLINE_ACC"))

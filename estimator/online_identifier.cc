@@ -156,6 +156,22 @@ bool Finite(const TrajectorySample& r) {
   return true;
 }
 
+/// A pointer that a copy of its owner does not share: what an identifier holds only while
+/// it decides (a batch check's fit under way, the change confirmation's second filter) is
+/// not copied with it.
+template <typename T>
+struct NotCopied {
+  T value;
+  NotCopied() = default;
+  NotCopied(const NotCopied&) {}
+  NotCopied& operator=(const NotCopied&) {
+    value = T{};
+    return *this;
+  }
+  NotCopied(NotCopied&&) noexcept = default;
+  NotCopied& operator=(NotCopied&&) noexcept = default;
+};
+
 /// The running noise of one channel from its third differences.
 class NoiseReader {
  public:
@@ -418,7 +434,7 @@ struct OnlineIdentifier::Impl {
   std::size_t next_check_rows = 0;
   // A check on its own thread (OnlineOptions::batch_check_thread), and the surface (counted
   // by changes found) whose rows it fits.
-  std::future<BatchCheckFit> pending_check;
+  NotCopied<std::future<BatchCheckFit>> pending_check;
   int surface = 0, pending_surface = 0;
   // Per parameter, why the last check's fit doubts the filter's estimate (empty: it does
   // not): marked suspect until a later check finds no doubt (MarkWhatTheCheckDoubts).
@@ -433,6 +449,13 @@ struct OnlineIdentifier::Impl {
   std::vector<TrajectorySample> early_rows;
   Eigen::Vector3d own_prior_mean = Eigen::Vector3d::Zero();
   bool replaying = false;
+  // The change confirmation (OnlineOptions::confirm_changes): from an alarm until
+  // change_window_rows rows later, the filter as it was at the alarm, going on as if there
+  // had been none, and the rows left; each filter's log-likelihood of its innovations since
+  // the alarm.
+  NotCopied<std::unique_ptr<Impl>> unchanged;
+  int rows_to_confirm = 0;
+  double loglik_since_alarm = 0;
 
   void ReadNoise() {
     sigma_p = options.pose_noise_m > 0
@@ -688,6 +711,8 @@ struct OnlineIdentifier::Impl {
     ++nis_rows;
     LimitParameterStep(nu, &R, &S, &llt);
     const Eigen::Matrix3d S_inv = llt.solve(Eigen::Matrix3d::Identity());
+    const Eigen::Matrix3d L = llt.matrixL();  // log det S = 2 sum log L_ii
+    loglik_since_alarm -= 0.5 * (nu.dot(S_inv * nu) + 2 * L.diagonal().array().log().sum());
     const Matrix93 K = P.leftCols<3>() * S_inv;
 
     UpdateChangeWindows(phi, K, S_inv, nu, row);
@@ -710,10 +735,84 @@ struct OnlineIdentifier::Impl {
     recent.emplace_back(index, row);
     while (static_cast<int>(recent.size()) > options.change_window_rows + 1) recent.pop_front();
     if (result.change_detected) {
+      KeepUnchangedFilter();
       RefilterAfterChange();
     } else {
       RefineChangeSize();
     }
+  }
+
+  // One row: the noise readers, the filter (or its warm-up), the batch check, mu_p and the
+  // result. Update's, after it has checked the row.
+  void TakeRow(const TrajectorySample& row) {
+    const int index = result.rows;
+    result.change_judged = false;
+    ++result.rows;
+    result.t_s = row.t_s;
+    noise_x.Add(row.state.x);
+    noise_y.Add(row.state.y);
+    noise_theta.Add(row.state.theta);
+    noise_force.Add(row.applied, kContactForceFraction * largest_push_n);
+    AddLeverRow(row);
+    const std::size_t changes = result.changes.size();
+    if (!result.started) {
+      warmup.push_back(row);
+      if (static_cast<int>(warmup.size()) >= options.warmup_rows) Start();
+    } else {
+      if (++rows_since_noise >= kNoiseRefreshRows) ReadNoise();
+      Filter(row, index);
+    }
+    CollectBatchCheck(false);
+    // A change found at this row restarted the batch check's rows with this one among them.
+    if (result.changes.size() == changes) AddBatchRow(row);
+    AddTipRow(row);
+    Report();
+  }
+
+  // At an alarm: a copy of the filter as it is, which goes on as if there had been no
+  // change, until change_window_rows rows decide between the two (ConfirmOrWithdrawChange).
+  void KeepUnchangedFilter() {
+    if (!options.confirm_changes || !options.detect_changes) return;
+    auto copy = std::make_unique<Impl>(*this);
+    copy->options.detect_changes = false;
+    copy->result.changes.pop_back();
+    copy->result.change_detected = false;
+    copy->loglik_since_alarm = 0;
+    copy->tip.reset();  // mu_p does not depend on the friction: this filter's stays
+    unchanged.value = std::move(copy);
+    rows_to_confirm = options.change_window_rows;
+  }
+
+  // change_window_rows rows after an alarm: the change stands where the filter restarted at
+  // it explains the rows since better than the one that went on without it (the
+  // log-likelihood of their innovations, each filter's own covariance priced in, by more
+  // than the jump's parameters cost); otherwise the filter without it replaces this one and
+  // the change is withdrawn. The rows that raised the alarm are not among those that judge
+  // it.
+  void ConfirmOrWithdrawChange() {
+    if (!unchanged.value || --rows_to_confirm > 0) return;
+    std::unique_ptr<Impl> other = std::move(unchanged.value);
+    // The restarted filter spends three parameters on the jump: the Bayesian information
+    // criterion charges (3 / 2) log n for them, n the innovations' components judged.
+    const double penalty = 1.5 * std::log(3.0 * options.change_window_rows);
+    if (loglik_since_alarm - other->loglik_since_alarm > penalty) {
+      result.changes.back().confirmed = true;
+      result.change_judged = true;
+      return;
+    }
+    const int withdrawn = result.withdrawn_changes + 1;
+    const OnlineOptions own = options;
+    const int rows = result.rows;
+    const double t_s = result.t_s;
+    std::optional<PusherFrictionStream> own_tip = std::move(tip);
+    *this = std::move(*other);
+    options = own;
+    tip = std::move(own_tip);
+    result.rows = rows;
+    result.t_s = t_s;
+    result.withdrawn_changes = withdrawn;
+    result.change_judged = true;
+    Report();
   }
 
   // After a change found in window `found`: the filter goes back to the window's start,
@@ -752,6 +851,7 @@ struct OnlineIdentifier::Impl {
       result.batch_takeover_rows = 0;
     }
     for (const auto& [index, row] : again) Filter(row, index);
+    loglik_since_alarm = 0;
     result.change_detected = true;
     // The change's size is refined once the filter has re-converged (RefineChangeSize).
     size_before_change = w.x0.segment<3>(kPar);
@@ -1074,9 +1174,9 @@ struct OnlineIdentifier::Impl {
   // time: a check due while the last still runs is skipped.
   void BatchCheck() {
     if (options.batch_check_thread) {
-      if (pending_check.valid()) return;
+      if (pending_check.value.valid()) return;
       try {
-        pending_check = std::async(std::launch::async, [log = batch_log, o = options] {
+        pending_check.value = std::async(std::launch::async, [log = batch_log, o = options] {
           return FitRowsSoFar(log, o.substeps, o.fit_mismatch);
         });
         ++result.batch_checks;
@@ -1092,10 +1192,10 @@ struct OnlineIdentifier::Impl {
 
   // The verdict of a check run on its thread, once it is in (`wait`: waiting for it).
   void CollectBatchCheck(bool wait) {
-    if (!pending_check.valid()) return;
-    if (!wait && pending_check.wait_for(std::chrono::seconds(0)) != std::future_status::ready)
+    if (!pending_check.value.valid()) return;
+    if (!wait && pending_check.value.wait_for(std::chrono::seconds(0)) != std::future_status::ready)
       return;
-    const BatchCheckFit fit = pending_check.get();
+    const BatchCheckFit fit = pending_check.value.get();
     // A fit of the rows before a change found since says nothing of the new surface.
     if (pending_surface == surface) ApplyCheck(fit);
   }
@@ -1236,26 +1336,14 @@ const OnlineResult& OnlineIdentifier::Update(const TrajectorySample& row) {
         "online identifier: row " + std::to_string(index) + " at t = " + ShortNumber(row.t_s) +
         " s does not come after the previous row (t = " + ShortNumber(previous_t) + " s)");
   }
-  ++m.result.rows;
-  m.result.t_s = row.t_s;
-  m.noise_x.Add(row.state.x);
-  m.noise_y.Add(row.state.y);
-  m.noise_theta.Add(row.state.theta);
-  m.noise_force.Add(row.applied, kContactForceFraction * m.largest_push_n);
-  m.AddLeverRow(row);
-  const std::size_t changes = m.result.changes.size();
-  if (!m.result.started) {
-    m.warmup.push_back(row);
-    if (static_cast<int>(m.warmup.size()) >= m.options.warmup_rows) m.Start();
-  } else {
-    if (++m.rows_since_noise >= kNoiseRefreshRows) m.ReadNoise();
-    m.Filter(row, index);
+  const bool confirming = m.unchanged.value != nullptr;
+  m.TakeRow(row);
+  if (confirming) {
+    m.unchanged.value->TakeRow(row);
+    m.ConfirmOrWithdrawChange();
+  } else if (m.unchanged.value) {  // an alarm at this row: the other filter has filtered it
+    m.unchanged.value->AddBatchRow(row);
   }
-  m.CollectBatchCheck(false);
-  // A change found at this row restarted the batch check's rows with this one among them.
-  if (m.result.changes.size() == changes) m.AddBatchRow(row);
-  m.AddTipRow(row);
-  m.Report();
   if (m.replaying) return m.result;
   const int rows = m.result.rows;
   const int last_replay_rows =

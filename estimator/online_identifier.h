@@ -65,6 +65,13 @@ struct OnlineOptions {
   /// located within change_window_rows / 2 rows and tested over at least that many.
   int change_window_rows = 60;
   bool detect_changes = true;
+  /// Each alarm is judged change_window_rows rows later: the filter restarted at it and one
+  /// that went on without it both filter those rows, and the change stands where the first
+  /// explains them better (the log-likelihood of their innovations); otherwise it is
+  /// withdrawn (OnlineResult::withdrawn_changes) and the filter without it goes on. Model
+  /// mismatch for a push or two (a violent push logged at 100-250 Hz, outliers) can raise an
+  /// alarm; it does not last. Costs a second filter over those rows.
+  bool confirm_changes = true;
   /// After a change, the parameters' prior is this wide (1 sigma, log) around the
   /// estimated new value: the filter forgets the old surface.
   double change_reset_log_sigma = 0.3;
@@ -98,6 +105,9 @@ struct FrictionChange {
   double statistic = 0;  ///< the likelihood ratio (chi-square(3) under no change)
   /// Its size: new over old value of a, b, c (1: unchanged).
   std::array<double, 3> ratio{{1, 1, 1}};
+  /// change_window_rows rows after the alarm, the rows since explained better with it than
+  /// without (OnlineOptions::confirm_changes); until then, or without confirmation, false.
+  bool confirmed = false;
 };
 
 /// What the identifier knows after a row.
@@ -139,8 +149,13 @@ struct OnlineResult {
   std::array<double, 3> interval_variance_factors{{1, 1, 1}};
   /// The change test runs (the filter has settled and its variance factor is known).
   bool change_test_armed = false;
-  bool change_detected = false;         ///< at this row
-  std::vector<FrictionChange> changes;  ///< every change so far
+  bool change_detected = false;  ///< at this row
+  /// At this row the last alarm was confirmed or withdrawn (OnlineOptions::confirm_changes).
+  bool change_judged = false;
+  std::vector<FrictionChange> changes;  ///< every change so far, but those withdrawn
+  /// Alarms withdrawn: the rows after them were explained better without the change
+  /// (OnlineOptions::confirm_changes). Each was in `changes` until then.
+  int withdrawn_changes = 0;
   /// Rows at which the filter had lost the motion (20 sigma off on 3 rows in a row) and
   /// restarted it from the poses, widening what it knew of the parameters.
   int relocations = 0;

@@ -1,5 +1,6 @@
 #include "io/online_json.h"
 
+#include <algorithm>
 #include <cmath>
 #include <nlohmann/json.hpp>
 
@@ -26,7 +27,8 @@ json Change(const FrictionChange& c) {
           {"t", Number(c.t_s)},
           {"detected_row", c.detected_row},
           {"statistic", Number(c.statistic)},
-          {"ratio", json::array({Number(c.ratio[0]), Number(c.ratio[1]), Number(c.ratio[2])})}};
+          {"ratio", json::array({Number(c.ratio[0]), Number(c.ratio[1]), Number(c.ratio[2])})},
+          {"confirmed", c.confirmed}};
 }
 
 }  // namespace
@@ -50,6 +52,9 @@ std::string FormatOnlineJson(const OnlineResult& r) {
   out["batch_checks"] = r.batch_checks;
   out["batch_takeovers"] = r.batch_takeovers;
   out["changes"] = r.changes.size();
+  out["confirmed_changes"] = std::count_if(r.changes.begin(), r.changes.end(),
+                                           [](const FrictionChange& c) { return c.confirmed; });
+  out["withdrawn_changes"] = r.withdrawn_changes;
   out["change"] = r.change_detected ? Change(r.changes.back()) : json(nullptr);
   return out.dump();
 }

@@ -171,7 +171,8 @@ FollowSummary FollowLog(std::istream& in, const std::string& source, const Follo
     }
     ++summary.rows;
     last = result;
-    last_emitted = summary.rows % options.every == 0 || result->change_detected;
+    last_emitted =
+        summary.rows % options.every == 0 || result->change_detected || result->change_judged;
     if (last_emitted) {
       ++summary.lines;
       if (!emit(warnings.Json(*result))) {
