@@ -800,17 +800,20 @@ struct OnlineIdentifier::Impl {
       result.change_judged = true;
       return;
     }
-    const int withdrawn = result.withdrawn_changes + 1;
-    const OnlineOptions own = options;
-    const int rows = result.rows;
-    const double t_s = result.t_s;
+    // What does not depend on the friction stays this filter's: the rows, mu_p.
+    const OnlineOptions own_options = options;
+    const OnlineResult own = result;
     std::optional<PusherFrictionStream> own_tip = std::move(tip);
     *this = std::move(*other);
-    options = own;
+    options = own_options;
     tip = std::move(own_tip);
-    result.rows = rows;
-    result.t_s = t_s;
-    result.withdrawn_changes = withdrawn;
+    result.rows = own.rows;
+    result.t_s = own.t_s;
+    result.mu_pusher = own.mu_pusher;
+    result.mu_pusher_lower_bound = own.mu_pusher_lower_bound;
+    result.mu_pusher_contact_rows = own.mu_pusher_contact_rows;
+    result.mu_pusher_sliding_rows = own.mu_pusher_sliding_rows;
+    result.withdrawn_changes = own.withdrawn_changes + 1;
     result.change_judged = true;
     Report();
   }
