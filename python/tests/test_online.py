@@ -37,6 +37,7 @@ def test_update_many_recovers_the_bundled_logs_truth_within_its_intervals():
     assert not results[0]["started"] and results[0]["e_t_mu"]["value"] is None
     last = results[-1]
     assert last["row"] == len(log.t) - 1 and last["changes"] == 0
+    assert last["confirmed_changes"] == 0 and last["withdrawn_changes"] == 0
     truth = {"e_t_mu": 0.4, "e_o_over_e_t": 1.3, "e_r_over_e_t": 0.03}
     for name, value in truth.items():
         lo, hi = last[name]["ci95"]
