@@ -46,6 +46,10 @@ constexpr int kMaxResidualNudges = 4;
 // Reader: an interval longer than this many times the median interval is reported as a
 // warning (dropped samples); LogReadOptions::max_gap_ratio makes longer ones errors.
 constexpr double kWarnGapRatio = 3.0;
+// Reader: a median interval between rows longer than this [s] (slower than 1 Hz) is warned
+// of: times in milliseconds read as seconds make every motion a thousand times slower, which
+// the fit then calls too little sliding. Pushing logs here run at 30 Hz to 1 kHz.
+constexpr double kSlowestPlausibleInterval_s = 1.0;
 // Reader: magnitudes no pushing experiment reaches. A value beyond one is read, but warned
 // about: a unit error (mm for m, g for kg, g cm^2 for kg m^2) is far likelier.
 constexpr double kAbsurdPosition_m = 1e3;  // x, y, px, py, pz
@@ -806,6 +810,14 @@ void CheckTimeGaps(const ReadContext& ctx, const Trajectory& tr, const std::vect
   const auto mid = sorted.begin() + static_cast<std::ptrdiff_t>((sorted.size() - 1) / 2);
   std::nth_element(sorted.begin(), mid, sorted.end());
   const double median = *mid;
+  if (median > kSlowestPlausibleInterval_s) {
+    ctx.report.warnings.push_back(text::Located(
+        ctx.path, lines[end[0]], "t",
+        "the median interval between rows is " + ShortNumber(median) + " s (" +
+            ShortNumber(1.0 / median) +
+            " Hz), slow for a pushing experiment: t in milliseconds or microseconds? (t is in "
+            "seconds)"));
+  }
   const double max_ratio = ctx.options.max_gap_ratio;
   int long_count = 0;
   std::size_t longest = 0;

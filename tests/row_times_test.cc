@@ -112,6 +112,25 @@ TEST(RowTimes, TheReaderWarnsOfJitteredStampsAndRegularTimesUndoThem) {
   }
 }
 
+// Times logged in milliseconds (or microseconds) read as seconds: every motion a thousand
+// times slower, which the fit calls too little sliding. The reader says what it looks like;
+// the bundled log as it is (100 Hz) gets no such warning.
+TEST(RowTimes, TimesInMillisecondsAreWarnedOf) {
+  for (double scale : {1e3, 1e6}) {
+    Trajectory log = ReadPushLog(kBundledLog);
+    for (TrajectorySample& s : log.samples) s.t_s *= scale;
+    const std::string path = testing::TempPath("milliseconds.csv");
+    WritePushLog(log, path);
+    LogReadReport report;
+    ReadPushLog(path, {}, &report);
+    EXPECT_TRUE(testing::AnyLineContains(report.warnings, "t in milliseconds or microseconds?"))
+        << scale;
+  }
+  LogReadReport report;
+  ReadPushLog(kBundledLog, {}, &report);
+  EXPECT_FALSE(testing::AnyLineContains(report.warnings, "milliseconds"));
+}
+
 // Each run keeps its start and end; only the rows inside it move.
 TEST(RowTimes, ARegularGridKeepsEachRunsStartAndEnd) {
   Trajectory log = StampedOnArrival(0.3, 3);
