@@ -37,4 +37,31 @@ ForceWork MeasureForceWork(const Trajectory& log) {
   return w;
 }
 
+SpinWork MeasureSpinWork(const Trajectory& log) {
+  SpinWork w;
+  if (!log.measured.pose || !log.measured.force) return w;
+  const LogDiagnostics d = DiagnoseLog(log);
+  if (!(d.max_push_n > 0)) return w;
+  const double noise = std::isfinite(d.angle_noise_rad) ? d.angle_noise_rad : 0.0;
+  double largest_moment = 0;
+  auto pushes = [&](const TrajectorySample& a) {
+    return std::hypot(a.applied.fx, a.applied.fy) >= kForceWorkPushFraction * d.max_push_n;
+  };
+  for (const TrajectorySample& a : log.samples)
+    if (pushes(a)) largest_moment = std::max(largest_moment, std::abs(a.applied.tz));
+  if (!(largest_moment > 0)) return w;
+  for (std::size_t u = 0; u + 1 < log.samples.size(); ++u) {
+    if (StartsRun(log, u + 1)) continue;
+    const TrajectorySample& a = log.samples[u];
+    if (!pushes(a) || !(std::abs(a.applied.tz) >= kForceWorkPushFraction * largest_moment))
+      continue;
+    // The turn over the interval against the noise of a difference of two headings.
+    const double turn = log.samples[u + 1].state.theta - a.state.theta;
+    if (!(std::abs(turn) > kSpinOverNoise * std::sqrt(2.0) * noise)) continue;
+    ++w.rows;
+    w.positive += a.applied.tz * turn > 0;
+  }
+  return w;
+}
+
 }  // namespace slideid

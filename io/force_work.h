@@ -36,4 +36,18 @@ constexpr double kForceWorkMinPositiveShare = 0.2;
 /// log without poses or a force channel.
 ForceWork MeasureForceWork(const Trajectory& log);
 
+/// The same for the turn: the rows that push well off the CM (a moment about z of at least
+/// kForceWorkPushFraction of the pushing rows' largest) while the slider turns (by more than
+/// kSpinOverNoise times the heading's noise over the interval), and in how many it turns the
+/// moment's way. A push turns the slider its way: under the limit surface the twist follows
+/// the wrench's normal, so the spin has the moment's sign. A heading measured clockwise (or
+/// a y axis flipped in the poses but not in the push points) turns it the other way in
+/// nearly every such row.
+struct SpinWork {
+  int rows = 0;
+  int positive = 0;
+};
+constexpr double kSpinOverNoise = 3.0;
+SpinWork MeasureSpinWork(const Trajectory& log);
+
 }  // namespace slideid

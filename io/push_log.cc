@@ -875,11 +875,12 @@ void CheckRowTimes(const ReadContext& ctx, Trajectory& tr, const std::vector<int
 
 /// A force that does not push the object the way it moves (io/force_work.h): its sign or
 /// its frame is likely wrong. The fits use it as logged.
-void WarnForceAgainstMotion(const ReadContext& ctx, const Trajectory& tr) {
+/// Returns whether it warned.
+bool WarnForceAgainstMotion(const ReadContext& ctx, const Trajectory& tr) {
   const ForceWork w = MeasureForceWork(tr);
-  if (w.rows < kMinForceWorkRows) return;
+  if (w.rows < kMinForceWorkRows) return false;
   const double share = double(w.positive) / w.rows;
-  if (share >= kForceWorkMinPositiveShare) return;
+  if (share >= kForceWorkMinPositiveShare) return false;
   const double in_object_frame = double(w.positive_in_object_frame) / w.rows;
   // Under kForceWorkMinPositiveShare as logged: which other reading would do the work.
   const std::string why =
@@ -898,6 +899,22 @@ void WarnForceAgainstMotion(const ReadContext& ctx, const Trajectory& tr) {
              "rows where it pushes and the contact point moves (a pusher does positive "
              "work): %s. The fits use it as logged",
              w.rows - w.positive, w.rows, why.c_str())));
+  return true;
+}
+
+/// Called where the force itself does the work it should: a flipped force flips the moment
+/// too, and its own warning says so.
+void WarnSpinAgainstMoment(const ReadContext& ctx, const Trajectory& tr) {
+  const SpinWork w = MeasureSpinWork(tr);
+  if (w.rows < kMinForceWorkRows) return;
+  if (double(w.positive) / w.rows >= kForceWorkMinPositiveShare) return;
+  ctx.report.warnings.push_back(text::Located(
+      ctx.path, 0, "theta",
+      Printf("the slider turns against the applied moment in %d of the %d rows where a push "
+             "off the CM turns it (a push turns it its way): theta measured clockwise, or a "
+             "y axis flipped in the poses but not in the push points? theta is wanted "
+             "counter-clockwise about z up. The fits use it as logged",
+             w.rows - w.positive, w.rows)));
 }
 
 /// Rows marked `start` after the first split the log into runs; say so, for a user who did
@@ -1149,7 +1166,7 @@ PushLogFile ReadFromLines(const ReadContext& ctx, TextLines& in) {
   CheckTimeGaps(ctx, trajectory, lines);
   NoteRuns(ctx, trajectory);
   CheckRowTimes(ctx, trajectory, lines);
-  WarnForceAgainstMotion(ctx, trajectory);
+  if (!WarnForceAgainstMotion(ctx, trajectory)) WarnSpinAgainstMoment(ctx, trajectory);
   WarnThetaInDegrees(ctx, trajectory, lines);
   if (!header.Has(kVx)) {
     VelocitiesFromPoses(ctx, trajectory, lines);

@@ -43,6 +43,38 @@ TEST(ForceWork, AFlippedForceIsWarnedOf) {
   EXPECT_TRUE(testing::AnyLineContains(report.warnings, "columns 'fx', 'fy'"));
 }
 
+// A push off the CM turns the slider its way: in the bundled log the spin has the moment's
+// sign in every row that pushes off the CM while it turns. A heading logged clockwise turns
+// it the other way in all of them, and the reader says so; a flipped force (above), which
+// flips the moment too, is told as a flipped force only.
+TEST(ForceWork, AHeadingMeasuredClockwiseIsWarnedOf) {
+  LogReadReport report;
+  const Trajectory log = ReadPushLog(kBundledLog, {}, &report);
+  const SpinWork w = MeasureSpinWork(log);
+  EXPECT_GE(w.rows, 50);
+  EXPECT_EQ(w.positive, w.rows);
+  EXPECT_FALSE(testing::AnyLineContains(report.warnings, "turns against the applied moment"));
+  Trajectory clockwise = log;
+  for (TrajectorySample& s : clockwise.samples) s.state.theta = -s.state.theta;
+  EXPECT_EQ(MeasureSpinWork(clockwise).positive, 0);
+  const std::string path = testing::TempPath("clockwise.csv");
+  WritePushLog(clockwise, path);
+  LogReadReport clockwise_report;
+  ReadPushLog(path, {}, &clockwise_report);
+  EXPECT_TRUE(testing::AnyLineContains(clockwise_report.warnings, "theta measured clockwise"));
+  Trajectory flipped_force = log;
+  for (TrajectorySample& s : flipped_force.samples) {
+    AppliedWrench& f = s.applied;
+    for (double* v : {&f.fx, &f.fy, &f.fz, &f.tx, &f.ty, &f.tz}) *v = -*v;
+  }
+  const std::string force_path = testing::TempPath("flipped_force_spin.csv");
+  WritePushLog(flipped_force, force_path);
+  LogReadReport force_report;
+  ReadPushLog(force_path, {}, &force_report);
+  EXPECT_TRUE(testing::AnyLineContains(force_report.warnings, "its sign looks flipped"));
+  EXPECT_FALSE(testing::AnyLineContains(force_report.warnings, "turns against"));
+}
+
 // Two ways of one reading: the bundled force rotated into the object's frame, read "in the
 // object's frame", is the logged world force again, row for row.
 TEST(ForceWork, TheObjectFrameReadingUndoesARotationIntoTheObjectsFrame) {
