@@ -7,11 +7,10 @@
 
 namespace slideid {
 
-ForceWork MeasureForceWork(const Trajectory& log) {
+namespace {
+
+ForceWork ForceWorkOf(const Trajectory& log, const LogDiagnostics& d) {
   ForceWork w;
-  if (!log.measured.pose || !log.measured.force) return w;
-  const LogDiagnostics d = DiagnoseLog(log);
-  if (!(d.max_push_n > 0)) return w;
   const double noise = std::isfinite(d.pose_noise_m) ? d.pose_noise_m : 0.0;
   for (std::size_t u = 0; u + 1 < log.samples.size(); ++u) {
     if (StartsRun(log, u + 1)) continue;
@@ -37,16 +36,13 @@ ForceWork MeasureForceWork(const Trajectory& log) {
   return w;
 }
 
-SpinWork MeasureSpinWork(const Trajectory& log) {
+SpinWork SpinWorkOf(const Trajectory& log, const LogDiagnostics& d) {
   SpinWork w;
-  if (!log.measured.pose || !log.measured.force) return w;
-  const LogDiagnostics d = DiagnoseLog(log);
-  if (!(d.max_push_n > 0)) return w;
   const double noise = std::isfinite(d.angle_noise_rad) ? d.angle_noise_rad : 0.0;
-  double largest_moment = 0;
   auto pushes = [&](const TrajectorySample& a) {
     return std::hypot(a.applied.fx, a.applied.fy) >= kForceWorkPushFraction * d.max_push_n;
   };
+  double largest_moment = 0;
   for (const TrajectorySample& a : log.samples)
     if (pushes(a)) largest_moment = std::max(largest_moment, std::abs(a.applied.tz));
   if (!(largest_moment > 0)) return w;
@@ -63,5 +59,21 @@ SpinWork MeasureSpinWork(const Trajectory& log) {
   }
   return w;
 }
+
+}  // namespace
+
+PushWork MeasurePushWork(const Trajectory& log) {
+  PushWork w;
+  if (!log.measured.pose || !log.measured.force) return w;
+  const LogDiagnostics d = DiagnoseLog(log);
+  if (!(d.max_push_n > 0)) return w;
+  w.force = ForceWorkOf(log, d);
+  w.spin = SpinWorkOf(log, d);
+  return w;
+}
+
+ForceWork MeasureForceWork(const Trajectory& log) { return MeasurePushWork(log).force; }
+
+SpinWork MeasureSpinWork(const Trajectory& log) { return MeasurePushWork(log).spin; }
 
 }  // namespace slideid

@@ -50,4 +50,11 @@ struct SpinWork {
 constexpr double kSpinOverNoise = 3.0;
 SpinWork MeasureSpinWork(const Trajectory& log);
 
+/// Both at once, from one reading of the log's noise (what the reader uses).
+struct PushWork {
+  ForceWork force;
+  SpinWork spin;
+};
+PushWork MeasurePushWork(const Trajectory& log);
+
 }  // namespace slideid

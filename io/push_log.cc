@@ -876,8 +876,7 @@ void CheckRowTimes(const ReadContext& ctx, Trajectory& tr, const std::vector<int
 /// A force that does not push the object the way it moves (io/force_work.h): its sign or
 /// its frame is likely wrong. The fits use it as logged.
 /// Returns whether it warned.
-bool WarnForceAgainstMotion(const ReadContext& ctx, const Trajectory& tr) {
-  const ForceWork w = MeasureForceWork(tr);
+bool WarnForceAgainstMotion(const ReadContext& ctx, const ForceWork& w) {
   if (w.rows < kMinForceWorkRows) return false;
   const double share = double(w.positive) / w.rows;
   if (share >= kForceWorkMinPositiveShare) return false;
@@ -904,8 +903,7 @@ bool WarnForceAgainstMotion(const ReadContext& ctx, const Trajectory& tr) {
 
 /// Called where the force itself does the work it should: a flipped force flips the moment
 /// too, and its own warning says so.
-void WarnSpinAgainstMoment(const ReadContext& ctx, const Trajectory& tr) {
-  const SpinWork w = MeasureSpinWork(tr);
+void WarnSpinAgainstMoment(const ReadContext& ctx, const SpinWork& w) {
   if (w.rows < kMinForceWorkRows) return;
   if (double(w.positive) / w.rows >= kForceWorkMinPositiveShare) return;
   ctx.report.warnings.push_back(text::Located(
@@ -1166,7 +1164,8 @@ PushLogFile ReadFromLines(const ReadContext& ctx, TextLines& in) {
   CheckTimeGaps(ctx, trajectory, lines);
   NoteRuns(ctx, trajectory);
   CheckRowTimes(ctx, trajectory, lines);
-  if (!WarnForceAgainstMotion(ctx, trajectory)) WarnSpinAgainstMoment(ctx, trajectory);
+  const PushWork work = MeasurePushWork(trajectory);
+  if (!WarnForceAgainstMotion(ctx, work.force)) WarnSpinAgainstMoment(ctx, work.spin);
   WarnThetaInDegrees(ctx, trajectory, lines);
   if (!header.Has(kVx)) {
     VelocitiesFromPoses(ctx, trajectory, lines);
