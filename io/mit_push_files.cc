@@ -57,6 +57,7 @@ std::string ResolveObject(const std::string& object, const MitObjectSource& sour
   } else {
     missing += std::string(missing.empty() ? "" : ", ") + "patch";
   }
+  if (row) options->cm_offset_m = row->cm_offset_m;
   if (row && !row->source.empty())
     options->extra_metadata.emplace_back("object_source", row->source);
   return missing;

@@ -491,6 +491,17 @@ RowWrench MeanWrench(const Streams& s, const Offset& offset, double sign, double
 
 /// Steps 1-3: sorts, checks counts and magnitudes, rejects a dead channel, drops frozen
 /// force samples, repairs theta.
+/// Each object pose moved from the tracked frame to the CM at `offset` in it: p + R(theta)
+/// offset. After the heading's repair, before the contact geometry and the log use them.
+void MoveObjectPosesToCm(const Eigen::Vector2d& offset, std::vector<MitStreamRow>* pose) {
+  if (offset.isZero()) return;
+  for (MitStreamRow& row : *pose) {
+    const double c = std::cos(row[3]), s = std::sin(row[3]);
+    row[1] += c * offset.x() - s * offset.y();
+    row[2] += s * offset.x() + c * offset.y();
+  }
+}
+
 Rejection PrepareStreams(const MitImportOptions& o, Streams* s, std::vector<FrozenRun>* frozen,
                          MitImportReport* r) {
   r->object_pose = Clean(&s->object);
@@ -539,6 +550,7 @@ Rejection PrepareStreams(const MitImportOptions& o, Streams* s, std::vector<Froz
                        " object poses dropped as isolated outliers (marker swaps?)");
   }
   RepairTheta(&s->object, o.theta_jump_rad, r);
+  MoveObjectPosesToCm(o.cm_offset_m, &s->object);
   return std::nullopt;
 }
 
@@ -760,6 +772,8 @@ void AddMetadata(const MitImportReport& r, const MitImportOptions& o, const std:
   if (!r.object.empty()) add("object", r.object);
   add("time_origin_unix_s", ExactNumber(r.time_origin_s));
   add("rate_hz", ExactNumber(o.rate_hz));
+  // Not `cm_offset`, which the reader would apply again to poses already at the CM.
+  if (!o.cm_offset_m.isZero()) add("object_poses_moved_to_cm_m", Vec(o.cm_offset_m));
   add("stream_rates_hz",
       Printf("object_pose %.1f, tip_pose %.1f, ft_wrench %.1f", r.object_pose.median_rate_hz,
              r.tip_pose.median_rate_hz, r.ft_wrench.median_rate_hz));

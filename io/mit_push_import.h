@@ -53,6 +53,10 @@ struct MitImportOptions {
   /// The object's outline in its frame, centred on the CM (log-format.md patch forms); the
   /// pusher touches this outline and the log records it as the contact patch.
   std::string patch_spec;
+  /// The CM in the frame whose pose the recording tracks [m, object axes]: the MIT
+  /// triangles' frame is not their centroid (datasets/mit_objects.csv). The object poses are
+  /// moved to the CM before anything else uses them; zero leaves them as recorded.
+  Eigen::Vector2d cm_offset_m = Eigen::Vector2d::Zero();
   double tip_radius_m = 0.00475;  ///< the MIT pusher (pdproc, get_and_plot_data.m)
   /// Row rate of the log [Hz]. 100 Hz: below every stream's median rate in the real files
   /// (object poses 104-255 Hz), so rows are not interpolated more finely than measured,

@@ -4,6 +4,8 @@
 
 #include <charconv>
 #include <cmath>
+#include <sstream>
+#include <string>
 
 #include "forward_model/contact_patch.h"
 
@@ -30,26 +32,37 @@ double Number(const char* cell, bool positive, const std::string& where) {
   return value;
 }
 
+/// "DX DY": two finite numbers [m].
+Eigen::Vector2d CmOffset(const char* text, const std::string& where) {
+  std::istringstream in(text);
+  double dx = 0, dy = 0;
+  std::string rest;
+  if (!(in >> dx >> dy) || (in >> rest) || !std::isfinite(dx) || !std::isfinite(dy)) {
+    throw std::runtime_error(where + "'" + text + "' is not two numbers DX DY (m)");
+  }
+  return {dx, dy};
+}
+
 }  // namespace
 
 ObjectTable ReadObjectTable(const std::string& path) {
-  using Reader = io::CSVReader<6, io::trim_chars<' ', '\t'>, io::double_quote_escape<',', '"'>,
+  using Reader = io::CSVReader<7, io::trim_chars<' ', '\t'>, io::double_quote_escape<',', '"'>,
                                io::throw_on_overflow, io::single_and_empty_line_comment<'#'>>;
   ObjectTable table;
   try {
     Reader reader(path);
     reader.read_header(io::ignore_extra_column | io::ignore_missing_column, "name", "mass",
-                       "inertia", "com_height", "patch", "source");
+                       "inertia", "com_height", "patch", "cm_offset", "source");
     for (const char* required : {"name", "mass", "inertia", "com_height"}) {
       if (!reader.has_column(required)) {
         throw std::runtime_error(
             path + ": missing column '" + required +
-            "' (need name, mass, inertia, com_height; optional patch, source)");
+            "' (need name, mass, inertia, com_height; optional patch, cm_offset, source)");
       }
     }
     char *name = nullptr, *mass = nullptr, *inertia = nullptr, *com = nullptr;
-    char *patch = nullptr, *source = nullptr;
-    while (reader.read_row(name, mass, inertia, com, patch, source)) {
+    char *patch = nullptr, *cm_offset = nullptr, *source = nullptr;
+    while (reader.read_row(name, mass, inertia, com, patch, cm_offset, source)) {
       const unsigned line = reader.get_file_line();
       const std::string key = name ? name : "";
       if (key.empty()) throw std::runtime_error(Where(path, line, "name") + "empty object name");
@@ -64,6 +77,8 @@ ObjectTable ReadObjectTable(const std::string& path) {
           throw std::runtime_error(Where(path, line, "patch") + e.what());
         }
       }
+      if (cm_offset && *cm_offset)
+        p.cm_offset_m = CmOffset(cm_offset, Where(path, line, "cm_offset"));
       if (source) p.source = source;
       if (!table.emplace(key, p).second) {
         throw std::runtime_error(Where(path, line, "name") + "object '" + key + "' given twice");

@@ -7,9 +7,12 @@
 //   rect1,0.835,1.13e-3,0.0065,rectangle 0.09 0.09,estimate: 90x90x13 mm steel plate
 //
 // Required columns: name, mass [kg], inertia [kg m^2] (about the vertical axis through the
-// CM), com_height [m]. Optional: patch (log-format.md), source (free text: where the values
-// come from; copied into the imported logs' metadata). Column order is free.
+// CM), com_height [m]. Optional: patch (log-format.md), cm_offset ("DX DY" [m]: the CM in
+// the frame the recording tracks, object axes, where that frame's origin is not the CM),
+// source (free text: where the values come from; copied into the imported logs' metadata).
+// Column order is free.
 
+#include <Eigen/Core>
 #include <map>
 #include <optional>
 #include <stdexcept>
@@ -23,7 +26,10 @@ struct ObjectProperties {
   double inertia_kgm2 = 0.0;  ///< > 0, about the vertical axis through the CM
   double com_height_m = 0.0;  ///< >= 0
   std::string patch_spec;     ///< "rectangle W L" etc.; empty when the table has none
-  std::string source;         ///< where the values come from; may be empty
+  /// The CM in the frame whose pose the recording tracks [m, object axes]; zero where that
+  /// frame's origin is the CM.
+  Eigen::Vector2d cm_offset_m = Eigen::Vector2d::Zero();
+  std::string source;  ///< where the values come from; may be empty
 };
 
 /// Object name -> properties.

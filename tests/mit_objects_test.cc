@@ -90,5 +90,30 @@ TEST(MitObjects, EachInertiaAndMassIsThatOfAUniformSteelPlateOfItsOutline) {
   }
 }
 
+// The triangles' MIT object frame is get_shape.m's "rectangle coordinate system", the right
+// angle at (45, 45) mm; the table's outline is about the centroid and its cm_offset is the
+// centroid in that frame. Two ways: the outline's right-angle vertex plus the offset is at
+// (45, 45) mm, and the offset is (45, 45) mm less a third of the legs. The other objects'
+// frames are their centroids.
+TEST(MitObjects, TheTrianglesOffsetPutsTheirRightAngleWhereTheirFrameHasIt) {
+  const ObjectTable table = ReadObjectTable(SLIDEID_SOURCE_DIR "/datasets/mit_objects.csv");
+  const std::map<std::string, Eigen::Vector2d> legs_mm = {
+      {"tri1", {125.90, 125.87}}, {"tri2", {151.00, 125.87}}, {"tri3", {176.50, 125.61}}};
+  constexpr double kRounding_m = 1e-5;  // the table's offsets to 0.01 mm
+  for (const auto& [name, o] : table) {
+    SCOPED_TRACE(name);
+    const auto legs = legs_mm.find(name);
+    if (legs == legs_mm.end()) {
+      EXPECT_TRUE(o.cm_offset_m.isZero());
+      continue;
+    }
+    const Eigen::Vector2d corner_mm(45, 45);
+    const Eigen::Vector2d vertex = ContactPatch::Parse(o.patch_spec).Outline(3).front();
+    EXPECT_NEAR((vertex + o.cm_offset_m - corner_mm / 1000).norm(), 0, kRounding_m);
+    const Eigen::Vector2d centroid_mm = corner_mm - legs->second / 3;
+    EXPECT_NEAR((o.cm_offset_m - centroid_mm / 1000).norm(), 0, kRounding_m);
+  }
+}
+
 }  // namespace
 }  // namespace slideid
