@@ -13,6 +13,7 @@
 #include "forward_model/number_format.h"
 #include "forward_model/planar_state.h"
 #include "forward_model/pusher.h"
+#include "io/cm_offset.h"
 
 namespace slideid {
 namespace {
@@ -496,9 +497,9 @@ RowWrench MeanWrench(const Streams& s, const Offset& offset, double sign, double
 void MoveObjectPosesToCm(const Eigen::Vector2d& offset, std::vector<MitStreamRow>* pose) {
   if (offset.isZero()) return;
   for (MitStreamRow& row : *pose) {
-    const double c = std::cos(row[3]), s = std::sin(row[3]);
-    row[1] += c * offset.x() - s * offset.y();
-    row[2] += s * offset.x() + c * offset.y();
+    const Eigen::Vector2d r = CmOffsetInWorld(offset, row[3]);
+    row[1] += r.x();
+    row[2] += r.y();
   }
 }
 

@@ -4,10 +4,10 @@
 
 #include <charconv>
 #include <cmath>
-#include <sstream>
 #include <string>
 
 #include "forward_model/contact_patch.h"
+#include "io/cm_offset.h"
 
 namespace slideid {
 namespace {
@@ -30,17 +30,6 @@ double Number(const char* cell, bool positive, const std::string& where) {
     throw std::runtime_error(where + "'" + text + "' must be " + (positive ? "> 0" : ">= 0"));
   }
   return value;
-}
-
-/// "DX DY": two finite numbers [m].
-Eigen::Vector2d CmOffset(const char* text, const std::string& where) {
-  std::istringstream in(text);
-  double dx = 0, dy = 0;
-  std::string rest;
-  if (!(in >> dx >> dy) || (in >> rest) || !std::isfinite(dx) || !std::isfinite(dy)) {
-    throw std::runtime_error(where + "'" + text + "' is not two numbers DX DY (m)");
-  }
-  return {dx, dy};
 }
 
 }  // namespace
@@ -77,8 +66,14 @@ ObjectTable ReadObjectTable(const std::string& path) {
           throw std::runtime_error(Where(path, line, "patch") + e.what());
         }
       }
-      if (cm_offset && *cm_offset)
-        p.cm_offset_m = CmOffset(cm_offset, Where(path, line, "cm_offset"));
+      if (cm_offset && *cm_offset) {
+        const std::optional<Eigen::Vector2d> offset = ParseCmOffset(cm_offset);
+        if (!offset) {
+          throw std::runtime_error(Where(path, line, "cm_offset") + "'" + cm_offset +
+                                   "' is not two numbers DX DY (m)");
+        }
+        p.cm_offset_m = *offset;
+      }
       if (source) p.source = source;
       if (!table.emplace(key, p).second) {
         throw std::runtime_error(Where(path, line, "name") + "object '" + key + "' given twice");

@@ -15,7 +15,6 @@
 #include <limits>
 #include <memory>
 #include <ostream>
-#include <sstream>
 #include <string_view>
 #include <system_error>
 #include <tuple>
@@ -25,6 +24,7 @@
 #include "forward_model/contact_patch.h"
 #include "forward_model/number_format.h"
 #include "io/atomic_file.h"
+#include "io/cm_offset.h"
 #include "io/force_work.h"
 #include "io/row_times.h"
 #include "io/text_lines.h"
@@ -251,22 +251,6 @@ std::size_t CountRowLines(const std::string& path) {
   return failed ? 0 : counter.count();
 }
 
-/// `cm_offset`'s value: two finite numbers, DX DY [m], separated by blanks or a comma.
-Eigen::Vector2d ParseCmOffset(const ReadContext& ctx, const std::string& value, int line_no) {
-  std::string spaced = value;
-  std::replace(spaced.begin(), spaced.end(), ',', ' ');
-  std::istringstream in(spaced);
-  std::string dx, dy, extra;
-  in >> dx >> dy;
-  const auto x = ParseFiniteNumber(dx), y = ParseFiniteNumber(dy);
-  if (!x || !y || (in >> extra)) {
-    ctx.Fail(line_no, "",
-             "metadata 'cm_offset': '" + value +
-                 "' is not two numbers DX DY (m: the CM in the frame of the logged pose)");
-  }
-  return {*x, *y};
-}
-
 /// Adds one `# ...` comment line to the metadata when it has the `key = value` form.
 void ParseCommentLine(const ReadContext& ctx, std::string_view line, int line_no, Metadata& meta) {
   line.remove_prefix(1);  // '#'
@@ -288,7 +272,13 @@ void ParseCommentLine(const ReadContext& ctx, std::string_view line, int line_no
     meta.tip_radius = std::make_pair(*number, line_no);
   } else if (key == "cm_offset") {
     if (meta.cm_offset) ctx.Fail(line_no, "", "metadata 'cm_offset' given twice");
-    meta.cm_offset = std::make_pair(ParseCmOffset(ctx, value, line_no), line_no);
+    const std::optional<Eigen::Vector2d> offset = ParseCmOffset(value);
+    if (!offset) {
+      ctx.Fail(line_no, "",
+               "metadata 'cm_offset': '" + value +
+                   "' is not two numbers DX DY (m: the CM in the frame of the logged pose)");
+    }
+    meta.cm_offset = std::make_pair(*offset, line_no);
   } else if (Contains(kSliderKeys, key) || Contains(kTruthKeys, key)) {
     if (meta.numbers.count(key)) ctx.Fail(line_no, "", "metadata '" + key + "' given twice");
     const auto number = ParseFiniteNumber(value);
@@ -570,13 +560,12 @@ bool IsFinite(const AppliedWrench& w) {
 /// offset). Before the moments r x f are taken about it.
 void MoveToCm(const Header& h, const Eigen::Vector2d& offset, RawRow& row) {
   auto& v = row.v;
-  const double c = std::cos(v[kTheta]), s = std::sin(v[kTheta]);
-  const double rx = c * offset.x() - s * offset.y(), ry = s * offset.x() + c * offset.y();
-  v[kX] += rx;
-  v[kY] += ry;
+  const Eigen::Vector2d r = CmOffsetInWorld(offset, v[kTheta]);
+  v[kX] += r.x();
+  v[kY] += r.y();
   if (h.Has(kVx)) {
-    v[kVx] -= v[kWz] * ry;
-    v[kVy] += v[kWz] * rx;
+    v[kVx] -= v[kWz] * r.y();
+    v[kVy] += v[kWz] * r.x();
   }
 }
 
